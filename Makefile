@@ -1,0 +1,32 @@
+# The two commands: `make run` and `make test`. Everything else is a helper.
+BUILD   ?= out/build
+JOBS    ?= $(shell nproc)
+CONFIG  ?= RelWithDebInfo
+RECIPE  ?= configs/default.yaml
+SYLVA    = $(BUILD)/app/sylva
+
+.PHONY: all setup configure build run test bench clean
+all: build
+
+setup:
+	@tools/setup.sh
+
+$(BUILD)/build.ninja: CMakeLists.txt | setup
+	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(CONFIG) >/dev/null
+
+configure: setup $(BUILD)/build.ninja
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+run: build
+	@$(SYLVA) build $(RECIPE)
+
+test: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
+
+bench: build
+	@tools/bench.sh $(BUILD)
+
+clean:
+	rm -rf out/build

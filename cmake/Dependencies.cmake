@@ -1,0 +1,17 @@
+# Every third-party dependency, found with find_package from Debian 12's packages
+# (cmake/apt-packages.txt lists the packages). Found once here; targets link what they use.
+find_package(yaml-cpp 0.7 REQUIRED)
+find_package(OpenSSL 3 REQUIRED)
+find_package(TBB REQUIRED)
+find_package(CLI11 2 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(GTest REQUIRED)
+find_package(benchmark REQUIRED)
+find_package(OpenMesh REQUIRED)
+find_package(CGAL REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(draco REQUIRED)
+find_package(TinyGLTF REQUIRED)
+find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
+find_package(Threads REQUIRED)

@@ -1,0 +1,81 @@
+#include "pipeline/digest.h"
+
+#include <openssl/evp.h>
+
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+namespace sylva {
+
+struct Sha256::Impl {
+  EVP_MD_CTX* ctx = nullptr;
+};
+
+Sha256::Sha256() : impl_(std::make_unique<Impl>()) {
+  impl_->ctx = EVP_MD_CTX_new();
+  if (!impl_->ctx || EVP_DigestInit_ex(impl_->ctx, EVP_sha256(), nullptr) != 1)
+    throw std::runtime_error("OpenSSL: cannot initialise SHA-256");
+}
+
+Sha256::~Sha256() { EVP_MD_CTX_free(impl_->ctx); }
+
+void Sha256::update(const void* data, std::size_t size) {
+  EVP_DigestUpdate(impl_->ctx, data, size);
+}
+void Sha256::update(std::string_view bytes) { update(bytes.data(), bytes.size()); }
+
+std::array<unsigned char, 32> Sha256::finish_raw() {
+  std::array<unsigned char, 32> out{};
+  unsigned int len = 0;
+  EVP_DigestFinal_ex(impl_->ctx, out.data(), &len);
+  return out;
+}
+
+std::string Sha256::finish_hex() {
+  static const char* kHex = "0123456789abcdef";
+  auto raw = finish_raw();
+  std::string s(64, '0');
+  for (int i = 0; i < 32; ++i) {
+    s[2 * i] = kHex[raw[i] >> 4];
+    s[2 * i + 1] = kHex[raw[i] & 15];
+  }
+  return s;
+}
+
+std::string sha256_hex(std::string_view bytes) {
+  Sha256 h;
+  h.update(bytes);
+  return h.finish_hex();
+}
+
+Digest digest_bytes(std::string_view bytes) { return {sha256_hex(bytes), bytes.size()}; }
+
+std::optional<Digest> digest_file(const std::filesystem::path& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return std::nullopt;
+  Sha256 h;
+  std::vector<char> buf(1 << 20);
+  std::uint64_t total = 0;
+  for (;;) {
+    std::size_t n = std::fread(buf.data(), 1, buf.size(), f);
+    if (n > 0) {
+      h.update(buf.data(), n);
+      total += n;
+    }
+    if (n < buf.size()) break;
+  }
+  const bool err = std::ferror(f);
+  std::fclose(f);
+  if (err) return std::nullopt;
+  return Digest{h.finish_hex(), total};
+}
+
+bool is_hex_digest(std::string_view s) {
+  if (s.size() != 64) return false;
+  for (char c : s)
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  return true;
+}
+
+}  // namespace sylva

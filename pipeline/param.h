@@ -1,0 +1,72 @@
+// Parameter schemas: what a stage accepts under `with:`.
+//
+// Every stage declares one ParamSpec per parameter: its type, default (absent = required),
+// inclusive numeric range, allowed choices, and a one-line doc shown by `sylva stages`.
+// The recipe loader checks every `with:` entry against these and reports problems at the
+// entry's file:line:col; stages then read values that are guaranteed to be present and valid.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/value.h"
+
+namespace sylva {
+
+enum class ParamType {
+  kBool,
+  kInt,
+  kReal,
+  kString,
+  kEnum,        // string restricted to `choices`
+  kPath,        // a file the node reads; relative to the YAML file that names it; hashed by content
+  kIntList,
+  kRealList,
+  kStringList,
+  kObject,      // nested map with its own `fields`
+  kMap,         // free string keys -> real values (e.g. density_per_ha: {oak: 10})
+};
+
+const char* param_type_name(ParamType t);
+
+struct ParamSpec {
+  std::string name;
+  ParamType type = ParamType::kReal;
+  Value default_value;                 // null => required
+  std::optional<double> min, max;      // inclusive; applies to numbers and to list elements
+  std::vector<std::string> choices;    // kEnum only
+  std::optional<std::size_t> min_items, max_items;  // list types only
+  std::vector<ParamSpec> fields;       // kObject only
+  std::string doc;
+
+  bool required() const { return default_value.is_null(); }
+
+  // Chainable modifiers, used on the temporaries Param:: returns.
+  ParamSpec range(std::optional<double> lo, std::optional<double> hi) && {
+    min = lo; max = hi; return std::move(*this);
+  }
+  ParamSpec items(std::optional<std::size_t> lo, std::optional<std::size_t> hi) && {
+    min_items = lo; max_items = hi; return std::move(*this);
+  }
+  ParamSpec describe(std::string text) && { doc = std::move(text); return std::move(*this); }
+};
+
+// Fluent builders keep stage declarations short and readable:
+//   Param::real("pixel_error", 0.5).range(0.01, 100).doc("permitted pixel error δ (px)")
+struct Param {
+  static ParamSpec boolean(std::string name, bool def);
+  static ParamSpec integer(std::string name, std::optional<std::int64_t> def = std::nullopt);
+  static ParamSpec real(std::string name, std::optional<double> def = std::nullopt);
+  static ParamSpec string(std::string name, std::optional<std::string> def = std::nullopt);
+  static ParamSpec choice(std::string name, std::vector<std::string> choices,
+                          std::optional<std::string> def = std::nullopt);
+  static ParamSpec path(std::string name);  // always required
+  static ParamSpec real_list(std::string name, std::optional<Value::List> def = std::nullopt);
+  static ParamSpec int_list(std::string name, std::optional<Value::List> def = std::nullopt);
+  static ParamSpec string_list(std::string name, std::optional<Value::List> def = std::nullopt);
+  static ParamSpec object(std::string name, std::vector<ParamSpec> fields);
+  static ParamSpec real_map(std::string name, std::optional<Value::Object> def = std::nullopt);
+};
+
+}  // namespace sylva

@@ -1,0 +1,122 @@
+// The stage interface: what every folder under stages/ implements.
+//
+// A stage is a pure function from typed input artifacts and checked parameters to output
+// files. It declares itself once (StageInfo: name, implementation version, parameter schema,
+// accepted input types, output type) and is run through run(StageContext&). It must:
+//   - read only its declared inputs: upstream artifacts (ctx.inputs()) and files named by its
+//     kPath parameters (ctx.param_file()); nothing else enters the action key;
+//   - take every random choice from ctx.rng(stream) (seeded by its `seed` parameter);
+//   - write outputs only through ctx.output_path()/write_output(), into the scratch area; the
+//     engine hashes, stores and publishes them atomically, so a failed or interrupted run
+//     leaves nothing behind;
+//   - report bad input by throwing StageError with a message naming the file and line/element.
+// A stage never touches the cache, out/, or another stage's files. Bump `version` whenever a
+// change to the implementation can change the bytes it writes: the version is part of the key.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pipeline/param.h"
+#include "pipeline/rng.h"
+#include "pipeline/value.h"
+
+namespace sylva {
+
+// A user-facing failure of one node (bad input data, impossible parameters). The message is
+// printed as `error: node 'X' (stage S): <message>`; no stack trace, exit code 1.
+class StageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Thrown by StageContext::check_cancelled() after Ctrl-C; the node is reported as interrupted.
+class Cancelled : public std::runtime_error {
+ public:
+  Cancelled() : std::runtime_error("interrupted") {}
+};
+
+struct InputSpec {
+  std::vector<std::string> types;  // accepted artifact types, e.g. {"tree"}; empty = no inputs
+  int min = 0;                     // number of upstream nodes accepted
+  int max = 0;                     // -1 = unbounded
+  std::string doc;
+};
+
+struct StageInfo {
+  std::string name;        // recipe `stage:` value; [a-z_]+
+  int version = 1;         // implementation version, part of the action key
+  std::string summary;     // one line for `sylva stages`
+  std::vector<ParamSpec> params;
+  InputSpec inputs;
+  std::string output_type;  // artifact type of this stage's output, e.g. "tree", "mesh"
+};
+
+// One file of an upstream artifact, already verified against its digest.
+struct ArtifactFile {
+  std::string name;            // file name inside the artifact, e.g. "tree.sylt"
+  std::filesystem::path path;  // readable path (under out/<recipe>/<node>/)
+  std::string digest;          // hex SHA-256
+};
+
+struct InputArtifact {
+  std::string node;  // upstream node name (for messages only: it is not part of the key)
+  std::string type;  // upstream stage's output_type
+  std::vector<ArtifactFile> files;  // sorted by name
+
+  // The file with this name, or nullptr.
+  const ArtifactFile* file(std::string_view name) const;
+  // Files whose name ends with `suffix` (e.g. ".glb"), in name order.
+  std::vector<const ArtifactFile*> files_with_suffix(std::string_view suffix) const;
+};
+
+class StageContext {
+ public:
+  virtual ~StageContext() = default;
+
+  virtual const std::string& node_name() const = 0;  // for messages only
+  virtual const Value::Object& params() const = 0;   // complete: defaults filled in
+  virtual const std::vector<InputArtifact>& inputs() const = 0;
+
+  // The resolved path of the file named by kPath parameter `param` (a declared input).
+  virtual std::filesystem::path param_file(std::string_view param) const = 0;
+
+  // A generator for `stream`, seeded from the node's `seed` parameter (0 when the stage has
+  // none). The same (seed, stream) always yields the same sequence.
+  virtual Rng rng(std::string_view stream) const = 0;
+
+  // A private, empty directory for temporary files; removed after the run.
+  virtual const std::filesystem::path& scratch_dir() const = 0;
+
+  // Path to write output file `name` to ([A-Za-z0-9_.-]+, unique per node). Calling it
+  // declares the output; a declared output that is missing after run() fails the node.
+  virtual std::filesystem::path output_path(std::string_view name) = 0;
+  // Convenience: declare output `name` and write `bytes` to it.
+  virtual void write_output(std::string_view name, std::string_view bytes) = 0;
+
+  // Throws Cancelled after Ctrl-C; long loops call it now and then.
+  virtual void check_cancelled() const = 0;
+
+  // Typed parameter access (the loader guarantees presence and type).
+  const Value& param(std::string_view name) const;
+  double real(std::string_view name) const { return param(name).as_real(); }
+  std::int64_t integer(std::string_view name) const { return param(name).as_int(); }
+  bool boolean(std::string_view name) const { return param(name).as_bool(); }
+  const std::string& string(std::string_view name) const { return param(name).as_string(); }
+};
+
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  virtual const StageInfo& info() const = 0;
+  virtual void run(StageContext& ctx) const = 0;
+};
+
+}  // namespace sylva
