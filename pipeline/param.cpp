@@ -10,6 +10,7 @@ const char* param_type_name(ParamType t) {
     case ParamType::kString: return "string";
     case ParamType::kEnum: return "enum";
     case ParamType::kPath: return "path";
+    case ParamType::kDir: return "directory";
     case ParamType::kIntList: return "list of int";
     case ParamType::kRealList: return "list of real";
     case ParamType::kStringList: return "list of string";
@@ -52,6 +53,7 @@ ParamSpec Param::choice(std::string name, std::vector<std::string> choices,
   return s;
 }
 ParamSpec Param::path(std::string name) { return make(std::move(name), ParamType::kPath, {}); }
+ParamSpec Param::dir(std::string name) { return make(std::move(name), ParamType::kDir, {}); }
 ParamSpec Param::real_list(std::string name, std::optional<Value::List> def) {
   return make(std::move(name), ParamType::kRealList, opt(def));
 }

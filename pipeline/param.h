@@ -21,6 +21,7 @@ enum class ParamType {
   kString,
   kEnum,        // string restricted to `choices`
   kPath,        // a file the node reads; relative to the YAML file that names it; hashed by content
+  kDir,         // a directory the node reads (every regular file below it is hashed by content)
   kIntList,
   kRealList,
   kStringList,
@@ -62,6 +63,7 @@ struct Param {
   static ParamSpec choice(std::string name, std::vector<std::string> choices,
                           std::optional<std::string> def = std::nullopt);
   static ParamSpec path(std::string name);  // always required
+  static ParamSpec dir(std::string name);   // always required
   static ParamSpec real_list(std::string name, std::optional<Value::List> def = std::nullopt);
   static ParamSpec int_list(std::string name, std::optional<Value::List> def = std::nullopt);
   static ParamSpec string_list(std::string name, std::optional<Value::List> def = std::nullopt);

@@ -85,7 +85,7 @@ class StageContext {
   virtual const Value::Object& params() const = 0;   // complete: defaults filled in
   virtual const std::vector<InputArtifact>& inputs() const = 0;
 
-  // The resolved path of the file named by kPath parameter `param` (a declared input).
+  // The resolved path of the file (kPath) or directory (kDir) named by parameter `param`.
   virtual std::filesystem::path param_file(std::string_view param) const = 0;
 
   // A generator for `stream`, seeded from the node's `seed` parameter (0 when the stage has
