@@ -1,0 +1,117 @@
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include "libs/image/image.h"
+#include "libs/image/image_io.h"
+#include "tests/support/test_support.h"
+
+namespace sylva::image {
+namespace {
+
+Image gradient(int w, int h) {
+  Image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      img.set(x, y, {std::uint8_t(x * 7), std::uint8_t(y * 5), std::uint8_t(x ^ y), std::uint8_t(200 + x % 50)});
+  return img;
+}
+
+// Pixel access is top-left based and the fill constructor fills every pixel.
+TEST(Image, FillAndAccess) {
+  Image img(3, 2, {1, 2, 3, 4});
+  EXPECT_EQ(img.width(), 3);
+  EXPECT_EQ(img.height(), 2);
+  EXPECT_EQ(img.bytes().size(), 24u);
+  EXPECT_EQ(img.at(2, 1), (Rgba8{1, 2, 3, 4}));
+  img.set(2, 1, {9, 8, 7, 6});
+  EXPECT_EQ(img.bytes()[(1 * 3 + 2) * 4], 9);
+  EXPECT_EQ(img.at(0, 0), (Rgba8{1, 2, 3, 4}));
+}
+
+// A PNG written and read back gives the same pixels, alpha included.
+TEST(ImageIo, PngRoundTrip) {
+  test::TempDir dir;
+  const Image img = gradient(37, 23);
+  write_png(img, dir / "a.png");
+  EXPECT_EQ(read_image(dir / "a.png"), img);
+}
+
+// The same image always encodes to the same bytes (no timestamps), file and memory agree, and
+// no temporary file is left behind.
+TEST(ImageIo, PngBytesAreDeterministic) {
+  test::TempDir dir;
+  const Image img = gradient(64, 16);
+  write_png(img, dir / "a.png");
+  write_png(img, dir / "b.png");
+  const std::string a = test::read_file(dir / "a.png");
+  EXPECT_EQ(a, test::read_file(dir / "b.png"));
+  const auto mem = encode_png(img);
+  EXPECT_EQ(a, std::string(mem.begin(), mem.end()));
+  EXPECT_EQ(a.find("tIME"), std::string::npos);
+  int files = 0;
+  for (auto& e : std::filesystem::directory_iterator(dir.path())) (void)e, ++files;
+  EXPECT_EQ(files, 2);
+}
+
+// Reading an RGB file yields opaque RGBA; a grey file is replicated to RGB.
+TEST(ImageIo, RgbAndGreyFilesBecomeOpaqueRgba) {
+  test::TempDir dir;
+  const unsigned char rgb[2 * 3] = {10, 20, 30, 40, 50, 60};
+  auto out = OIIO::ImageOutput::create("png");
+  ASSERT_TRUE(out->open((dir / "rgb.png").string(), OIIO::ImageSpec(2, 1, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb));
+  out->close();
+  const Image back = read_image(dir / "rgb.png");
+  EXPECT_EQ(back.at(0, 0), (Rgba8{10, 20, 30, 255}));
+  EXPECT_EQ(back.at(1, 0), (Rgba8{40, 50, 60, 255}));
+
+  const unsigned char grey[2] = {7, 250};
+  out = OIIO::ImageOutput::create("png");
+  ASSERT_TRUE(out->open((dir / "grey.png").string(), OIIO::ImageSpec(2, 1, 1, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey));
+  out->close();
+  EXPECT_EQ(read_image(dir / "grey.png").at(1, 0), (Rgba8{250, 250, 250, 255}));
+}
+
+// The PNG carries no text or time chunks: only what the format needs.
+TEST(ImageIo, PngHasNoMetadataChunks) {
+  const auto png = encode_png(gradient(8, 8));
+  std::vector<std::string> chunks;
+  for (std::size_t at = 8; at + 8 <= png.size();) {
+    const std::size_t n = (std::size_t(png[at]) << 24) | (std::size_t(png[at + 1]) << 16) |
+                          (std::size_t(png[at + 2]) << 8) | std::size_t(png[at + 3]);
+    chunks.emplace_back(reinterpret_cast<const char*>(&png[at + 4]), 4);
+    at += 12 + n;
+  }
+  for (const auto& c : chunks) {
+    EXPECT_TRUE(c == "IHDR" || c == "IDAT" || c == "IEND" || c == "oFFs") << "unexpected chunk " << c;
+  }
+  EXPECT_EQ(chunks.front(), "IHDR");
+  EXPECT_EQ(chunks.back(), "IEND");
+}
+
+// Errors name the file and say what went wrong, in one line.
+TEST(ImageIo, ErrorsNameTheFile) {
+  test::TempDir dir;
+  try {
+    read_image(dir / "missing.png");
+    FAIL() << "expected ImageError";
+  } catch (const ImageError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "missing.png").string() + ": error: no such image file");
+  }
+  test::write_file(dir / "junk.png", "this is not a png");
+  try {
+    read_image(dir / "junk.png");
+    FAIL() << "expected ImageError";
+  } catch (const ImageError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind((dir / "junk.png").string() + ": error: ", 0), 0u) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  EXPECT_THROW(write_png(Image(4, 4), dir / "no_such_dir" / "x.png"), ImageError);
+  EXPECT_THROW(write_png(Image(), dir / "empty.png"), ImageError);
+}
+
+}  // namespace
+}  // namespace sylva::image
