@@ -1,0 +1,131 @@
+// Tree statistics (definitions in stats.h).
+#include "libs/tree/stats.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+namespace sylva::tree {
+
+namespace {
+
+struct Box {
+  Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+          std::numeric_limits<double>::infinity()};
+  Vec3 hi = -lo;
+  bool empty = true;
+  void add(Vec3 p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    empty = false;
+  }
+};
+
+std::string fmt(double v, int decimals = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+std::string fmt_vec(Vec3 v) { return "[" + fmt(v.x) + ", " + fmt(v.y) + ", " + fmt(v.z) + "]"; }
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+TreeStats compute_stats(const Tree& tree) {
+  TreeStats s;
+  s.name = tree.name;
+  s.branches = tree.branches.size();
+  s.leaves = tree.leaves.size();
+  s.needles = tree.needles.size();
+  Box box;
+  for (const Branch& b : tree.branches) {
+    if (s.branches_per_level.size() <= b.level) s.branches_per_level.resize(b.level + 1, 0);
+    ++s.branches_per_level[b.level];
+    s.nodes += b.nodes.size();
+    for (std::size_t k = 0; k < b.nodes.size(); ++k) {
+      box.add(b.nodes[k].position);
+      if (k > 0) s.total_branch_length += length(b.nodes[k].position - b.nodes[k - 1].position);
+    }
+  }
+  for (const Leaf& l : tree.leaves) {
+    const Vec3 p = to_double(l.position);
+    box.add(p);
+    box.add(p + to_double(l.direction) * static_cast<double>(l.length));
+  }
+  for (const Needle& n : tree.needles) {
+    box.add(to_double(n.base));
+    box.add(to_double(n.tip));
+  }
+  if (!box.empty) {
+    s.bounds_min = box.lo;
+    s.bounds_max = box.hi;
+  }
+  if (!tree.branches.empty() && !tree.branches.front().nodes.empty()) {
+    const std::vector<Node>& trunk = tree.branches.front().nodes;
+    const double base = trunk.front().position.y;
+    s.height = box.hi.y - base;
+    const double target = base + kBreastHeight;
+    for (std::size_t k = 0; k + 1 < trunk.size(); ++k) {
+      const double y0 = trunk[k].position.y, y1 = trunk[k + 1].position.y;
+      if (y0 <= target && y1 >= target && y1 > y0) {
+        const double f = (target - y0) / (y1 - y0);
+        s.dbh = 2 * (trunk[k].radius + f * (trunk[k + 1].radius - trunk[k].radius));
+        s.has_dbh = true;
+        break;
+      }
+    }
+  }
+  return s;
+}
+
+std::string format_stats(const TreeStats& s) {
+  std::string out;
+  out += "name: " + s.name + "\n";
+  out += "branches: " + std::to_string(s.branches) + " (";
+  for (std::size_t l = 0; l < s.branches_per_level.size(); ++l)
+    out += (l ? ", level " : "level ") + std::to_string(l) + ": " + std::to_string(s.branches_per_level[l]);
+  out += ")\n";
+  out += "nodes: " + std::to_string(s.nodes) + "\n";
+  out += "leaves: " + std::to_string(s.leaves) + "\n";
+  out += "needles: " + std::to_string(s.needles) + "\n";
+  out += "height: " + fmt(s.height) + " m\n";
+  out += "dbh: " + (s.has_dbh ? fmt(s.dbh) + " m" : std::string("n/a (trunk shorter than 1.3 m)")) + "\n";
+  out += "total branch length: " + fmt(s.total_branch_length) + " m\n";
+  out += "bounds: " + fmt_vec(s.bounds_min) + " .. " + fmt_vec(s.bounds_max) + " m\n";
+  return out;
+}
+
+std::string format_stats_json(const TreeStats& s) {
+  auto vec = [](Vec3 v) { return "[" + fmt(v.x, 6) + "," + fmt(v.y, 6) + "," + fmt(v.z, 6) + "]"; };
+  std::string out = "{\"name\":" + json_string(s.name);
+  out += ",\"branches\":" + std::to_string(s.branches) + ",\"branches_per_level\":[";
+  for (std::size_t l = 0; l < s.branches_per_level.size(); ++l)
+    out += (l ? "," : "") + std::to_string(s.branches_per_level[l]);
+  out += "],\"nodes\":" + std::to_string(s.nodes);
+  out += ",\"leaves\":" + std::to_string(s.leaves);
+  out += ",\"needles\":" + std::to_string(s.needles);
+  out += ",\"height_m\":" + fmt(s.height, 6);
+  out += ",\"dbh_m\":" + (s.has_dbh ? fmt(s.dbh, 6) : std::string("null"));
+  out += ",\"total_branch_length_m\":" + fmt(s.total_branch_length, 6);
+  out += ",\"bounds_min_m\":" + vec(s.bounds_min) + ",\"bounds_max_m\":" + vec(s.bounds_max) + "}";
+  return out;
+}
+
+}  // namespace sylva::tree

@@ -1,0 +1,51 @@
+// Summary statistics of a tree, for `sylva inspect` and for tests.
+//
+// Definitions (metres):
+//   height        highest point of the tree (nodes, leaf tips, needle tips) minus the y of the
+//                 first root's base node (the ground point of the trunk);
+//   dbh           diameter at breast height: 2 x the radius of the first root (the trunk),
+//                 linearly interpolated where its axis first reaches 1.3 m above its base;
+//                 absent (has_dbh false) if the trunk never reaches 1.3 m;
+//   branch length sum over branches of their polyline length (node 0 to the last node; the
+//                 implicit attachment segment is not counted);
+//   bounds        axis-aligned box of node positions and foliage end points (radii excluded).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "libs/tree/tree.h"
+
+namespace sylva::tree {
+
+inline constexpr double kBreastHeight = 1.3;  // m, the forestry convention for DBH
+
+struct TreeStats {
+  std::string name;
+  std::vector<std::size_t> branches_per_level;  // index = level
+  std::size_t branches = 0;
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  std::size_t needles = 0;
+  double height = 0;
+  bool has_dbh = false;
+  double dbh = 0;
+  double total_branch_length = 0;
+  Vec3 bounds_min, bounds_max;  // both zero for an empty tree
+};
+
+TreeStats compute_stats(const Tree& tree);
+
+// Human-readable, one "key: value" per line, stable for tests and diffs, e.g.
+//   name: oak/adult seed 1
+//   branches: 1204 (level 0: 1, level 1: 43, level 2: 1160)
+//   nodes: 104211
+//   ...
+std::string format_stats(const TreeStats& stats);
+
+// The same as one JSON object (keys: name, branches, branches_per_level, nodes, leaves,
+// needles, height_m, dbh_m (null if absent), total_branch_length_m, bounds_min_m, bounds_max_m).
+std::string format_stats_json(const TreeStats& stats);
+
+}  // namespace sylva::tree

@@ -1,0 +1,282 @@
+// .sylt encoder and defensive decoder; the layout is specified in docs/tree-format.md and the
+// two functions below follow it field by field in the same order.
+#include "libs/tree/sylt_format.h"
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <type_traits>
+
+namespace sylva::tree {
+
+namespace {
+
+constexpr std::size_t kHeaderSize = 16;     // magic(8) version(4) flags(4)
+constexpr std::size_t kChecksumSize = 8;
+constexpr std::size_t kMaxString = 1 << 16;
+constexpr std::size_t kBranchHeader = 4 + 4 + 8 + 4 + 4;
+constexpr std::size_t kNodeSize = 4 * 8;
+constexpr std::size_t kLeafSize = 4 + 9 * 4 + 2 * 4 + 1;
+constexpr std::size_t kNeedleSize = 4 + 6 * 4 + 4;
+
+template <class U>
+U to_little(U v) {
+  if constexpr (std::endian::native == std::endian::little) {
+    return v;
+  } else {
+    U r = 0;
+    for (std::size_t i = 0; i < sizeof(U); ++i) r = static_cast<U>((r << 8) | ((v >> (8 * i)) & 0xff));
+    return r;
+  }
+}
+
+template <class T>
+auto bits_of(T v) {
+  if constexpr (sizeof(T) == 8) return std::bit_cast<std::uint64_t>(v);
+  else if constexpr (sizeof(T) == 4) return std::bit_cast<std::uint32_t>(v);
+  else if constexpr (sizeof(T) == 1) return std::bit_cast<std::uint8_t>(v);
+}
+
+class Writer {
+ public:
+  template <class T>
+  void put(T v) {
+    static_assert(std::is_arithmetic_v<T>);
+    const auto u = to_little(bits_of(v));
+    char buf[sizeof u];
+    std::memcpy(buf, &u, sizeof u);
+    out.append(buf, sizeof u);
+  }
+  void put(Vec3 v) { put(v.x); put(v.y); put(v.z); }
+  void put(Vec3f v) { put(v.x); put(v.y); put(v.z); }
+  void put(Color c) { put(c.r); put(c.g); put(c.b); }
+  void put(const std::string& s) {
+    put(static_cast<std::uint32_t>(s.size()));
+    out += s;
+  }
+  std::string out;
+};
+
+class Reader {
+ public:
+  Reader(std::string_view bytes, std::string_view source) : b_(bytes), src_(source) {}
+
+  [[noreturn]] void fail(const std::string& what) const { fail_at(pos_, what); }
+  [[noreturn]] void fail_at(std::size_t offset, const std::string& what) const {
+    throw TreeFormatError(std::string(src_) + ": byte " + std::to_string(offset) + ": " + what);
+  }
+  std::size_t left() const { return b_.size() - pos_; }
+  void need(std::size_t n, const char* what) const {
+    if (left() < n) fail(std::string("truncated: ") + what + " needs " + std::to_string(n) +
+                         " bytes, " + std::to_string(left()) + " left");
+  }
+  template <class T>
+  T get(const char* what) {
+    need(sizeof(T), what);
+    decltype(bits_of(T{})) u;
+    std::memcpy(&u, b_.data() + pos_, sizeof u);
+    pos_ += sizeof u;
+    return std::bit_cast<T>(to_little(u));
+  }
+  Vec3 vec3(const char* what) {
+    need(24, what);
+    Vec3 v;
+    v.x = get<double>(what); v.y = get<double>(what); v.z = get<double>(what);
+    return v;
+  }
+  Vec3f vec3f(const char* what) {
+    need(12, what);
+    Vec3f v;
+    v.x = get<float>(what); v.y = get<float>(what); v.z = get<float>(what);
+    return v;
+  }
+  Color color(const char* what) {
+    need(12, what);
+    Color c;
+    c.r = get<float>(what); c.g = get<float>(what); c.b = get<float>(what);
+    return c;
+  }
+  std::string string(const char* what) {
+    const auto n = get<std::uint32_t>(what);
+    if (n > kMaxString) fail_at(pos_ - 4, std::string(what) + " length " + std::to_string(n) + " exceeds " + std::to_string(kMaxString));
+    need(n, what);
+    std::string s(b_.substr(pos_, n));
+    pos_ += n;
+    return s;
+  }
+  // A record count, checked against the bytes left so a corrupt count cannot allocate wildly.
+  std::uint32_t count(std::size_t record_size, const char* what) {
+    const std::size_t at = pos_;
+    const auto n = get<std::uint32_t>(what);
+    if (static_cast<std::uint64_t>(n) * record_size > left())
+      fail_at(at, std::string(what) + " " + std::to_string(n) + " needs " +
+           std::to_string(static_cast<std::uint64_t>(n) * record_size) + " bytes, " +
+           std::to_string(left()) + " left");
+    return n;
+  }
+  std::size_t pos() const { return pos_; }
+
+ private:
+  std::string_view b_;
+  std::string_view src_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+std::uint64_t fnv1a64(std::string_view bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  return h;
+}
+
+std::string encode_sylt(const Tree& tree) {
+  if (auto errors = validate_tree(tree); !errors.empty()) {
+    std::string msg = "refusing to write an invalid tree:";
+    for (const auto& e : errors) msg += "\n  " + e;
+    throw std::invalid_argument(msg);
+  }
+  std::size_t size = kHeaderSize + kChecksumSize + 256 + tree.leaves.size() * kLeafSize +
+                     tree.needles.size() * kNeedleSize;
+  for (const Branch& b : tree.branches) size += kBranchHeader + b.nodes.size() * kNodeSize;
+  Writer w;
+  w.out.reserve(size);
+  // Header.
+  w.out.append(kSyltMagic, sizeof kSyltMagic);
+  w.put(kSyltVersion);
+  w.put(std::uint32_t{0});  // flags, reserved
+  // Metadata and materials.
+  w.put(tree.name);
+  w.put(tree.materials.bark_texture);
+  w.put(tree.materials.leaf_texture);
+  w.put(tree.materials.bark_color);
+  w.put(tree.materials.leaf_color);
+  // Skeleton.
+  w.put(static_cast<std::uint32_t>(tree.branches.size()));
+  for (const Branch& b : tree.branches) {
+    w.put(b.parent);
+    w.put(b.parent_node);
+    w.put(b.parent_t);
+    w.put(b.level);
+    w.put(static_cast<std::uint32_t>(b.nodes.size()));
+    for (const Node& n : b.nodes) {
+      w.put(n.position);
+      w.put(n.radius);
+    }
+  }
+  // Foliage.
+  w.put(static_cast<std::uint32_t>(tree.leaves.size()));
+  for (const Leaf& l : tree.leaves) {
+    w.put(l.branch);
+    w.put(l.position);
+    w.put(l.direction);
+    w.put(l.normal);
+    w.put(l.length);
+    w.put(l.width);
+    w.put(l.variant);
+  }
+  w.put(static_cast<std::uint32_t>(tree.needles.size()));
+  for (const Needle& n : tree.needles) {
+    w.put(n.branch);
+    w.put(n.base);
+    w.put(n.tip);
+    w.put(n.radius);
+  }
+  // Checksum of everything before it.
+  w.put(fnv1a64(w.out));
+  return std::move(w.out);
+}
+
+Tree decode_sylt(std::string_view bytes, std::string_view source) {
+  const std::string src(source);
+  // 1. Header: magic and version first, so a wrong file type or a newer file says so.
+  if (bytes.empty()) throw TreeFormatError(src + ": empty file");
+  if (bytes.size() < sizeof kSyltMagic || std::memcmp(bytes.data(), kSyltMagic, sizeof kSyltMagic) != 0)
+    throw TreeFormatError(src + ": not a .sylt file (bad magic)");
+  if (bytes.size() < kHeaderSize + kChecksumSize)
+    throw TreeFormatError(src + ": truncated: " + std::to_string(bytes.size()) +
+                          " bytes is shorter than the header and checksum");
+  Reader r(bytes.substr(0, bytes.size() - kChecksumSize), source);
+  (void)r.get<std::uint64_t>("magic");
+  const auto version = r.get<std::uint32_t>("version");
+  if (version != kSyltVersion)
+    throw TreeFormatError(src + ": unsupported .sylt version " + std::to_string(version) +
+                          " (this build reads version " + std::to_string(kSyltVersion) + ")");
+  // 2. Checksum over everything but the last 8 bytes: catches truncation and bit rot.
+  {
+    Reader tail(bytes.substr(bytes.size() - kChecksumSize), source);
+    const auto stored = tail.get<std::uint64_t>("checksum");
+    if (stored != fnv1a64(bytes.substr(0, bytes.size() - kChecksumSize)))
+      throw TreeFormatError(src + ": checksum mismatch (file truncated or corrupt)");
+  }
+  // 3. Body, every read bounds-checked (a crafted file may carry a valid checksum).
+  Tree t;
+  if (r.get<std::uint32_t>("flags") != 0) r.fail("reserved flags must be 0");
+  t.name = r.string("name");
+  t.materials.bark_texture = r.string("bark texture");
+  t.materials.leaf_texture = r.string("leaf texture");
+  t.materials.bark_color = r.color("bark colour");
+  t.materials.leaf_color = r.color("leaf colour");
+  const auto nb = r.count(kBranchHeader, "branch count");
+  t.branches.resize(nb);
+  for (auto& b : t.branches) {
+    b.parent = r.get<std::int32_t>("branch parent");
+    b.parent_node = r.get<std::uint32_t>("branch parent node");
+    b.parent_t = r.get<double>("branch parent t");
+    b.level = r.get<std::uint32_t>("branch level");
+    const auto nn = r.count(kNodeSize, "node count");
+    b.nodes.resize(nn);
+    for (auto& n : b.nodes) {
+      n.position = r.vec3("node position");
+      n.radius = r.get<double>("node radius");
+    }
+  }
+  const auto nl = r.count(kLeafSize, "leaf count");
+  t.leaves.resize(nl);
+  for (auto& l : t.leaves) {
+    l.branch = r.get<std::uint32_t>("leaf branch");
+    l.position = r.vec3f("leaf position");
+    l.direction = r.vec3f("leaf direction");
+    l.normal = r.vec3f("leaf normal");
+    l.length = r.get<float>("leaf length");
+    l.width = r.get<float>("leaf width");
+    l.variant = r.get<std::uint8_t>("leaf variant");
+  }
+  const auto nd = r.count(kNeedleSize, "needle count");
+  t.needles.resize(nd);
+  for (auto& n : t.needles) {
+    n.branch = r.get<std::uint32_t>("needle branch");
+    n.base = r.vec3f("needle base");
+    n.tip = r.vec3f("needle tip");
+    n.radius = r.get<float>("needle radius");
+  }
+  if (r.left() != 0) r.fail(std::to_string(r.left()) + " unexpected bytes before the checksum");
+  // 4. Semantic invariants.
+  if (auto errors = validate_tree(t, 1); !errors.empty())
+    throw TreeFormatError(src + ": invalid tree: " + errors.front());
+  return t;
+}
+
+void write_sylt(const std::filesystem::path& path, const Tree& tree) {
+  const std::string bytes = encode_sylt(tree);
+  std::ofstream f(path, std::ios::binary | std::ios::trunc);
+  if (!f) throw std::runtime_error(path.string() + ": cannot open for writing");
+  f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  f.close();
+  if (!f) throw std::runtime_error(path.string() + ": write failed");
+}
+
+Tree read_sylt(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw TreeFormatError(path.string() + ": cannot open");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  if (f.bad()) throw TreeFormatError(path.string() + ": read failed");
+  return decode_sylt(ss.str(), path.string());
+}
+
+}  // namespace sylva::tree

@@ -1,0 +1,142 @@
+#include "libs/tree/sylt_format.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "libs/tree/tests/sample_tree.h"
+#include "tests/support/test_support.h"
+
+namespace sylva::tree {
+namespace {
+
+using testing::sample_tree;
+
+std::string error_of(std::string_view bytes) {
+  try {
+    decode_sylt(bytes, "t.sylt");
+  } catch (const TreeFormatError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Rewrites the trailing checksum so a deliberately corrupted body reaches the parser.
+std::string reseal(std::string bytes) {
+  const std::uint64_t h = fnv1a64(std::string_view(bytes).substr(0, bytes.size() - 8));
+  std::memcpy(bytes.data() + bytes.size() - 8, &h, 8);  // tests run on little-endian hosts
+  return bytes;
+}
+
+// Values that print identically but differ in the last bit, plus extremes, survive exactly.
+TEST(SyltFormat, RoundTripIsBitExact) {
+  Tree t = sample_tree();
+  t.branches[0].nodes[1].position.x = 0.1 + 0.2;  // 0.30000000000000004
+  t.branches[0].nodes[1].radius = std::nextafter(0.18, 1.0);
+  t.branches[0].nodes[2].position.z = -std::numeric_limits<double>::denorm_min();
+  t.branches[1].parent_t = 0;
+  t.leaves[0].length = std::nextafter(0.1f, 1.0f);
+  t.name = "oak/adult \xc3\xa9";
+  const std::string bytes = encode_sylt(t);
+  const Tree back = decode_sylt(bytes);
+  EXPECT_EQ(back, t);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(back.branches[0].nodes[2].position.z),
+            std::bit_cast<std::uint64_t>(t.branches[0].nodes[2].position.z));
+  EXPECT_EQ(encode_sylt(back), bytes);  // encoding is deterministic
+}
+
+TEST(SyltFormat, FileRoundTrip) {
+  sylva::test::TempDir dir;
+  const Tree t = sample_tree();
+  write_sylt(dir / "a.sylt", t);
+  EXPECT_EQ(read_sylt(dir / "a.sylt"), t);
+}
+
+TEST(SyltFormat, HeaderStartsWithMagicAndVersion) {
+  const std::string bytes = encode_sylt(sample_tree());
+  ASSERT_GE(bytes.size(), 16u);
+  EXPECT_EQ(bytes.substr(0, 8), std::string("SYLT\r\n\x1a\n", 8));
+  EXPECT_EQ(bytes.substr(8, 4), std::string("\x01\x00\x00\x00", 4));
+}
+
+TEST(SyltFormat, EmptyTreeRoundTrips) {
+  Tree t;
+  EXPECT_EQ(decode_sylt(encode_sylt(t)), t);
+}
+
+// Every truncation of a valid file gives an error, never a crash or a tree.
+TEST(SyltFormat, EveryTruncationIsAnError) {
+  const std::string bytes = encode_sylt(sample_tree());
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    const std::string msg = error_of(std::string_view(bytes).substr(0, n));
+    EXPECT_FALSE(msg.empty()) << "truncated to " << n << " bytes";
+    EXPECT_EQ(msg.rfind("t.sylt: ", 0), 0u) << msg;
+  }
+}
+
+// Flipping any single byte is caught (by magic, version or checksum).
+TEST(SyltFormat, EveryByteFlipIsAnError) {
+  const std::string bytes = encode_sylt(sample_tree());
+  for (std::size_t i = 0; i < bytes.size(); ++i) {
+    std::string bad = bytes;
+    bad[i] = static_cast<char>(bad[i] ^ 0x5a);
+    EXPECT_FALSE(error_of(bad).empty()) << "flip at " << i;
+  }
+}
+
+TEST(SyltFormat, ExactMessages) {
+  const std::string bytes = encode_sylt(sample_tree());
+  EXPECT_EQ(error_of(""), "t.sylt: empty file");
+  EXPECT_EQ(error_of("hello"), "t.sylt: not a .sylt file (bad magic)");
+  EXPECT_EQ(error_of(bytes.substr(0, 12)),
+            "t.sylt: truncated: 12 bytes is shorter than the header and checksum");
+  std::string v2 = bytes;
+  v2[8] = 2;
+  EXPECT_EQ(error_of(v2), "t.sylt: unsupported .sylt version 2 (this build reads version 1)");
+  EXPECT_EQ(error_of(bytes.substr(0, bytes.size() - 1)),
+            "t.sylt: checksum mismatch (file truncated or corrupt)");
+}
+
+// A body that is corrupt but carries a matching checksum is still rejected with the offset.
+TEST(SyltFormat, CorruptCountWithValidChecksum) {
+  std::string bytes = encode_sylt(sample_tree());
+  // The branch count follows header(16) + name(4+6) + two textures (4+8, 4+10) + colours(24).
+  const std::size_t at = 16 + 10 + 12 + 14 + 24;
+  std::uint32_t huge = 0x7fffffff;
+  std::memcpy(bytes.data() + at, &huge, 4);
+  const std::string msg = error_of(reseal(bytes));
+  EXPECT_NE(msg.find("t.sylt: byte 76: branch count 2147483647 needs"), std::string::npos) << msg;
+}
+
+TEST(SyltFormat, InvalidTreeInsideFileIsRejected) {
+  std::string bytes = encode_sylt(sample_tree());
+  // Branch 1's parent field: after branch count (4) and branch 0 (24 + 4 * 32).
+  const std::size_t at = 16 + 10 + 12 + 14 + 24 + 4 + 24 + 4 * 32;
+  std::int32_t self = 1;
+  std::memcpy(bytes.data() + at, &self, 4);
+  EXPECT_EQ(error_of(reseal(bytes)), "t.sylt: invalid tree: branch 1: parent 1 is not before it");
+}
+
+TEST(SyltFormat, NanRadiusIsRejected) {
+  std::string bytes = encode_sylt(sample_tree());
+  const std::size_t at = 16 + 10 + 12 + 14 + 24 + 4 + 24 + 24;  // branch 0, node 0 radius
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(bytes.data() + at, &nan, 8);
+  EXPECT_EQ(error_of(reseal(bytes)),
+            "t.sylt: invalid tree: branch 0: node 0: radius must be finite and >= 0");
+}
+
+TEST(SyltFormat, WriterRefusesInvalidTree) {
+  Tree t = sample_tree();
+  t.branches[1].parent_node = 9;
+  EXPECT_THROW(encode_sylt(t), std::invalid_argument);
+}
+
+TEST(SyltFormat, MissingFile) {
+  EXPECT_THROW(read_sylt("/nonexistent/x.sylt"), TreeFormatError);
+}
+
+}  // namespace
+}  // namespace sylva::tree

@@ -1,0 +1,83 @@
+// Invariant checks for the tree model (tree.h states them).
+#include "libs/tree/tree.h"
+
+#include <cmath>
+#include <string>
+
+namespace sylva::tree {
+
+namespace {
+
+bool unit(Vec3f v) { return std::abs(length(to_double(v)) - 1.0) <= 1e-3; }
+
+}  // namespace
+
+std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors) {
+  std::vector<std::string> errors;
+  auto fail = [&](std::string msg) {
+    if (errors.size() < max_errors) errors.push_back(std::move(msg));
+  };
+  for (std::size_t i = 0; i < tree.branches.size() && errors.size() < max_errors; ++i) {
+    const Branch& b = tree.branches[i];
+    const std::string where = "branch " + std::to_string(i) + ": ";
+    if (b.nodes.size() < 2) fail(where + "has " + std::to_string(b.nodes.size()) + " nodes, needs at least 2");
+    for (std::size_t k = 0; k < b.nodes.size(); ++k) {
+      const Node& n = b.nodes[k];
+      if (!is_finite(n.position)) fail(where + "node " + std::to_string(k) + ": position is not finite");
+      if (!std::isfinite(n.radius) || n.radius < 0)
+        fail(where + "node " + std::to_string(k) + ": radius must be finite and >= 0");
+    }
+    if (b.parent < 0) {
+      if (b.parent != -1) fail(where + "parent " + std::to_string(b.parent) + " is invalid");
+      if (b.level != 0) fail(where + "a root must have level 0, has " + std::to_string(b.level));
+      if (b.parent_node != 0 || b.parent_t != 0) fail(where + "a root has no parent node");
+      continue;
+    }
+    if (static_cast<std::size_t>(b.parent) >= i) {
+      fail(where + "parent " + std::to_string(b.parent) + " is not before it");
+      continue;
+    }
+    const Branch& p = tree.branches[static_cast<std::size_t>(b.parent)];
+    if (b.parent_node >= p.nodes.size())
+      fail(where + "parent node " + std::to_string(b.parent_node) + " is out of range (parent has " +
+           std::to_string(p.nodes.size()) + " nodes)");
+    if (!(b.parent_t >= 0 && b.parent_t <= 1)) fail(where + "parent_t must be in [0, 1]");
+    if (b.parent_t != 0 && b.parent_node + 1 >= p.nodes.size())
+      fail(where + "parent_t must be 0 at the parent's last node");
+    if (b.level != p.level && b.level != p.level + 1)
+      fail(where + "level " + std::to_string(b.level) + " must be the parent's level " +
+           std::to_string(p.level) + " or one more");
+  }
+  const std::size_t nb = tree.branches.size();
+  for (std::size_t i = 0; i < tree.leaves.size() && errors.size() < max_errors; ++i) {
+    const Leaf& l = tree.leaves[i];
+    const std::string where = "leaf " + std::to_string(i) + ": ";
+    if (l.branch >= nb) fail(where + "branch " + std::to_string(l.branch) + " does not exist");
+    if (!is_finite(l.position) || !is_finite(l.direction) || !is_finite(l.normal))
+      fail(where + "position or frame is not finite");
+    else if (!unit(l.direction) || !unit(l.normal) ||
+             std::abs(dot(to_double(l.direction), to_double(l.normal))) > 1e-3)
+      fail(where + "direction and normal must be orthogonal unit vectors");
+    if (!(l.length > 0) || !(l.width > 0) || !std::isfinite(l.length) || !std::isfinite(l.width))
+      fail(where + "length and width must be finite and > 0");
+    if (l.variant > 3) fail(where + "variant " + std::to_string(l.variant) + " is not 0..3");
+  }
+  for (std::size_t i = 0; i < tree.needles.size() && errors.size() < max_errors; ++i) {
+    const Needle& n = tree.needles[i];
+    const std::string where = "needle " + std::to_string(i) + ": ";
+    if (n.branch >= nb) fail(where + "branch " + std::to_string(n.branch) + " does not exist");
+    if (!is_finite(n.base) || !is_finite(n.tip)) fail(where + "base or tip is not finite");
+    if (!(n.radius > 0) || !std::isfinite(n.radius)) fail(where + "radius must be finite and > 0");
+  }
+  return errors;
+}
+
+Vec3 attachment_point(const Tree& tree, const Branch& b) {
+  const Branch& p = tree.branches[static_cast<std::size_t>(b.parent)];
+  const Vec3 a = p.nodes[b.parent_node].position;
+  if (b.parent_t == 0) return a;
+  const Vec3 c = p.nodes[b.parent_node + 1].position;
+  return a + (c - a) * b.parent_t;
+}
+
+}  // namespace sylva::tree
