@@ -1,0 +1,282 @@
+// Subcommands: build, graph, explain, stages, cache {stats,gc,verify}, clean.
+// Each is a straight sequence: load (recipe errors -> exit 2) → act → report.
+#include "app/cli.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdlib>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/progress.h"
+#include "pipeline/cache.h"
+#include "pipeline/executor.h"
+#include "pipeline/graph.h"
+#include "pipeline/recipe_loader.h"
+
+namespace sylva {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Common {
+  std::string out_dir = "out";
+  std::string cache_dir;  // default: $SYLVA_CACHE or <out>/cache
+
+  fs::path cache_root() const {
+    if (!cache_dir.empty()) return cache_dir;
+    if (const char* env = std::getenv("SYLVA_CACHE"); env && *env) return env;
+    return fs::path(out_dir) / "cache";
+  }
+};
+
+std::optional<Recipe> load(const std::string& file, const StageRegistry& reg, FileSystem& fsys,
+                           const CliIo& io) {
+  Diagnostics diags;
+  auto recipe = load_recipe(file, reg, fsys, diags);
+  if (!recipe) {
+    std::fputs(diags.pretty().c_str(), io.err);
+    std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", file.c_str());
+  }
+  return recipe;
+}
+
+std::string type_text(const ParamSpec& p) {
+  std::string t = param_type_name(p.type);
+  if (p.type == ParamType::kEnum) {
+    t += " {";
+    for (std::size_t i = 0; i < p.choices.size(); ++i) t += (i ? "," : "") + p.choices[i];
+    t += "}";
+  }
+  if (p.min || p.max)
+    t += " [" + (p.min ? format_real(*p.min) : std::string("-inf")) + ", " +
+         (p.max ? format_real(*p.max) : std::string("inf")) + "]";
+  return t;
+}
+
+void print_params(std::FILE* out, const std::vector<ParamSpec>& params, const std::string& indent) {
+  for (const auto& p : params) {
+    std::fprintf(out, "%s%-22s %-28s %s%s\n", indent.c_str(), p.name.c_str(), type_text(p).c_str(),
+                 p.required() ? "(required) " : ("= " + p.default_value.canonical() + "  ").c_str(),
+                 p.doc.c_str());
+    if (p.type == ParamType::kObject) print_params(out, p.fields, indent + "  ");
+  }
+}
+
+int cmd_stages(const StageRegistry& reg, const CliIo& io) {
+  for (const Stage* s : reg.all()) {
+    const StageInfo& i = s->info();
+    std::string in;
+    for (const auto& t : i.inputs.types) in += (in.empty() ? "" : "|") + t;
+    const std::string count = i.inputs.max < 0 ? std::to_string(i.inputs.min) + "+"
+                              : i.inputs.min == i.inputs.max ? std::to_string(i.inputs.min)
+                                                             : std::to_string(i.inputs.min) + "-" + std::to_string(i.inputs.max);
+    std::fprintf(io.out, "%s (v%d): %s\n  inputs: %s  output: %s\n", i.name.c_str(), i.version,
+                 i.summary.c_str(), in.empty() ? "none" : (count + " x " + in).c_str(), i.output_type.c_str());
+    print_params(io.out, i.params, "    ");
+  }
+  if (reg.all().empty()) std::fprintf(io.out, "no stages registered\n");
+  return kExitOk;
+}
+
+int cmd_graph(const std::string& file, bool dot, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
+  auto recipe = load(file, reg, fsys, io);
+  if (!recipe) return kExitUsage;
+  BuildGraph g(*recipe);
+  if (dot) {
+    std::fprintf(io.out, "digraph \"%s\" {\n  rankdir=LR;\n", recipe->name.c_str());
+    for (std::size_t i : g.topo_order())
+      std::fprintf(io.out, "  \"%s\" [label=\"%s\\n(%s)\"];\n", recipe->nodes[i].name.c_str(),
+                   recipe->nodes[i].name.c_str(), recipe->nodes[i].stage->info().name.c_str());
+    for (std::size_t i : g.topo_order())
+      for (const auto& up : recipe->nodes[i].needs)
+        std::fprintf(io.out, "  \"%s\" -> \"%s\";\n", up.c_str(), recipe->nodes[i].name.c_str());
+    std::fprintf(io.out, "}\n");
+    return kExitOk;
+  }
+  for (std::size_t i : g.topo_order()) {
+    const auto& n = recipe->nodes[i];
+    std::string needs;
+    for (const auto& u : n.needs) needs += (needs.empty() ? " <- " : ", ") + u;
+    std::fprintf(io.out, "%s (%s)%s\n", n.name.c_str(), n.stage->info().name.c_str(), needs.c_str());
+  }
+  return kExitOk;
+}
+
+struct BuildArgs {
+  std::string recipe = "configs/default.yaml";
+  int jobs = 0;
+  std::vector<std::string> targets;
+  bool keep_going = false, dry_run = false, json = false;
+};
+
+int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
+  auto recipe = load(a.recipe, reg, fsys, io);
+  if (!recipe) return kExitUsage;
+  Cache cache(fsys, c.cache_root());
+  SteadyClock clock;
+  ProgressPrinter progress(io.err, io.err_is_terminal, clock);
+  const fs::path out_dir = fs::path(c.out_dir) / recipe->name;
+  BuildEnv env{fsys, cache, out_dir, clock, io.cancel, &progress};
+  BuildOptions opt;
+  opt.jobs = a.jobs;
+  opt.keep_going = a.keep_going;
+  opt.dry_run = a.dry_run;
+  opt.targets = a.targets;
+  std::string error;
+  BuildSummary s = run_build(*recipe, env, opt, &error);
+  progress.stop();
+  if (!error.empty()) {
+    std::fprintf(io.err, "error: %s\n", error.c_str());
+    return kExitUsage;
+  }
+  if (a.json) std::fputs(summary_json(recipe->name, s).c_str(), io.out);
+  std::fprintf(io.err, "sylva: %s; outputs in %s/\n", summary_line(s).c_str(), out_dir.c_str());
+  if (s.interrupted()) return kExitInterrupted;
+  return s.ok() ? kExitOk : kExitBuildFailed;
+}
+
+int cmd_explain(const std::string& file, const std::string& node, const Common& c, const StageRegistry& reg,
+                FileSystem& fsys, const CliIo& io) {
+  auto recipe = load(file, reg, fsys, io);
+  if (!recipe) return kExitUsage;
+  if (!recipe->find(node)) {
+    std::vector<std::string> names;
+    for (const auto& n : recipe->nodes) names.push_back(n.name);
+    std::fprintf(io.err, "error: no node '%s' in recipe '%s'%s\n", node.c_str(), recipe->name.c_str(),
+                 did_you_mean(node, names).c_str());
+    return kExitUsage;
+  }
+  Cache cache(fsys, c.cache_root());
+  SteadyClock clock;
+  BuildEnv env{fsys, cache, fs::path(c.out_dir) / recipe->name, clock, nullptr, nullptr};
+  for (const auto& line : explain_node(*recipe, env, node)) std::fprintf(io.out, "%s\n", line.c_str());
+  return kExitOk;
+}
+
+std::string human_bytes(std::uint64_t b) {
+  char buf[32];
+  if (b >= (1ull << 30)) std::snprintf(buf, sizeof buf, "%.2f GiB", static_cast<double>(b) / (1ull << 30));
+  else if (b >= (1ull << 20)) std::snprintf(buf, sizeof buf, "%.2f MiB", static_cast<double>(b) / (1ull << 20));
+  else if (b >= 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(b) / 1024);
+  else std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b));
+  return buf;
+}
+
+}  // namespace
+
+int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io) {
+  RealFileSystem fsys;
+  Common common;
+  CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
+  app.require_subcommand(1);
+  app.add_option("--out", common.out_dir, "output root (default: out)");
+  app.add_option("--cache", common.cache_dir, "cache directory (default: $SYLVA_CACHE or <out>/cache)");
+
+  BuildArgs build;
+  auto* b = app.add_subcommand("build", "build a recipe (default: configs/default.yaml)");
+  b->add_option("recipe", build.recipe, "recipe file");
+  b->add_option("-j,--jobs", build.jobs, "parallel nodes (default: all cores)")->check(CLI::Range(1, 1024));
+  b->add_option("--target", build.targets, "build only these nodes (and what they need); globs allowed");
+  b->add_flag("-k,--keep-going", build.keep_going, "build everything that does not depend on a failure");
+  b->add_flag("-n,--dry-run", build.dry_run, "show what would build; run nothing");
+  b->add_flag("--json", build.json, "print a machine-readable summary on stdout");
+
+  std::string graph_recipe;
+  bool dot = false;
+  auto* g = app.add_subcommand("graph", "print the recipe's node graph in build order");
+  g->add_option("recipe", graph_recipe, "recipe file")->required();
+  g->add_flag("--dot", dot, "Graphviz dot output");
+
+  std::string explain_recipe, explain_target;
+  auto* e = app.add_subcommand("explain", "say why a node will rebuild");
+  e->add_option("recipe", explain_recipe, "recipe file")->required();
+  e->add_option("node", explain_target, "node name")->required();
+
+  auto* st = app.add_subcommand("stages", "list stages and their parameters");
+
+  auto* cache_cmd = app.add_subcommand("cache", "inspect or trim the cache");
+  cache_cmd->require_subcommand(1);
+  auto* cs = cache_cmd->add_subcommand("stats", "count blobs, bytes and action results");
+  double max_gib = 0;
+  auto* cg = cache_cmd->add_subcommand("gc", "delete unreferenced blobs and stale temp files");
+  cg->add_option("--max-size-gib", max_gib, "also evict least recently used results above this size")->check(CLI::NonNegativeNumber);
+  auto* cv = cache_cmd->add_subcommand("verify", "re-hash every blob, delete corrupt ones");
+
+  std::string clean_recipe;
+  bool clean_all = false;
+  auto* cl = app.add_subcommand("clean", "delete a recipe's outputs (or, with --all, out/ and the cache)");
+  cl->add_option("recipe", clean_recipe, "recipe whose out/<name>/ to delete");
+  cl->add_flag("--all", clean_all, "delete every output and the cache");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& h) {
+    std::fputs(app.help(app.get_subcommands().empty() ? "" : "", CLI::AppFormatMode::Normal).c_str(), io.out);
+    return kExitOk;
+  } catch (const CLI::ParseError& err) {
+    if (err.get_exit_code() == 0) {
+      std::ostringstream out, errs;
+      app.exit(err, out, errs);
+      std::fputs(out.str().c_str(), io.out);
+      return kExitOk;
+    }
+    std::fprintf(io.err, "error: %s\nrun 'sylva --help' for usage\n", err.what());
+    return kExitUsage;
+  }
+
+  try {
+    if (b->parsed()) return cmd_build(build, common, reg, fsys, io);
+    if (g->parsed()) return cmd_graph(graph_recipe, dot, reg, fsys, io);
+    if (e->parsed()) return cmd_explain(explain_recipe, explain_target, common, reg, fsys, io);
+    if (st->parsed()) return cmd_stages(reg, io);
+    if (cs->parsed()) {
+      Cache cache(fsys, common.cache_root());
+      const CacheStats s = cache.stats();
+      std::fprintf(io.out, "cache %s: %llu blobs (%s), %llu action results, %llu temp entries\n",
+                   cache.root().c_str(), static_cast<unsigned long long>(s.blobs), human_bytes(s.blob_bytes).c_str(),
+                   static_cast<unsigned long long>(s.actions), static_cast<unsigned long long>(s.tmp_entries));
+      return kExitOk;
+    }
+    if (cg->parsed()) {
+      Cache cache(fsys, common.cache_root());
+      const GcResult r = cache.gc(static_cast<std::uint64_t>(max_gib * (1ull << 30)));
+      std::fprintf(io.out, "removed %llu action results, %llu blobs (%s), %llu temp entries\n",
+                   static_cast<unsigned long long>(r.actions_removed), static_cast<unsigned long long>(r.blobs_removed),
+                   human_bytes(r.bytes_freed).c_str(), static_cast<unsigned long long>(r.tmp_removed));
+      return kExitOk;
+    }
+    if (cv->parsed()) {
+      Cache cache(fsys, common.cache_root());
+      const auto removed = cache.verify_all();
+      std::fprintf(io.out, "%llu corrupt blob%s removed\n", static_cast<unsigned long long>(removed), removed == 1 ? "" : "s");
+      return removed ? kExitBuildFailed : kExitOk;
+    }
+    if (cl->parsed()) {
+      if (clean_all) {
+        fsys.remove_all(common.cache_root());
+        fsys.remove_all(common.out_dir);
+        return kExitOk;
+      }
+      if (clean_recipe.empty()) {
+        std::fprintf(io.err, "error: 'sylva clean' needs a recipe or --all\n");
+        return kExitUsage;
+      }
+      auto recipe = load(clean_recipe, reg, fsys, io);
+      if (!recipe) return kExitUsage;
+      fsys.remove_all(fs::path(common.out_dir) / recipe->name);
+      return kExitOk;
+    }
+  } catch (const std::exception& ex) {
+    // Last line of defence: a clear message, never a stack trace.
+    std::fprintf(io.err, "error: %s\n", ex.what());
+    return kExitBuildFailed;
+  }
+  return kExitUsage;
+}
+
+}  // namespace sylva

@@ -1,0 +1,29 @@
+// The `sylva` command line as a library function, so tests can drive it with their own stages
+// and capture what it prints. main.cpp wires the real stages and the real process.
+//
+// Exit codes (docs/architecture.md): 0 success; 1 build failure (a node failed, or a cache or
+// output operation failed); 2 usage or recipe error (nothing was built); 130 interrupted.
+#pragma once
+
+#include <atomic>
+#include <cstdio>
+
+#include "pipeline/registry.h"
+
+namespace sylva {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitBuildFailed = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitInterrupted = 130;
+
+struct CliIo {
+  std::FILE* out = stdout;
+  std::FILE* err = stderr;
+  bool err_is_terminal = false;               // live progress line instead of log lines
+  const std::atomic<bool>* cancel = nullptr;  // set by the SIGINT handler
+};
+
+int run_cli(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io);
+
+}  // namespace sylva

@@ -1,0 +1,30 @@
+// Library plus main(): the only place the real stages, the real disk and the real signals meet.
+#include <csignal>
+#include <cstdlib>
+#include <unistd.h>
+
+#include "app/cli.h"
+#include "stages/register_stages.h"
+
+namespace {
+std::atomic<bool> g_cancel{false};
+
+extern "C" void on_signal(int sig) {
+  // First Ctrl-C: stop starting nodes and let running stages stop at their next check. Every
+  // write is temp + rename, so even the second Ctrl-C (default action: die) leaves no partial
+  // artifact that a later build would trust.
+  g_cancel.store(true);
+  std::signal(sig, SIG_DFL);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  sylva::StageRegistry registry;
+  sylva::register_builtin_stages(registry);
+  sylva::CliIo io;
+  io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
+  io.cancel = &g_cancel;
+  return sylva::run_cli(argc, argv, registry, io);
+}

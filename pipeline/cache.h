@@ -1,0 +1,79 @@
+// The content-addressed cache (Bazel's vocabulary), shared safely by concurrent builds:
+//   <root>/cas/ab/<hash>     output blobs, named by their SHA-256, read-only
+//   <root>/ac/ab/<key>       action results: JSON manifest of output name -> digest
+//   <root>/locks/ab/<key>    flock files: one process runs an action at a time
+//   <root>/tmp/              temporary files and stage scratch directories
+// Every write is temp + fsync + rename. An action-cache hit counts only if every blob it
+// names is present with the recorded size; a blob whose content does not hash to its name is
+// deleted when it is read and the action rebuilt, never used.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/digest.h"
+#include "pipeline/filesystem.h"
+
+namespace sylva {
+
+struct OutputEntry {
+  std::string name;  // file name within the node's output directory
+  Digest digest;
+};
+
+struct ActionResult {
+  std::vector<OutputEntry> outputs;  // sorted by name
+  std::string to_json() const;
+  static std::optional<ActionResult> from_json(const std::string& text);
+};
+
+struct CacheStats {
+  std::uint64_t blobs = 0, blob_bytes = 0, actions = 0, tmp_entries = 0;
+};
+
+struct GcResult {
+  std::uint64_t actions_removed = 0, blobs_removed = 0, bytes_freed = 0, tmp_removed = 0;
+};
+
+class Cache {
+ public:
+  Cache(FileSystem& fs, std::filesystem::path root);
+
+  const std::filesystem::path& root() const { return root_; }
+  std::filesystem::path blob_path(const std::string& hash) const;
+  std::filesystem::path action_path(const std::string& key) const;
+
+  // The result for `key` if it and every blob it names are present (sizes checked).
+  std::optional<ActionResult> lookup(const std::string& key);
+  void store_action(const std::string& key, const ActionResult& result);
+
+  // Hashes `file` and stores it in the CAS (no copy if an intact blob already exists).
+  std::optional<Digest> put_file(const std::filesystem::path& file);
+
+  // Copies blob `d` to `dest` atomically, verifying its content on the way. A blob that does
+  // not match its digest is deleted and false returned (the caller rebuilds).
+  bool materialize(const Digest& d, const std::filesystem::path& dest);
+
+  // Exclusive lock for running action `key` (other processes wait, then hit the cache).
+  std::unique_ptr<FileLock> lock_action(const std::string& key);
+  // A fresh, empty scratch directory under tmp/.
+  std::filesystem::path make_scratch_dir();
+
+  CacheStats stats();
+  // Removes stale tmp/ entries (older than an hour), then evicts least recently used action
+  // results until blobs referenced take at most `max_bytes` (0: keep all results), then deletes
+  // every blob no remaining action result references.
+  GcResult gc(std::uint64_t max_bytes);
+  // Re-hashes every blob; deletes those whose content does not match. Returns the number removed.
+  std::uint64_t verify_all();
+
+ private:
+  FileSystem& fs_;
+  std::filesystem::path root_;
+};
+
+}  // namespace sylva

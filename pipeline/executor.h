@@ -1,0 +1,90 @@
+// Runs a checked recipe: computes each node's action key, reuses cached results, runs stages
+// for the rest in parallel (oneTBB, at most `jobs` at a time), stores and publishes outputs.
+//
+// Outputs of node N land in <out_dir>/N/ (out_dir is out/<recipe>/); the action record of the
+// last completed run of N goes to <out_dir>/.sylva/N.json for `sylva explain`.
+// A failed node stops the build (dependents and not-yet-started nodes are "skipped") unless
+// keep_going, which builds everything that does not depend on a failure. Cancellation (Ctrl-C)
+// starts nothing new and interrupts stages at their next check_cancelled().
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/action.h"
+#include "pipeline/cache.h"
+#include "pipeline/clock.h"
+#include "pipeline/filesystem.h"
+#include "pipeline/recipe.h"
+
+namespace sylva {
+
+enum class NodeStatus {
+  kBuilt,        // the stage ran
+  kCached,       // outputs came from the cache
+  kFailed,       // the stage (or storing its outputs) failed
+  kSkipped,      // not run: an input failed, or the build stopped after a failure
+  kInterrupted,  // not run or stopped because of Ctrl-C
+  kWouldBuild,   // dry run: would run
+  kUpToDate,     // dry run: cached
+};
+const char* status_name(NodeStatus s);
+
+struct NodeReport {
+  std::string name, stage;
+  NodeStatus status = NodeStatus::kSkipped;
+  double seconds = 0;
+  std::string key;    // action key (empty if not computed)
+  std::string error;  // kFailed / kSkipped reason
+  std::vector<OutputEntry> outputs;
+};
+
+class BuildObserver {
+ public:
+  virtual ~BuildObserver() = default;
+  virtual void on_plan(std::size_t /*total*/) {}
+  virtual void on_start(const std::string& /*node*/) {}
+  virtual void on_finish(const NodeReport& /*report*/) {}
+};
+
+struct BuildOptions {
+  int jobs = 0;  // 0 = all cores
+  bool keep_going = false;
+  bool dry_run = false;
+  std::vector<std::string> targets;  // node names or glob patterns; empty = all nodes
+};
+
+struct BuildEnv {
+  FileSystem& fs;
+  Cache& cache;
+  std::filesystem::path out_dir;  // out/<recipe>
+  const Clock& clock;
+  const std::atomic<bool>* cancel = nullptr;
+  BuildObserver* observer = nullptr;
+};
+
+struct BuildSummary {
+  std::vector<NodeReport> nodes;  // topological order; only nodes in the target closure
+  double seconds = 0;
+  std::size_t count(NodeStatus s) const;
+  bool interrupted() const { return count(NodeStatus::kInterrupted) > 0; }
+  bool ok() const { return count(NodeStatus::kFailed) == 0 && count(NodeStatus::kSkipped) == 0 && !interrupted(); }
+};
+
+// Unknown targets are reported in `error` (and nothing runs).
+BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOptions& options,
+                       std::string* error);
+
+// The action node `index` would run now, given the outputs of its inputs; nullopt (and
+// `error`) if a declared file cannot be read.
+std::optional<ActionRecord> describe_action(const Recipe& recipe, std::size_t index,
+                                            const std::vector<std::vector<OutputEntry>>& upstream,
+                                            std::string* error);
+
+// `sylva explain`: why `node` will rebuild (or that it will not), one line per reason.
+std::vector<std::string> explain_node(const Recipe& recipe, const BuildEnv& env, const std::string& node);
+
+}  // namespace sylva

@@ -1,0 +1,743 @@
+// Recipe loading in passes, each reporting every problem it finds before the next one runs:
+//   1. read the recipe and its `include:` fragments into RawNode trees (yaml_tree.cpp);
+//   2. check the top-level keys, collect the matrix, defaults and node entries;
+//   3. expand each node over the matrix variables its name uses, substituting `${var}`;
+//   4. check each node: name, stage, `with:` parameters against the stage schema, defaults;
+//   5. resolve `needs` patterns and check input types and counts;
+//   6. prove the graph acyclic (graph.cpp), printing a cycle when there is one.
+#include "pipeline/recipe_loader.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fnmatch.h>
+#include <set>
+
+#include "pipeline/graph.h"
+#include "pipeline/yaml_tree.h"
+
+namespace sylva {
+
+bool is_valid_name(std::string_view name) {
+  if (name.empty() || name.size() > 128 || name == "." || name == "..") return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+           c == '_' || c == '-' || c == '.';
+  });
+}
+
+const NodeDecl* Recipe::find(std::string_view node) const {
+  const std::size_t i = index_of(node);
+  return i < nodes.size() ? &nodes[i] : nullptr;
+}
+
+std::size_t Recipe::index_of(std::string_view node) const {
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].name == node) return i;
+  return nodes.size();
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- `${var}` substitution -------------------------------------------------------------
+
+struct VarRef {
+  std::string name;
+  SourceLoc loc;
+};
+
+// Variable references in `text` ("$${" is a literal "${"). Unterminated "${" is reported.
+std::vector<std::string> vars_in(const std::string& text, bool* malformed) {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i + 1 < text.size(); ++i) {
+    if (text[i] == '$' && text[i + 1] == '$') {
+      ++i;
+      continue;
+    }
+    if (text[i] == '$' && text[i + 1] == '{') {
+      const auto end = text.find('}', i + 2);
+      if (end == std::string::npos) {
+        *malformed = true;
+        return out;
+      }
+      out.push_back(text.substr(i + 2, end - i - 2));
+      i = end;
+    }
+  }
+  return out;
+}
+
+std::string substitute_text(const std::string& text, const std::map<std::string, std::string>& vars) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '$' && i + 1 < text.size() && text[i + 1] == '$') {
+      out += '$';
+      ++i;
+    } else if (text[i] == '$' && i + 1 < text.size() && text[i + 1] == '{') {
+      const auto end = text.find('}', i + 2);
+      out += vars.at(text.substr(i + 2, end - i - 2));
+      i = end;
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+void collect_vars(const RawNode& n, std::vector<VarRef>& out, const SourceFiles& src,
+                  Diagnostics& diags) {
+  if (n.is_scalar()) {
+    bool malformed = false;
+    for (auto& v : vars_in(n.text, &malformed)) out.push_back({v, n.loc});
+    if (malformed) src.error(diags, n.loc, "unterminated '${' in '" + n.text + "'");
+  }
+  for (const auto& i : n.items) collect_vars(i, out, src, diags);
+  for (const auto& [k, v] : n.entries) {
+    collect_vars(k, out, src, diags);
+    collect_vars(v, out, src, diags);
+  }
+}
+
+RawNode substitute(const RawNode& n, const std::map<std::string, std::string>& vars) {
+  RawNode r = n;
+  if (r.is_scalar()) r.text = substitute_text(r.text, vars);
+  for (auto& i : r.items) i = substitute(i, vars);
+  for (auto& [k, v] : r.entries) {
+    k = substitute(k, vars);
+    v = substitute(v, vars);
+  }
+  return r;
+}
+
+// ---- parameter conversion --------------------------------------------------------------
+
+class ParamChecker {
+ public:
+  ParamChecker(FileSystem& fs, const SourceFiles& src, Diagnostics& diags)
+      : fs_(fs), src_(src), diags_(diags) {}
+
+  // Converts `raw` to `spec`'s type; reports and returns nullopt on any problem.
+  // `files` receives resolved paths of kPath/kDir parameters (keyed by `spec.name`).
+  std::optional<Value> convert(const ParamSpec& spec, const RawNode& raw, const std::string& what,
+                               std::map<std::string, fs::path>* files) {
+    switch (spec.type) {
+      case ParamType::kBool: {
+        if (!raw.is_scalar()) return wrong(spec, raw, what);
+        if (raw.text == "true" || raw.text == "True" || raw.text == "TRUE") return Value(true);
+        if (raw.text == "false" || raw.text == "False" || raw.text == "FALSE") return Value(false);
+        return wrong(spec, raw, what);
+      }
+      case ParamType::kInt: {
+        auto i = scalar_int(raw);
+        if (!i) return wrong(spec, raw, what);
+        if (!in_range(spec, static_cast<double>(*i), raw, what)) return std::nullopt;
+        return Value(*i);
+      }
+      case ParamType::kReal: {
+        auto d = scalar_real(raw);
+        if (!d) return wrong(spec, raw, what);
+        if (!in_range(spec, *d, raw, what)) return std::nullopt;
+        return Value(*d);
+      }
+      case ParamType::kString:
+        if (!raw.is_scalar()) return wrong(spec, raw, what);
+        return Value(raw.text);
+      case ParamType::kEnum: {
+        if (!raw.is_scalar()) return wrong(spec, raw, what);
+        if (std::find(spec.choices.begin(), spec.choices.end(), raw.text) == spec.choices.end()) {
+          std::string list;
+          for (const auto& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
+          src_.error(diags_, raw.loc,
+                     what + " must be one of " + list + ", got '" + raw.text + "'" +
+                         did_you_mean(raw.text, spec.choices));
+          return std::nullopt;
+        }
+        return Value(raw.text);
+      }
+      case ParamType::kPath:
+      case ParamType::kDir: {
+        if (!raw.is_scalar() || raw.text.empty()) return wrong(spec, raw, what);
+        // Relative paths are relative to the YAML file that wrote them.
+        fs::path p = raw.text;
+        if (p.is_relative()) p = fs::path(raw.loc.file).parent_path() / p;
+        p = p.lexically_normal();
+        auto st = fs_.stat(p);
+        const bool want_dir = spec.type == ParamType::kDir;
+        if (!st || st->is_dir != want_dir) {
+          src_.error(diags_, raw.loc,
+                     "missing input: " + what + " names " + (want_dir ? "directory" : "file") +
+                         " '" + p.string() + "', which " + (st ? "is not a " + std::string(want_dir ? "directory" : "file") : std::string("does not exist")));
+          return std::nullopt;
+        }
+        if (files) (*files)[spec.name] = p;
+        return Value(p.string());
+      }
+      case ParamType::kIntList:
+      case ParamType::kRealList:
+      case ParamType::kStringList: {
+        if (!raw.is_seq()) return wrong(spec, raw, what);
+        if ((spec.min_items && raw.items.size() < *spec.min_items) ||
+            (spec.max_items && raw.items.size() > *spec.max_items)) {
+          src_.error(diags_, raw.loc,
+                     what + " must have " + items_text(spec) + ", got " +
+                         std::to_string(raw.items.size()));
+          return std::nullopt;
+        }
+        ParamSpec elem = spec;
+        elem.type = spec.type == ParamType::kIntList    ? ParamType::kInt
+                    : spec.type == ParamType::kRealList ? ParamType::kReal
+                                                        : ParamType::kString;
+        Value::List out;
+        bool ok = true;
+        for (std::size_t i = 0; i < raw.items.size(); ++i) {
+          auto v = convert(elem, raw.items[i], what + "[" + std::to_string(i) + "]", nullptr);
+          if (v) out.push_back(std::move(*v));
+          else ok = false;
+        }
+        if (!ok) return std::nullopt;
+        return Value(std::move(out));
+      }
+      case ParamType::kObject: {
+        if (!raw.is_map()) return wrong(spec, raw, what);
+        std::vector<std::string> names;
+        for (const auto& f : spec.fields) names.push_back(f.name);
+        Value::Object out;
+        bool ok = true;
+        for (const auto& [k, v] : raw.entries) {
+          const ParamSpec* f = nullptr;
+          for (const auto& field : spec.fields)
+            if (field.name == k.text) f = &field;
+          if (!f) {
+            src_.error(diags_, k.loc,
+                       "unknown field '" + k.text + "' in " + what + did_you_mean(k.text, names));
+            ok = false;
+            continue;
+          }
+          if (out.count(k.text)) {
+            src_.error(diags_, k.loc, "duplicate field '" + k.text + "' in " + what);
+            ok = false;
+            continue;
+          }
+          auto cv = convert(*f, v, what + "." + k.text, files);
+          if (cv) out.emplace(k.text, std::move(*cv));
+          else ok = false;
+        }
+        for (const auto& f : spec.fields) {
+          if (out.count(f.name)) continue;
+          if (f.required()) {
+            src_.error(diags_, raw.loc, "missing required field '" + f.name + "' in " + what);
+            ok = false;
+          } else {
+            out.emplace(f.name, f.default_value);
+          }
+        }
+        if (!ok) return std::nullopt;
+        return Value(std::move(out));
+      }
+      case ParamType::kMap: {
+        if (!raw.is_map()) return wrong(spec, raw, what);
+        ParamSpec elem = spec;
+        elem.type = ParamType::kReal;
+        Value::Object out;
+        bool ok = true;
+        for (const auto& [k, v] : raw.entries) {
+          auto cv = convert(elem, v, what + "." + k.text, nullptr);
+          if (!cv) ok = false;
+          else if (!out.emplace(k.text, std::move(*cv)).second) {
+            src_.error(diags_, k.loc, "duplicate key '" + k.text + "' in " + what);
+            ok = false;
+          }
+        }
+        if (!ok) return std::nullopt;
+        return Value(std::move(out));
+      }
+    }
+    return std::nullopt;
+  }
+
+ private:
+  static std::optional<std::int64_t> scalar_int(const RawNode& raw) {
+    if (!raw.is_scalar() || raw.text.empty()) return std::nullopt;
+    std::int64_t v = 0;
+    const char* b = raw.text.data();
+    const char* e = b + raw.text.size();
+    if (*b == '+') ++b;
+    auto [p, ec] = std::from_chars(b, e, v);
+    if (ec != std::errc() || p != e) return std::nullopt;
+    return v;
+  }
+
+  static std::optional<double> scalar_real(const RawNode& raw) {
+    if (!raw.is_scalar() || raw.text.empty()) return std::nullopt;
+    double v = 0;
+    const char* b = raw.text.data();
+    const char* e = b + raw.text.size();
+    if (*b == '+') ++b;
+    auto [p, ec] = std::from_chars(b, e, v);
+    if (ec != std::errc() || p != e || !std::isfinite(v)) return std::nullopt;
+    return v;
+  }
+
+  static std::string items_text(const ParamSpec& s) {
+    if (s.min_items && s.max_items) {
+      if (*s.min_items == *s.max_items) return "exactly " + std::to_string(*s.min_items) + " items";
+      return std::to_string(*s.min_items) + " to " + std::to_string(*s.max_items) + " items";
+    }
+    if (s.min_items) return "at least " + std::to_string(*s.min_items) + " items";
+    return "at most " + std::to_string(*s.max_items) + " items";
+  }
+
+  bool in_range(const ParamSpec& spec, double v, const RawNode& raw, const std::string& what) {
+    if ((spec.min && v < *spec.min) || (spec.max && v > *spec.max)) {
+      std::string range;
+      if (spec.min && spec.max)
+        range = "in [" + format_number(*spec.min) + ", " + format_number(*spec.max) + "]";
+      else if (spec.min)
+        range = ">= " + format_number(*spec.min);
+      else
+        range = "<= " + format_number(*spec.max);
+      src_.error(diags_, raw.loc,
+                 "value out of range: " + what + " must be " + range + ", got " + raw.text);
+      return false;
+    }
+    return true;
+  }
+
+  static std::string format_number(double d) {
+    if (d == std::floor(d) && std::fabs(d) < 1e15) return std::to_string(static_cast<long long>(d));
+    return format_real(d);
+  }
+
+  std::optional<Value> wrong(const ParamSpec& spec, const RawNode& raw, const std::string& what) {
+    const std::string got = raw.is_scalar() ? "'" + raw.text + "'" : std::string("a ") + raw.kind_name();
+    src_.error(diags_, raw.loc,
+               "wrong type: " + what + " expects " + param_type_name(spec.type) + ", got " + got);
+    return std::nullopt;
+  }
+
+  FileSystem& fs_;
+  const SourceFiles& src_;
+  Diagnostics& diags_;
+};
+
+// ---- the loader ----------------------------------------------------------------------
+
+struct NodeEntry {
+  RawNode key;
+  RawNode body;
+};
+
+struct MatrixVar {
+  std::string name;
+  std::vector<std::string> values;
+  SourceLoc loc;
+};
+
+class Loader {
+ public:
+  Loader(const StageRegistry& reg, FileSystem& fs, Diagnostics& diags)
+      : reg_(reg), fs_(fs), diags_(diags), yaml_(fs, src_, diags), params_(fs, src_, diags) {}
+
+  std::optional<Recipe> load(const fs::path& file) {
+    recipe_.file = file;
+    auto root = yaml_.read(file);
+    if (!root) return std::nullopt;
+    read_top(*root, /*is_root=*/true, {});
+    // Node checks run even after top-level errors so one run reports as much as it can.
+    expand_nodes();
+    check_defaults();
+    if (!diags_.empty()) return std::nullopt;
+    resolve_needs();
+    if (!diags_.empty()) return std::nullopt;
+    if (auto cycle = find_cycle(recipe_)) {
+      std::string chain;
+      for (std::size_t i : *cycle) chain += recipe_.nodes[i].name + " -> ";
+      chain += recipe_.nodes[cycle->front()].name;
+      src_.error(diags_, recipe_.nodes[cycle->front()].loc, "dependency cycle: " + chain);
+      return std::nullopt;
+    }
+    return std::move(recipe_);
+  }
+
+ private:
+  void err(const SourceLoc& loc, std::string msg) { src_.error(diags_, loc, std::move(msg)); }
+
+  // Top-level keys of the recipe or of an included fragment.
+  void read_top(const RawNode& root, bool is_root, std::vector<std::string> include_stack) {
+    const std::string file = root.loc.file;
+    if (!root.is_map()) {
+      err(root.loc, std::string(is_root ? "a recipe" : "an included recipe fragment") +
+                        " must be a map, got a " + root.kind_name());
+      return;
+    }
+    static const std::vector<std::string> kRootKeys = {"version", "name",   "description",
+                                                       "include", "defaults", "matrix", "nodes"};
+    static const std::vector<std::string> kFragmentKeys = {"description", "include", "defaults",
+                                                           "matrix", "nodes"};
+    const auto& allowed = is_root ? kRootKeys : kFragmentKeys;
+    std::set<std::string> seen;
+    bool have_version = false, have_name = false;
+    for (const auto& [k, v] : root.entries) {
+      if (!k.is_scalar()) {
+        err(k.loc, "keys must be plain names");
+        continue;
+      }
+      if (std::find(allowed.begin(), allowed.end(), k.text) == allowed.end()) {
+        const bool root_only = std::find(kRootKeys.begin(), kRootKeys.end(), k.text) != kRootKeys.end();
+        err(k.loc, root_only ? "'" + k.text + "' is only allowed in the top-level recipe"
+                             : "unknown key '" + k.text + "'" + did_you_mean(k.text, allowed));
+        continue;
+      }
+      if (!seen.insert(k.text).second) {
+        err(k.loc, "duplicate key '" + k.text + "'");
+        continue;
+      }
+      if (k.text == "version") {
+        have_version = true;
+        if (!v.is_scalar() || v.text != "1")
+          err(v.loc, "unsupported recipe version '" + (v.is_scalar() ? v.text : std::string(v.kind_name())) + "' (this sylva reads version 1)");
+      } else if (k.text == "name") {
+        have_name = true;
+        if (!v.is_scalar() || !is_valid_name(v.text))
+          err(v.loc, "invalid recipe name '" + v.text + "': use letters, digits, '_', '-' and '.'");
+        else
+          recipe_.name = v.text;
+      } else if (k.text == "include") {
+        read_includes(v, include_stack);
+      } else if (k.text == "defaults") {
+        read_defaults(v);
+      } else if (k.text == "matrix") {
+        read_matrix(v, global_matrix_);
+      } else if (k.text == "nodes") {
+        if (v.is_null()) continue;
+        if (!v.is_map()) {
+          err(v.loc, "'nodes' must be a map of node name to node, got a " + std::string(v.kind_name()));
+          continue;
+        }
+        for (const auto& [nk, nv] : v.entries) entries_.push_back({nk, nv});
+      }
+    }
+    if (is_root && !have_version) err({file, 1, 1}, "missing required key 'version'");
+    if (is_root && !have_name) err({file, 1, 1}, "missing required key 'name'");
+  }
+
+  void read_includes(const RawNode& v, std::vector<std::string> stack) {
+    std::vector<RawNode> list;
+    if (v.is_scalar()) list.push_back(v);
+    else if (v.is_seq()) list = v.items;
+    else {
+      err(v.loc, "'include' must be a file name or a list of file names");
+      return;
+    }
+    for (const auto& item : list) {
+      if (!item.is_scalar()) {
+        err(item.loc, "'include' entries must be file names");
+        continue;
+      }
+      const fs::path target = (fs::path(item.loc.file).parent_path() / item.text).lexically_normal();
+      if (std::find(stack.begin(), stack.end(), target.string()) != stack.end() ||
+          target.string() == fs::path(v.loc.file).lexically_normal().string()) {
+        err(item.loc, "include cycle: '" + target.string() + "' is already being read");
+        continue;
+      }
+      auto frag = yaml_.read(target, item.loc);
+      if (!frag) continue;
+      auto next = stack;
+      next.push_back(fs::path(v.loc.file).lexically_normal().string());
+      read_top(*frag, /*is_root=*/false, next);
+    }
+  }
+
+  void read_defaults(const RawNode& v) {
+    if (v.is_null()) return;
+    if (!v.is_map()) {
+      err(v.loc, "'defaults' must be a map of parameter name to value");
+      return;
+    }
+    for (const auto& [k, val] : v.entries) {
+      if (defaults_.count(k.text)) {
+        err(k.loc, "duplicate default '" + k.text + "' (first set at " +
+                       defaults_.at(k.text).first.loc.prefix() + ")");
+        continue;
+      }
+      defaults_.emplace(k.text, std::make_pair(k, val));
+    }
+  }
+
+  void read_matrix(const RawNode& v, std::vector<MatrixVar>& out) {
+    if (v.is_null()) return;
+    if (!v.is_map()) {
+      err(v.loc, "'matrix' must be a map of variable name to a list of values");
+      return;
+    }
+    for (const auto& [k, val] : v.entries) {
+      if (std::any_of(out.begin(), out.end(), [&](const MatrixVar& m) { return m.name == k.text; })) {
+        err(k.loc, "duplicate matrix variable '" + k.text + "'");
+        continue;
+      }
+      if (!val.is_seq() || val.items.empty()) {
+        err(val.loc, "matrix variable '" + k.text + "' must be a non-empty list of values");
+        continue;
+      }
+      MatrixVar m{k.text, {}, k.loc};
+      for (const auto& item : val.items) {
+        if (!item.is_scalar()) err(item.loc, "matrix values must be scalars");
+        else m.values.push_back(item.text);
+      }
+      out.push_back(std::move(m));
+    }
+  }
+
+  // Pass 3 + 4: expansion and per-node checks.
+  void expand_nodes() {
+    for (const auto& e : entries_) {
+      std::vector<MatrixVar> matrix = global_matrix_;
+      RawNode body = e.body;
+      // A node-level `matrix:` adds or overrides variables for this node only.
+      if (body.is_map()) {
+        for (auto it = body.entries.begin(); it != body.entries.end(); ++it) {
+          if (it->first.text != "matrix") continue;
+          std::vector<MatrixVar> local;
+          read_matrix(it->second, local);
+          for (auto& m : local) {
+            auto g = std::find_if(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == m.name; });
+            if (g != matrix.end()) *g = m;
+            else matrix.push_back(m);
+          }
+          body.entries.erase(it);
+          break;
+        }
+      }
+      std::vector<VarRef> name_vars, body_vars;
+      collect_vars(e.key, name_vars, src_, diags_);
+      collect_vars(body, body_vars, src_, diags_);
+      std::vector<const MatrixVar*> used;  // in matrix declaration order
+      bool ok = true;
+      for (const auto& ref : name_vars) {
+        auto m = std::find_if(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == ref.name; });
+        if (m == matrix.end()) {
+          std::vector<std::string> names;
+          for (const auto& x : matrix) names.push_back(x.name);
+          err(ref.loc, "unknown variable '${" + ref.name + "}'" + did_you_mean(ref.name, names));
+          ok = false;
+        }
+      }
+      for (const auto& m : matrix)
+        if (std::any_of(name_vars.begin(), name_vars.end(), [&](const VarRef& r) { return r.name == m.name; }))
+          used.push_back(&m);
+      for (const auto& ref : body_vars) {
+        const bool in_name = std::any_of(name_vars.begin(), name_vars.end(), [&](const VarRef& r) { return r.name == ref.name; });
+        if (in_name) continue;
+        const bool known = std::any_of(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == ref.name; });
+        err(ref.loc, known ? "variable '${" + ref.name + "}' is used in node '" + e.key.text +
+                                 "' but not in its name, so its expansions would share one name"
+                           : "unknown variable '${" + ref.name + "}'");
+        ok = false;
+      }
+      if (!ok) continue;
+      // Cartesian product, first variable outermost.
+      std::vector<std::size_t> idx(used.size(), 0);
+      for (;;) {
+        std::map<std::string, std::string> vars;
+        for (std::size_t i = 0; i < used.size(); ++i) vars[used[i]->name] = used[i]->values[idx[i]];
+        check_node(substitute(e.key, vars), substitute(body, vars));
+        std::size_t i = used.size();
+        while (i > 0) {
+          --i;
+          if (++idx[i] < used[i]->values.size()) break;
+          idx[i] = 0;
+          if (i == 0) { i = used.size() + 1; break; }
+        }
+        if (used.empty() || i == used.size() + 1) break;
+      }
+    }
+  }
+
+  void check_node(const RawNode& key, const RawNode& body) {
+    if (!key.is_scalar() || !is_valid_name(key.text)) {
+      err(key.loc, "invalid node name '" + key.text +
+                       "': use letters, digits, '_', '-' and '.' (no path separators)");
+      return;
+    }
+    if (auto it = node_loc_.find(key.text); it != node_loc_.end()) {
+      err(key.loc, "duplicate node '" + key.text + "' (first defined at " + it->second.prefix() + ")");
+      return;
+    }
+    node_loc_.emplace(key.text, key.loc);
+    NodeDecl node;
+    node.name = key.text;
+    node.loc = key.loc;
+    if (!body.is_map()) {
+      err(body.loc, "node '" + key.text + "' must be a map with 'stage', 'needs' and 'with'");
+      return;
+    }
+    static const std::vector<std::string> kNodeKeys = {"stage", "needs", "with", "matrix", "description"};
+    const RawNode* stage = nullptr;
+    const RawNode* with = nullptr;
+    const RawNode* needs = nullptr;
+    for (const auto& [k, v] : body.entries) {
+      if (std::find(kNodeKeys.begin(), kNodeKeys.end(), k.text) == kNodeKeys.end()) {
+        err(k.loc, "unknown key '" + k.text + "' in node '" + node.name + "'" + did_you_mean(k.text, kNodeKeys));
+        continue;
+      }
+      const RawNode** slot = k.text == "stage" ? &stage : k.text == "with" ? &with : k.text == "needs" ? &needs : nullptr;
+      if (!slot) continue;
+      if (*slot) err(k.loc, "duplicate key '" + k.text + "' in node '" + node.name + "'");
+      else *slot = &v;
+    }
+    if (!stage) {
+      err(key.loc, "node '" + node.name + "' has no 'stage'");
+      return;
+    }
+    node.stage = stage->is_scalar() ? reg_.find(stage->text) : nullptr;
+    if (!node.stage) {
+      err(stage->loc, "unknown stage '" + stage->text + "'" + did_you_mean(stage->text, reg_.names()));
+      return;
+    }
+    const StageInfo& info = node.stage->info();
+    std::vector<std::string> param_names;
+    for (const auto& p : info.params) param_names.push_back(p.name);
+    std::set<std::string> given;
+    if (with && !with->is_null()) {
+      if (!with->is_map()) {
+        err(with->loc, "'with' must be a map of parameter name to value");
+      } else {
+        for (const auto& [k, v] : with->entries) {
+          const ParamSpec* spec = find_param(info, k.text);
+          if (!spec) {
+            err(k.loc, "unknown parameter '" + k.text + "' for stage '" + info.name + "'" + did_you_mean(k.text, param_names));
+            continue;
+          }
+          if (!given.insert(k.text).second) {
+            err(k.loc, "duplicate parameter '" + k.text + "'");
+            continue;
+          }
+          if (auto val = params_.convert(*spec, v, "parameter '" + k.text + "'", &node.files))
+            node.params.emplace(k.text, std::move(*val));
+        }
+      }
+    }
+    for (const auto& spec : info.params) {
+      if (given.count(spec.name)) continue;
+      if (auto d = defaults_.find(spec.name); d != defaults_.end()) {
+        used_defaults_.insert(spec.name);
+        if (auto val = params_.convert(spec, d->second.second, "default '" + spec.name + "'", &node.files))
+          node.params.emplace(spec.name, std::move(*val));
+      } else if (spec.required()) {
+        err(key.loc, "node '" + node.name + "' (stage '" + info.name + "') is missing required parameter '" + spec.name + "'");
+      } else {
+        node.params.emplace(spec.name, spec.default_value);
+      }
+    }
+    if (needs) needs_raw_.emplace(node.name, *needs);
+    recipe_.nodes.push_back(std::move(node));
+  }
+
+  static const ParamSpec* find_param(const StageInfo& info, const std::string& name) {
+    for (const auto& p : info.params)
+      if (p.name == name) return &p;
+    return nullptr;
+  }
+
+  // A default that no node's stage declares is almost certainly misspelled.
+  void check_defaults() {
+    std::vector<std::string> all;
+    for (const auto* s : reg_.all())
+      for (const auto& p : s->info().params) all.push_back(p.name);
+    for (const auto& [name, kv] : defaults_) {
+      if (used_defaults_.count(name)) continue;
+      const bool anywhere = std::find(all.begin(), all.end(), name) != all.end();
+      bool declared_by_used_stage = false;
+      for (const auto& n : recipe_.nodes)
+        if (find_param(n.stage->info(), name)) declared_by_used_stage = true;
+      if (!anywhere)
+        err(kv.first.loc, "unknown parameter '" + name + "' in defaults" + did_you_mean(name, all));
+      else if (!declared_by_used_stage)
+        err(kv.first.loc, "default '" + name + "' is not a parameter of any stage this recipe uses");
+    }
+  }
+
+  // Pass 5: `needs` patterns → node names, then input type/count checks.
+  void resolve_needs() {
+    std::vector<std::string> names;
+    for (const auto& n : recipe_.nodes) names.push_back(n.name);
+    for (auto& node : recipe_.nodes) {
+      auto it = needs_raw_.find(node.name);
+      std::vector<RawNode> patterns;
+      SourceLoc where = node.loc;
+      if (it != needs_raw_.end()) {
+        where = it->second.loc;
+        if (it->second.is_scalar()) patterns.push_back(it->second);
+        else if (it->second.is_seq()) patterns = it->second.items;
+        else if (!it->second.is_null()) err(it->second.loc, "'needs' must be a node name, a pattern or a list of them");
+      }
+      for (const auto& p : patterns) {
+        if (!p.is_scalar()) {
+          err(p.loc, "'needs' entries must be node names or patterns");
+          continue;
+        }
+        const bool glob = p.text.find_first_of("*?[") != std::string::npos;
+        std::vector<std::string> matches;
+        for (const auto& n : names)
+          if (n != node.name && (glob ? fnmatch(p.text.c_str(), n.c_str(), 0) == 0 : n == p.text))
+            matches.push_back(n);
+        std::sort(matches.begin(), matches.end());
+        if (matches.empty()) {
+          if (!glob && p.text == node.name)
+            err(p.loc, "dependency cycle: " + node.name + " -> " + node.name);
+          else
+            err(p.loc, "missing input: " + std::string(glob ? "no node matches '" : "no node named '") + p.text + "'" +
+                           (glob ? "" : did_you_mean(p.text, names)));
+        }
+        for (auto& m : matches)
+          if (std::find(node.needs.begin(), node.needs.end(), m) == node.needs.end()) node.needs.push_back(m);
+      }
+      const InputSpec& in = node.stage->info().inputs;
+      const int count = static_cast<int>(node.needs.size());
+      if (count < in.min || (in.max >= 0 && count > in.max)) {
+        std::string want = in.max < 0 ? "at least " + std::to_string(in.min)
+                           : in.min == in.max ? std::to_string(in.min)
+                                              : std::to_string(in.min) + " to " + std::to_string(in.max);
+        err(where, "node '" + node.name + "' (stage '" + node.stage->info().name + "') needs " + want +
+                       " input" + (in.max == 1 && in.min == 1 ? "" : "s") + ", got " + std::to_string(count));
+      }
+      for (const auto& up : node.needs) {
+        const NodeDecl* u = recipe_.find(up);
+        const std::string& type = u->stage->info().output_type;
+        if (std::find(in.types.begin(), in.types.end(), type) == in.types.end()) {
+          std::string accepted;
+          for (const auto& t : in.types) accepted += (accepted.empty() ? "" : ", ") + t;
+          err(where, "node '" + node.name + "' cannot take '" + up + "' as input: stage '" +
+                         node.stage->info().name + "' accepts " + (accepted.empty() ? "no inputs" : accepted) +
+                         ", but '" + up + "' makes a " + type);
+        }
+      }
+    }
+  }
+
+  const StageRegistry& reg_;
+  FileSystem& fs_;
+  Diagnostics& diags_;
+  SourceFiles src_;
+  YamlReader yaml_;
+  ParamChecker params_;
+  Recipe recipe_;
+  std::vector<MatrixVar> global_matrix_;
+  std::map<std::string, std::pair<RawNode, RawNode>> defaults_;
+  std::set<std::string> used_defaults_;
+  std::vector<NodeEntry> entries_;
+  std::map<std::string, SourceLoc> node_loc_;
+  std::map<std::string, RawNode> needs_raw_;
+};
+
+}  // namespace
+
+std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& registry,
+                                  FileSystem& fs, Diagnostics& diags) {
+  Loader loader(registry, fs, diags);
+  return loader.load(file);
+}
+
+}  // namespace sylva

@@ -1,0 +1,66 @@
+// YAML documents as plain trees that remember where every scalar came from.
+//
+// The recipe loader works on RawNode instead of YAML::Node because it rewrites the tree
+// (matrix substitution, `!include` inlining) and must still report every error at the
+// original file:line:col. Parsing goes through yaml-cpp; `!include path` on any value is
+// replaced by the root of that file (resolved relative to the including file).
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipeline/diagnostic.h"
+#include "pipeline/filesystem.h"
+
+namespace sylva {
+
+struct RawNode {
+  enum class Kind { kNull, kScalar, kSeq, kMap };
+  Kind kind = Kind::kNull;
+  std::string text;                                 // kScalar
+  std::vector<RawNode> items;                       // kSeq
+  std::vector<std::pair<RawNode, RawNode>> entries;  // kMap, in file order (duplicates kept)
+  SourceLoc loc;
+
+  bool is_scalar() const { return kind == Kind::kScalar; }
+  bool is_seq() const { return kind == Kind::kSeq; }
+  bool is_map() const { return kind == Kind::kMap; }
+  bool is_null() const { return kind == Kind::kNull; }
+  const char* kind_name() const;  // "null", "scalar", "list", "map"
+};
+
+// Remembers the text of every file read, so diagnostics can show the offending line.
+class SourceFiles {
+ public:
+  void add(const std::string& file, std::string text);
+  std::string line(const std::string& file, int line) const;  // "" if unknown
+  // Adds a diagnostic at `loc` with its source line attached.
+  void error(Diagnostics& diags, const SourceLoc& loc, std::string message) const;
+
+ private:
+  std::map<std::string, std::vector<std::string>> lines_;
+};
+
+class YamlReader {
+ public:
+  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags)
+      : fs_(fs), sources_(sources), diags_(diags) {}
+
+  // Parses `file` (a path as the user wrote it). On failure adds a diagnostic located at
+  // `from` (the place that named the file; empty for the top-level recipe) and returns nullopt.
+  std::optional<RawNode> read(const std::filesystem::path& file, const SourceLoc& from = {});
+
+ private:
+  std::optional<RawNode> read_impl(const std::filesystem::path& file, const SourceLoc& from);
+
+  FileSystem& fs_;
+  SourceFiles& sources_;
+  Diagnostics& diags_;
+  std::vector<std::string> stack_;  // files being read (include cycle detection)
+};
+
+}  // namespace sylva

@@ -1,0 +1,341 @@
+// The executor end to end on real temp directories: caching, incrementality, corruption,
+// failures, determinism, cancellation, concurrency, explain.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "pipeline/cache.h"
+#include "pipeline/executor.h"
+#include "pipeline/recipe_loader.h"
+#include "tests/engine/test_stages.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BuildTest : public ::testing::Test {
+ protected:
+  BuildTest() { test::register_test_stages(reg_, &log_); }
+
+  Recipe load(const std::string& yaml) {
+    test::write_file(dir_ / "r.yaml", yaml);
+    Diagnostics d;
+    auto r = load_recipe(dir_ / "r.yaml", reg_, fs_, d);
+    EXPECT_TRUE(r) << d.str();
+    return r ? *r : Recipe{};
+  }
+
+  BuildSummary build(const Recipe& r, BuildOptions opt = {}, const fs::path& cache_dir = {}) {
+    Cache cache(fs_, cache_dir.empty() ? dir_ / "cache" : cache_dir);
+    BuildEnv env{fs_, cache, dir_ / "out" / r.name, clock_, &cancel_, nullptr};
+    std::string err;
+    auto s = run_build(r, env, opt, &err);
+    EXPECT_EQ(err, "");
+    return s;
+  }
+
+  std::string out(const std::string& node) { return test::read_file(dir_ / "out" / "r" / node / "out.txt"); }
+  std::vector<std::string> explain(const Recipe& r, const std::string& node) {
+    Cache cache(fs_, dir_ / "cache");
+    BuildEnv env{fs_, cache, dir_ / "out" / r.name, clock_, nullptr, nullptr};
+    return explain_node(r, env, node);
+  }
+  const NodeReport& report(const BuildSummary& s, const std::string& name) {
+    for (const auto& n : s.nodes)
+      if (n.name == name) return n;
+    throw std::runtime_error("no node " + name);
+  }
+
+  test::TempDir dir_;
+  StageRegistry reg_;
+  test::RunLog log_;
+  RealFileSystem fs_;
+  SteadyClock clock_;
+  std::atomic<bool> cancel_{false};
+};
+
+const char* kChain =
+    "version: 1\nname: r\nnodes:\n"
+    "  a:\n    stage: text\n    with: { text: A, count: ${N} }\n"
+    "  b:\n    stage: text\n    with: { text: B }\n"
+    "  ab:\n    stage: concat\n    needs: [a, b]\n"
+    "  top:\n    stage: concat\n    needs: ab\n    with: { suffix: '!' }\n";
+
+std::string chain(int n) {
+  std::string s = kChain;
+  s.replace(s.find("${N}"), 4, std::to_string(n));
+  return s;
+}
+
+TEST_F(BuildTest, FirstBuildRunsEverythingSecondRunsNothing) {
+  Recipe r = load(chain(2));
+  auto s1 = build(r);
+  EXPECT_TRUE(s1.ok());
+  EXPECT_EQ(s1.count(NodeStatus::kBuilt), 4u);
+  EXPECT_EQ(out("top"), out("a") + out("b") + "!");
+  EXPECT_EQ(out("b"), "B\n");
+  log_.clear();
+  auto s2 = build(r);
+  EXPECT_EQ(s2.count(NodeStatus::kCached), 4u);
+  EXPECT_EQ(s2.count(NodeStatus::kBuilt), 0u);
+  EXPECT_EQ(log_.total(), 0);
+}
+
+TEST_F(BuildTest, ChangingOneParameterRebuildsOnlyThatNodeAndDependents) {
+  auto s1 = build(load(chain(2)));
+  ASSERT_TRUE(s1.ok());
+  log_.clear();
+  Recipe r2 = load(chain(3));
+  EXPECT_EQ(explain(r2, "a"), (std::vector<std::string>{"'a' will rebuild: parameter 'count' changed: 2 -> 3"}));
+  EXPECT_EQ(explain(r2, "top"), (std::vector<std::string>{"'top' will rebuild because its input 'ab' will rebuild"}));
+  EXPECT_EQ(explain(r2, "b")[0].substr(0, 26), "'b' is up to date (action ");
+  auto s2 = build(r2);
+  EXPECT_EQ(s2.count(NodeStatus::kBuilt), 3u);
+  EXPECT_EQ(report(s2, "b").status, NodeStatus::kCached);
+  EXPECT_EQ(log_.count("a"), 1);
+  EXPECT_EQ(log_.count("b"), 0);
+  EXPECT_EQ(log_.count("ab"), 1);
+  EXPECT_EQ(log_.count("top"), 1);
+}
+
+TEST_F(BuildTest, SameOutputUpstreamStopsRebuildPropagation) {
+  // Changing `mode` on a node whose text is already upper case changes its key but not its
+  // bytes: dependents keep their keys (inputs are hashed by content) and stay cached.
+  build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: X }\n"
+             "  b:\n    stage: concat\n    needs: a\n"));
+  log_.clear();
+  auto s = build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: X, mode: upper }\n"
+                      "  b:\n    stage: concat\n    needs: a\n"));
+  EXPECT_EQ(report(s, "a").status, NodeStatus::kBuilt);
+  EXPECT_EQ(report(s, "b").status, NodeStatus::kCached);
+}
+
+TEST_F(BuildTest, EditedInputFileRebuildsAndExplainSaysWhich) {
+  test::write_file(dir_ / "in.txt", "one");
+  Recipe r = load("version: 1\nname: r\nnodes:\n  f:\n    stage: readfile\n    with: { file: in.txt }\n");
+  build(r);
+  EXPECT_EQ(out("f"), "one");
+  test::write_file(dir_ / "in.txt", "two");
+  const auto why = explain(r, "f");
+  ASSERT_EQ(why.size(), 1u);
+  EXPECT_EQ(why[0].substr(0, why[0].find(" changed")), "'f' will rebuild: file '" + (dir_ / "in.txt").string() + "' (parameter 'file')");
+  auto s = build(r);
+  EXPECT_EQ(s.count(NodeStatus::kBuilt), 1u);
+  EXPECT_EQ(out("f"), "two");
+}
+
+TEST_F(BuildTest, CorruptBlobIsDetectedAndRebuilt) {
+  Recipe r = load(chain(5));
+  auto s1 = build(r);
+  const Digest d = report(s1, "a").outputs.at(0).digest;
+  Cache cache(fs_, dir_ / "cache");
+  const fs::path blob = cache.blob_path(d.hash);
+  // Same size, different bytes: only hashing can tell.
+  fs::permissions(blob, fs::perms::owner_write, fs::perm_options::add);
+  std::string bytes = test::read_file(blob);
+  bytes[0] = bytes[0] == 'Z' ? 'Y' : 'Z';
+  test::write_file(blob, bytes);
+  fs::remove_all(dir_ / "out");  // force the blob to be read
+  log_.clear();
+  auto s2 = build(r);
+  EXPECT_TRUE(s2.ok());
+  EXPECT_EQ(report(s2, "a").status, NodeStatus::kBuilt);
+  EXPECT_EQ(log_.count("a"), 1);
+  EXPECT_EQ(test::read_file(blob), out("a"));  // the blob was replaced by the right bytes
+  EXPECT_EQ(sha256_hex(out("a")), d.hash);
+}
+
+TEST_F(BuildTest, TruncatedBlobIsAMissAndEditedOutputIsRepaired) {
+  Recipe r = load(chain(1));
+  auto s1 = build(r);
+  Cache cache(fs_, dir_ / "cache");
+  const fs::path blob = cache.blob_path(report(s1, "b").outputs.at(0).digest.hash);
+  fs::permissions(blob, fs::perms::owner_write, fs::perm_options::add);
+  test::write_file(blob, "");
+  test::write_file(dir_ / "out/r/top/out.txt", "tampered");
+  test::write_file(dir_ / "out/r/top/stray.txt", "junk");
+  log_.clear();
+  auto s2 = build(r);
+  EXPECT_EQ(report(s2, "b").status, NodeStatus::kBuilt);  // size mismatch: not a hit
+  EXPECT_EQ(report(s2, "top").status, NodeStatus::kCached);
+  EXPECT_EQ(out("top"), out("a") + "B\n!");
+  EXPECT_FALSE(fs::exists(dir_ / "out/r/top/stray.txt"));
+}
+
+TEST_F(BuildTest, CacheVerifyAndGc) {
+  Recipe r = load(chain(1));
+  auto s = build(r);
+  Cache cache(fs_, dir_ / "cache");
+  auto st = cache.stats();
+  EXPECT_EQ(st.actions, 4u);
+  EXPECT_EQ(st.blobs, 4u);
+  EXPECT_EQ(cache.verify_all(), 0u);
+  const fs::path blob = cache.blob_path(report(s, "a").outputs[0].digest.hash);
+  fs::permissions(blob, fs::perms::owner_write, fs::perm_options::add);
+  test::write_file(blob, "garbage");
+  EXPECT_EQ(cache.verify_all(), 1u);
+  // An orphan blob is collected; blobs of live results are kept.
+  test::write_file(cache.blob_path(std::string(64, 'e')), "orphan");
+  auto g = cache.gc(0);
+  EXPECT_EQ(g.blobs_removed, 1u);
+  EXPECT_EQ(cache.stats().blobs, 3u);
+}
+
+TEST_F(BuildTest, FailureStopsDependentsAndKeepGoingBuildsTheRest) {
+  const char* yaml =
+      "version: 1\nname: r\nnodes:\n"
+      "  bad:\n    stage: text\n    with: { fail: true }\n"
+      "  after:\n    stage: concat\n    needs: bad\n"
+      "  good:\n    stage: text\n    with: { sleep_ms: 30 }\n"
+      "  good2:\n    stage: concat\n    needs: good\n";
+  Recipe r = load(yaml);
+  BuildOptions one;
+  one.jobs = 1;  // deterministic order: bad runs first, then the build stops
+  auto s = build(r, one);
+  EXPECT_FALSE(s.ok());
+  EXPECT_EQ(report(s, "bad").status, NodeStatus::kFailed);
+  EXPECT_EQ(report(s, "bad").error, "asked to fail");
+  EXPECT_EQ(report(s, "after").status, NodeStatus::kSkipped);
+  EXPECT_EQ(report(s, "after").error, "input 'bad' failed");
+  EXPECT_FALSE(fs::exists(dir_ / "out/r/bad"));
+  BuildOptions kg;
+  kg.keep_going = true;
+  auto s2 = build(r, kg, dir_ / "cache2");
+  EXPECT_EQ(report(s2, "bad").status, NodeStatus::kFailed);
+  EXPECT_EQ(report(s2, "after").status, NodeStatus::kSkipped);
+  EXPECT_EQ(report(s2, "good").status, NodeStatus::kBuilt);
+  EXPECT_EQ(report(s2, "good2").status, NodeStatus::kBuilt);
+}
+
+std::string wide_recipe(int width) {
+  std::string y = "version: 1\nname: r\nnodes:\n";
+  for (int i = 0; i < width; ++i)
+    y += "  n" + std::to_string(i) + ":\n    stage: text\n    with: { text: t" + std::to_string(i) +
+         ", count: 20, seed: " + std::to_string(i) + " }\n";
+  for (int i = 0; i < width; ++i)
+    y += "  c" + std::to_string(i) + ":\n    stage: concat\n    needs: [n" + std::to_string(i) + ", n" +
+         std::to_string((i + 1) % width) + "]\n";
+  y += "  all:\n    stage: concat\n    needs: 'c*'\n";
+  return y;
+}
+
+TEST_F(BuildTest, TwoHundredNodeNoOpRebuildRunsNothing) {
+  Recipe r = load(wide_recipe(100));
+  ASSERT_EQ(r.nodes.size(), 201u);
+  auto s1 = build(r);
+  EXPECT_EQ(s1.count(NodeStatus::kBuilt), 201u);
+  log_.clear();
+  auto s2 = build(r);
+  EXPECT_EQ(s2.count(NodeStatus::kCached), 201u);
+  EXPECT_EQ(log_.total(), 0);
+}
+
+TEST_F(BuildTest, OutputsAreIdenticalWhateverTheThreadCount) {
+  Recipe r = load(wide_recipe(40));
+  BuildOptions j1, j8;
+  j1.jobs = 1;
+  j8.jobs = 8;
+  auto s1 = build(r, j1, dir_ / "cache1");
+  const std::string all1 = out("all");
+  fs::remove_all(dir_ / "out");
+  auto s8 = build(r, j8, dir_ / "cache8");
+  EXPECT_EQ(s8.count(NodeStatus::kBuilt), r.nodes.size());  // fresh cache: really rebuilt
+  EXPECT_EQ(out("all"), all1);
+  ASSERT_EQ(s1.nodes.size(), s8.nodes.size());
+  for (std::size_t i = 0; i < s1.nodes.size(); ++i) {
+    EXPECT_EQ(s1.nodes[i].name, s8.nodes[i].name);
+    EXPECT_EQ(s1.nodes[i].key, s8.nodes[i].key);
+    EXPECT_EQ(s1.nodes[i].outputs.at(0).digest, s8.nodes[i].outputs.at(0).digest);
+  }
+}
+
+TEST_F(BuildTest, SeedChangesOutputAndIsTheOnlySourceOfRandomness) {
+  auto s1 = build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: 8, seed: 1 }\n"));
+  const std::string one = out("a");
+  build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: 8, seed: 2 }\n"));
+  EXPECT_NE(out("a"), one);
+  fs::remove_all(dir_ / "cache");
+  build(load("version: 1\nname: r\nnodes:\n  renamed:\n    stage: text\n    with: { count: 8, seed: 1 }\n"));
+  EXPECT_EQ(test::read_file(dir_ / "out/r/renamed/out.txt"), one);
+}
+
+TEST_F(BuildTest, TargetsBuildOnlyTheirClosure) {
+  Recipe r = load(chain(1));
+  BuildOptions opt;
+  opt.targets = {"ab"};
+  auto s = build(r, opt);
+  EXPECT_EQ(s.nodes.size(), 3u);
+  EXPECT_FALSE(fs::exists(dir_ / "out/r/top"));
+  Cache cache(fs_, dir_ / "cache");
+  BuildEnv env{fs_, cache, dir_ / "out/r", clock_, nullptr, nullptr};
+  opt.targets = {"abc"};
+  std::string err;
+  run_build(r, env, opt, &err);
+  EXPECT_EQ(err, "unknown target 'abc'; did you mean 'ab'?");
+}
+
+TEST_F(BuildTest, DryRunRunsNothingAndPredicts) {
+  Recipe r = load(chain(1));
+  BuildOptions dry;
+  dry.dry_run = true;
+  auto s = build(r, dry);
+  EXPECT_EQ(s.count(NodeStatus::kWouldBuild), 4u);
+  EXPECT_EQ(log_.total(), 0);
+  EXPECT_FALSE(fs::exists(dir_ / "out/r/a"));
+  build(load(chain(2)));
+  auto s2 = build(r, dry);
+  EXPECT_EQ(report(s2, "b").status, NodeStatus::kUpToDate);
+  EXPECT_EQ(report(s2, "a").status, NodeStatus::kWouldBuild);
+  EXPECT_EQ(report(s2, "top").status, NodeStatus::kWouldBuild);
+}
+
+TEST_F(BuildTest, CancellationStopsPromptlyAndLeavesNoPartialArtifact) {
+  Recipe r = load("version: 1\nname: r\nnodes:\n  slow:\n    stage: text\n    with: { sleep_ms: 20000 }\n"
+                  "  next:\n    stage: concat\n    needs: slow\n");
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    cancel_ = true;
+  });
+  const auto t0 = std::chrono::steady_clock::now();
+  auto s = build(r);
+  stopper.join();
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+  EXPECT_EQ(report(s, "slow").status, NodeStatus::kInterrupted);
+  EXPECT_EQ(report(s, "next").status, NodeStatus::kInterrupted);
+  EXPECT_TRUE(s.interrupted());
+  EXPECT_FALSE(fs::exists(dir_ / "out/r/slow"));
+  Cache cache(fs_, dir_ / "cache");
+  EXPECT_EQ(cache.stats().actions, 0u);
+  EXPECT_EQ(cache.stats().tmp_entries, 0u);  // scratch removed
+}
+
+TEST_F(BuildTest, ConcurrentBuildsShareOneCacheSafely) {
+  Recipe r = load(wide_recipe(30));
+  BuildSummary s1, s2;
+  // Two independent builds (separate out dirs, one cache), as two processes would run them.
+  std::thread t1([&] {
+    Cache cache(fs_, dir_ / "cache");
+    BuildEnv env{fs_, cache, dir_ / "out1/r", clock_, nullptr, nullptr};
+    std::string e;
+    s1 = run_build(r, env, {}, &e);
+  });
+  std::thread t2([&] {
+    Cache cache(fs_, dir_ / "cache");
+    BuildEnv env{fs_, cache, dir_ / "out2/r", clock_, nullptr, nullptr};
+    std::string e;
+    s2 = run_build(r, env, {}, &e);
+  });
+  t1.join();
+  t2.join();
+  EXPECT_TRUE(s1.ok());
+  EXPECT_TRUE(s2.ok());
+  // The per-action lock means each action ran once; the other build found it cached.
+  EXPECT_EQ(s1.count(NodeStatus::kBuilt) + s2.count(NodeStatus::kBuilt), r.nodes.size());
+  EXPECT_EQ(log_.total(), static_cast<int>(r.nodes.size()));
+  EXPECT_EQ(test::read_file(dir_ / "out1/r/all/out.txt"), test::read_file(dir_ / "out2/r/all/out.txt"));
+}
+
+}  // namespace
+}  // namespace sylva

@@ -1,0 +1,166 @@
+// Stages for engine tests only (never registered in the shipped binary). They do real, checkable
+// work on text so tests can assert exact output bytes, run counts and failures.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "pipeline/registry.h"
+#include "pipeline/stage.h"
+
+namespace sylva::test {
+
+// Counts stage runs per node, so a test can say exactly which nodes ran.
+struct RunLog {
+  std::mutex mu;
+  std::map<std::string, int> runs;
+  void record(const std::string& node) {
+    std::lock_guard lock(mu);
+    ++runs[node];
+  }
+  int count(const std::string& node) {
+    std::lock_guard lock(mu);
+    return runs.count(node) ? runs[node] : 0;
+  }
+  int total() {
+    std::lock_guard lock(mu);
+    int t = 0;
+    for (auto& [k, v] : runs) t += v;
+    return t;
+  }
+  void clear() {
+    std::lock_guard lock(mu);
+    runs.clear();
+  }
+};
+
+// `text`: no inputs; writes `text` followed by `count` pseudo-random numbers from the seed.
+class TextStage final : public Stage {
+ public:
+  explicit TextStage(RunLog* log) : log_(log) {
+    info_.name = "text";
+    info_.version = 1;
+    info_.summary = "writes a line of text (test stage)";
+    info_.params = {
+        Param::string("text", "hello").describe("the text"),
+        Param::integer("seed", 1).range(0, 1e9).describe("random seed"),
+        Param::integer("count", 0).range(0, 1000).describe("random numbers to append"),
+        Param::real("scale", 1.0).range(0.0, 10.0).describe("a real parameter"),
+        Param::choice("mode", {"plain", "upper"}, "plain").describe("case"),
+        Param::boolean("fail", false).describe("fail with a StageError"),
+        Param::integer("sleep_ms", 0).range(0, 60000).describe("sleep before writing"),
+        Param::real_list("weights", Value::List{}).describe("a list"),
+        Param::object("camera", {Param::real("fov_y_deg", 45.0).range(1, 179), Param::integer("height_px", 1080).range(1, 100000)}),
+    };
+    info_.inputs = {{}, 0, 0, ""};
+    info_.output_type = "text";
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext& ctx) const override {
+    if (log_) log_->record(ctx.node_name());
+    for (std::int64_t t = 0; t < ctx.integer("sleep_ms"); t += 5) {
+      ctx.check_cancelled();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (ctx.boolean("fail")) throw StageError("asked to fail");
+    std::string s = ctx.string("text");
+    if (ctx.string("mode") == "upper")
+      for (auto& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    Rng rng = ctx.rng("numbers");
+    for (std::int64_t i = 0; i < ctx.integer("count"); ++i) s += " " + std::to_string(rng.next_u64() % 1000);
+    ctx.write_output("out.txt", s + "\n");
+  }
+
+ private:
+  RunLog* log_;
+  StageInfo info_;
+};
+
+// `concat`: any number of text inputs; writes their out.txt in `needs` order plus `suffix`.
+class ConcatStage final : public Stage {
+ public:
+  explicit ConcatStage(RunLog* log) : log_(log) {
+    info_.name = "concat";
+    info_.version = 1;
+    info_.summary = "concatenates text inputs (test stage)";
+    info_.params = {Param::string("suffix", "").describe("appended text"),
+                    Param::boolean("fail", false).describe("fail with a StageError")};
+    info_.inputs = {{"text"}, 1, -1, "texts"};
+    info_.output_type = "text";
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext& ctx) const override {
+    if (log_) log_->record(ctx.node_name());
+    if (ctx.boolean("fail")) throw StageError("asked to fail");
+    std::string s;
+    for (const auto& in : ctx.inputs()) {
+      std::ifstream f(in.file("out.txt")->path);
+      std::stringstream ss;
+      ss << f.rdbuf();
+      s += ss.str();
+    }
+    ctx.write_output("out.txt", s + ctx.string("suffix"));
+  }
+
+ private:
+  RunLog* log_;
+  StageInfo info_;
+};
+
+// `readfile`: copies the file named by its `file` parameter (a declared file input).
+class ReadFileStage final : public Stage {
+ public:
+  explicit ReadFileStage(RunLog* log) : log_(log) {
+    info_.name = "readfile";
+    info_.version = 1;
+    info_.summary = "copies a file (test stage)";
+    info_.params = {Param::path("file").describe("file to copy")};
+    info_.inputs = {{}, 0, 0, ""};
+    info_.output_type = "text";
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext& ctx) const override {
+    if (log_) log_->record(ctx.node_name());
+    std::ifstream f(ctx.param_file("file"));
+    std::stringstream ss;
+    ss << f.rdbuf();
+    ctx.write_output("out.txt", ss.str());
+  }
+
+ private:
+  RunLog* log_;
+  StageInfo info_;
+};
+
+// `mesh_only`: accepts only "mesh" inputs (to test input type errors); never run.
+class MeshOnlyStage final : public Stage {
+ public:
+  MeshOnlyStage() {
+    info_.name = "mesh_only";
+    info_.version = 1;
+    info_.summary = "accepts meshes (test stage)";
+    info_.inputs = {{"mesh"}, 1, 1, "a mesh"};
+    info_.output_type = "mesh";
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext&) const override {}
+
+ private:
+  StageInfo info_;
+};
+
+inline void register_test_stages(StageRegistry& reg, RunLog* log) {
+  reg.add(std::make_unique<TextStage>(log));
+  reg.add(std::make_unique<ConcatStage>(log));
+  reg.add(std::make_unique<ReadFileStage>(log));
+  reg.add(std::make_unique<MeshOnlyStage>());
+}
+
+}  // namespace sylva::test
