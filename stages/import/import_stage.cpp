@@ -1,0 +1,87 @@
+// The adapter of stage `import`: declares the parameters, reads the one input file, calls the
+// core (import_file.h) and writes tree.sylt. Every input problem becomes a StageError whose
+// message names the file and line (text formats) or byte (.sylt).
+#include "stages/import/import_stage.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "libs/tree/sylt_format.h"
+#include "stages/import/import_error.h"
+#include "stages/import/import_file.h"
+
+namespace sylva {
+
+namespace {
+
+class ImportStage final : public Stage {
+ public:
+  ImportStage() {
+    info_.name = "import";
+    info_.version = 1;
+    info_.summary =
+        "read a tree skeleton: QSM cylinder tables (TreeQSM, SimpleForest, rTwig, aRchi), "
+        ".sylt, or a text skeleton";
+    info_.params = {
+        Param::path("file").describe("the file to import"),
+        Param::choice("format", {"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt"}, "auto")
+            .describe("file format; auto detects it from the content and the file name"),
+        Param::string_list("columns", Value::List{})
+            .describe("column names of a headerless TreeQSM table, in order (default: TreeQSM's "
+                      "radius length start(3) axis(3) parent extension branch branch_order)"),
+        Param::choice("up", {"z", "y"}, "z")
+            .describe("up axis of a QSM table; z (QSM's convention) is converted to sylva's Y up"),
+        Param::real("scale", 1.0).range(1e-6, 1e6)
+            .describe("QSM units to metres, e.g. 0.001 for millimetres"),
+        Param::boolean("recenter", true)
+            .describe("move a QSM tree so its root cylinder starts at the origin"),
+    };
+    info_.inputs = InputSpec{{}, 0, 0, "none: the file parameter is the input"};
+    info_.output_type = "tree";
+  }
+
+  const StageInfo& info() const override { return info_; }
+
+  void run(StageContext& ctx) const override {
+    const std::filesystem::path path = ctx.param_file("file");
+    const std::string source = path.string();
+    std::string bytes;
+    {
+      std::ifstream in(path, std::ios::binary);
+      if (!in) throw StageError(source + ": cannot open the file");
+      std::ostringstream ss;
+      if (in.peek() != std::ifstream::traits_type::eof()) ss << in.rdbuf();
+      if (in.bad()) throw StageError(source + ": cannot read the file");
+      bytes = std::move(ss).str();
+    }
+
+    import::ImportOptions options;
+    options.format = ctx.string("format");
+    for (const Value& v : ctx.param("columns").as_list()) options.columns.push_back(v.as_string());
+    options.qsm.up = ctx.string("up") == "y" ? import::UpAxis::kY : import::UpAxis::kZ;
+    options.qsm.scale = ctx.real("scale");
+    options.qsm.recenter = ctx.boolean("recenter");
+
+    tree::Tree result;
+    try {
+      result = import::import_tree(bytes, source, options);
+    } catch (const import::ImportError& e) {
+      throw StageError(e.what());
+    } catch (const tree::TreeFormatError& e) {
+      throw StageError(e.what());
+    } catch (const std::invalid_argument& e) {
+      throw StageError(e.what());
+    }
+    ctx.check_cancelled();
+    tree::write_sylt(ctx.output_path("tree.sylt"), result);
+  }
+
+ private:
+  StageInfo info_;
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> make_import_stage() { return std::make_unique<ImportStage>(); }
+
+}  // namespace sylva

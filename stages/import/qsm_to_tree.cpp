@@ -1,0 +1,180 @@
+// Cylinder table -> tree skeleton; the rules are stated in qsm_to_tree.h. Phases:
+//   1. frame conversion (Z up -> Y up, scale, recentring);
+//   2. child lists and the continuation child of every cylinder;
+//   3. breadth-first walk: each queued cylinder starts a branch that follows continuations;
+//      its nodes, radii and level are set, and its other children are queued with their
+//      attachment point.
+#include "stages/import/qsm_to_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "stages/import/import_error.h"
+#include "stages/import/text_scan.h"
+
+namespace sylva::import {
+
+namespace {
+
+using tree::Vec3;
+
+struct Pending {
+  std::int32_t first = -1;          // cylinder that starts the branch
+  std::int32_t parent = -1;         // parent branch index
+  std::uint32_t parent_node = 0;
+  double parent_t = 0;
+};
+
+// The point of segment a -> c nearest to q, as (node, t) with the tree model's convention:
+// t in (0, 1) on the segment, the end node itself (t = 0) at either end.
+void attach(const tree::Branch& b, std::uint32_t s, std::uint32_t e, Vec3 q, Pending& out) {
+  out.parent_node = s;
+  out.parent_t = 0;
+  if (s == e) return;
+  const Vec3 a = b.nodes[s].position, d = b.nodes[e].position - a;
+  const double dd = tree::dot(d, d);
+  const double t = dd > 0 ? tree::dot(q - a, d) / dd : 0;
+  constexpr double kSnap = 1e-9;  // SimpleForest children start exactly at the parent's end
+  if (t >= 1 - kSnap) out.parent_node = e;
+  else if (t > kSnap) out.parent_t = t;
+}
+
+}  // namespace
+
+tree::Tree qsm_to_tree(const CylinderTable& table, std::string_view source,
+                       const QsmToTreeOptions& options) {
+  const auto& cyl = table.cylinders;
+  const std::size_t n = cyl.size();
+  auto at = [&](std::int32_t i) -> const Cylinder& { return cyl[static_cast<std::size_t>(i)]; };
+
+  // 1. Frame conversion: (x, y, z)_qsm -> (x, z, -y), scaled, relative to the root's start.
+  auto convert = [&](Vec3 p) {
+    const Vec3 q = options.up == UpAxis::kZ ? Vec3{p.x, p.z, -p.y} : p;
+    return q * options.scale;
+  };
+  const Vec3 origin = options.recenter ? convert(at(table.root).start) : Vec3{};
+  auto place = [&](Vec3 p) { return convert(p) - origin; };
+  // Finite input can still overflow (1e308 scaled or recentred): report the row.
+  auto place_checked = [&](const Cylinder& c, Vec3 p) {
+    const Vec3 q = place(p);
+    if (!tree::is_finite(q))
+      throw ImportError(source, c.line,
+                        "cylinder " + std::to_string(c.id) +
+                            ": coordinates overflow after scaling and recentring");
+    return q;
+  };
+
+  // 2. Children (CSR, file order) and the continuation of every cylinder.
+  std::vector<std::int32_t> first_child(n + 1, 0), children(n);
+  for (const Cylinder& c : cyl)
+    if (c.parent >= 0) ++first_child[static_cast<std::size_t>(c.parent) + 1];
+  for (std::size_t i = 0; i < n; ++i) first_child[i + 1] += first_child[i];
+  {
+    std::vector<std::int32_t> fill(first_child.begin(), first_child.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (cyl[i].parent >= 0)
+        children[static_cast<std::size_t>(fill[static_cast<std::size_t>(cyl[i].parent)]++)] =
+            static_cast<std::int32_t>(i);
+  }
+  std::vector<std::int32_t> next(n, -1);
+  for (std::size_t p = 0; p < n; ++p) {
+    std::int32_t best = -1;
+    for (auto k = first_child[p]; k < first_child[p + 1]; ++k) {
+      const std::int32_t c = children[static_cast<std::size_t>(k)];
+      if (table.has_branch && at(c).branch != cyl[p].branch) continue;
+      if (table.has_order && at(c).order != cyl[p].order) continue;
+      if (best < 0 || at(c).radius > at(best).radius) best = c;
+    }
+    next[p] = best;
+  }
+
+  // 3. Breadth-first walk over branches.
+  tree::Tree result;
+  result.name = "QSM " + table.variant + ", " + std::to_string(n) + " cylinders";
+  std::vector<std::uint32_t> start_node(n, 0), end_node(n, 0);
+  std::vector<double> radius_mean;  // running mean of the cylinders touching each node
+  std::vector<int> radius_count;
+  auto add_radius = [&](std::size_t node, double r) {
+    radius_mean[node] += (r - radius_mean[node]) / ++radius_count[node];
+  };
+  std::vector<std::int32_t> chain;
+  std::vector<Pending> queue{Pending{table.root, -1, 0, 0}};
+  queue.reserve(n);
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const Pending pending = queue[head];
+    const Cylinder& first = at(pending.first);
+    chain.clear();
+    for (std::int32_t c = pending.first; c >= 0; c = next[static_cast<std::size_t>(c)]) chain.push_back(c);
+
+    tree::Branch b;
+    b.parent = pending.parent;
+    b.parent_node = pending.parent_node;
+    b.parent_t = pending.parent_t;
+    if (pending.parent >= 0) {
+      const std::uint32_t parent_level = result.branches[static_cast<std::size_t>(pending.parent)].level;
+      if (table.has_order) {
+        const std::int64_t level = first.order - at(table.root).order;
+        if (level != parent_level && level != parent_level + 1)
+          throw ImportError(source, first.line,
+                            "cylinder " + std::to_string(first.id) + " starts a branch of order " +
+                                std::to_string(first.order) + " on a branch of order " +
+                                std::to_string(parent_level + at(table.root).order) +
+                                "; a child branch has its parent's order or one more");
+        b.level = static_cast<std::uint32_t>(level);
+      } else {
+        b.level = parent_level + 1;
+      }
+    }
+
+    // Nodes: the first start, then every end that moves; radii averaged per node.
+    b.nodes.push_back({place_checked(first, first.start), 0});
+    radius_mean.assign(1, 0);
+    radius_count.assign(1, 0);
+    for (const std::int32_t c : chain) {
+      const auto ci = static_cast<std::size_t>(c);
+      const Vec3 e = place_checked(cyl[ci], cyl[ci].end);
+      const double r = cyl[ci].radius * options.scale;
+      if (!(r > 0) || !std::isfinite(r))
+        throw ImportError(source, cyl[ci].line,
+                          "cylinder " + std::to_string(cyl[ci].id) + ": radius " +
+                              text::format_real(cyl[ci].radius) + " is not representable after scaling");
+      start_node[ci] = static_cast<std::uint32_t>(b.nodes.size() - 1);
+      if (e != b.nodes.back().position) {
+        b.nodes.push_back({e, 0});
+        radius_mean.push_back(0);
+        radius_count.push_back(0);
+        add_radius(start_node[ci], r);
+        add_radius(b.nodes.size() - 1, r);
+      }
+      end_node[ci] = static_cast<std::uint32_t>(b.nodes.size() - 1);
+    }
+    if (b.nodes.size() < 2)
+      throw ImportError(source, first.line,
+                        "cylinder " + std::to_string(first.id) +
+                            " starts a branch of zero length (every cylinder of it has its end "
+                            "at its start)");
+    for (std::size_t k = 0; k < b.nodes.size(); ++k) b.nodes[k].radius = radius_mean[k];
+
+    const auto index = static_cast<std::int32_t>(result.branches.size());
+    result.branches.push_back(std::move(b));
+    const tree::Branch& placed = result.branches.back();
+
+    // Queue the other children, in the order of their parent cylinders along the branch.
+    for (const std::int32_t c : chain) {
+      const auto ci = static_cast<std::size_t>(c);
+      for (auto k = first_child[ci]; k < first_child[ci + 1]; ++k) {
+        const std::int32_t child = children[static_cast<std::size_t>(k)];
+        if (child == next[ci]) continue;
+        Pending p;
+        p.first = child;
+        p.parent = index;
+        attach(placed, start_node[ci], end_node[ci], place(at(child).start), p);
+        queue.push_back(p);
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace sylva::import

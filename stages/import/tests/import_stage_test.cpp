@@ -1,0 +1,158 @@
+// The adapter: parameters declared, the file read, tree.sylt written; bad input is a
+// StageError that names the file and line, with no output declared.
+#include "stages/import/import_stage.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "libs/tree/stats.h"
+#include "libs/tree/sylt_format.h"
+#include "stages/import/import_file.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A StageContext over a temporary directory that records the outputs a stage declares.
+class FakeContext final : public StageContext {
+ public:
+  FakeContext(const Stage& stage, fs::path file, fs::path out, Value::Object overrides = {})
+      : file_(std::move(file)), out_(std::move(out)) {
+    for (const ParamSpec& p : stage.info().params)
+      if (!p.required()) params_[p.name] = p.default_value;
+    params_["file"] = file_.string();
+    for (auto& [k, v] : overrides) params_[k] = v;
+  }
+  const std::string& node_name() const override { return name_; }
+  const Value::Object& params() const override { return params_; }
+  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
+  fs::path param_file(std::string_view param) const override {
+    if (param != "file") throw std::logic_error("unexpected file parameter");
+    return file_;
+  }
+  Rng rng(std::string_view stream) const override { return Rng(0, stream); }
+  const fs::path& scratch_dir() const override { return out_; }
+  fs::path output_path(std::string_view name) override {
+    declared.insert(std::string(name));
+    return out_ / std::string(name);
+  }
+  void write_output(std::string_view name, std::string_view bytes) override {
+    test::write_file(output_path(name), std::string(bytes));
+  }
+  void check_cancelled() const override {}
+
+  std::set<std::string> declared;
+
+ private:
+  std::string name_ = "imp";
+  Value::Object params_;
+  std::vector<InputArtifact> inputs_;
+  fs::path file_, out_;
+};
+
+TEST(ImportStage, Declaration) {
+  const auto stage = make_import_stage();
+  const StageInfo& info = stage->info();
+  EXPECT_EQ(info.name, "import");
+  EXPECT_EQ(info.output_type, "tree");
+  EXPECT_EQ(info.inputs.max, 0);
+  std::vector<std::string> names;
+  for (const auto& p : info.params) names.push_back(p.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"file", "format", "columns", "up", "scale", "recenter"}));
+  EXPECT_TRUE(info.params[0].required());
+  EXPECT_EQ(info.params[1].default_value, Value("auto"));
+  EXPECT_EQ(info.params[1].choices,
+            (std::vector<std::string>{"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt"}));
+  for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
+}
+
+TEST(ImportStage, WritesTreeSylt) {
+  const auto data = test::data_dir();
+  if (!data) GTEST_SKIP() << "no test data (SYLVA_DATA_DIR)";
+  const fs::path file = *data / "qsm" / "rTwig_QSM.csv";
+  test::TempDir out;
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, file, out.path());
+  stage->run(ctx);
+  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt"}));
+  const tree::Tree t = tree::read_sylt(out / "tree.sylt");
+  EXPECT_EQ(t, import::import_tree(test::read_file(file), file.string(), {}));
+  EXPECT_NEAR(tree::compute_stats(t).height, 3.7, 0.1);
+}
+
+// Parameters reach the core: scale 1000 (as if the file were in km) and no recentring.
+TEST(ImportStage, ParametersApply) {
+  test::TempDir dir;
+  const fs::path file = dir / "t.csv";
+  test::write_file(file, "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
+                         "0,-1,1,2,3,1,2,4,0.001\n");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, file, dir.path(), {{"scale", 1000.0}, {"recenter", false}});
+  stage->run(ctx);
+  const tree::Tree t = tree::read_sylt(dir / "tree.sylt");
+  EXPECT_EQ(t.branches[0].nodes[0].position, (tree::Vec3{1000, 3000, -2000}));
+  EXPECT_DOUBLE_EQ(t.branches[0].nodes[0].radius, 1.0);
+}
+
+std::string stage_error(const std::string& content, const char* name = "bad.csv",
+                        Value::Object overrides = {}) {
+  test::TempDir dir;
+  const fs::path file = dir / name;
+  test::write_file(file, content);
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, file, dir.path(), std::move(overrides));
+  try {
+    stage->run(ctx);
+  } catch (const StageError& e) {
+    EXPECT_TRUE(ctx.declared.empty()) << "an output was declared before failing";
+    EXPECT_FALSE(fs::exists(dir / "tree.sylt"));
+    const std::string msg = e.what();
+    // Replace the temporary directory by "DIR" so messages compare exactly.
+    const std::string prefix = dir.path().string();
+    return msg.rfind(prefix, 0) == 0 ? "DIR" + msg.substr(prefix.size()) : msg;
+  }
+  return "";
+}
+
+constexpr const char* kHead = "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n";
+
+// Each bad-input case of the issue, through the stage: exactly one message with file and line.
+TEST(ImportStage, BadInputFailsCleanly) {
+  const std::string ok_row = "0,-1,0,0,0,0,0,1,0.2\n";
+  EXPECT_EQ(stage_error(""), "DIR/bad.csv:1: empty file: nothing to import");
+  EXPECT_EQ(stage_error(std::string(kHead) + ok_row + "1,0,0,0,1,nan,0,2,0.1\n"),
+            "DIR/bad.csv:3: field 6 (endX): not a finite number: 'nan'");
+  EXPECT_EQ(stage_error(std::string(kHead) + ok_row + "1,0,0,0,1,0,0,2,-0.1\n"),
+            "DIR/bad.csv:3: field 9 (radius): radius must be > 0, got -0.1");
+  EXPECT_EQ(stage_error(std::string(kHead) + ok_row + "1,7,0,0,1,0,0,2,0.1\n"),
+            "DIR/bad.csv:3: field 2 (parentID): parent 7 is not the id of any cylinder");
+  EXPECT_EQ(stage_error(std::string(kHead) + ok_row + "1,2,0,0,1,0,0,2,0.1\n2,1,0,0,1,0,0,2,0.1\n"),
+            "DIR/bad.csv:3: field 2 (parentID): cylinder 1 is in a parent cycle: 1 -> 2 -> 1");
+  EXPECT_EQ(stage_error(std::string(kHead) + ok_row + "1,0,0,0,1\n"),
+            "DIR/bad.csv:3: truncated row: 5 fields, expected 9");
+  EXPECT_EQ(stage_error("a,b,c\n1,2,3\n"),
+            "DIR/bad.csv:1: unknown header: none of its 3 names is a recognised QSM column (such "
+            "as radius, startX, endX, parentID; see docs/stages/import.md)");
+  EXPECT_EQ(stage_error("SYLT but broken", "bad.sylt"), "DIR/bad.sylt: not a .sylt file (bad magic)");
+  EXPECT_EQ(stage_error("radius\n1\n", "bad.csv", {{"format", "qsm"}, {"columns", Value::List{"radius"}}}),
+            "the columns parameter names the columns of a headerless table: use it with format "
+            "treeqsm_txt (or auto), not qsm, whose header names the columns");
+}
+
+TEST(ImportStage, MissingFile) {
+  test::TempDir dir;
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, dir / "nope.csv", dir.path());
+  try {
+    stage->run(ctx);
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "nope.csv").string() + ": cannot open the file");
+  }
+}
+
+}  // namespace
+}  // namespace sylva
