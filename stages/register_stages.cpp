@@ -1,11 +1,13 @@
 #include "stages/register_stages.h"
 
+#include "stages/import/import_stage.h"
+
 // Each stage folder exposes one factory in its adapter header; list them here, sorted.
 
 namespace sylva {
 
 void register_builtin_stages(StageRegistry& registry) {
-  (void)registry;
+  registry.add(make_import_stage());
 }
 
 }  // namespace sylva
