@@ -108,6 +108,12 @@ bool publish(const BuildEnv& env, const fs::path& node_dir, const std::vector<Ou
   return true;
 }
 
+// The explain record is rewritten only when it changes: a no-op build then writes nothing.
+void write_if_changed(FileSystem& fs, const fs::path& p, const std::string& text) {
+  if (auto old = fs.read(p); old && *old == text) return;
+  fs.write_atomic(p, text);
+}
+
 std::vector<InputArtifact> input_artifacts(const Recipe& recipe, const BuildEnv& env, std::size_t index,
                                            const std::vector<std::vector<OutputEntry>>& upstream) {
   const NodeDecl& node = recipe.nodes[index];
@@ -252,15 +258,21 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
       return;
     }
 
-    // One process runs an action at a time; the others then find it in the cache.
-    auto lock = env.cache.lock_action(r.key);
-    if (auto hit = env.cache.lookup(r.key); hit && publish(env, node_dir, hit->outputs)) {
+    const std::string record_text = action->to_json();
+    auto use_cached = [&]() -> bool {
+      auto hit = env.cache.lookup(r.key);
+      if (!hit || !publish(env, node_dir, hit->outputs)) return false;
       r.status = NodeStatus::kCached;
       r.outputs = outputs[i] = hit->outputs;
-      env.fs.write_atomic(record, action->to_json());
+      write_if_changed(env.fs, record, record_text);
       r.seconds = env.clock.now_seconds() - start;
-      return;
-    }
+      return true;
+    };
+    // The no-op path takes no lock. On a miss, one process runs the action at a time; the
+    // others wait for the lock and then find the result in the cache.
+    if (use_cached()) return;
+    auto lock = env.cache.lock_action(r.key);
+    if (use_cached()) return;
 
     notify_start(node.name);
     const fs::path scratch = env.cache.make_scratch_dir();
@@ -286,7 +298,7 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
       env.cache.store_action(r.key, result);
       if (!publish(env, node_dir, result.outputs))
         throw StageError("cannot publish outputs to " + node_dir.string());
-      env.fs.write_atomic(record, action->to_json());
+      write_if_changed(env.fs, record, record_text);
       r.status = NodeStatus::kBuilt;
       r.outputs = outputs[i] = result.outputs;
     } catch (const Cancelled&) {

@@ -10,6 +10,7 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "pipeline/diagnostic.h"
@@ -34,6 +35,11 @@ struct Recipe {
 
   const NodeDecl* find(std::string_view node) const;
   std::size_t index_of(std::string_view node) const;  // nodes.size() if absent
+  // Rebuilds the name index; call after changing `nodes` (the loader does).
+  void reindex();
+
+ private:
+  std::unordered_map<std::string, std::size_t> index_;
 };
 
 // True if `name` may be used as a node or recipe name (and therefore as a directory name).

@@ -32,9 +32,18 @@ const NodeDecl* Recipe::find(std::string_view node) const {
 }
 
 std::size_t Recipe::index_of(std::string_view node) const {
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (nodes[i].name == node) return i;
-  return nodes.size();
+  if (index_.size() != nodes.size()) {  // not indexed (hand-built in a test): scan
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      if (nodes[i].name == node) return i;
+    return nodes.size();
+  }
+  auto it = index_.find(std::string(node));
+  return it == index_.end() ? nodes.size() : it->second;
+}
+
+void Recipe::reindex() {
+  index_.clear();
+  for (std::size_t i = 0; i < nodes.size(); ++i) index_.emplace(nodes[i].name, i);
 }
 
 namespace {
@@ -349,6 +358,7 @@ class Loader {
     expand_nodes();
     check_defaults();
     if (!diags_.empty()) return std::nullopt;
+    recipe_.reindex();
     resolve_needs();
     if (!diags_.empty()) return std::nullopt;
     if (auto cycle = find_cycle(recipe_)) {
@@ -680,9 +690,12 @@ class Loader {
         }
         const bool glob = p.text.find_first_of("*?[") != std::string::npos;
         std::vector<std::string> matches;
-        for (const auto& n : names)
-          if (n != node.name && (glob ? fnmatch(p.text.c_str(), n.c_str(), 0) == 0 : n == p.text))
-            matches.push_back(n);
+        if (!glob) {
+          if (p.text != node.name && recipe_.find(p.text)) matches.push_back(p.text);
+        } else {
+          for (const auto& n : names)
+            if (n != node.name && fnmatch(p.text.c_str(), n.c_str(), 0) == 0) matches.push_back(n);
+        }
         std::sort(matches.begin(), matches.end());
         if (matches.empty()) {
           if (!glob && p.text == node.name)
