@@ -15,6 +15,7 @@
 #include "libs/tree/stats.h"
 #include "stages/import/import_file.h"
 #include "stages/import/qsm_table.h"
+#include "stages/import/skeleton_text.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::import {
@@ -71,6 +72,8 @@ TEST_P(QsmFixture, ImportsWithExpectedShape) {
   }
   for (const auto& frames : tree::compute_tree_frames(t))
     for (const auto& fr : frames) ASSERT_TRUE(tree::is_finite(fr.t) && tree::is_finite(fr.n));
+  // An imported tree survives the text skeleton exactly.
+  EXPECT_EQ(parse_skeleton_text(format_skeleton_text(t), "rt.skel").branches, t.branches);
   // Recentred: the trunk starts at the origin and the tree grows up +Y.
   EXPECT_EQ(t.branches[0].nodes[0].position, (tree::Vec3{0, 0, 0}));
   EXPECT_GT(s.bounds_max.y, 0.9 * s.height);

@@ -49,6 +49,24 @@ TEST(QsmTable, SimpleForestHeader) {
   EXPECT_EQ(t.cylinders[1].radius, 0.1);
 }
 
+// Windows line ends, a byte order mark and trailing blank lines change nothing.
+TEST(QsmTable, CrlfAndBom) {
+  std::string crlf = "\xEF\xBB\xBF";
+  for (const char ch : kSimpleForest) {
+    if (ch == '\n') crlf += '\r';
+    crlf += ch;
+  }
+  crlf += "\r\n\r\n";
+  const CylinderTable a = parse_cylinder_table(kSimpleForest, "t.csv");
+  const CylinderTable b = parse_cylinder_table(crlf, "t.csv");
+  ASSERT_EQ(b.cylinders.size(), a.cylinders.size());
+  for (std::size_t i = 0; i < a.cylinders.size(); ++i) {
+    EXPECT_EQ(b.cylinders[i].end, a.cylinders[i].end);
+    EXPECT_EQ(b.cylinders[i].parent, a.cylinders[i].parent);
+    EXPECT_EQ(b.cylinders[i].line, a.cylinders[i].line);
+  }
+}
+
 // TreeQSM with a header and no id column: rows are cylinders 1..n, parent 0 = none, the end
 // point is start + normalised axis * length; '#' comment lines are skipped.
 TEST(QsmTable, TreeQsmHeaderWithAxis) {
