@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <ostream>
 
 #include "libs/tree/frames.h"
 #include "libs/tree/stats.h"
@@ -40,6 +41,8 @@ constexpr Fixture kFixtures[] = {
   {"rTwig_QSM_mat_TreeQSM241_cylinders.tsv", 1136, 3.7, 3.7177071899, 0.0726623033, 5, 82, 32.9690998128},
 };
 // clang-format on
+
+void PrintTo(const Fixture& f, std::ostream* os) { *os << f.file; }
 
 class QsmFixture : public ::testing::TestWithParam<Fixture> {};
 
