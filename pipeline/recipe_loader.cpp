@@ -8,6 +8,7 @@
 #include "pipeline/recipe_loader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fnmatch.h>
@@ -99,7 +100,13 @@ void collect_vars(const RawNode& n, std::vector<VarRef>& out, const SourceFiles&
                   Diagnostics& diags) {
   if (n.is_scalar()) {
     bool malformed = false;
-    for (auto& v : vars_in(n.text, &malformed)) out.push_back({v, n.loc});
+    for (auto& v : vars_in(n.text, &malformed)) {
+      const bool ident = !v.empty() && std::all_of(v.begin(), v.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+      });
+      if (!ident) src.error(diags, n.loc, "invalid variable name '${" + v + "}' in '" + n.text + "'");
+      out.push_back({v, n.loc});
+    }
     if (malformed) src.error(diags, n.loc, "unterminated '${' in '" + n.text + "'");
   }
   for (const auto& i : n.items) collect_vars(i, out, src, diags);
@@ -521,8 +528,10 @@ class Loader {
         }
       }
       std::vector<VarRef> name_vars, body_vars;
+      const std::size_t errors_before = diags_.size();
       collect_vars(e.key, name_vars, src_, diags_);
       collect_vars(body, body_vars, src_, diags_);
+      if (diags_.size() != errors_before) continue;  // malformed ${...}: nothing to expand
       std::vector<const MatrixVar*> used;  // in matrix declaration order
       bool ok = true;
       for (const auto& ref : name_vars) {

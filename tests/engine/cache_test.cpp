@@ -1,0 +1,92 @@
+// The cache over an in-memory file system: what is written where, and what happens when a
+// write fails or a stored result is damaged.
+#include <gtest/gtest.h>
+
+#include "pipeline/cache.h"
+#include "tests/support/fake_filesystem.h"
+
+namespace sylva {
+namespace {
+
+const std::string kKey(64, 'a');
+
+TEST(CacheTest, PutFileStoresBlobUnderItsDigest) {
+  test::FakeFileSystem fs;
+  fs.files["/s/out.txt"] = "hello";
+  Cache cache(fs, "/c");
+  auto d = cache.put_file("/s/out.txt");
+  ASSERT_TRUE(d);
+  EXPECT_EQ(d->hash, sha256_hex("hello"));
+  EXPECT_EQ(d->size, 5u);
+  EXPECT_EQ(fs.files.at("/c/cas/" + d->hash.substr(0, 2) + "/" + d->hash), "hello");
+  // Storing the same content again writes nothing.
+  fs.writes.clear();
+  cache.put_file("/s/out.txt");
+  EXPECT_TRUE(fs.writes.empty());
+}
+
+TEST(CacheTest, HitRequiresEveryBlobPresentWithItsSize) {
+  test::FakeFileSystem fs;
+  fs.files["/s/a"] = "aaa";
+  Cache cache(fs, "/c");
+  auto d = *cache.put_file("/s/a");
+  cache.store_action(kKey, ActionResult{{{"a", d}}});
+  ASSERT_TRUE(cache.lookup(kKey));
+  EXPECT_EQ(cache.lookup(kKey)->outputs.at(0).digest, d);
+  fs.files[cache.blob_path(d.hash).string()] = "aaaa";  // wrong size
+  EXPECT_FALSE(cache.lookup(kKey));
+  fs.files.erase(cache.blob_path(d.hash).string());  // missing
+  EXPECT_FALSE(cache.lookup(kKey));
+}
+
+TEST(CacheTest, DamagedActionResultIsAMissNotAnError) {
+  test::FakeFileSystem fs;
+  Cache cache(fs, "/c");
+  fs.files[cache.action_path(kKey).string()] = "{not json";
+  EXPECT_FALSE(cache.lookup(kKey));
+  fs.files[cache.action_path(kKey).string()] = R"({"outputs":[{"name":"x","hash":"../../etc","size":1}]})";
+  EXPECT_FALSE(cache.lookup(kKey));  // a hash that is not 64 hex digits is rejected
+}
+
+TEST(CacheTest, MaterializeRefusesAndDeletesCorruptBlob) {
+  test::FakeFileSystem fs;
+  fs.files["/s/a"] = "good";
+  Cache cache(fs, "/c");
+  auto d = *cache.put_file("/s/a");
+  fs.files[cache.blob_path(d.hash).string()] = "bad!";  // same size, other bytes
+  EXPECT_FALSE(cache.materialize(d, "/out/a"));
+  EXPECT_FALSE(fs.files.count("/out/a"));
+  EXPECT_FALSE(fs.files.count(cache.blob_path(d.hash).string()));
+}
+
+TEST(CacheTest, FailedBlobWriteStoresNothing) {
+  test::FakeFileSystem fs;
+  fs.files["/s/a"] = "data";
+  fs.fail_writes_containing = "/cas/";
+  Cache cache(fs, "/c");
+  EXPECT_FALSE(cache.put_file("/s/a"));
+  EXPECT_TRUE(fs.writes.empty());
+}
+
+TEST(CacheTest, GcEvictsLeastRecentlyUsedAboveBudget) {
+  test::FakeFileSystem fs;
+  Cache cache(fs, "/c");
+  const std::string k1(64, '1'), k2(64, '2');
+  fs.files["/s/old"] = std::string(100, 'o');
+  fs.files["/s/new"] = std::string(100, 'n');
+  cache.store_action(k1, ActionResult{{{"o", *cache.put_file("/s/old")}}});
+  cache.store_action(k2, ActionResult{{{"n", *cache.put_file("/s/new")}}});
+  fs.ages[cache.action_path(k1).string()] = 500;  // k1 used long ago
+  fs.ages["/c/tmp/stale"] = 7200;
+  fs.files["/c/tmp/stale"] = "x";
+  auto r = cache.gc(150);
+  EXPECT_EQ(r.actions_removed, 1u);
+  EXPECT_EQ(r.blobs_removed, 1u);
+  EXPECT_EQ(r.bytes_freed, 100u);
+  EXPECT_EQ(r.tmp_removed, 1u);
+  EXPECT_TRUE(cache.lookup(k2));
+  EXPECT_FALSE(cache.lookup(k1));
+}
+
+}  // namespace
+}  // namespace sylva
