@@ -1,6 +1,6 @@
 // The real QSM files in the shared data (see ../shared/data/README.md). Expected values were
-// computed independently of this code by a short script over the raw tables
-// (docs/stages/import.md, "Test fixtures"): height = max z - z of the root cylinder's start
+// computed independently of this code by tests/qsm_reference.py (Python's csv module over the
+// raw tables; docs/stages/import.md, "Fixtures"): height = max z - z of the root cylinder's start
 // (= max z - min z for all four files); DBH = 2 x the trunk radius at 1.3 m above the trunk
 // base, interpolated between the trunk's node radii as libs/tree's stats define it (node radius
 // = mean of the two cylinders meeting there); branches = 1 + children that do not continue
