@@ -1,0 +1,693 @@
+// The OpenGL 3.3 core implementation of Renderer.
+//
+// One shader program draws everything: uniforms select the topology (triangles, lines, points),
+// the alpha mode and whether lighting applies. Every primitive is uploaded once per
+// render_views() call into its own vertex buffers; the world matrices of a mesh's instances go
+// into a per-instance attribute buffer (model matrix at locations 5-8, normal matrix at 9-11),
+// so the opaque pass is one instanced draw per primitive. The blend pass draws each
+// (primitive, instance) separately, far to near, with the matrices as constant attributes and a
+// per-draw index buffer holding the elements sorted far to near.
+//
+// Determinism: nothing depends on timing or on hash-table order; every sort is a stable sort
+// with an index tie-break; llvmpipe rasterises deterministically.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <numeric>
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <Eigen/Geometry>
+
+#include "libs/render/gl_context.h"
+#include "libs/render/renderer.h"
+
+namespace sylva::render {
+namespace {
+
+// ---- Shaders -----------------------------------------------------------------------------------
+
+constexpr const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_texcoord;
+layout(location = 3) in vec4 a_color;
+layout(location = 4) in float a_size;
+layout(location = 5) in mat4 a_model;
+layout(location = 9) in mat3 a_normal_matrix;
+
+uniform mat4 u_view;
+uniform mat4 u_proj;
+uniform float u_viewport_height;
+uniform float u_default_point_size;
+uniform float u_min_point_size;
+
+out vec3 v_world;
+out vec3 v_normal;
+out vec2 v_texcoord;
+out vec4 v_color;
+
+void main() {
+  vec4 world = a_model * vec4(a_position, 1.0);
+  v_world = world.xyz;
+  v_normal = a_normal_matrix * a_normal;
+  v_texcoord = a_texcoord;
+  v_color = a_color;
+  gl_Position = u_proj * u_view * world;
+  // Points: _SIZE is a diameter in local metres; scale it like the instance does and project
+  // it (pixels = size * focal length in pixels / distance).
+  if (a_size > 0.0) {
+    float scale = pow(abs(determinant(mat3(a_model))), 1.0 / 3.0);
+    float pixels = a_size * scale * u_proj[1][1] * 0.5 * u_viewport_height / gl_Position.w;
+    gl_PointSize = max(pixels, u_min_point_size);
+  } else {
+    gl_PointSize = u_default_point_size;
+  }
+}
+)";
+
+constexpr const char* kFragmentShader = R"(#version 330 core
+in vec3 v_world;
+in vec3 v_normal;
+in vec2 v_texcoord;
+in vec4 v_color;
+
+uniform vec4 u_base_color;
+uniform sampler2D u_texture;
+uniform bool u_has_texture;
+uniform int u_alpha_mode;     // 0 opaque, 1 mask, 2 blend
+uniform float u_alpha_cutoff;
+uniform bool u_lit;
+uniform bool u_has_normals;
+uniform bool u_face_eye;      // turn the normal toward the eye (two-sided, lines, points)
+uniform bool u_round_points;
+uniform vec3 u_eye;
+uniform vec3 u_ambient;
+uniform vec3 u_light_color;
+uniform vec3 u_light_dir;     // unit, toward the light
+
+out vec4 o_color;
+
+float to_srgb(float c) {
+  c = clamp(c, 0.0, 1.0);
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+}
+
+void main() {
+  if (u_round_points) {
+    vec2 p = gl_PointCoord * 2.0 - 1.0;
+    if (dot(p, p) > 1.0) discard;
+  }
+  vec4 base = u_base_color * v_color;
+  if (u_has_texture) base *= texture(u_texture, v_texcoord);
+  if (u_alpha_mode == 1) {
+    if (base.a < u_alpha_cutoff) discard;
+    base.a = 1.0;
+  } else if (u_alpha_mode == 0) {
+    base.a = 1.0;
+  }
+  vec3 color = base.rgb;
+  if (u_lit) {
+    // Without normals, the face normal from screen-space derivatives (it always faces the eye).
+    vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
+    // Celba 2007, 4.6.3: one normal per leaf; for the other side, flip it by the sign of the
+    // eye's distance to the plane through this point with that normal.
+    if (u_face_eye && dot(n, u_eye - v_world) < 0.0) n = -n;
+    color = base.rgb * (u_ambient + u_light_color * max(dot(n, u_light_dir), 0.0));
+  }
+  o_color = vec4(to_srgb(color.r), to_srgb(color.g), to_srgb(color.b), base.a);
+}
+)";
+
+// Vertex attribute locations (see the shader).
+enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3, kSize = 4, kModel = 5, kNormalMatrix = 9 };
+constexpr int kInstanceFloats = 16 + 9;
+
+// ---- GL object ownership -----------------------------------------------------------------------
+
+// Every GL name created during one render_views() call, deleted when it ends (the context is
+// still current then).
+struct GlObjects {
+  std::vector<GLuint> buffers, textures, vertex_arrays, framebuffers, renderbuffers;
+  GlObjects() = default;
+  GlObjects(const GlObjects&) = delete;
+  GlObjects& operator=(const GlObjects&) = delete;
+  ~GlObjects() {
+    if (!buffers.empty()) glDeleteBuffers(GLsizei(buffers.size()), buffers.data());
+    if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
+    if (!vertex_arrays.empty()) glDeleteVertexArrays(GLsizei(vertex_arrays.size()), vertex_arrays.data());
+    if (!framebuffers.empty()) glDeleteFramebuffers(GLsizei(framebuffers.size()), framebuffers.data());
+    if (!renderbuffers.empty()) glDeleteRenderbuffers(GLsizei(renderbuffers.size()), renderbuffers.data());
+  }
+  GLuint buffer() { GLuint b = 0; glGenBuffers(1, &b); buffers.push_back(b); return b; }
+  GLuint texture() { GLuint t = 0; glGenTextures(1, &t); textures.push_back(t); return t; }
+  GLuint vertex_array() { GLuint v = 0; glGenVertexArrays(1, &v); vertex_arrays.push_back(v); return v; }
+  GLuint framebuffer() { GLuint f = 0; glGenFramebuffers(1, &f); framebuffers.push_back(f); return f; }
+  GLuint renderbuffer() { GLuint r = 0; glGenRenderbuffers(1, &r); renderbuffers.push_back(r); return r; }
+};
+
+// Makes the context current for a scope and releases it afterwards.
+class CurrentContext {
+ public:
+  explicit CurrentContext(detail::GlContext& ctx) : ctx_(ctx) { ctx_.make_current(); }
+  ~CurrentContext() { ctx_.release(); }
+  CurrentContext(const CurrentContext&) = delete;
+  CurrentContext& operator=(const CurrentContext&) = delete;
+
+ private:
+  detail::GlContext& ctx_;
+};
+
+std::string gl_error_name(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    default: return "GL error " + std::to_string(e);
+  }
+}
+
+void check_gl(const char* where) {
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR) throw RenderError(std::string("OpenGL error during ") + where + ": " + gl_error_name(e));
+}
+
+GLuint compile(GLenum type, const char* source) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &source, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw RenderUnavailableError(std::string("headless OpenGL is not available: shader compilation failed: ") + log);
+  }
+  return s;
+}
+
+// ---- Uploaded scene ----------------------------------------------------------------------------
+
+struct GpuPrimitive {
+  const Primitive* source = nullptr;
+  GLuint vao_instanced = 0;  // vertex arrays + per-instance matrices
+  GLuint vao_single = 0;     // vertex arrays + sorted index buffer; matrices set as constants
+  GLuint sorted_indices = 0;
+  GLsizei index_count = 0;
+  bool blend = false;
+};
+
+struct GpuMesh {
+  const Mesh* source = nullptr;
+  std::vector<GpuPrimitive> primitives;
+  std::vector<float> instance_data;  // kInstanceFloats per instance
+};
+
+template <typename T>
+GLuint upload_array(GlObjects& gl, GLenum target, const std::vector<T>& data) {
+  const GLuint b = gl.buffer();
+  glBindBuffer(target, b);
+  glBufferData(target, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
+  return b;
+}
+
+// Binds the vertex arrays of `p` (the buffers already exist) into the bound VAO.
+struct VertexBuffers {
+  GLuint position = 0, normal = 0, texcoord = 0, color = 0, size = 0;
+};
+
+void attach_vertex_buffers(const VertexBuffers& vb) {
+  auto attach = [](GLuint location, GLuint buffer, GLint comps) {
+    if (!buffer) return;
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    glEnableVertexAttribArray(location);
+    glVertexAttribPointer(location, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
+  };
+  attach(kPosition, vb.position, 3);
+  attach(kNormal, vb.normal, 3);
+  attach(kTexcoord, vb.texcoord, 2);
+  attach(kColor, vb.color, 4);
+  attach(kSize, vb.size, 1);
+}
+
+void fill_instance(const Mat4& m, float* out) {
+  std::memcpy(out, m.data(), 16 * sizeof(float));
+  Eigen::Matrix3f n = m.topLeftCorner<3, 3>();
+  const float det = n.determinant();
+  if (std::abs(det) > 1e-20f) n = n.inverse().transpose().eval();
+  std::memcpy(out + 16, n.data(), 9 * sizeof(float));
+}
+
+GLint gl_wrap(Wrap w) {
+  switch (w) {
+    case Wrap::kClampToEdge: return GL_CLAMP_TO_EDGE;
+    case Wrap::kMirroredRepeat: return GL_MIRRORED_REPEAT;
+    default: return GL_REPEAT;
+  }
+}
+
+GLuint upload_texture(GlObjects& gl, const Texture& t) {
+  if (t.width <= 0 || t.height <= 0 || t.rgba.size() != std::size_t(t.width) * std::size_t(t.height) * 4)
+    throw RenderError("texture '" + t.name + "' has inconsistent size and pixel data");
+  const GLuint id = gl.texture();
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  // sRGB storage: sampling returns linear values, as the lighting expects.
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(t.wrap_s));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(t.wrap_t));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR);
+  GLint min = t.min_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR;
+  if (t.mipmaps) {
+    min = t.min_filter == Filter::kNearest ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
+    glGenerateMipmap(GL_TEXTURE_2D);
+  }
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
+  return id;
+}
+
+// ---- The renderer ------------------------------------------------------------------------------
+
+class GlRenderer final : public Renderer {
+ public:
+  explicit GlRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
+    CurrentContext current(*ctx_);
+    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
+    const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+    program_ = glCreateProgram();
+    glAttachShader(program_, vs);
+    glAttachShader(program_, fs);
+    glLinkProgram(program_);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+    if (!ok) {
+      char log[4096] = {};
+      glGetProgramInfoLog(program_, sizeof log, nullptr, log);
+      throw RenderUnavailableError(std::string("headless OpenGL is not available: shader linking failed: ") + log);
+    }
+    glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
+    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_width_range_);
+    check_gl("initialisation");
+  }
+
+  ~GlRenderer() override {
+    try {
+      CurrentContext current(*ctx_);
+      glDeleteProgram(program_);
+    } catch (...) {
+      // The context is going away with us; nothing else to release.
+    }
+  }
+
+  std::string device_description() const override { return ctx_->description(); }
+
+  std::vector<image::Image> render_views(const Scene& scene, std::span<const Camera> cameras,
+                                         const RenderOptions& options) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    CurrentContext current(*ctx_);
+    validate(options);
+    GlObjects gl;
+    glGetError();  // start from a clean error state
+    const Target target = make_target(gl, options);
+    const Uploaded up = upload(gl, scene);
+    check_gl("upload");
+    std::vector<image::Image> images;
+    images.reserve(cameras.size());
+    for (const Camera& cam : cameras) {
+      draw(scene, up, cam, options, target);
+      images.push_back(read_back(target, options));
+      check_gl("drawing");
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return images;
+  }
+
+ private:
+  struct Target {
+    GLuint draw_fbo = 0;     // multisampled when msaa > 1
+    GLuint resolve_fbo = 0;  // single-sampled; == draw_fbo when msaa == 1
+  };
+
+  struct Uploaded {
+    std::vector<GLuint> textures;
+    std::vector<GpuMesh> meshes;
+  };
+
+  void validate(const RenderOptions& o) const {
+    if (o.width < 1 || o.height < 1 || o.width > max_size_ || o.height > max_size_)
+      throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                        " is outside 1.." + std::to_string(max_size_));
+    if (o.msaa < 1 || o.msaa > max_samples_)
+      throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
+                        std::to_string(max_samples_) + ")");
+    if (o.background.a != 0 && o.background.a != 255)
+      throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
+    if (!(o.line_width_px > 0) || !(o.default_point_size_px > 0) || !(o.min_point_size_px > 0))
+      throw RenderError("line width and point sizes must be positive");
+  }
+
+  Target make_target(GlObjects& gl, const RenderOptions& o) const {
+    auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
+      const GLuint rb = gl.renderbuffer();
+      glBindRenderbuffer(GL_RENDERBUFFER, rb);
+      if (samples > 1) {
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, o.width, o.height);
+      } else {
+        glRenderbufferStorage(GL_RENDERBUFFER, format, o.width, o.height);
+      }
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    };
+    Target t;
+    t.draw_fbo = gl.framebuffer();
+    attach(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, o.msaa);
+    attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("cannot create a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " framebuffer");
+    t.resolve_fbo = t.draw_fbo;
+    if (o.msaa > 1) {
+      t.resolve_fbo = gl.framebuffer();
+      attach(t.resolve_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, 1);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw RenderError("cannot create the resolve framebuffer");
+    }
+    return t;
+  }
+
+  Uploaded upload(GlObjects& gl, const Scene& scene) const {
+    Uploaded up;
+    for (const Texture& t : scene.textures) up.textures.push_back(upload_texture(gl, t));
+    for (const Mesh& mesh : scene.meshes) {
+      GpuMesh gm;
+      gm.source = &mesh;
+      if (mesh.instances.empty()) {
+        up.meshes.push_back(std::move(gm));
+        continue;
+      }
+      gm.instance_data.resize(mesh.instances.size() * kInstanceFloats);
+      for (std::size_t i = 0; i < mesh.instances.size(); ++i) fill_instance(mesh.instances[i], &gm.instance_data[i * kInstanceFloats]);
+      const GLuint instance_buffer = upload_array(gl, GL_ARRAY_BUFFER, gm.instance_data);
+      for (const Primitive& p : mesh.primitives) {
+        check_primitive(scene, p);
+        GpuPrimitive gp;
+        gp.source = &p;
+        gp.index_count = GLsizei(p.indices.size());
+        gp.blend = p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        VertexBuffers vb;
+        vb.position = upload_array(gl, GL_ARRAY_BUFFER, p.positions);
+        if (!p.normals.empty()) vb.normal = upload_array(gl, GL_ARRAY_BUFFER, p.normals);
+        if (!p.texcoords.empty()) vb.texcoord = upload_array(gl, GL_ARRAY_BUFFER, p.texcoords);
+        if (!p.colors.empty()) vb.color = upload_array(gl, GL_ARRAY_BUFFER, p.colors);
+        if (!p.sizes.empty() && p.topology == Topology::kPoints) vb.size = upload_array(gl, GL_ARRAY_BUFFER, p.sizes);
+        if (!gp.blend) {
+          gp.vao_instanced = gl.vertex_array();
+          glBindVertexArray(gp.vao_instanced);
+          attach_vertex_buffers(vb);
+          glBindBuffer(GL_ARRAY_BUFFER, instance_buffer);
+          const GLsizei stride = kInstanceFloats * sizeof(float);
+          for (GLuint c = 0; c < 4; ++c) {
+            glEnableVertexAttribArray(kModel + c);
+            glVertexAttribPointer(kModel + c, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(std::uintptr_t(c * 4 * sizeof(float))));
+            glVertexAttribDivisor(kModel + c, 1);
+          }
+          for (GLuint c = 0; c < 3; ++c) {
+            glEnableVertexAttribArray(kNormalMatrix + c);
+            glVertexAttribPointer(kNormalMatrix + c, 3, GL_FLOAT, GL_FALSE, stride,
+                                  reinterpret_cast<const void*>(std::uintptr_t((16 + c * 3) * sizeof(float))));
+            glVertexAttribDivisor(kNormalMatrix + c, 1);
+          }
+          const GLuint ebo = gl.buffer();
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)), p.indices.data(), GL_STATIC_DRAW);
+        } else {
+          gp.vao_single = gl.vertex_array();
+          glBindVertexArray(gp.vao_single);
+          attach_vertex_buffers(vb);
+          gp.sorted_indices = gl.buffer();
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gp.sorted_indices);
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)), nullptr, GL_STREAM_DRAW);
+        }
+        glBindVertexArray(0);
+        gm.primitives.push_back(gp);
+      }
+      up.meshes.push_back(std::move(gm));
+    }
+    return up;
+  }
+
+  // The GL side trusts these; load_gltf_scene guarantees them, hand-built scenes are checked.
+  static void check_primitive(const Scene& scene, const Primitive& p) {
+    const std::size_t n = p.positions.size();
+    auto bad = [&](const std::string& what) { throw RenderError("invalid primitive in scene '" + scene.source + "': " + what); };
+    if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
+        (!p.colors.empty() && p.colors.size() != n) || (!p.sizes.empty() && p.sizes.size() != n))
+      bad("attribute arrays differ in length from positions");
+    for (std::uint32_t i : p.indices)
+      if (i >= n) bad("index " + std::to_string(i) + " out of range");
+    if (p.material >= 0 && std::size_t(p.material) >= scene.materials.size()) bad("material out of range");
+    if (p.material >= 0) {
+      const int t = scene.materials[std::size_t(p.material)].base_color_texture;
+      if (t >= 0 && std::size_t(t) >= scene.textures.size()) bad("texture out of range");
+    }
+  }
+
+  struct Uniforms {
+    GLint view, proj, viewport_height, default_point_size, min_point_size, base_color, texture, has_texture,
+        alpha_mode, alpha_cutoff, lit, has_normals, face_eye, round_points, eye, ambient, light_color, light_dir;
+  };
+
+  Uniforms uniforms() const {
+    auto u = [&](const char* n) { return glGetUniformLocation(program_, n); };
+    return {u("u_view"), u("u_proj"), u("u_viewport_height"), u("u_default_point_size"), u("u_min_point_size"),
+            u("u_base_color"), u("u_texture"), u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"),
+            u("u_lit"), u("u_has_normals"), u("u_face_eye"), u("u_round_points"), u("u_eye"), u("u_ambient"),
+            u("u_light_color"), u("u_light_dir")};
+  }
+
+  // Material and per-primitive state for one draw.
+  void set_primitive_state(const Scene& scene, const Uploaded& up, const Uniforms& u, const Primitive& p) const {
+    static const Material kDefault;
+    const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
+    glUniform4fv(u.base_color, 1, m.base_color.data());
+    const bool textured = m.base_color_texture >= 0 && !p.texcoords.empty();
+    glUniform1i(u.has_texture, textured);
+    if (textured) {
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, up.textures[std::size_t(m.base_color_texture)]);
+    }
+    glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2);
+    glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
+    const bool has_normals = !p.normals.empty();
+    const bool lit = !m.unlit && (p.topology == Topology::kTriangles || has_normals);
+    glUniform1i(u.lit, lit);
+    glUniform1i(u.has_normals, has_normals);
+    glUniform1i(u.face_eye, m.double_sided || p.topology != Topology::kTriangles);
+    glUniform1i(u.round_points, p.topology == Topology::kPoints);
+    if (p.topology == Topology::kTriangles && !m.double_sided) {
+      glEnable(GL_CULL_FACE);
+    } else {
+      glDisable(GL_CULL_FACE);
+    }
+    // Constant values for the attributes this primitive does not have.
+    if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
+    if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
+    if (p.colors.empty()) glVertexAttrib4f(kColor, 1, 1, 1, 1);
+    if (p.sizes.empty() || p.topology != Topology::kPoints) glVertexAttrib1f(kSize, -1.f);
+  }
+
+  static GLenum gl_mode(Topology t) {
+    switch (t) {
+      case Topology::kLines: return GL_LINES;
+      case Topology::kPoints: return GL_POINTS;
+      default: return GL_TRIANGLES;
+    }
+  }
+
+  void draw(const Scene& scene, const Uploaded& up, const Camera& cam, const RenderOptions& o, const Target& t) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
+    glViewport(0, 0, o.width, o.height);
+    const bool transparent = o.background.a == 0;
+    glClearColor(transparent ? 0.f : o.background.r / 255.f, transparent ? 0.f : o.background.g / 255.f,
+                 transparent ? 0.f : o.background.b / 255.f, o.background.a / 255.f);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glFrontFace(GL_CCW);
+    glCullFace(GL_BACK);
+    glDisable(GL_BLEND);
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    if (o.msaa > 1) {
+      glEnable(GL_MULTISAMPLE);
+    } else {
+      glDisable(GL_MULTISAMPLE);
+    }
+    glLineWidth(std::clamp(o.line_width_px, line_width_range_[0], line_width_range_[1]));
+
+    const float aspect = float(o.width) / float(o.height);
+    const Mat4 view = cam.view_matrix();
+    const Mat4 proj = cam.projection_matrix(aspect);
+    glUseProgram(program_);
+    const Uniforms u = uniforms();
+    glUniformMatrix4fv(u.view, 1, GL_FALSE, view.data());
+    glUniformMatrix4fv(u.proj, 1, GL_FALSE, proj.data());
+    glUniform1f(u.viewport_height, float(o.height));
+    glUniform1f(u.default_point_size, o.default_point_size_px);
+    glUniform1f(u.min_point_size, o.min_point_size_px);
+    glUniform1i(u.texture, 0);
+    glUniform3fv(u.eye, 1, cam.eye.data());
+    glUniform3fv(u.ambient, 1, o.lighting.ambient.data());
+    glUniform3fv(u.light_color, 1, o.lighting.light_color.data());
+    const Vec3 l = o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
+    glUniform3fv(u.light_dir, 1, l.data());
+
+    // Pass 1: opaque and masked, one instanced draw per primitive.
+    struct BlendDraw {
+      const GpuPrimitive* prim;
+      const GpuMesh* mesh;
+      std::size_t instance;
+      float depth;  // view-space distance along the viewing direction
+      std::size_t order;
+    };
+    std::vector<BlendDraw> blended;
+    for (const GpuMesh& gm : up.meshes) {
+      const std::size_t instances = gm.source->instances.size();
+      for (const GpuPrimitive& gp : gm.primitives) {
+        if (gp.index_count == 0) continue;
+        if (gp.blend) {
+          const Vec3 c = gp.source->bounds().center();
+          for (std::size_t i = 0; i < instances; ++i) {
+            const Vec3 w = (gm.source->instances[i] * c.homogeneous()).hnormalized();
+            const float depth = -(view * w.homogeneous())(2);
+            blended.push_back({&gp, &gm, i, depth, blended.size()});
+          }
+          continue;
+        }
+        set_primitive_state(scene, up, u, *gp.source);
+        glBindVertexArray(gp.vao_instanced);
+        glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr, GLsizei(instances));
+      }
+    }
+
+    // Pass 2: blended, far to near (Zhang et al. 2017, 6.1), depth test on, depth write off.
+    if (!blended.empty()) {
+      std::stable_sort(blended.begin(), blended.end(), [](const BlendDraw& a, const BlendDraw& b) {
+        return a.depth > b.depth;
+      });
+      glEnable(GL_BLEND);
+      glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+      glDepthMask(GL_FALSE);
+      std::vector<std::uint32_t> sorted;
+      std::vector<std::pair<float, std::uint32_t>> keys;
+      for (const BlendDraw& d : blended) {
+        const Primitive& p = *d.prim->source;
+        const Mat4& model = d.mesh->source->instances[d.instance];
+        set_primitive_state(scene, up, u, p);
+        sort_elements(p, view * model, keys, sorted);
+        glBindVertexArray(d.prim->vao_single);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d.prim->sorted_indices);
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(sorted.size() * sizeof(std::uint32_t)), sorted.data());
+        const float* inst = &d.mesh->instance_data[d.instance * kInstanceFloats];
+        for (GLuint c = 0; c < 4; ++c) glVertexAttrib4fv(kModel + c, inst + c * 4);
+        for (GLuint c = 0; c < 3; ++c) glVertexAttrib3fv(kNormalMatrix + c, inst + 16 + c * 3);
+        glDrawElements(gl_mode(p.topology), d.prim->index_count, GL_UNSIGNED_INT, nullptr);
+      }
+      glDepthMask(GL_TRUE);
+      glDisable(GL_BLEND);
+    }
+    glBindVertexArray(0);
+  }
+
+  // The primitive's elements ordered far to near (view depth of their centroid; ties keep file
+  // order), written as an index list into `out`.
+  static void sort_elements(const Primitive& p, const Mat4& model_view, std::vector<std::pair<float, std::uint32_t>>& keys,
+                            std::vector<std::uint32_t>& out) {
+    const std::size_t per = p.topology == Topology::kTriangles ? 3 : p.topology == Topology::kLines ? 2 : 1;
+    const std::size_t n = p.indices.size() / per;
+    const Eigen::RowVector4f row = model_view.row(2);
+    keys.resize(n);
+    for (std::size_t e = 0; e < n; ++e) {
+      Vec3 c = Vec3::Zero();
+      for (std::size_t k = 0; k < per; ++k) c += p.positions[p.indices[e * per + k]];
+      c /= float(per);
+      keys[e] = {-(row * c.homogeneous())(0), std::uint32_t(e)};
+    }
+    std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    out.resize(n * per);
+    for (std::size_t e = 0; e < n; ++e)
+      for (std::size_t k = 0; k < per; ++k) out[e * per + k] = p.indices[std::size_t(keys[e].second) * per + k];
+  }
+
+  image::Image read_back(const Target& t, const RenderOptions& o) const {
+    if (t.resolve_fbo != t.draw_fbo) {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, t.draw_fbo);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.resolve_fbo);
+      glBlitFramebuffer(0, 0, o.width, o.height, 0, 0, o.width, o.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.resolve_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    std::vector<std::uint8_t> raw(std::size_t(o.width) * std::size_t(o.height) * 4);
+    glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+    image::Image img(o.width, o.height);
+    const std::size_t row = std::size_t(o.width) * 4;
+    for (int y = 0; y < o.height; ++y)  // GL's first row is the bottom one
+      std::memcpy(&img.bytes()[std::size_t(y) * row], &raw[std::size_t(o.height - 1 - y) * row], row);
+    if (o.background.a == 0) {
+      // Over a transparent background the framebuffer holds premultiplied colour.
+      auto& px = img.bytes();
+      for (std::size_t i = 0; i < px.size(); i += 4) {
+        const int a = px[i + 3];
+        if (a == 0 || a == 255) continue;
+        for (int c = 0; c < 3; ++c) px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
+      }
+    }
+    return img;
+  }
+
+  std::unique_ptr<detail::GlContext> ctx_;
+  std::mutex mutex_;
+  GLuint program_ = 0;
+  GLint max_samples_ = 1;
+  GLint max_size_ = 4096;
+  float line_width_range_[2] = {1.f, 1.f};
+};
+
+}  // namespace
+
+std::unique_ptr<Renderer> Renderer::create_headless() {
+  return std::make_unique<GlRenderer>(detail::create_egl_context());
+}
+
+RenderOptions options_for(const CameraSet& set, RenderOptions base) {
+  base.width = set.width;
+  base.height = set.height;
+  base.msaa = set.msaa;
+  return base;
+}
+
+std::vector<RenderedView> render_camera_set(Renderer& renderer, const Scene& scene, const CameraSet& set,
+                                            const RenderOptions& base) {
+  const RenderOptions options = options_for(set, base);
+  const Bounds bounds = scene.bounds();
+  const float aspect = float(options.width) / float(options.height);
+  std::vector<Camera> cameras;
+  for (const CameraView& v : set.views) cameras.push_back(resolve(v, bounds, aspect));
+  std::vector<image::Image> images = renderer.render_views(scene, cameras, options);
+  std::vector<RenderedView> out;
+  for (std::size_t i = 0; i < cameras.size(); ++i) out.push_back({cameras[i], std::move(images[i])});
+  return out;
+}
+
+}  // namespace sylva::render

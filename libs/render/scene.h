@@ -1,0 +1,100 @@
+// What the renderer draws: a plain-data scene of meshes, materials and textures, already
+// flattened to world space (every mesh carries the world matrices it is drawn with).
+//
+// Scenes normally come from load_gltf_scene() (gltf_scene.h), but they are ordinary structs,
+// so a stage (the impostor baker, a test) can build one in code. Units are metres, Y up,
+// right-handed, as in glTF.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace sylva::render {
+
+using Vec2 = Eigen::Vector2f;
+using Vec3 = Eigen::Vector3f;
+using Vec4 = Eigen::Vector4f;
+using Mat4 = Eigen::Matrix4f;  // column-major, acts on column vectors: p' = M * p
+
+// Axis-aligned box; default-constructed it is empty (min > max) and extend() grows it.
+struct Bounds {
+  Vec3 min = Vec3::Constant(std::numeric_limits<float>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<float>::infinity());
+
+  bool empty() const { return !(min.array() <= max.array()).all(); }
+  void extend(const Vec3& p);
+  void extend(const Bounds& b);
+  Vec3 center() const { return (min + max) * 0.5f; }
+  float radius() const { return empty() ? 0.f : (max - min).norm() * 0.5f; }  // half diagonal
+  Bounds transformed(const Mat4& m) const;  // bounds of the 8 transformed corners
+};
+
+enum class AlphaMode { kOpaque, kMask, kBlend };  // glTF material.alphaMode
+enum class Wrap { kRepeat, kClampToEdge, kMirroredRepeat };
+enum class Filter { kNearest, kLinear };
+
+// A base-colour texture: 8-bit RGBA pixels, sRGB-encoded colour, straight alpha, top row first
+// (glTF's uv (0,0) is the top-left corner of the image).
+struct Texture {
+  std::string name;  // for messages
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;  // width * height * 4
+  Wrap wrap_s = Wrap::kRepeat, wrap_t = Wrap::kRepeat;
+  Filter mag_filter = Filter::kLinear;
+  Filter min_filter = Filter::kLinear;
+  bool mipmaps = true;  // trilinear minification when min_filter is kLinear
+};
+
+struct Material {
+  std::string name;
+  Vec4 base_color = Vec4::Ones();  // linear RGBA factor (glTF baseColorFactor)
+  int base_color_texture = -1;     // index into Scene::textures, -1 = none
+  AlphaMode alpha_mode = AlphaMode::kOpaque;
+  float alpha_cutoff = 0.5f;  // kMask: fragments with alpha < cutoff are discarded
+  bool double_sided = false;  // no back-face culling; the normal is turned toward the eye
+  bool unlit = false;         // KHR_materials_unlit: colour = base colour, no lighting
+};
+
+enum class Topology { kTriangles, kLines, kPoints };
+
+// One draw's worth of geometry. Strips, fans and loops are already expanded to lists.
+struct Primitive {
+  Topology topology = Topology::kTriangles;
+  std::vector<Vec3> positions;  // required
+  std::vector<Vec3> normals;    // empty or one per position; empty triangles get flat normals
+  std::vector<Vec2> texcoords;  // empty or one per position (the set the material samples)
+  std::vector<Vec4> colors;     // empty or one per position (COLOR_0), linear RGBA
+  std::vector<float> sizes;     // POINTS only: empty or one per position; point diameter in
+                                // metres in the mesh's local space (glTF attribute _SIZE)
+  std::vector<std::uint32_t> indices;  // 3 per triangle, 2 per line, 1 per point; all < size
+  int material = -1;                   // index into Scene::materials, -1 = default material
+
+  Bounds bounds() const;  // of positions, local space
+  std::size_t element_count() const;  // triangles, lines or points
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Primitive> primitives;
+  std::vector<Mat4> instances;  // world matrices; the mesh is drawn once per entry
+};
+
+struct Scene {
+  std::string source;  // file the scene came from (for messages), may be empty
+  std::vector<Texture> textures;
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+
+  Bounds bounds() const;  // world-space box over every instance of every primitive
+  // Element counts over all instances (for logs and benchmarks).
+  std::size_t triangle_count() const;
+  std::size_t line_count() const;
+  std::size_t point_count() const;
+};
+
+}  // namespace sylva::render

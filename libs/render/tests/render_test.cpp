@@ -1,0 +1,495 @@
+// Renders small hand-built glTF scenes and checks pixels at chosen spots.
+//
+// These tests need EGL + OpenGL (Mesa llvmpipe). Without it they skip, unless
+// SYLVA_REQUIRE_GL=1 is set (CI sets it), in which case they fail.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "libs/image/compare.h"
+#include "libs/image/image_io.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/renderer.h"
+#include "libs/render/testing/gltf_builder.h"
+#include "tests/support/test_support.h"
+
+namespace sylva::render {
+namespace {
+
+using image::Image;
+using image::Rgba8;
+using testing::GltfBuilder;
+using testing::MaterialData;
+using testing::NodeData;
+using testing::PrimitiveData;
+
+constexpr Rgba8 kBackground{191, 204, 217, 255};  // RenderOptions' default
+
+// Linear [0, 1] -> 8-bit sRGB, as the fragment shader encodes.
+int srgb8(double c) {
+  c = std::clamp(c, 0.0, 1.0);
+  const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return int(std::lround(s * 255.0));
+}
+
+::testing::AssertionResult near(Rgba8 got, Rgba8 want, int tol = 1) {
+  const bool ok = std::abs(got.r - want.r) <= tol && std::abs(got.g - want.g) <= tol &&
+                  std::abs(got.b - want.b) <= tol && std::abs(got.a - want.a) <= tol;
+  if (ok) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "got (" << int(got.r) << "," << int(got.g) << "," << int(got.b) << ","
+                                       << int(got.a) << "), want (" << int(want.r) << "," << int(want.g) << ","
+                                       << int(want.b) << "," << int(want.a) << ") +-" << tol;
+}
+
+// Pixel (column, row) where a world point lands.
+Eigen::Vector2i project(const Camera& cam, const RenderOptions& o, const Vec3& p) {
+  const Vec4 clip = cam.projection_matrix(float(o.width) / float(o.height)) * cam.view_matrix() * p.homogeneous();
+  const float x = (clip.x() / clip.w() * 0.5f + 0.5f) * float(o.width);
+  const float y = (0.5f - clip.y() / clip.w() * 0.5f) * float(o.height);
+  return {int(std::floor(x)), int(std::floor(y))};
+}
+
+Camera look(const Vec3& eye, const Vec3& target = Vec3::Zero(), float fov = 45.f) {
+  Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.fov_y_deg = fov;
+  c.z_near = 0.05f;
+  c.z_far = 50.f;
+  return c;
+}
+
+RenderOptions small(int size = 64, int msaa = 4) {
+  RenderOptions o;
+  o.width = o.height = size;
+  o.msaa = msaa;
+  return o;
+}
+
+RenderOptions unlit_options(int size = 64, int msaa = 4) {
+  RenderOptions o = small(size, msaa);
+  o.lighting.ambient = Vec3::Ones();
+  o.lighting.light_color = Vec3::Zero();
+  return o;
+}
+
+class RenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    try {
+      renderer_ = Renderer::create_headless();
+    } catch (const RenderUnavailableError& e) {
+      unavailable_ = e.what();
+    }
+  }
+  static void TearDownTestSuite() { renderer_.reset(); }
+
+  void SetUp() override {
+    if (renderer_) return;
+    const char* require = std::getenv("SYLVA_REQUIRE_GL");
+    if (require && std::string(require) == "1") FAIL() << unavailable_;
+    GTEST_SKIP() << unavailable_;
+  }
+
+  Scene load(const GltfBuilder& b, const std::string& name = "scene.glb") {
+    b.write_glb(dir_ / name);
+    return load_gltf_scene(dir_ / name);
+  }
+
+  Image render(const Scene& s, const Camera& c, const RenderOptions& o) { return renderer_->render(s, c, o); }
+
+  // Writes the image under out/test-images/ for looking at it (not an assertion).
+  static void keep(const Image& img, const std::string& name) {
+    std::filesystem::create_directories("out/test-images");
+    image::write_png(img, "out/test-images/" + name + ".png");
+  }
+
+  static std::unique_ptr<Renderer> renderer_;
+  static std::string unavailable_;
+  test::TempDir dir_;
+};
+
+std::unique_ptr<Renderer> RenderTest::renderer_;
+std::string RenderTest::unavailable_;
+
+// A 2x2 texture: red, green / blue, white (top row first).
+Image quadrant_texture() {
+  Image t(2, 2);
+  t.set(0, 0, {255, 0, 0, 255});
+  t.set(1, 0, {0, 255, 0, 255});
+  t.set(0, 1, {0, 0, 255, 255});
+  t.set(1, 1, {255, 255, 255, 255});
+  return t;
+}
+
+// The device is the software rasteriser the references are made with.
+TEST_F(RenderTest, RunsOnHeadlessDevice) {
+  EXPECT_NE(renderer_->device_description().find("OpenGL"), std::string::npos) << renderer_->device_description();
+  std::cout << "device: " << renderer_->device_description() << "\n";
+}
+
+// A unit quad facing the camera, unlit: its colour in the middle, background around it.
+TEST_F(RenderTest, UnitQuadFacingCamera) {
+  GltfBuilder b;
+  const int red = b.add_material({.base_color = Vec4(1, 0, 0, 1)});
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, red)})}));
+  const Scene scene = load(b);
+  const Camera cam = look(Vec3(0, 0, 2));
+  const RenderOptions o = unlit_options();
+  const Image img = render(scene, cam, o);
+  keep(img, "unit_quad");
+  ASSERT_EQ(img.width(), 64);
+  EXPECT_TRUE(near(img.at(32, 32), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(2, 2), kBackground, 0));
+  // The quad spans +-0.5 m at 2 m with a 45 degree fov: +-19.3 pixels around the centre.
+  EXPECT_TRUE(near(img.at(32 - 18, 32), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(32 - 21, 32), kBackground, 0));
+  EXPECT_TRUE(near(img.at(32, 32 + 18), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(32, 32 + 21), kBackground, 0));
+}
+
+// With the default lighting the quad's colour is base * (ambient + light * n.l), sRGB-encoded.
+TEST_F(RenderTest, LightingModel) {
+  GltfBuilder b;
+  const int grey = b.add_material({.base_color = Vec4(0.8f, 0.6f, 0.4f, 1)});
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, grey)})}));
+  const Scene scene = load(b);
+  const RenderOptions o = small();
+  const Image img = render(scene, look(Vec3(0, 0, 2)), o);
+  const double ndotl = o.lighting.direction_to_light.normalized().z();
+  const double k = 0.35 + 0.75 * ndotl;
+  EXPECT_TRUE(near(img.at(32, 32), {std::uint8_t(srgb8(0.8 * k)), std::uint8_t(srgb8(0.6 * k)), std::uint8_t(srgb8(0.4 * k)), 255}));
+}
+
+// A textured cube seen face on: the front face shows the texture's four quadrants with uv (0,0)
+// at the top left; seen obliquely, the lit faces differ as n.l says.
+TEST_F(RenderTest, TexturedCube) {
+  GltfBuilder b;
+  const int tex = b.add_texture(quadrant_texture());
+  const int mat = b.add_material({.texture = tex});
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::cube(1.f, mat)})}));
+  const Scene scene = load(b);
+  const Image front = render(scene, look(Vec3(0, 0, 3)), unlit_options());
+  keep(front, "textured_cube_front");
+  EXPECT_TRUE(near(front.at(24, 24), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(front.at(40, 24), {0, 255, 0, 255}, 0));
+  EXPECT_TRUE(near(front.at(24, 40), {0, 0, 255, 255}, 0));
+  EXPECT_TRUE(near(front.at(40, 40), {255, 255, 255, 255}, 0));
+  EXPECT_TRUE(near(front.at(4, 32), kBackground, 0));
+
+  // Oblique and lit: the white texel of each face is at uv (0.75, 0.75).
+  const RenderOptions o = small(128);
+  const Camera cam = look(Vec3(2.0f, 2.2f, 3.0f));
+  const Image lit = render(scene, cam, o);
+  keep(lit, "textured_cube_lit");
+  const Vec3 l = o.lighting.direction_to_light.normalized();
+  auto expect_face = [&](const Vec3& point, const Vec3& normal) {
+    const auto px = project(cam, o, point);
+    const int v = srgb8(0.35 + 0.75 * std::max(0.f, normal.dot(l)));
+    EXPECT_TRUE(near(lit.at(px.x(), px.y()), {std::uint8_t(v), std::uint8_t(v), std::uint8_t(v), 255}))
+        << "face with normal " << normal.transpose();
+  };
+  expect_face(Vec3(0.25f, -0.25f, 0.5f), Vec3::UnitZ());   // front, white quadrant
+  expect_face(Vec3(0.5f, -0.25f, -0.25f), Vec3::UnitX());  // right, white quadrant
+  expect_face(Vec3(0.25f, 0.5f, 0.25f), Vec3::UnitY());    // top, white quadrant
+}
+
+// Alpha-masked, double-sided leaf (Celba 4.6.3): the masked-out half is not drawn; seen from
+// behind, the normal is flipped toward the eye, so the back is lit by a light behind the leaf
+// and only ambient-lit by a light in front of it. A single-sided leaf is culled from behind.
+TEST_F(RenderTest, AlphaMaskedTwoSidedLeaves) {
+  Image mask(2, 1);
+  mask.set(0, 0, {0, 255, 0, 255});  // left half: opaque green
+  mask.set(1, 0, {0, 255, 0, 0});    // right half: cut away
+  GltfBuilder b;
+  const int tex = b.add_texture(mask);
+  const int two_sided = b.add_material({.texture = tex, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = true});
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, two_sided)})}));
+  const Scene leaf = load(b, "leaf.glb");
+  GltfBuilder b1;
+  const int tex1 = b1.add_texture(mask);
+  const int one_sided = b1.add_material({.texture = tex1, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = false});
+  b1.add_root(b1.add_node({.mesh = b1.add_mesh({testing::quad(1.f, one_sided)})}));
+  const Scene single = load(b1, "single.glb");
+
+  RenderOptions o = small();
+  o.lighting.ambient = Vec3::Constant(0.2f);
+  o.lighting.light_color = Vec3::Constant(0.8f);
+  o.lighting.direction_to_light = Vec3::UnitZ();  // light in front (+Z)
+  const Camera front = look(Vec3(0, 0, 2));
+  const Camera back = look(Vec3(0, 0, -2));
+
+  const Image f = render(leaf, front, o);
+  keep(f, "leaf_front");
+  EXPECT_TRUE(near(f.at(24, 32), {0, 255, 0, 255}));  // lit fully: 0.2 + 0.8
+  EXPECT_TRUE(near(f.at(40, 32), kBackground, 0));     // masked out
+
+  // From behind, the leaf's left half appears on the image's right.
+  const Image bk = render(leaf, back, o);
+  keep(bk, "leaf_back_light_in_front");
+  EXPECT_TRUE(near(bk.at(40, 32), {0, std::uint8_t(srgb8(0.2)), 0, 255}));  // ambient only
+  EXPECT_TRUE(near(bk.at(24, 32), kBackground, 0));
+
+  o.lighting.direction_to_light = -Vec3::UnitZ();  // light behind (-Z)
+  const Image bk2 = render(leaf, back, o);
+  keep(bk2, "leaf_back_light_behind");
+  EXPECT_TRUE(near(bk2.at(40, 32), {0, 255, 0, 255}));  // flipped normal faces the light
+
+  EXPECT_TRUE(near(render(single, back, o).at(40, 32), kBackground, 0));  // culled
+  EXPECT_TRUE(near(render(single, front, o).at(24, 32), {0, std::uint8_t(srgb8(0.2)), 0, 255}));
+}
+
+// Horizontal lines one pixel apart, one per pixel row, at depth z (camera on +Z at distance 2,
+// 45 degree fov, 64 pixels): rows [first, last).
+PrimitiveData line_rows(float z, int first, int last, int material) {
+  PrimitiveData p;
+  p.mode = TINYGLTF_MODE_LINE;
+  p.material = material;
+  const float pixel = 2.f * (2.f - z) * std::tan(22.5f * 3.14159265f / 180.f) / 64.f;
+  for (int r = first; r < last; ++r) {
+    const float y = (32.f - float(r) - 0.5f) * pixel;
+    p.positions.emplace_back(-3.f, y, z);
+    p.positions.emplace_back(3.f, y, z);
+  }
+  return p;
+}
+
+// Semi-transparent lines blend over the background.
+TEST_F(RenderTest, LinesWithAlphaOverBackground) {
+  GltfBuilder b;
+  const int red = b.add_material({.base_color = Vec4(1, 0, 0, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+  b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(0.f, 20, 44, red)})}));
+  const Scene scene = load(b);
+  const Image img = render(scene, look(Vec3(0, 0, 2)), small(64, 1));
+  keep(img, "lines_alpha");
+  const Rgba8 want{std::uint8_t(std::lround(0.5 * 255 + 0.5 * 191)), std::uint8_t(std::lround(0.5 * 204)),
+                   std::uint8_t(std::lround(0.5 * 217)), 255};
+  for (int row : {20, 30, 43}) EXPECT_TRUE(near(img.at(32, row), want)) << "row " << row;
+  EXPECT_TRUE(near(img.at(32, 19), kBackground, 0));
+  EXPECT_TRUE(near(img.at(32, 44), kBackground, 0));
+}
+
+// Zhang 6.1: blended lines are drawn far to near whatever the file order, both across draws
+// (two meshes) and inside one primitive. Near red over far blue over the background.
+TEST_F(RenderTest, BlendedLinesDrawnFarToNear) {
+  const Rgba8 want{std::uint8_t(std::lround(0.5 * 255 + 0.25 * 191)), std::uint8_t(std::lround(0.25 * 204)),
+                   std::uint8_t(std::lround(0.25 * 255 + 0.25 * 217)), 255};
+  {
+    GltfBuilder b;
+    const int red = b.add_material({.base_color = Vec4(1, 0, 0, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+    const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+    b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(0.5f, 20, 44, red)})}));     // near, first in file
+    b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(-0.5f, 20, 44, blue)})}));   // far, second
+    const Image img = render(load(b, "two.glb"), look(Vec3(0, 0, 2)), small(64, 1));
+    keep(img, "lines_two_draws");
+    EXPECT_TRUE(near(img.at(32, 30), want, 2));
+  }
+  {
+    GltfBuilder b;
+    const int white = b.add_material({.base_color = Vec4(1, 1, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+    PrimitiveData near_red = line_rows(0.5f, 20, 44, white);
+    PrimitiveData far_blue = line_rows(-0.5f, 20, 44, white);
+    near_red.colors.assign(near_red.positions.size(), Vec4(1, 0, 0, 1));
+    far_blue.colors.assign(far_blue.positions.size(), Vec4(0, 0, 1, 1));
+    PrimitiveData both = near_red;  // near segments first in the index order
+    both.positions.insert(both.positions.end(), far_blue.positions.begin(), far_blue.positions.end());
+    both.colors.insert(both.colors.end(), far_blue.colors.begin(), far_blue.colors.end());
+    b.add_root(b.add_node({.mesh = b.add_mesh({both})}));
+    const Image img = render(load(b, "one.glb"), look(Vec3(0, 0, 2)), small(64, 1));
+    keep(img, "lines_one_primitive");
+    EXPECT_TRUE(near(img.at(32, 30), want, 2));
+  }
+}
+
+// POINTS with _SIZE: the diameter in metres projects to pixels (size * focal / distance); the
+// points are round discs in their COLOR_0.
+TEST_F(RenderTest, PointsWithSizes) {
+  GltfBuilder b;
+  PrimitiveData pts;
+  pts.mode = TINYGLTF_MODE_POINTS;
+  pts.positions = {{-0.5f, 0, 0}, {0.5f, 0, 0}};
+  pts.colors = {{1, 0, 0, 1}, {0, 1, 0, 1}};
+  pts.sizes = {0.2f, 0.05f};
+  b.add_root(b.add_node({.mesh = b.add_mesh({pts})}));
+  const Scene scene = load(b);
+  const Camera cam = look(Vec3(0, 0, 2));
+  const RenderOptions o = small(128);
+  const Image img = render(scene, cam, o);
+  keep(img, "points");
+  // Focal length in pixels: 64 / tan(22.5 deg) = 154.5; at 2 m: 0.2 m -> 15.5 px, 0.05 m -> 3.9 px.
+  const auto a = project(cam, o, Vec3(-0.5f, 0, 0));
+  const auto c = project(cam, o, Vec3(0.5f, 0, 0));
+  EXPECT_TRUE(near(img.at(a.x(), a.y()), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(a.x() + 6, a.y()), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(a.x(), a.y() - 6), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(a.x() + 6, a.y() - 6), kBackground, 0));  // outside the disc (8.5 px > 7.7)
+  EXPECT_TRUE(near(img.at(a.x() + 10, a.y()), kBackground, 0));
+  EXPECT_TRUE(near(img.at(c.x(), c.y()), {0, 255, 0, 255}, 0));
+  EXPECT_TRUE(near(img.at(c.x() + 4, c.y()), kBackground, 0));
+}
+
+// EXT_mesh_gpu_instancing under a translated parent: three instances with their own
+// translation, rotation and scale.
+TEST_F(RenderTest, InstancedMeshInHierarchy) {
+  GltfBuilder b;
+  const int red = b.add_material({.base_color = Vec4(1, 0, 0, 1)});
+  NodeData inst;
+  inst.mesh = b.add_mesh({testing::quad(0.2f, red)});
+  inst.instance_translations = {{-0.6f, 0, 0}, {0, 0, 0}, {0.6f, 0, 0}};
+  inst.instance_rotations = {Eigen::Quaternionf::Identity(),
+                             Eigen::Quaternionf(Eigen::AngleAxisf(3.14159265f / 4, Vec3::UnitZ())),
+                             Eigen::Quaternionf::Identity()};
+  inst.instance_scales = {{1, 1, 1}, {1, 1, 1}, {2, 2, 2}};
+  const int child = b.add_node(inst);
+  b.add_root(b.add_node({.translation = Vec3(0, 0.3f, 0), .children = {child}}));
+  const Scene scene = load(b);
+  ASSERT_EQ(scene.meshes.size(), 1u);
+  EXPECT_EQ(scene.meshes[0].instances.size(), 3u);
+  const Camera cam = look(Vec3(0, 0, 2));
+  const RenderOptions o = unlit_options(128);
+  const Image img = render(scene, cam, o);
+  keep(img, "instances");
+  auto at = [&](float x, float y) {
+    const auto p = project(cam, o, Vec3(x, y, 0));
+    return img.at(p.x(), p.y());
+  };
+  const Rgba8 r{255, 0, 0, 255};
+  EXPECT_TRUE(near(at(-0.6f, 0.3f), r, 0));
+  EXPECT_TRUE(near(at(0.f, 0.3f), r, 0));
+  EXPECT_TRUE(near(at(0.6f, 0.3f), r, 0));
+  EXPECT_TRUE(near(at(0.6f + 0.17f, 0.3f), r, 0));            // scaled x2: half size 0.2
+  EXPECT_TRUE(near(at(-0.6f + 0.17f, 0.3f), kBackground, 0));  // unscaled: half size 0.1
+  EXPECT_TRUE(near(at(0.f, 0.3f + 0.12f), r, 0));             // rotated 45: corner at 0.141
+  EXPECT_TRUE(near(at(0.08f, 0.3f + 0.08f), kBackground, 0));  // ... and not at the old corner
+  EXPECT_TRUE(near(at(0.f, 0.f), kBackground, 0));             // parent moved everything up
+}
+
+// A Draco-compressed cube renders like the uncompressed one.
+TEST_F(RenderTest, DracoCompressedPrimitive) {
+  auto build = [&](bool draco, const std::string& name) {
+    GltfBuilder b;
+    const int tex = b.add_texture(quadrant_texture());
+    const int mat = b.add_material({.texture = tex});
+    PrimitiveData c = testing::cube(1.f, mat);
+    c.draco = draco;
+    b.add_root(b.add_node({.mesh = b.add_mesh({c})}));
+    return load(b, name);
+  };
+  const Scene plain = build(false, "plain.glb");
+  const Scene draco = build(true, "draco.glb");
+  ASSERT_EQ(draco.meshes.size(), 1u);
+  EXPECT_EQ(draco.meshes[0].primitives[0].indices.size(), 36u);
+  const Camera cam = look(Vec3(2.0f, 2.2f, 3.0f));
+  const Image a = render(plain, cam, small(128));
+  const Image d = render(draco, cam, small(128));
+  keep(d, "draco_cube");
+  const image::CompareResult r = image::compare_images(a, d);
+  EXPECT_TRUE(r.passed) << r.failure;
+  EXPECT_LT(r.failing_fraction, 0.002);
+  const Image front = render(draco, look(Vec3(0, 0, 3)), unlit_options());
+  EXPECT_TRUE(near(front.at(24, 24), {255, 0, 0, 255}, 0));
+  EXPECT_TRUE(near(front.at(40, 40), {255, 255, 255, 255}, 0));
+}
+
+// Same input, same bytes: two renders encode to identical PNGs, and rendering several views at
+// once gives the same images as rendering them one by one.
+TEST_F(RenderTest, Deterministic) {
+  GltfBuilder b;
+  const int tex = b.add_texture(quadrant_texture(), false);
+  const int mat = b.add_material({.texture = tex});
+  const int leafmat = b.add_material({.base_color = Vec4(0.2f, 0.6f, 0.1f, 0.6f), .alpha_mode = "BLEND", .double_sided = true});
+  PrimitiveData lines = line_rows(0.7f, 10, 50, leafmat);
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::cube(1.f, mat), lines})}));
+  const Scene scene = load(b);
+  const Camera c1 = look(Vec3(2.0f, 2.2f, 3.0f)), c2 = look(Vec3(-3.f, 1.f, 1.f));
+  const RenderOptions o = small(200);
+  const Image a = render(scene, c1, o);
+  const Image a2 = render(scene, c1, o);
+  EXPECT_EQ(image::encode_png(a), image::encode_png(a2));
+  const std::vector<Camera> both = {c1, c2};
+  const auto views = renderer_->render_views(scene, both, o);
+  ASSERT_EQ(views.size(), 2u);
+  EXPECT_EQ(views[0], a);
+  EXPECT_EQ(views[1], render(scene, c2, o));
+}
+
+// A transparent background gives alpha 0 around the object and straight colour on it.
+TEST_F(RenderTest, TransparentBackground) {
+  GltfBuilder b;
+  const int red = b.add_material({.base_color = Vec4(1, 0, 0, 1)});
+  const int glass = b.add_material({.base_color = Vec4(0, 0, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+  PrimitiveData pane = testing::quad(0.5f, glass);
+  for (auto& p : pane.positions) p += Vec3(0.5f, 0, 0.1f);
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, red), pane})}));
+  RenderOptions o = unlit_options();
+  o.background = {0, 0, 0, 0};
+  const Image img = render(load(b), look(Vec3(0, 0, 2)), o);
+  keep(img, "transparent_background");
+  EXPECT_EQ(img.at(2, 2).a, 0);
+  EXPECT_TRUE(near(img.at(28, 32), {255, 0, 0, 255}, 0));
+  // The blue pane over nothing: colour blue, alpha one half.
+  const Camera cam = look(Vec3(0, 0, 2));
+  const auto p = project(cam, o, Vec3(0.65f, 0.f, 0.1f));
+  EXPECT_TRUE(near(img.at(p.x(), p.y()), {0, 0, 255, 128}, 1));
+}
+
+// The camera-set path: every view of the default set sees the asset.
+TEST_F(RenderTest, CameraSetRendersEveryView) {
+  GltfBuilder b;
+  const int tex = b.add_texture(quadrant_texture());
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::cube(1.f, b.add_material({.texture = tex}))})}));
+  const Scene scene = load(b);
+  CameraSet set = load_camera_set("configs/cameras/default.yaml");
+  set.width = set.height = 96;  // keep the test fast
+  const auto views = render_camera_set(*renderer_, scene, set);
+  ASSERT_EQ(views.size(), 4u);
+  for (const auto& v : views) {
+    EXPECT_EQ(v.image.width(), 96);
+    EXPECT_FALSE(near(v.image.at(48, 48), kBackground, 0)) << v.camera.name;
+    EXPECT_TRUE(near(v.image.at(1, 1), kBackground, 0)) << v.camera.name;
+    keep(v.image, "default_set_" + v.camera.name);
+  }
+  EXPECT_EQ(views[1].camera.name, "right");
+}
+
+// Invalid options are refused with a clear message, not a GL error.
+TEST_F(RenderTest, InvalidOptions) {
+  const Scene empty;
+  RenderOptions o = small();
+  o.msaa = 64;
+  try {
+    render(empty, look(Vec3(0, 0, 2)), o);
+    FAIL() << "expected RenderError";
+  } catch (const RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("msaa 64 is not supported"), std::string::npos) << e.what();
+  }
+  o = small();
+  o.width = 0;
+  EXPECT_THROW(render(empty, look(Vec3(0, 0, 2)), o), RenderError);
+  // An empty scene renders the background.
+  EXPECT_TRUE(near(render(empty, look(Vec3(0, 0, 2)), small()).at(10, 10), kBackground, 0));
+}
+
+// Without any EGL vendor the renderer fails with one clear message instead of crashing. Runs in
+// a fresh process (threadsafe death-test style re-executes the binary) so EGL starts clean.
+TEST(RendererUnavailable, ClearErrorWithoutEgl) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(
+      {
+        setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/egl_vendor.json", 1);
+        setenv("__EGL_VENDOR_LIBRARY_DIRS", "/nonexistent", 1);
+        try {
+          Renderer::create_headless();
+          std::fprintf(stderr, "created a renderer\n");
+          std::exit(1);
+        } catch (const RenderUnavailableError& e) {
+          std::fprintf(stderr, "%s\n", e.what());
+          std::exit(0);
+        }
+      },
+      ::testing::ExitedWithCode(0), "^headless OpenGL is not available: ");
+}
+
+}  // namespace
+}  // namespace sylva::render
