@@ -1,0 +1,291 @@
+// Species preset reader (format in docs/stages/generate.md). Parsing fills plain structs; range
+// checks are validate_preset()'s, mapped back to the line that set the offending value.
+#include "stages/generate/preset.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace sylva::generate {
+
+namespace {
+
+using Marks = std::map<std::string, YAML::Mark>;
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const YAML::Mark& m, const std::string& msg) const {
+    throw PresetParseError(file_ + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": " +
+                           msg);
+  }
+
+  // Every key of `map` must be in `known` (and appear once); returns the map.
+  void require_map(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsMap()) fail(n.Mark(), what + ": expected a mapping");
+  }
+  template <class F>
+  void for_each_key(const YAML::Node& map, const std::string& what, const std::set<std::string>& known, F&& f) const {
+    require_map(map, what);
+    std::set<std::string> seen;
+    for (const auto& kv : map) {
+      const std::string key = kv.first.Scalar();
+      if (!kv.first.IsScalar()) fail(kv.first.Mark(), what + ": keys must be plain names");
+      if (!known.count(key)) fail(kv.first.Mark(), "unknown key '" + key + "' in " + what);
+      if (!seen.insert(key).second) fail(kv.first.Mark(), "duplicate key '" + key + "' in " + what);
+      f(key, kv.second);
+    }
+  }
+  YAML::Node required(const YAML::Node& map, const std::string& key, const std::string& what) const {
+    const YAML::Node n = map[key];
+    if (!n) fail(map.Mark(), what + ": missing required key '" + key + "'");
+    return n;
+  }
+
+  double real(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n.Mark(), key + ": expected a number");
+    double v;
+    try {
+      v = n.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n.Mark(), key + ": expected a number, got '" + n.Scalar() + "'");
+    }
+    if (!std::isfinite(v)) fail(n.Mark(), key + ": expected a finite number, got '" + n.Scalar() + "'");
+    return v;
+  }
+  int integer(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n.Mark(), key + ": expected an integer");
+    try {
+      return n.as<int>();
+    } catch (const YAML::Exception&) {
+      fail(n.Mark(), key + ": expected an integer, got '" + n.Scalar() + "'");
+    }
+  }
+  std::string string(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsScalar()) fail(n.Mark(), key + ": expected a string");
+    return n.Scalar();
+  }
+  tree::Color color(const YAML::Node& n, const std::string& key) const {
+    if (!n.IsSequence() || n.size() != 3) fail(n.Mark(), key + ": expected [r, g, b] (sRGB, 0..1)");
+    float c[3];
+    for (std::size_t i = 0; i < 3; ++i) {
+      const double v = real(n[i], key);
+      if (v < 0 || v > 1) fail(n[i].Mark(), key + ": colour components must be in [0, 1]");
+      c[i] = static_cast<float>(v);
+    }
+    return {c[0], c[1], c[2]};
+  }
+  template <class E>
+  E choice(const YAML::Node& n, const std::string& key, const std::vector<std::pair<std::string, E>>& options) const {
+    const std::string s = string(n, key);
+    std::string list;
+    for (const auto& [name, value] : options) {
+      if (name == s) return value;
+      list += (list.empty() ? "" : ", ") + name;
+    }
+    fail(n.Mark(), key + ": '" + s + "' is not one of " + list);
+  }
+
+  // `params:` (shared or per age) merged onto `p`; `marks` records where each key was set.
+  void apply_params(const YAML::Node& node, Preset& p, Marks& marks, const std::string& what) const {
+    static const std::set<std::string> keys = {
+        "Shape", "Levels", "Scale", "ScaleV", "BaseSize", "Ratio", "Flare", "BaseSplits", "AttractionUp",
+        "TreeShapeExponent", "Leaves", "LeafScale", "LeafScaleX", "levels", "leaf"};
+    for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
+      marks[k] = v.Mark();
+      if (k == "Shape") p.shape = integer(v, k);
+      else if (k == "Levels") p.levels = integer(v, k);
+      else if (k == "Scale") p.scale = real(v, k);
+      else if (k == "ScaleV") p.scale_v = real(v, k);
+      else if (k == "BaseSize") p.base_size = real(v, k);
+      else if (k == "Ratio") p.ratio = real(v, k);
+      else if (k == "Flare") p.flare = real(v, k);
+      else if (k == "BaseSplits") p.base_splits = integer(v, k);
+      else if (k == "AttractionUp") p.attraction_up = real(v, k);
+      else if (k == "TreeShapeExponent") p.tree_shape_exponent = real(v, k);
+      else if (k == "Leaves") p.leaves = real(v, k);
+      else if (k == "LeafScale") p.leaf_scale = real(v, k);
+      else if (k == "LeafScaleX") p.leaf_scale_x = real(v, k);
+      else if (k == "leaf") apply_leaf(v, p.leaf, marks, what + ".leaf");
+      else if (k == "levels") {
+        if (!v.IsSequence()) fail(v.Mark(), what + ".levels: expected a list (index 0 = trunk)");
+        if (v.size() > 8) fail(v.Mark(), what + ".levels: at most 8 levels");
+        if (p.level.size() < v.size()) p.level.resize(v.size(), p.level.empty() ? LevelParams{} : p.level.back());
+        for (std::size_t i = 0; i < v.size(); ++i)
+          apply_level(v[i], p.level[i], marks, "levels[" + std::to_string(i) + "]", what);
+      }
+    });
+  }
+
+  void apply_level(const YAML::Node& node, LevelParams& l, Marks& marks, const std::string& key,
+                   const std::string& what) const {
+    static const std::set<std::string> keys = {"Branches", "Length", "LengthV", "Taper", "SegSplits",
+                                               "SplitAngleV", "CurveRes", "Curve", "CurveV", "CurveBack",
+                                               "DownAngleV", "Rotate", "RotateV", "BranchRatio"};
+    for_each_key(node, what + "." + key, keys, [&](const std::string& k, const YAML::Node& v) {
+      marks[key + "." + k] = v.Mark();
+      if (k == "Branches") l.branches = real(v, k);
+      else if (k == "Length") l.length = real(v, k);
+      else if (k == "LengthV") l.length_v = real(v, k);
+      else if (k == "Taper") l.taper = real(v, k);
+      else if (k == "SegSplits") l.seg_splits = real(v, k);
+      else if (k == "SplitAngleV") l.split_angle_v = real(v, k);
+      else if (k == "CurveRes") l.curve_res = integer(v, k);
+      else if (k == "Curve") l.curve = real(v, k);
+      else if (k == "CurveV") l.curve_v = real(v, k);
+      else if (k == "CurveBack") l.curve_back = real(v, k);
+      else if (k == "DownAngleV") l.down_angle_v = real(v, k);
+      else if (k == "Rotate") l.rotate = real(v, k);
+      else if (k == "RotateV") l.rotate_v = real(v, k);
+      else if (k == "BranchRatio") l.branch_ratio = real(v, k);
+    });
+  }
+
+  void apply_leaf(const YAML::Node& node, LeafLevelParams& l, Marks& marks, const std::string& what) const {
+    static const std::set<std::string> keys = {"DownAngleV", "Rotate", "RotateV", "BranchRatio"};
+    for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
+      marks["leaf." + k] = v.Mark();
+      if (k == "DownAngleV") l.down_angle_v = real(v, k);
+      else if (k == "Rotate") l.rotate = real(v, k);
+      else if (k == "RotateV") l.rotate_v = real(v, k);
+      else if (k == "BranchRatio") l.branch_ratio = real(v, k);
+    });
+  }
+
+  void textures(const YAML::Node& node, SpeciesPreset& s) const {
+    for_each_key(node, "textures", {"bark", "leaf"}, [&](const std::string& k, const YAML::Node& v) {
+      if (k == "bark") {
+        for_each_key(v, "textures.bark", {"style", "color", "dark"}, [&](const std::string& bk, const YAML::Node& bv) {
+          if (bk == "style")
+            s.bark.style = choice<BarkStyle>(bv, "style", {{"fissured", BarkStyle::kFissured},
+                                                          {"smooth", BarkStyle::kSmooth},
+                                                          {"birch", BarkStyle::kBirch},
+                                                          {"scaly", BarkStyle::kScaly}});
+          else if (bk == "color") s.bark.color = color(bv, bk);
+          else s.bark.dark = color(bv, bk);
+        });
+      } else {
+        for_each_key(v, "textures.leaf", {"shape", "color", "vein"}, [&](const std::string& lk, const YAML::Node& lv) {
+          if (lk == "shape")
+            s.leaf.shape = choice<LeafShape>(lv, "shape", {{"lobed", LeafShape::kLobed},
+                                                          {"ovate", LeafShape::kOvate},
+                                                          {"palmate", LeafShape::kPalmate},
+                                                          {"spiny", LeafShape::kSpiny},
+                                                          {"lanceolate", LeafShape::kLanceolate},
+                                                          {"needle", LeafShape::kNeedle}});
+          else if (lk == "color") s.leaf.color = color(lv, lk);
+          else s.leaf.vein = color(lv, lk);
+        });
+      }
+    });
+  }
+
+  SpeciesPreset parse(const YAML::Node& root) const {
+    if (!root.IsMap()) fail(root.Mark(), "a species preset must be a mapping");
+    SpeciesPreset s;
+    Preset base;
+    base.level.assign(1, LevelParams{});
+    Marks base_marks;
+    YAML::Node ages_node;
+    for_each_key(root, "the preset", {"species", "name", "foliage", "sources", "textures", "params", "ages"},
+                 [&](const std::string& k, const YAML::Node& v) {
+                   if (k == "species") {
+                     s.species = string(v, k);
+                     if (s.species.empty() || s.species.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") != std::string::npos)
+                       fail(v.Mark(), "species: must be a name of [a-z_], got '" + s.species + "'");
+                   } else if (k == "name") {
+                     s.name = string(v, k);
+                   } else if (k == "foliage") {
+                     base.foliage = choice<Foliage>(v, k, {{"leaves", Foliage::kLeaves}, {"needles", Foliage::kNeedles}});
+                   } else if (k == "sources") {
+                     if (!v.IsSequence()) fail(v.Mark(), "sources: expected a list of strings");
+                     for (const auto& e : v) s.sources.push_back(string(e, k));
+                   } else if (k == "textures") {
+                     textures(v, s);
+                   } else if (k == "params") {
+                     apply_params(v, base, base_marks, "params");
+                   } else {
+                     ages_node = v;
+                   }
+                 });
+    required(root, "species", "the preset");
+    required(root, "foliage", "the preset");
+    required(root, "params", "the preset");
+    required(root, "ages", "the preset");
+    for_each_key(ages_node, "ages", {"young", "middle", "adult"}, [](const std::string&, const YAML::Node&) {});
+    for (const char* age : kAgeNames) {
+      const YAML::Node a = required(ages_node, age, "ages");
+      const std::string what = std::string("ages.") + age;
+      AgeVariant v;
+      v.age = age;
+      v.params = base;
+      Marks marks = base_marks;
+      bool have_height = false;
+      for_each_key(a, what, {"height_m", "source", "params"}, [&](const std::string& k, const YAML::Node& n) {
+        if (k == "height_m") {
+          if (!n.IsSequence() || n.size() != 2) fail(n.Mark(), what + ".height_m: expected [min, max] in metres");
+          v.height_min = real(n[0], "height_m");
+          v.height_max = real(n[1], "height_m");
+          if (!(v.height_min > 0 && v.height_min < v.height_max))
+            fail(n.Mark(), what + ".height_m: expected 0 < min < max");
+          have_height = true;
+        } else if (k == "source") {
+          v.source = string(n, k);
+        } else {
+          apply_params(n, v.params, marks, what + ".params");
+        }
+      });
+      if (!have_height) fail(a.Mark(), what + ": missing required key 'height_m'");
+      if (v.source.empty()) fail(a.Mark(), what + ": missing required key 'source' (where the figures come from)");
+      try {
+        validate_preset(v.params);
+      } catch (const PresetError& e) {
+        auto it = marks.find(e.key());
+        fail(it != marks.end() ? it->second : a.Mark(), what + ": " + e.what());
+      }
+      const tree::Color bark = srgb_to_linear(s.bark.color), leaf = srgb_to_linear(s.leaf.color);
+      v.params.materials = {"bark.png", "leaves.png", bark, leaf};
+      s.ages.push_back(std::move(v));
+    }
+    return s;
+  }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace
+
+const AgeVariant& SpeciesPreset::age(std::string_view name) const {
+  for (const AgeVariant& a : ages)
+    if (a.age == name) return a;
+  throw std::out_of_range("no age variant '" + std::string(name) + "'");
+}
+
+SpeciesPreset parse_species_preset(std::string_view yaml_text, const std::string& file) {
+  Reader r(file);
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::ParserException& e) {
+    r.fail(e.mark, "YAML syntax error: " + e.msg);
+  }
+  if (!root || root.IsNull()) throw PresetParseError(file + ":1:1: the preset is empty");
+  return r.parse(root);
+}
+
+SpeciesPreset load_species_preset(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw PresetParseError(path.string() + ": cannot read");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return parse_species_preset(ss.str(), path.string());
+}
+
+}  // namespace sylva::generate
