@@ -169,7 +169,8 @@ std::string human_bytes(std::uint64_t b) {
 
 }  // namespace
 
-int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io) {
+int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io,
+            const std::vector<CliCommand*>& extra) {
   RealFileSystem fsys;
   Common common;
   CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
@@ -213,6 +214,9 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   cl->add_option("recipe", clean_recipe, "recipe whose out/<name>/ to delete");
   cl->add_flag("--all", clean_all, "delete every output and the cache");
 
+  std::vector<std::pair<CLI::App*, CliCommand*>> extra_apps;
+  for (CliCommand* c : extra) extra_apps.emplace_back(c->add_to(app), c);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& h) {
@@ -234,6 +238,8 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
     if (g->parsed()) return cmd_graph(graph_recipe, dot, reg, fsys, io);
     if (e->parsed()) return cmd_explain(explain_recipe, explain_target, common, reg, fsys, io);
     if (st->parsed()) return cmd_stages(reg, io);
+    for (auto& [sub, cmd] : extra_apps)
+      if (sub->parsed()) return cmd->run(io);
     if (cs->parsed()) {
       Cache cache(fsys, common.cache_root());
       const CacheStats s = cache.stats();

@@ -7,6 +7,9 @@
 
 #include <atomic>
 #include <cstdio>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "pipeline/registry.h"
 
@@ -24,6 +27,18 @@ struct CliIo {
   const std::atomic<bool>* cancel = nullptr;  // set by the SIGINT handler
 };
 
-int run_cli(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io);
+// A subcommand outside the engine (inspect, render, ...), wired by main.cpp so the engine's CLI
+// does not depend on the domain libraries.
+class CliCommand {
+ public:
+  virtual ~CliCommand() = default;
+  // Adds the subcommand and its options to `app`; returns it.
+  virtual CLI::App* add_to(CLI::App& app) = 0;
+  // Runs after a successful parse when this subcommand was chosen; returns the exit code.
+  virtual int run(const CliIo& io) = 0;
+};
+
+int run_cli(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io,
+            const std::vector<CliCommand*>& extra = {});
 
 }  // namespace sylva

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include "app/cli.h"
+#include "app/inspect_command.h"
 #include "stages/register_stages.h"
 
 namespace {
@@ -26,5 +27,6 @@ int main(int argc, char** argv) {
   sylva::CliIo io;
   io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
   io.cancel = &g_cancel;
-  return sylva::run_cli(argc, argv, registry, io);
+  auto inspect = sylva::make_inspect_command();
+  return sylva::run_cli(argc, argv, registry, io, {inspect.get()});
 }
