@@ -42,7 +42,12 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return prev[b.size()];
 }
 
+// "; did you mean 'x'?" for the closest candidate, or for a candidate that is the word plus a
+// unit suffix ('azimuth' -> 'azimuth_deg'); "" when nothing is close.
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  for (const auto& c : candidates)
+    if (c.size() > word.size() + 1 && c.compare(0, word.size(), word) == 0 && c[word.size()] == '_')
+      return "; did you mean '" + c + "'?";
   std::string best;
   std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
   for (const auto& c : candidates) {

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -58,7 +59,8 @@ struct AttributeData {
 
 class Loader {
  public:
-  Loader(const tinygltf::Model& model, std::string file) : m_(model), file_(std::move(file)) {}
+  Loader(const tinygltf::Model& model, std::string file, std::filesystem::path base_dir)
+      : m_(model), file_(std::move(file)), base_dir_(std::move(base_dir)) {}
 
   Scene load() {
     check_extensions();
@@ -89,8 +91,14 @@ class Loader {
       const tinygltf::Image& img = m_.images[i];
       if (img.image.empty() || img.width <= 0 || img.height <= 0) {
         const std::string label = !img.uri.empty() ? img.uri : (!img.name.empty() ? img.name : "embedded");
+        std::string why = warnings_for(i);
+        if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
+          const std::filesystem::path file = base_dir_ / decode_uri(img.uri);
+          std::error_code ec;
+          if (!std::filesystem::exists(file, ec)) why = "no such file " + file.string();
+        }
         fail("texture '" + label + "' (image " + std::to_string(i) + ") could not be loaded" +
-             (warnings_for(i).empty() ? std::string() : ": " + warnings_for(i)));
+             (why.empty() ? std::string() : ": " + why));
       }
     }
   }
@@ -585,8 +593,24 @@ class Loader {
     return scene_.meshes[it->second];
   }
 
+  // glTF URIs are percent-encoded ("my%20bark.png").
+  static std::string decode_uri(const std::string& uri) {
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+      if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+          std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+        out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+        i += 2;
+      } else {
+        out += uri[i];
+      }
+    }
+    return out;
+  }
+
   const tinygltf::Model& m_;
   std::string file_;
+  std::filesystem::path base_dir_;
   Scene scene_;
   std::vector<int> texcoord_set_;        // per material: TEXCOORD_n of the base colour texture
   std::map<int, std::size_t> mesh_slot_;  // glTF mesh -> Scene::meshes index
@@ -686,7 +710,7 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
   }
   if (!ok) throw fail("invalid glTF: " + one_line(err.empty() ? warn : err));
 
-  Loader loader(model, file);
+  Loader loader(model, file, path.parent_path());
   loader.warnings = warn;
   return loader.load();
 }
