@@ -138,8 +138,8 @@ double blade_half_width(LeafShape shape, double tau, const LeafVariant& v) {
     case LeafShape::kOvate:  // birch: ovate-triangular, serrate
       return v.width * std::pow(std::sin(kPi * std::pow(tau, 0.65)), 0.9) * (1 - 0.07 * std::abs(std::sin(kPi * 22 * tau)));
     case LeafShape::kLobed:  // oak: obovate with rounded lobes
-      return v.width * std::pow(std::sin(kPi * std::pow(tau, 1.25)), 0.7) *
-             (0.58 + 0.42 * std::pow(std::abs(std::cos(kPi * (v.lobes * tau + v.phase))), 0.6));
+      return v.width * std::pow(std::sin(kPi * std::pow(tau, 1.4)), 0.75) *
+             (0.5 + 0.5 * std::pow(std::abs(std::cos(kPi * (v.lobes * tau + v.phase))), 0.45));
     case LeafShape::kPalmate:  // white poplar: broad, 3-5 coarse lobes
       return v.width * std::pow(std::sin(kPi * std::pow(tau, 0.55)), 0.7) *
              (0.72 + 0.28 * std::abs(std::cos(kPi * (2.5 * tau + v.phase))));
@@ -170,7 +170,9 @@ Rgba8 make_bark_texture(const BarkLook& look, int size, Rng& rng) {
   Rgba8 img{size, size, std::vector<std::uint8_t>(static_cast<std::size_t>(size) * size * 4)};
   // Noise fields, all periodic in [0, 1)^2: u across the bark (x), v along it (y).
   const Fbm fine(16, 16, 3, rng);
-  const Fbm ridges(6, 2, 4, rng);     // long vertical structures
+  const Fbm ridges(7, 1, 3, rng);     // long vertical structures
+  const Fbm cracks(14, 2, 2, rng);    // finer vertical cracks
+  const Fbm streaks(48, 4, 2, rng);   // fibre grain
   const Fbm warp(4, 4, 2, rng);
   const Fbm dashes(3, 24, 3, rng);    // short horizontal structures (lenticels)
   const PeriodicCells plates(5, 4, rng);
@@ -185,15 +187,17 @@ Rgba8 make_bark_texture(const BarkLook& look, int size, Rng& rng) {
         case BarkStyle::kFissured: {
           // Valleys where a warped, vertically stretched field crosses its mid level.
           const double w = warp.at(u, v) - 0.5;
-          const double f = ridges.at(u + 0.08 * w, v);
-          const double valley = std::exp(-std::pow((f - 0.5) / 0.045, 2));
-          dark = clamp01(valley * 1.1 + 0.25 * (grain - 0.5));
-          shade *= 1 - 0.25 * valley;
+          const double f = ridges.at(u + 0.04 * w, v);
+          const double valley = std::exp(-std::pow((f - 0.5) / 0.03, 2));
+          const double crack = 0.6 * std::exp(-std::pow((cracks.at(u, v) - 0.5) / 0.02, 2));
+          const double height = clamp01(std::abs(f - 0.5) * 6);  // ridge crest lighter
+          dark = clamp01(std::max(valley, crack) + 0.2 * (grain - 0.5));
+          shade = (0.75 + 0.3 * height) * (0.9 + 0.2 * streaks.at(u, v));
           break;
         }
         case BarkStyle::kSmooth: {
           dark = 0.25 * smoothstep(0.45, 0.75, warp.at(u, v)) + 0.6 * smoothstep(0.72, 0.8, dashes.at(u, v));
-          shade = 0.92 + 0.16 * grain;
+          shade = (0.92 + 0.16 * grain) * (0.95 + 0.1 * streaks.at(u, v));
           break;
         }
         case BarkStyle::kBirch: {

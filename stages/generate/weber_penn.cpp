@@ -430,14 +430,18 @@ class Generator {
   }
 
   void push_one(const BranchPlan& b, double s, int base) {
+    // Radii follow the taper profile scaled by the da Vinci steps taken so far; the node right
+    // after a junction takes the junction's outgoing radius exactly (no taper over that short
+    // segment), and the node after it returns to the profile, so no taper is lost overall.
     double r;
     if (cur_s_.empty()) {
       r = b.start_radius;
+      const double p0 = profile(b, s);
+      cur_scale_ = p0 > 0 ? r / p0 : 0.0;
     } else if (cur_junction_) {
       r = cur_out_;
     } else {
-      const double p0 = profile(b, cur_s_.back());
-      r = p0 > 0 ? cur_out_ * profile(b, s) / p0 : 0.0;
+      r = cur_scale_ * profile(b, s);
     }
     if (++node_total_ > o_.max_nodes)
       throw std::length_error("the tree exceeds the node budget of " + std::to_string(o_.max_nodes) +
@@ -464,6 +468,7 @@ class Generator {
     c.junction = static_cast<std::uint32_t>(cur_s_.size() - 1);
     stems_[c.stem].radius = c.start_radius;
     cur_out_ *= k.primary;
+    cur_scale_ *= k.primary;
     cur_junction_ = true;
   }
 
@@ -514,10 +519,11 @@ class Generator {
         const double pre = sa - r_est;
         if (pre > cur_s_.back() + 0.1 * seg) push_node(b, pre, -1);
         attach_lateral(c);
+        // The appended node (no skip rule in the thesis) unless it would reach the next segment
+        // node or pass the next attachment's prepended node.
         const double app = sa + r_est;
-        const bool next_is_close =
-            next_child < end_child && plans_[next_child].attach_s - r_est <= app + 0.1 * seg;
-        if (app < sj - 0.1 * seg && !next_is_close) push_node(b, app, -1);
+        const bool next_overlaps = next_child < end_child && plans_[next_child].attach_s - r_est <= app;
+        if (app < sj - 0.25 * r_est && !next_overlaps) push_node(b, app, -1);
       }
       push_node(b, sj, j);
       // A split at this segment node: the clones and the continuation share the radius equally
@@ -532,6 +538,7 @@ class Generator {
           c.junction = static_cast<std::uint32_t>(cur_s_.size() - 1);
         }
         cur_out_ *= f;
+        cur_scale_ *= f;
         cur_junction_ = true;
         ++next_split;
         const double stub = std::min(cur_out_, 0.2 * seg);
@@ -542,11 +549,7 @@ class Generator {
   }
 
   // The radius the profile would give at s, continuing from the last node.
-  double estimate_radius(const BranchPlan& b, double s) const {
-    if (cur_junction_) return cur_out_;
-    const double p0 = profile(b, cur_s_.back());
-    return p0 > 0 ? cur_out_ * profile(b, s) / p0 : 0.0;
-  }
+  double estimate_radius(const BranchPlan& b, double s) const { return cur_scale_ * profile(b, s); }
 
   // -------------------------------------------------------------------------------------------
   // Pass 3: world positions, junction frames, primary deviation, leaves.
@@ -698,7 +701,8 @@ class Generator {
   std::vector<NodeInfo> info_;
   std::vector<double> cur_s_, cur_r_;
   std::vector<NodeInfo> cur_info_;
-  double cur_out_ = 0;
+  double cur_out_ = 0;    // outgoing radius of the last node (after its junction's steps)
+  double cur_scale_ = 0;  // radius / taper profile, including the da Vinci steps so far
   bool cur_junction_ = false;
   std::uint64_t node_total_ = 0;
 };

@@ -1,1 +1,122 @@
+// The preset reader: merging of ages over the shared parameters, and exact error messages with
+// file:line:col for bad YAML.
+#include "stages/generate/preset.h"
+
 #include <gtest/gtest.h>
+
+namespace sylva::generate {
+namespace {
+
+const char* kGood = R"(species: test_tree
+name: Test tree
+foliage: leaves
+sources: ["hand-written for the test"]
+textures:
+  bark: { style: birch, color: [0.9, 0.9, 0.9], dark: [0.1, 0.1, 0.1] }
+  leaf: { shape: spiny, color: [0.1, 0.3, 0.1], vein: [0.5, 0.6, 0.3] }
+params:
+  Shape: 1
+  Scale: 10
+  Leaves: 100
+  levels:
+    - { Length: 1, CurveRes: 4 }
+    - { Branches: 10, Length: 0.5, BranchRatio: 0.4 }
+  leaf: { Rotate: 90 }
+ages:
+  young:
+    height_m: [1, 5]
+    source: "a"
+    params: { Scale: 3, levels: [ {}, { Branches: 5 } ] }
+  middle:
+    height_m: [4, 9]
+    source: "b"
+  adult:
+    height_m: [8, 14]
+    source: "c"
+    params: { Levels: 2, levels: [ {}, {}, { Branches: 3 } ] }
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_species_preset(text, "t.yaml");
+  } catch (const PresetParseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+// Ages override the shared parameters key by key; per-level entries merge by index.
+TEST(Preset, AgesMergeOverSharedParams) {
+  const SpeciesPreset s = parse_species_preset(kGood, "t.yaml");
+  EXPECT_EQ(s.species, "test_tree");
+  EXPECT_EQ(s.bark.style, BarkStyle::kBirch);
+  EXPECT_EQ(s.leaf.shape, LeafShape::kSpiny);
+  const AgeVariant& young = s.age("young");
+  EXPECT_DOUBLE_EQ(young.params.scale, 3);
+  EXPECT_DOUBLE_EQ(young.params.level[1].branches, 5);
+  EXPECT_DOUBLE_EQ(young.params.level[1].length, 0.5);  // kept from the shared entry
+  EXPECT_EQ(young.params.shape, 1);
+  EXPECT_DOUBLE_EQ(young.params.leaf.rotate, 90);
+  EXPECT_DOUBLE_EQ(young.height_min, 1);
+  const AgeVariant& adult = s.age("adult");
+  EXPECT_EQ(adult.params.level.size(), 3u);  // a third level, copied from the last then merged
+  EXPECT_DOUBLE_EQ(adult.params.level[2].branches, 3);
+  EXPECT_DOUBLE_EQ(adult.params.level[2].length, 0.5);
+  EXPECT_DOUBLE_EQ(s.age("middle").params.scale, 10);
+  EXPECT_EQ(adult.params.materials.bark_texture, "bark.png");
+  EXPECT_EQ(adult.params.materials.leaf_texture, "leaves.png");
+}
+
+TEST(Preset, UnknownKeyIsAnErrorAtItsLine) {
+  EXPECT_EQ(error_of(replace(kGood, "{ Branches: 10,", "{ Brances: 10,")),
+            "t.yaml:14:9: unknown key 'Brances' in params.levels[1]");
+  EXPECT_EQ(error_of(replace(kGood, "  Shape: 1\n", "  Shap: 1\n")), "t.yaml:9:3: unknown key 'Shap' in params");
+}
+
+TEST(Preset, TypeErrors) {
+  EXPECT_EQ(error_of(replace(kGood, "Shape: 1", "Shape: round")),
+            "t.yaml:9:10: Shape: expected an integer, got 'round'");
+  EXPECT_EQ(error_of(replace(kGood, "Scale: 10", "Scale: tall")),
+            "t.yaml:10:10: Scale: expected a number, got 'tall'");
+  EXPECT_EQ(error_of(replace(kGood, "foliage: leaves", "foliage: fronds")),
+            "t.yaml:3:10: foliage: 'fronds' is not one of leaves, needles");
+  EXPECT_EQ(error_of(replace(kGood, "color: [0.9, 0.9, 0.9]", "color: [0.9, 0.9]")),
+            "t.yaml:6:32: color: expected [r, g, b] (sRGB, 0..1)");
+}
+
+// A value out of range is reported where it was set (here in the shared params, found while
+// checking the young variant).
+TEST(Preset, RangeErrorPointsAtTheValue) {
+  EXPECT_EQ(error_of(replace(kGood, "BranchRatio: 0.4", "BranchRatio: 1.5")),
+            "t.yaml:14:49: ages.young: levels[1].BranchRatio must be in (0, 1]");
+  EXPECT_EQ(error_of(replace(kGood, "params: { Scale: 3,", "params: { Scale: -3,")),
+            "t.yaml:20:22: ages.young: Scale must be in (0, 200]");
+}
+
+TEST(Preset, MissingPieces) {
+  EXPECT_EQ(error_of(replace(kGood, "    height_m: [4, 9]\n", "")),
+            "t.yaml:22:5: ages.middle: missing required key 'height_m'");
+  EXPECT_EQ(error_of(replace(kGood, "  adult:\n    height_m: [8, 14]\n    source: \"c\"\n", "")),
+            "t.yaml:17:3: ages: missing required key 'adult'");
+  EXPECT_EQ(error_of(replace(kGood, "height_m: [1, 5]", "height_m: [5, 1]")),
+            "t.yaml:18:15: ages.young.height_m: expected 0 < min < max");
+}
+
+TEST(Preset, SyntaxErrorAndEmptyFile) {
+  EXPECT_EQ(error_of(replace(kGood, "  Scale: 10\n", "  Scale: [10\n")).substr(0, 35),
+            "t.yaml:11:9: YAML syntax error: end");
+  EXPECT_EQ(error_of(""), "t.yaml:1:1: the preset is empty");
+}
+
+TEST(Preset, MissingFile) {
+  EXPECT_THROW(load_species_preset("/nonexistent/x.yaml"), PresetParseError);
+}
+
+}  // namespace
+}  // namespace sylva::generate

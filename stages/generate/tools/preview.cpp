@@ -10,6 +10,7 @@
 #include "libs/image/image_io.h"
 #include "libs/tree/stats.h"
 #include "stages/generate/preset.h"
+#include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
 
 using namespace sylva;
@@ -67,6 +68,15 @@ int main(int argc, char** argv) {
       for (const auto& n : t.needles) stamp(view, tree::to_double(n.tip), n.radius * 2, {30, 80, 40, 255});
     }
     image::write_png(img, argv[4]);
+    // The species' textures beside it: <out>.bark.png, <out>.leaves.png.
+    Rng bark_rng(std::stoull(argv[3]), "bark"), leaf_rng(std::stoull(argv[3]), "leaves");
+    for (int which = 0; which < 2; ++which) {
+      const generate::Rgba8 px = which == 0 ? generate::make_bark_texture(species.bark, 256, bark_rng)
+                                            : generate::make_leaf_atlas(species.leaf, 256, leaf_rng);
+      image::Image tex(px.width, px.height);
+      tex.bytes() = px.pixels;
+      image::write_png(tex, std::string(argv[4]) + (which == 0 ? ".bark.png" : ".leaves.png"));
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
