@@ -86,21 +86,24 @@ class Loader {
     }
   }
 
+  // Every image must have decoded; all the missing ones are named in one message.
   void check_images() const {
+    std::string problems;
     for (std::size_t i = 0; i < m_.images.size(); ++i) {
       const tinygltf::Image& img = m_.images[i];
-      if (img.image.empty() || img.width <= 0 || img.height <= 0) {
-        const std::string label = !img.uri.empty() ? img.uri : (!img.name.empty() ? img.name : "embedded");
-        std::string why = warnings_for(i);
-        if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
-          const std::filesystem::path file = base_dir_ / decode_uri(img.uri);
-          std::error_code ec;
-          if (!std::filesystem::exists(file, ec)) why = "no such file " + file.string();
-        }
-        fail("texture '" + label + "' (image " + std::to_string(i) + ") could not be loaded" +
-             (why.empty() ? std::string() : ": " + why));
+      if (!img.image.empty() && img.width > 0 && img.height > 0) continue;
+      const std::string label = !img.uri.empty() ? img.uri : (!img.name.empty() ? img.name : "embedded");
+      std::string why = warnings_for(i);
+      if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
+        const std::filesystem::path file = base_dir_ / decode_uri(img.uri);
+        std::error_code ec;
+        if (!std::filesystem::exists(file, ec)) why = "no such file " + file.string();
       }
+      if (!problems.empty()) problems += "; ";
+      problems += "texture '" + label + "' (image " + std::to_string(i) + ") could not be loaded" +
+                  (why.empty() ? std::string() : ": " + why);
     }
+    if (!problems.empty()) fail(problems);
   }
 
  public:

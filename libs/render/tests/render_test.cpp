@@ -498,3 +498,59 @@ TEST(RendererUnavailable, ClearErrorWithoutEgl) {
 
 }  // namespace
 }  // namespace sylva::render
+
+namespace sylva::render {
+namespace {
+
+// Third-party trees from ../shared/data (skipped when the data is not there).
+class RealTreeTest : public RenderTest {};
+
+std::size_t non_background(const Image& img) {
+  std::size_t n = 0;
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) n += img.at(x, y) == kBackground ? 0 : 1;
+  return n;
+}
+
+// The ez-tree aspen: merged branch mesh plus double-sided alpha-masked leaf cards; every view of
+// the verification set shows the tree, and the render is reproducible.
+TEST_F(RealTreeTest, EzTreeAspenRenders) {
+  const auto data = test::data_dir();
+  if (!data) GTEST_SKIP() << "no test data";
+  const Scene s = load_gltf_scene(*data / "meshes/eztree/aspen_small_seed36330.glb");
+  ASSERT_EQ(s.meshes.size(), 2u);
+  bool masked_two_sided = false;
+  for (const Material& m : s.materials) masked_two_sided |= m.alpha_mode == AlphaMode::kMask && m.double_sided;
+  EXPECT_TRUE(masked_two_sided);
+  CameraSet set = load_camera_set("configs/cameras/verify.yaml");
+  set.width = set.height = 128;
+  const auto views = render_camera_set(*renderer_, s, set);
+  ASSERT_EQ(views.size(), 4u);
+  for (const auto& v : views) {
+    const double covered = double(non_background(v.image)) / double(v.image.pixel_count());
+    EXPECT_GT(covered, 0.01) << v.camera.name;
+    EXPECT_LT(covered, 0.6) << v.camera.name;
+  }
+  const auto again = render_camera_set(*renderer_, s, set);
+  EXPECT_EQ(again[2].image, views[2].image);
+}
+
+// Quaternius' pine ships without its bark textures: the error names the glTF file and both
+// missing images.
+TEST(RealTreeData, MissingBarkTexturesAreNamed) {
+  const auto data = test::data_dir();
+  if (!data) GTEST_SKIP() << "no test data";
+  const auto file = *data / "meshes/quaternius/Pine_1.gltf";
+  try {
+    load_gltf_scene(file);
+    FAIL() << "expected SceneLoadError";
+  } catch (const SceneLoadError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(file.string() + ": error: texture 'Bark_NormalTree_Normal.png' (image 0) could not be loaded: no such file ", 0), 0u) << msg;
+    EXPECT_NE(msg.find("texture 'Bark_NormalTree.png' (image 1)"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("Leaf_Pine_C"), std::string::npos) << msg;
+  }
+}
+
+}  // namespace
+}  // namespace sylva::render
