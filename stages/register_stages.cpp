@@ -1,5 +1,6 @@
 #include "stages/register_stages.h"
 
+#include "stages/generate/generate_stage.h"
 #include "stages/import/import_stage.h"
 
 // Each stage folder exposes one factory in its adapter header; list them here, sorted.
@@ -7,6 +8,7 @@
 namespace sylva {
 
 void register_builtin_stages(StageRegistry& registry) {
+  registry.add(make_generate_stage());
   registry.add(make_import_stage());
 }
 

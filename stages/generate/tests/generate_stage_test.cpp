@@ -1,1 +1,130 @@
+// The stage adapter, run through a minimal in-memory StageContext: outputs, determinism,
+// parameter overrides and user-facing errors.
+#include "stages/generate/generate_stage.h"
+
 #include <gtest/gtest.h>
+
+#include "libs/image/image_io.h"
+#include "libs/tree/stats.h"
+#include "libs/tree/sylt_format.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+class FakeContext : public StageContext {
+ public:
+  FakeContext(const StageInfo& info, Value::Object with, std::filesystem::path preset, std::filesystem::path out)
+      : preset_(std::move(preset)), out_(std::move(out)) {
+    for (const ParamSpec& p : info.params)
+      if (!p.required()) params_[p.name] = p.default_value;
+    for (auto& [k, v] : with) params_[k] = v;
+    params_["preset"] = preset_.string();
+    std::filesystem::create_directories(out_);
+  }
+  const std::string& node_name() const override { return name_; }
+  const Value::Object& params() const override { return params_; }
+  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
+  std::filesystem::path param_file(std::string_view) const override { return preset_; }
+  Rng rng(std::string_view stream) const override {
+    return Rng(static_cast<std::uint64_t>(params_.at("seed").as_int()), stream);
+  }
+  const std::filesystem::path& scratch_dir() const override { return out_; }
+  std::filesystem::path output_path(std::string_view name) override {
+    outputs.emplace_back(name);
+    return out_ / std::string(name);
+  }
+  void write_output(std::string_view name, std::string_view bytes) override {
+    test::write_file(output_path(name), std::string(bytes));
+  }
+  void check_cancelled() const override {}
+  std::vector<std::string> outputs;
+
+ private:
+  std::string name_ = "tree";
+  Value::Object params_;
+  std::vector<InputArtifact> inputs_;
+  std::filesystem::path preset_, out_;
+};
+
+void run(const Value::Object& with, const std::filesystem::path& preset, const std::filesystem::path& out,
+         std::vector<std::string>* outputs = nullptr) {
+  auto stage = make_generate_stage();
+  FakeContext ctx(stage->info(), with, preset, out);
+  stage->run(ctx);
+  if (outputs) *outputs = ctx.outputs;
+}
+
+TEST(GenerateStage, Declaration) {
+  auto stage = make_generate_stage();
+  const StageInfo& info = stage->info();
+  EXPECT_EQ(info.name, "generate");
+  EXPECT_EQ(info.output_type, "tree");
+  std::vector<std::string> names;
+  for (const auto& p : info.params) names.push_back(p.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"preset", "age", "seed", "levels", "max_node_spacing_m", "leaf_density",
+                                             "texture_size"}));
+  for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
+}
+
+// Writes tree.sylt, bark.png and leaves.png; the tree is the preset's young oak.
+TEST(GenerateStage, WritesOutputs) {
+  test::TempDir dir;
+  std::vector<std::string> outputs;
+  run({{"age", "young"}, {"texture_size", 64}}, "configs/species/oak.yaml", dir / "a", &outputs);
+  EXPECT_EQ(outputs, (std::vector<std::string>{"tree.sylt", "bark.png", "leaves.png"}));
+  const tree::Tree t = tree::read_sylt(dir / "a" / "tree.sylt");
+  EXPECT_EQ(t.name, "oak/young seed 1");
+  EXPECT_EQ(t.materials.bark_texture, "bark.png");
+  const tree::TreeStats s = tree::compute_stats(t);
+  EXPECT_GE(s.height, 4.0);
+  EXPECT_LE(s.height, 9.0);
+  EXPECT_EQ(image::read_image(dir / "a" / "bark.png").width(), 64);
+  EXPECT_EQ(image::read_image(dir / "a" / "leaves.png").height(), 64);
+}
+
+// Same parameters -> byte-identical files; another seed -> a different tree.
+TEST(GenerateStage, DeterministicBytes) {
+  test::TempDir dir;
+  const Value::Object with = {{"age", "young"}, {"texture_size", 32}, {"seed", 4}};
+  run(with, "configs/species/birch.yaml", dir / "a");
+  run(with, "configs/species/birch.yaml", dir / "b");
+  for (const char* f : {"tree.sylt", "bark.png", "leaves.png"})
+    EXPECT_EQ(test::read_file(dir / "a" / f), test::read_file(dir / "b" / f)) << f;
+  Value::Object other = with;
+  other["seed"] = 5;
+  run(other, "configs/species/birch.yaml", dir / "c");
+  EXPECT_NE(test::read_file(dir / "a" / "tree.sylt"), test::read_file(dir / "c" / "tree.sylt"));
+}
+
+// The `levels` override replaces the preset's Levels.
+TEST(GenerateStage, LevelsOverride) {
+  test::TempDir dir;
+  run({{"age", "young"}, {"texture_size", 16}, {"levels", 2}}, "configs/species/oak.yaml", dir / "a");
+  const tree::TreeStats s = tree::compute_stats(tree::read_sylt(dir / "a" / "tree.sylt"));
+  EXPECT_EQ(s.branches_per_level.size(), 2u);
+}
+
+// A bad preset fails the node with the file:line:col message and no trace.
+TEST(GenerateStage, BadPresetIsAStageError) {
+  test::TempDir dir;
+  std::string text = test::read_file("configs/species/holly.yaml");
+  text.replace(text.find("Ratio: 0.02"), 11, "Ratio: 2.5 ");
+  test::write_file(dir / "holly.yaml", text);
+  try {
+    run({}, dir / "holly.yaml", dir / "out");
+    FAIL() << "expected a StageError";
+  } catch (const StageError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind((dir / "holly.yaml").string() + ":", 0), 0u) << msg;
+    EXPECT_NE(msg.find(": ages.young: Ratio must be in (0, 1)"), std::string::npos) << msg;
+  }
+}
+
+TEST(GenerateStage, TextureSizeMustBePowerOfTwo) {
+  test::TempDir dir;
+  EXPECT_THROW(run({{"age", "young"}, {"texture_size", 100}}, "configs/species/oak.yaml", dir / "a"), StageError);
+}
+
+}  // namespace
+}  // namespace sylva

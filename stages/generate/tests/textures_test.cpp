@@ -1,1 +1,91 @@
+#include "stages/generate/textures.h"
+
 #include <gtest/gtest.h>
+
+#include <cstdlib>
+
+namespace sylva::generate {
+namespace {
+
+int channel(const Rgba8& img, int x, int y, int c) {
+  return img.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(x)) * 4 +
+                    static_cast<std::size_t>(c)];
+}
+
+// Mean absolute RGB difference between columns (or rows) a and b.
+double line_diff(const Rgba8& img, int a, int b, bool columns) {
+  double sum = 0;
+  for (int i = 0; i < img.width; ++i)
+    for (int c = 0; c < 3; ++c)
+      sum += std::abs(columns ? channel(img, a, i, c) - channel(img, b, i, c) : channel(img, i, a, c) - channel(img, i, b, c));
+  return sum / (img.width * 3);
+}
+
+// Same Rng state -> same pixels; another seed -> different pixels.
+TEST(Textures, Deterministic) {
+  BarkLook bark;
+  Rng a(1, "bark"), b(1, "bark"), c(2, "bark");
+  const Rgba8 x = make_bark_texture(bark, 64, a);
+  EXPECT_EQ(x.pixels, make_bark_texture(bark, 64, b).pixels);
+  EXPECT_NE(x.pixels, make_bark_texture(bark, 64, c).pixels);
+}
+
+// Every bark style tiles: across the wrap (last column -> first) the image changes no more than
+// between neighbouring interior columns, in u and in v.
+TEST(Textures, BarkTiles) {
+  for (BarkStyle style : {BarkStyle::kFissured, BarkStyle::kSmooth, BarkStyle::kBirch, BarkStyle::kScaly}) {
+    BarkLook look;
+    look.style = style;
+    Rng rng(3, "bark");
+    const Rgba8 img = make_bark_texture(look, 128, rng);
+    double interior_u = 0, interior_v = 0;
+    for (int i = 0; i + 1 < 128; ++i) {
+      interior_u += line_diff(img, i, i + 1, true) / 127;
+      interior_v += line_diff(img, i, i + 1, false) / 127;
+    }
+    EXPECT_LE(line_diff(img, 127, 0, true), 2.5 * interior_u + 1) << static_cast<int>(style);
+    EXPECT_LE(line_diff(img, 127, 0, false), 2.5 * interior_v + 1) << static_cast<int>(style);
+    for (std::size_t i = 3; i < img.pixels.size(); i += 4) ASSERT_EQ(img.pixels[i], 255);  // opaque
+  }
+}
+
+// The atlas has four leaves, one per quadrant: transparent corners and margins, an opaque blade
+// in the middle, and the petiole reaching the top edge of its quadrant (low v) in the middle.
+TEST(Textures, LeafAtlasSilhouettes) {
+  for (LeafShape shape : {LeafShape::kLobed, LeafShape::kOvate, LeafShape::kPalmate, LeafShape::kSpiny,
+                          LeafShape::kLanceolate, LeafShape::kNeedle}) {
+    LeafLook look;
+    look.shape = shape;
+    Rng rng(1, "leaves");
+    const int size = 256, q = 128;
+    const Rgba8 img = make_leaf_atlas(look, size, rng);
+    ASSERT_EQ(img.width, size);
+    for (int v = 0; v < 4; ++v) {
+      const int ox = (v % 2) * q, oy = (v / 2) * q;
+      const std::string where = "shape " + std::to_string(static_cast<int>(shape)) + " variant " + std::to_string(v);
+      EXPECT_EQ(channel(img, ox, oy, 3), 0) << where;                    // corners
+      EXPECT_EQ(channel(img, ox + q - 1, oy + q - 1, 3), 0) << where;
+      EXPECT_EQ(channel(img, ox + q / 2, oy + q - 1, 3), 0) << where;    // beyond the tip
+      EXPECT_EQ(channel(img, ox + 2, oy + q / 2, 3), 0) << where;        // side margin
+      EXPECT_EQ(channel(img, ox + q / 2, oy + q / 2, 3), 255) << where;  // blade centre
+      EXPECT_GT(channel(img, ox + q / 2, oy + 6, 3), 128) << where;      // petiole near the top
+      EXPECT_EQ(channel(img, ox + q / 2 - 12, oy + 6, 3), 0) << where;   // ... and thin
+    }
+  }
+}
+
+TEST(Textures, RejectsBadSize) {
+  Rng rng(1, "x");
+  EXPECT_THROW(make_bark_texture({}, 100, rng), std::invalid_argument);
+  EXPECT_THROW(make_leaf_atlas({}, 8, rng), std::invalid_argument);
+}
+
+TEST(Textures, SrgbToLinear) {
+  const tree::Color c = srgb_to_linear({0.0f, 0.5f, 1.0f});
+  EXPECT_FLOAT_EQ(c.r, 0.0f);
+  EXPECT_NEAR(c.g, 0.214, 0.001);
+  EXPECT_FLOAT_EQ(c.b, 1.0f);
+}
+
+}  // namespace
+}  // namespace sylva::generate
