@@ -241,9 +241,12 @@ class Loader {
     if (bv.buffer < 0 || std::size_t(bv.buffer) >= m_.buffers.size())
       fail(what + ": buffer " + std::to_string(bv.buffer) + " does not exist");
     const tinygltf::Buffer& buf = m_.buffers[std::size_t(bv.buffer)];
-    const std::size_t need = count == 0 ? 0 : offset + stride * (count - 1) + elem_size;
-    if (bv.byteOffset + bv.byteLength > buf.data.size() || need > bv.byteLength)
-      fail(what + ": data runs past the end of its buffer");
+    if (bv.byteOffset > buf.data.size() || bv.byteLength > buf.data.size() - bv.byteOffset)
+      fail(what + ": buffer view runs past the end of its buffer");
+    // Overflow-safe form of offset + stride * (count - 1) + elem_size <= byteLength.
+    if (count > 0 && (stride == 0 || offset > bv.byteLength || elem_size > bv.byteLength - offset ||
+                      (count - 1) > (bv.byteLength - offset - elem_size) / stride))
+      fail(what + ": data runs past the end of its buffer view");
     return buf.data.data() + bv.byteOffset + offset;
   }
 
@@ -254,14 +257,21 @@ class Loader {
     const int ncomp = tinygltf::GetNumComponentsInType(std::uint32_t(acc.type));
     const int csize = tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType));
     if (ncomp <= 0 || csize <= 0 || ncomp > 16) fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
+    const std::size_t elem = std::size_t(ncomp) * std::size_t(csize);
+    // Check the data range before allocating: a corrupt count must not allocate gigabytes.
+    const unsigned char* base = nullptr;
+    std::size_t stride = elem;
+    if (acc.bufferView >= 0) {
+      if (buffer_view(acc.bufferView, what).byteStride) stride = buffer_view(acc.bufferView, what).byteStride;
+      base = view_data(acc.bufferView, acc.byteOffset, acc.count, stride, elem, what);
+    } else if (acc.count > (std::size_t(1) << 28)) {
+      fail(what + ": accessor " + std::to_string(index) + " has an implausible count " + std::to_string(acc.count));
+    }
     AttributeData out;
     out.components = ncomp;
     out.count = acc.count;
     out.values.assign(acc.count * std::size_t(ncomp), 0.f);
-    const std::size_t elem = std::size_t(ncomp) * std::size_t(csize);
-    if (acc.bufferView >= 0) {
-      const std::size_t stride = buffer_view(acc.bufferView, what).byteStride ? buffer_view(acc.bufferView, what).byteStride : elem;
-      const unsigned char* base = view_data(acc.bufferView, acc.byteOffset, acc.count, stride, elem, what);
+    if (base) {
       for (std::size_t i = 0; i < acc.count; ++i)
         for (int c = 0; c < ncomp; ++c)
           out.values[i * std::size_t(ncomp) + std::size_t(c)] =
@@ -715,7 +725,13 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
 
   Loader loader(model, file, path.parent_path());
   loader.warnings = warn;
-  return loader.load();
+  try {
+    return loader.load();
+  } catch (const std::bad_alloc&) {
+    throw fail("out of memory while loading (corrupt counts or a very large asset)");
+  } catch (const std::length_error&) {
+    throw fail("out of memory while loading (corrupt counts or a very large asset)");
+  }
 }
 
 }  // namespace sylva::render
