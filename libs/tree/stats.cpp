@@ -27,7 +27,13 @@ std::string fmt(double v, int decimals = 3) {
   return buf;
 }
 
-std::string fmt_vec(Vec3 v) { return "[" + fmt(v.x) + ", " + fmt(v.y) + ", " + fmt(v.z) + "]"; }
+// Built by appending (GCC 12 warns falsely, -Wrestrict, on "[" + std::string at -O3).
+std::string fmt_vec(Vec3 v, int decimals = 3, const char* sep = ", ") {
+  std::string out(1, '[');
+  out.append(fmt(v.x, decimals)).append(sep).append(fmt(v.y, decimals)).append(sep).append(fmt(v.z, decimals));
+  out.push_back(']');
+  return out;
+}
 
 std::string json_string(const std::string& s) {
   std::string out = "\"";
@@ -113,18 +119,22 @@ std::string format_stats(const TreeStats& s) {
 }
 
 std::string format_stats_json(const TreeStats& s) {
-  auto vec = [](Vec3 v) { return "[" + fmt(v.x, 6) + "," + fmt(v.y, 6) + "," + fmt(v.z, 6) + "]"; };
-  std::string out = "{\"name\":" + json_string(s.name);
-  out += ",\"branches\":" + std::to_string(s.branches) + ",\"branches_per_level\":[";
-  for (std::size_t l = 0; l < s.branches_per_level.size(); ++l)
-    out += (l ? "," : "") + std::to_string(s.branches_per_level[l]);
-  out += "],\"nodes\":" + std::to_string(s.nodes);
-  out += ",\"leaves\":" + std::to_string(s.leaves);
-  out += ",\"needles\":" + std::to_string(s.needles);
-  out += ",\"height_m\":" + fmt(s.height, 6);
-  out += ",\"dbh_m\":" + (s.has_dbh ? fmt(s.dbh, 6) : std::string("null"));
-  out += ",\"total_branch_length_m\":" + fmt(s.total_branch_length, 6);
-  out += ",\"bounds_min_m\":" + vec(s.bounds_min) + ",\"bounds_max_m\":" + vec(s.bounds_max) + "}";
+  // Appends only (GCC 12 warns falsely, -Wrestrict, on literal + std::string at -O3).
+  std::string out = "{\"name\":";
+  out.append(json_string(s.name));
+  out.append(",\"branches\":").append(std::to_string(s.branches)).append(",\"branches_per_level\":[");
+  for (std::size_t l = 0; l < s.branches_per_level.size(); ++l) {
+    if (l) out.push_back(',');
+    out.append(std::to_string(s.branches_per_level[l]));
+  }
+  out.append("],\"nodes\":").append(std::to_string(s.nodes));
+  out.append(",\"leaves\":").append(std::to_string(s.leaves));
+  out.append(",\"needles\":").append(std::to_string(s.needles));
+  out.append(",\"height_m\":").append(fmt(s.height, 6));
+  out.append(",\"dbh_m\":").append(s.has_dbh ? fmt(s.dbh, 6) : std::string("null"));
+  out.append(",\"total_branch_length_m\":").append(fmt(s.total_branch_length, 6));
+  out.append(",\"bounds_min_m\":").append(fmt_vec(s.bounds_min, 6, ","));
+  out.append(",\"bounds_max_m\":").append(fmt_vec(s.bounds_max, 6, ",")).append("}");
   return out;
 }
 
