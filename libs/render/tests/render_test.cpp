@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <thread>
 
 #include "libs/image/compare.h"
 #include "libs/image/image_io.h"
@@ -417,6 +418,23 @@ TEST_F(RenderTest, Deterministic) {
   ASSERT_EQ(views.size(), 2u);
   EXPECT_EQ(views[0], a);
   EXPECT_EQ(views[1], render(scene, c2, o));
+}
+
+// One renderer shared by threads: calls take turns and give the same image as a lone call.
+TEST_F(RenderTest, SharedAcrossThreads) {
+  GltfBuilder b;
+  const int tex = b.add_texture(quadrant_texture());
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::cube(1.f, b.add_material({.texture = tex}))})}));
+  const Scene scene = load(b);
+  const Camera cam = look(Vec3(2.0f, 2.2f, 3.0f));
+  const RenderOptions o = small(96);
+  const Image want = render(scene, cam, o);
+  std::vector<Image> got(4);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < got.size(); ++i)
+    threads.emplace_back([&, i] { got[i] = renderer_->render(scene, cam, o); });
+  for (auto& t : threads) t.join();
+  for (const Image& g : got) EXPECT_EQ(g, want);
 }
 
 // A transparent background gives alpha 0 around the object and straight colour on it.
