@@ -1,4 +1,5 @@
-// Summary statistics of a tree, for `sylva inspect` and for tests.
+// Summary statistics of a tree, for `sylva inspect` and for tests (issue 3 §1: branches per
+// level, nodes, leaves, height, trunk diameter at 1.3 m, total branch length, bounding box).
 //
 // Definitions (metres):
 //   height        highest point of the tree (nodes, leaf tips, needle tips) minus the y of the

@@ -11,6 +11,7 @@
 
 #include "libs/tree/tree.h"
 #include "stages/generate/preset.h"
+#include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
 
 namespace {
@@ -36,6 +37,17 @@ void bm_generate(benchmark::State& state, generate::Preset preset) {
   state.counters["nodes_per_s"] = benchmark::Counter(static_cast<double>(nodes), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The two textures at the stage's default size.
+void bm_textures(benchmark::State& state, generate::BarkLook bark, generate::LeafLook leaf) {
+  for (auto _ : state) {
+    Rng a(1, "bark"), b(1, "leaves");
+    const generate::Rgba8 x = generate::make_bark_texture(bark, 512, a);
+    const generate::Rgba8 y = generate::make_leaf_atlas(leaf, 512, b);
+    benchmark::DoNotOptimize(x.pixels.data());
+    benchmark::DoNotOptimize(y.pixels.data());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -46,6 +58,8 @@ int main(int argc, char** argv) {
   for (const auto& f : files) {
     const generate::SpeciesPreset s = generate::load_species_preset(f);
     benchmark::RegisterBenchmark(("generate/" + s.species + "/adult").c_str(), bm_generate, s.age("adult").params)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("textures512/" + s.species).c_str(), bm_textures, s.bark, s.leaf)
         ->Unit(benchmark::kMillisecond);
   }
   benchmark::Initialize(&argc, argv);

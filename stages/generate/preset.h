@@ -1,4 +1,5 @@
 // Species presets: the YAML files under configs/species/ read into plain structs.
+// Seed: Nystad 2010, Appendix A (every parameter key is a thesis/Weber–Penn parameter name).
 //
 // One file holds one species with three age variants (young, middle, adult). A variant is the
 // shared `params` with the age's `params` merged over it (per-level entries merge by index), and

@@ -36,7 +36,12 @@ class PeriodicNoise {
   }
 
  private:
-  static int wrap(int i, int n) { return ((i % n) + n) % n; }
+  // i is at most a few periods outside [0, n): cheaper than two integer divisions per lookup.
+  static int wrap(int i, int n) {
+    while (i < 0) i += n;
+    while (i >= n) i -= n;
+    return i;
+  }
   double val(int x, int y) const { return values_[static_cast<std::size_t>(y * pu_ + x)]; }
   int pu_, pv_;
   std::vector<double> values_;
@@ -77,9 +82,15 @@ class PeriodicCells {
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         const int gx = cx + dx, gy = cy + dy;
-        const auto& p = pts_[static_cast<std::size_t>(((gy % m_) + m_) % m_ * n_ + ((gx % n_) + n_) % n_)];
+        int wx = gx, wy = gy;
+        while (wx < 0) wx += n_;
+        while (wx >= n_) wx -= n_;
+        while (wy < 0) wy += m_;
+        while (wy >= m_) wy -= m_;
+        const auto& p = pts_[static_cast<std::size_t>(wy * n_ + wx)];
         const double px = gx + p.first, py = gy + p.second;
-        const double d = std::hypot(px - x, (py - y) * 0.6);  // plates taller than wide
+        const double ex = px - x, ey = (py - y) * 0.6;  // plates taller than wide
+        const double d = std::sqrt(ex * ex + ey * ey);
         if (d < f1) {
           f2 = f1;
           f1 = d;
@@ -95,7 +106,7 @@ class PeriodicCells {
   std::vector<std::pair<double, double>> pts_;
 };
 
-std::uint8_t to_byte(double v) { return static_cast<std::uint8_t>(std::lround(clamp01(v) * 255.0)); }
+std::uint8_t to_byte(double v) { return static_cast<std::uint8_t>(clamp01(v) * 255.0 + 0.5); }
 
 void put(Rgba8& img, int x, int y, double r, double g, double b, double a) {
   std::uint8_t* p = &img.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) +
@@ -188,8 +199,9 @@ Rgba8 make_bark_texture(const BarkLook& look, int size, Rng& rng) {
           // Valleys where a warped, vertically stretched field crosses its mid level.
           const double w = warp.at(u, v) - 0.5;
           const double f = ridges.at(u + 0.04 * w, v);
-          const double valley = std::exp(-std::pow((f - 0.5) / 0.03, 2));
-          const double crack = 0.6 * std::exp(-std::pow((cracks.at(u, v) - 0.5) / 0.02, 2));
+          const double fv = (f - 0.5) / 0.03, cv = (cracks.at(u, v) - 0.5) / 0.02;
+          const double valley = std::exp(-fv * fv);
+          const double crack = 0.6 * std::exp(-cv * cv);
           const double height = clamp01(std::abs(f - 0.5) * 6);  // ridge crest lighter
           dark = clamp01(std::max(valley, crack) + 0.2 * (grain - 0.5));
           shade = (0.75 + 0.3 * height) * (0.9 + 0.2 * streaks.at(u, v));
@@ -239,14 +251,14 @@ Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng) {
     const int ox = (variant % 2) * q, oy = (variant / 2) * q;
     for (int y = 0; y < q; ++y) {
       const double t = (y + 0.5) / q;  // 0 at the petiole end (top of the quadrant), 1 at the tip
+      const double tau = (t - kPetiole) / (1 - kPetiole - 0.01);
+      const double mid = lv.bend * tau * tau;
+      const double half = blade_half_width(look.shape, tau, lv);  // depends on the row only
       for (int x = 0; x < q; ++x) {
         const double xs = (x + 0.5) / q * 2 - 1;  // [-1, 1] across
-        const double tau = (t - kPetiole) / (1 - kPetiole - 0.01);
-        const double mid = lv.bend * tau * tau;
         const double dx = xs - mid;
         const double px = 2.0 / q;  // one pixel in xs units
         // Coverage: blade, or petiole (a thin stalk from the top edge down into the blade).
-        const double half = blade_half_width(look.shape, tau, lv);
         double a = clamp01((half - std::abs(dx)) / px + 0.5);
         const double stalk = (t < kPetiole + 0.05) ? clamp01((0.035 - std::abs(xs)) / px + 0.5) : 0.0;
         const bool in_stalk = stalk > a;
