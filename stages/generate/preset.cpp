@@ -277,7 +277,11 @@ SpeciesPreset parse_species_preset(std::string_view yaml_text, const std::string
     r.fail(e.mark, "YAML syntax error: " + e.msg);
   }
   if (!root || root.IsNull()) throw PresetParseError(file + ":1:1: the preset is empty");
-  return r.parse(root);
+  try {
+    return r.parse(root);
+  } catch (const YAML::Exception& e) {  // anything yaml-cpp raises while we walk the tree
+    r.fail(e.mark, e.msg);
+  }
 }
 
 SpeciesPreset load_species_preset(const std::filesystem::path& path) {
