@@ -1,0 +1,62 @@
+// Writing a gltf::Scene (scene.h) as GLB or .gltf through tinygltf, optionally with Draco.
+//
+// Guarantees (docs/gltf.md lists the emitted JSON in detail):
+//   - Deterministic: the bytes depend only on the Scene and the options (no time stamps, no
+//     pointers, no hash-map order); the same input gives the same file on every run and thread.
+//   - Valid: the scene is checked with validate_scene() first; what is written passes the Khronos
+//     glTF-Validator with zero errors.
+//   - Self-contained: GLB holds everything in its binary chunk; a .gltf carries its one buffer as
+//     a base64 data URI (images live in that buffer too), so every output is a single file.
+//   - Layout: one buffer; per mesh, per primitive: POSITION, NORMAL, TANGENT, TEXCOORD_0,
+//     COLOR_0, custom attributes (name order), indices, each in its own 4-byte aligned buffer
+//     view; then the images in order. Indices are UNSIGNED_SHORT when every vertex index fits
+//     (vertex count <= 65535), else UNSIGNED_INT. POSITION accessors carry min/max.
+//   - Draco (KHR_draco_mesh_compression, listed as required): applies to TRIANGLES primitives
+//     only (the extension defines no other modes); LINES and POINTS primitives of the same file
+//     stay uncompressed. Positions, normals, uvs, colors and custom attributes are quantised with
+//     the bits given; tangents are encoded as a generic attribute. Accessors of a compressed
+//     primitive have no buffer view and count what the Draco decoder will return.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "libs/gltf/scene.h"
+
+namespace sylva::gltf {
+
+// The scene breaks its contract (message lists validate_scene()'s findings), Draco failed, or a
+// file could not be written. what() is one line.
+class GltfError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class FileFormat { kGlb, kGltf };
+
+struct DracoOptions {
+  bool enabled = false;
+  int position_bits = 14;   // 1..30; max position error = extent / (2^bits - 1) / 2 per axis
+  int normal_bits = 10;     // 1..30 (octahedral)
+  int texcoord_bits = 12;   // 1..30
+  int color_bits = 10;      // 1..30
+  int generic_bits = 12;    // 1..30: tangents and custom attributes
+  int compression_level = 7;  // 0 (fastest) .. 10 (smallest); Draco speed = 10 - level
+};
+
+struct WriteOptions {
+  FileFormat format = FileFormat::kGlb;
+  DracoOptions draco;
+};
+
+// The file's bytes. Throws GltfError.
+std::string encode(const Scene& scene, const WriteOptions& options = {});
+
+// encode() and write to `path` (created or replaced). Throws GltfError.
+void write_file(const Scene& scene, const std::filesystem::path& path, const WriteOptions& options = {});
+
+// The file extension for a format: ".glb" or ".gltf".
+const char* extension(FileFormat format);
+
+}  // namespace sylva::gltf
