@@ -15,3 +15,22 @@ find_package(draco REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
 find_package(Threads REQUIRED)
+
+# Debian 12's OpenImageIOTargets.cmake names /usr/include/opencv4 as an include directory of
+# OpenImageIO::OpenImageIO even when libopencv-dev is not installed, and CMake refuses to
+# generate with a non-existent interface include path. Drop paths that do not exist.
+if(TARGET OpenImageIO::OpenImageIO)
+  foreach(prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
+    get_target_property(dirs OpenImageIO::OpenImageIO ${prop})
+    if(dirs)
+      set(kept "")
+      foreach(d IN LISTS dirs)
+        if(EXISTS "${d}" OR d MATCHES "\\$<")
+          list(APPEND kept "${d}")
+        endif()
+      endforeach()
+      set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${prop} "${kept}")
+    endif()
+  endforeach()
+endif()
+
