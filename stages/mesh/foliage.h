@@ -1,0 +1,28 @@
+// Foliage geometry: leaf cards and needles, as glTF primitives separate from the bark.
+//
+// Seeds: Nystad 2010 §5.5.4 (a leaf is a quad from position, direction, orientation, length,
+// width and a "type" choosing one of four quadrants of the leaf texture); tree.h (the 2x2 atlas
+// layout: variant i in column i % 2, row i / 2, v from petiole (low) to tip).
+//
+//   - Leaf card: 4 vertices, 2 triangles, counter-clockwise seen from the leaf's normal side;
+//     normal = the leaf normal, tangent = the blade's width direction cross(normal, direction)
+//     (w = -1, since v runs along the direction); u across the width, v petiole -> tip, inside
+//     the variant's quadrant. Meant for an alpha-masked, double-sided material.
+//   - Needle: a thin closed tetrahedron — a triangle of the needle's radius around its base and
+//     the tip — 4 vertices, 4 triangles; normals radial at the base, along the needle at the tip.
+#pragma once
+
+#include "libs/gltf/scene.h"
+#include "libs/tree/tree.h"
+
+namespace sylva::mesh {
+
+// All leaves of the tree as one TRIANGLES primitive (positions, normals, tangents, texcoords,
+// indices); no vertices when the tree has no leaves.
+gltf::Primitive leaf_cards(const tree::Tree& tree);
+
+// All needles as one TRIANGLES primitive (positions, normals, indices); no vertices when the
+// tree has no needles.
+gltf::Primitive needle_geometry(const tree::Tree& tree);
+
+}  // namespace sylva::mesh

@@ -1,0 +1,247 @@
+// Tree -> meshing skeleton (Nystad 2010 §4.3.1 "Creating the DAG", §5.3.1; §4.2.2 for where a
+// child hangs; §4.3.3 for v). The steps follow mesh_skeleton.h's numbered list.
+#include "stages/mesh/mesh_skeleton.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace sylva::mesh {
+namespace {
+
+using tree::Node;
+
+constexpr double kSnap = 0.1;  // parent_t within 10 % of a node snaps to it (Nystad's 10 % rule)
+constexpr double kRadiusTolerance = 1e-3;  // relative; "equal" radii (the split case)
+
+// Where a child hangs on its parent's original polyline: node k, plus t for a virtual ring.
+struct Hang {
+  std::uint32_t node = 0;
+  double t = 0;  // 0: at the node; (kSnap, 1 - kSnap): virtual ring after node `node`
+  friend bool operator<(const Hang& a, const Hang& b) { return a.node != b.node ? a.node < b.node : a.t < b.t; }
+  friend bool operator==(const Hang& a, const Hang& b) = default;
+};
+
+Hang hang_of(const tree::Branch& child, const tree::Branch& parent) {
+  const std::uint32_t k = child.parent_node;
+  const double t = child.parent_t;
+  if (t <= kSnap) return {k, 0};
+  if (t >= 1 - kSnap && k + 1 < parent.nodes.size()) return {k + 1, 0};
+  return {k, t};
+}
+
+Node lerp(const Node& a, const Node& b, double t) {
+  return {a.position + (b.position - a.position) * t, a.radius + (b.radius - a.radius) * t};
+}
+
+// Working state of one tree branch.
+struct Work {
+  std::int32_t skel = -1;        // skeleton index, -1 = not meshed
+  bool dropped = false;          // inside its parent: children re-attach to `drop_parent`
+  std::int32_t drop_parent = -1;
+  std::uint32_t drop_ring = 0;
+  std::vector<Hang> inserts;     // virtual rings requested by children
+  std::vector<std::uint32_t> node_ring;  // original node -> ring index before clearance
+  std::uint32_t ring_offset = 0;         // leading rings removed by the clearance rule
+};
+
+}  // namespace
+
+std::size_t MeshSkeleton::ring_count() const {
+  std::size_t n = 0;
+  for (const auto& b : branches) n += b.rings.size();
+  return n;
+}
+
+MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& options) {
+  if (tree.branches.empty()) throw MeshError("the tree has no branches: nothing to mesh");
+  const std::vector<std::string> problems = tree::validate_tree(tree, 3);
+  if (!problems.empty()) {
+    std::string msg = "invalid tree: " + problems.front();
+    for (std::size_t i = 1; i < problems.size(); ++i) msg += "; " + problems[i];
+    throw MeshError(msg);
+  }
+  const double min_r = options.min_radius > 0 ? options.min_radius : 1e-6;
+  const double k = options.corner_scale;
+  const auto included = [&](const tree::Branch& b) {
+    return options.max_level < 0 || b.level <= static_cast<std::uint32_t>(options.max_level);
+  };
+
+  MeshSkeleton sk;
+  const std::size_t n = tree.branches.size();
+  std::vector<Work> work(n);
+
+  // 1.-2. Which branches are meshed, and the virtual rings their children need.
+  for (std::size_t i = 0; i < n; ++i) {
+    const tree::Branch& b = tree.branches[i];
+    if (!included(b)) continue;
+    ++sk.stats.branches_in;
+    if (b.parent < 0) continue;
+    const tree::Branch& p = tree.branches[static_cast<std::size_t>(b.parent)];
+    const Hang h = hang_of(b, p);
+    if (h.t > 0) work[static_cast<std::size_t>(b.parent)].inserts.push_back(h);
+  }
+
+  const double r0 = std::max(tree.branches[0].nodes[0].radius, min_r);
+  const double two_pi = 2 * std::numbers::pi;
+  const auto v_per_metre = [&](double r) { return 1.0 / (two_pi * (0.2 * r0 + 0.8 * r)); };
+  sk.v_unit = two_pi * r0;
+
+  for (std::size_t i = 0; i < n; ++i) {
+    const tree::Branch& b = tree.branches[i];
+    Work& w = work[i];
+    if (!included(b)) continue;
+    // Where it hangs in the skeleton (a dropped parent hands its own attachment down).
+    std::int32_t parent = -1;
+    std::uint32_t parent_ring = 0;
+    if (b.parent >= 0) {
+      const Work& pw = work[static_cast<std::size_t>(b.parent)];
+      if (pw.dropped) {
+        parent = pw.drop_parent;
+        parent_ring = pw.drop_ring;
+      } else {
+        parent = pw.skel;
+        const Hang h = hang_of(b, tree.branches[static_cast<std::size_t>(b.parent)]);
+        std::uint32_t ring = pw.node_ring[h.node];
+        if (h.t > 0) {
+          const auto it = std::lower_bound(pw.inserts.begin(), pw.inserts.end(), h);
+          ring += 1 + static_cast<std::uint32_t>(it - std::lower_bound(pw.inserts.begin(), pw.inserts.end(), Hang{h.node, 0}));
+        }
+        parent_ring = ring >= pw.ring_offset ? ring - pw.ring_offset : 0;
+      }
+      if (parent < 0) continue;  // cannot happen for a valid tree; keep the mesher safe
+    }
+
+    // 2.-3. Nodes with virtual rings, radii clamped.
+    std::sort(w.inserts.begin(), w.inserts.end());
+    w.inserts.erase(std::unique(w.inserts.begin(), w.inserts.end()), w.inserts.end());
+    std::vector<Node> nodes;
+    nodes.reserve(b.nodes.size() + w.inserts.size());
+    w.node_ring.resize(b.nodes.size());
+    std::size_t next_insert = 0;
+    for (std::uint32_t j = 0; j < b.nodes.size(); ++j) {
+      w.node_ring[j] = static_cast<std::uint32_t>(nodes.size());
+      nodes.push_back(b.nodes[j]);
+      while (next_insert < w.inserts.size() && w.inserts[next_insert].node == j) {
+        nodes.push_back(lerp(b.nodes[j], b.nodes[j + 1], w.inserts[next_insert].t));
+        ++sk.stats.virtual_rings;
+        ++next_insert;
+      }
+    }
+    std::vector<double> source_radius;
+    source_radius.reserve(nodes.size());
+    for (const Node& nd : nodes) source_radius.push_back(nd.radius);
+    for (Node& nd : nodes)
+      if (!(nd.radius >= min_r)) {
+        nd.radius = min_r;
+        ++sk.stats.clamped_radii;
+      }
+
+    // 4. Joint clearance for a lateral that will sit on a side face of its parent's joint box
+    // (smaller than the parent's continuation at that ring).
+    const Frame* parent_frame = nullptr;
+    if (parent >= 0) {
+      const SkeletonBranch& pb = sk.branches[static_cast<std::size_t>(parent)];
+      const Ring& pr = pb.rings[parent_ring];
+      parent_frame = &pr.frame;
+      const bool side = parent_ring + 1 < pb.rings.size() &&
+                        source_radius[0] < pb.rings[parent_ring + 1].source_radius * (1 - kRadiusTolerance);
+      if (side) {
+        // The box's side faces look along +-n and +-b of the ring's frame (its corners sit at
+        // 45 degrees); a ring must lie in front of the face it will join.
+        const double face = std::numbers::sqrt2 / 2 * k * pr.radius;
+        const Vec3 normals[4] = {pr.frame.n, pr.frame.b, -pr.frame.n, -pr.frame.b};
+        auto facing = [&](const Node& nd) {
+          const Vec3 d = nd.position - pr.center;
+          std::size_t best = 0;
+          for (std::size_t f = 1; f < 4; ++f)
+            if (tree::dot(normals[f], d) > tree::dot(normals[best], d)) best = f;
+          return normals[best];
+        };
+        auto required = [&](const Node& nd) { return face + 0.25 * k * nd.radius; };
+        auto clearance = [&](const Node& nd) { return tree::dot(nd.position - pr.center, facing(nd)) - required(nd); };
+        auto inside = [&](const Node& nd) { return clearance(nd) < 0; };
+        std::size_t first = 0;
+        while (first + 1 < nodes.size() && inside(nodes[first + 1])) ++first;
+        if (first + 1 == nodes.size() && inside(nodes[first])) {
+          // 4b. Entirely inside the parent: not meshed; its children hang from here instead.
+          w.dropped = true;
+          w.drop_parent = parent;
+          w.drop_ring = parent_ring;
+          ++sk.stats.dropped_branches;
+          sk.stats.dropped_rings += nodes.size();
+          continue;
+        }
+        if (first > 0) {
+          nodes.erase(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(first));
+          source_radius.erase(source_radius.begin(), source_radius.begin() + static_cast<std::ptrdiff_t>(first));
+          w.ring_offset = static_cast<std::uint32_t>(first);
+          sk.stats.dropped_rings += first;
+        }
+        if (inside(nodes[0])) {
+          if (nodes.size() > 1) {
+            // Cut the child where its first segment leaves the box face (the clearance is
+            // linear along the segment for a fixed face): the ring keeps the child's direction.
+            const double c0 = clearance(nodes[0]), c1 = tree::dot(nodes[1].position - pr.center, facing(nodes[0])) -
+                                                         required(nodes[1]);
+            const double t = c1 > c0 ? std::clamp(-c0 / (c1 - c0), 0.0, 1.0) : 1.0;
+            nodes[0] = lerp(nodes[0], nodes[1], t);
+            source_radius[0] += (source_radius[1] - source_radius[0]) * t;
+          }
+          if (inside(nodes[0])) nodes[0].position += facing(nodes[0]) * (-clearance(nodes[0]));
+          ++sk.stats.pushed_rings;
+        }
+      }
+    }
+
+    // 5. Frames: rotation-minimising along the rings, continued from the parent across the joint.
+    SkeletonBranch out;
+    out.source = static_cast<std::uint32_t>(i);
+    out.parent = parent;
+    out.parent_ring = parent_ring;
+    out.level = b.level;
+    out.clone = tree::is_clone(tree, b);
+    std::vector<Frame> frames;
+    if (parent_frame == nullptr) {
+      frames = tree::compute_frames(nodes, Vec3{1, 0, 0});
+    } else {
+      const Ring& pr = sk.branches[static_cast<std::size_t>(parent)].rings[parent_ring];
+      Vec3 t0 = nodes.size() > 1 ? nodes[1].position - nodes[0].position : nodes[0].position - pr.center;
+      if (tree::length(t0) == 0) t0 = pr.frame.t;
+      frames = tree::compute_frames(nodes, tree::transport_frame(*parent_frame, tree::normalized(t0)).n);
+      if (nodes.size() == 1) {
+        // One ring: its tangent points away from the attachment ring.
+        const Frame f = tree::transport_frame(*parent_frame, tree::normalized(t0));
+        frames[0] = f;
+      }
+    }
+
+    // 6. Texture v.
+    out.rings.resize(nodes.size());
+    double v = 0;
+    if (parent >= 0) {
+      const Ring& pr = sk.branches[static_cast<std::size_t>(parent)].rings[parent_ring];
+      v = pr.v + tree::length(nodes[0].position - pr.center) * v_per_metre(0.5 * (pr.radius + nodes[0].radius));
+    }
+    for (std::size_t j = 0; j < nodes.size(); ++j) {
+      if (j > 0)
+        v += tree::length(nodes[j].position - nodes[j - 1].position) *
+             v_per_metre(0.5 * (nodes[j].radius + nodes[j - 1].radius));
+      out.rings[j] = {nodes[j].position, frames[j], nodes[j].radius, source_radius[j], v};
+    }
+    w.skel = static_cast<std::int32_t>(sk.branches.size());
+    sk.branches.push_back(std::move(out));
+  }
+
+  sk.children.resize(sk.branches.size());
+  for (std::size_t i = 0; i < sk.branches.size(); ++i) sk.children[i].resize(sk.branches[i].rings.size());
+  for (std::size_t i = 0; i < sk.branches.size(); ++i) {
+    const SkeletonBranch& b = sk.branches[i];
+    if (b.parent >= 0)
+      sk.children[static_cast<std::size_t>(b.parent)][b.parent_ring].push_back(static_cast<std::uint32_t>(i));
+  }
+  return sk;
+}
+
+}  // namespace sylva::mesh

@@ -1,0 +1,95 @@
+// The meshing skeleton: the tree (libs/tree) normalised into what the box-joint mesher walks —
+// Nystad's DAG (§4.3.1, §5.3.1): per branch an ordered list of cross-sections ("rings") with
+// centre, rotation-minimising frame, radius and texture v, and per ring the child branches that
+// grow from it.
+//
+// Seeds: Nystad 2010 §4.3.1 (tree data -> DAG: object-space nodes with orientation, up vector,
+// radius, level, children), §4.2.2 (a child hangs from an intermediate node of its parent),
+// §4.3.3 (v = distance / (0.2 + 0.8 r)); Zhang et al. 2017 eq. (A1) via libs/tree/frames.h.
+//
+// What the normalisation does (docs/stages/mesh.md, "From tree to rings"):
+//   1. Branches above `max_level` are left out (with everything growing from them).
+//   2. A child attached inside a segment (parent_t in (0.1, 0.9)) gets a virtual ring inserted
+//      into its parent at the attachment point; otherwise it hangs from the nearer node.
+//   3. Radii below `min_radius` are raised to it (tapered tips reach 0).
+//   4. Joint clearance: a child thinner than its parent's continuation will sit on a side face
+//      of the parent's joint box (box_joints.h). Its rings that lie inside the box are dropped
+//      while the next one is inside too; the first ring kept is moved along the child's first
+//      segment to where it leaves the face it will join (or, for a one-ring child, along the
+//      face's normal) so that it lies in front of that face. A child with no ring outside is dropped
+//      and its own children re-attached to the ring it hung from. (Imported QSM trees start
+//      children on the parent's axis; generated ones start outside, but at subdivision >= 1 the
+//      box is larger than the branch, see corner_scale.)
+//   5. Frames: each root starts from N = +X, each child from its parent's frame at the
+//      attachment ring carried to the child's first tangent (as libs/tree's compute_tree_frames).
+//   6. v grows with arc length divided by 2*pi*(0.2 r0 + 0.8 r) (r0: radius of the first root's
+//      base), so one texture repeat is square on the trunk; a child continues the v of its
+//      attachment ring plus the length of the joint segment.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "libs/tree/frames.h"
+#include "libs/tree/tree.h"
+
+namespace sylva::mesh {
+
+using tree::Frame;
+using tree::Vec3;
+
+// The input tree cannot be meshed (empty, or breaks a libs/tree invariant). what() names the
+// element, e.g. "branch 3: has 1 node (needs >= 2)".
+class MeshError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Ring {
+  Vec3 center;
+  Frame frame;        // t: branch direction; n, b span the cross-section
+  double radius = 0;  // m, >= min_radius (the geometry)
+  double source_radius = 0;  // m, the tree's radius (orders segments in a joint; may be 0)
+  double v = 0;       // texture v at this ring (before the bark repeat factor)
+};
+
+struct SkeletonBranch {
+  std::uint32_t source = 0;   // index into tree.branches
+  std::int32_t parent = -1;   // index into MeshSkeleton::branches, -1 for a root
+  std::uint32_t parent_ring = 0;  // ring of the parent it grows from
+  std::uint32_t level = 0;
+  bool clone = false;         // same level as its parent (a split)
+  std::vector<Ring> rings;    // base to tip, >= 1
+};
+
+struct SkeletonStats {
+  std::size_t branches_in = 0;        // branches of the tree at levels <= max_level
+  std::size_t virtual_rings = 0;      // rings inserted at mid-segment attachments
+  std::size_t clamped_radii = 0;      // node radii raised to min_radius
+  std::size_t dropped_rings = 0;      // child rings inside the parent's joint box
+  std::size_t pushed_rings = 0;       // first child rings moved out of the joint box
+  std::size_t dropped_branches = 0;   // children entirely inside their parent
+};
+
+struct MeshSkeleton {
+  std::vector<SkeletonBranch> branches;  // parents before children
+  // children[b][k]: skeleton branches growing from ring k of branch b, in tree order.
+  std::vector<std::vector<std::vector<std::uint32_t>>> children;
+  double v_unit = 1;  // 2*pi*r0: metres of a ring of radius r0 per unit of v
+  SkeletonStats stats;
+
+  std::size_t ring_count() const;
+};
+
+struct SkeletonOptions {
+  int max_level = -1;          // highest branch level meshed; < 0 = all
+  double min_radius = 0.001;   // m, > 0
+  double corner_scale = 1.0;   // ring corner distance / radius (joint clearance uses it)
+};
+
+// Builds the meshing skeleton. Throws MeshError for an empty tree or one that fails
+// tree::validate_tree (the first problems are listed). O(nodes + branches).
+MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& options);
+
+}  // namespace sylva::mesh

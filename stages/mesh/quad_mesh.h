@@ -1,0 +1,35 @@
+// The quad mesh the stage builds and subdivides: shared vertex positions, quads listed
+// counter-clockwise seen from outside, and face-varying texture coordinates (one uv per face
+// corner, so a texture seam is simply two different uvs at one vertex).
+//
+// Seed: Nystad 2010 §5.3.2 (quads from mesh points), §3.4 (texture coordinates per vertex; we keep
+// them per face corner so the glTF seam needs no special case until export).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "libs/tree/vec3.h"
+
+namespace sylva::mesh {
+
+using tree::Vec3;
+
+struct Uv {
+  double u = 0, v = 0;
+  friend bool operator==(const Uv&, const Uv&) = default;
+};
+
+using Quad = std::array<std::uint32_t, 4>;
+
+struct QuadMesh {
+  std::vector<Vec3> positions;          // m, object space
+  std::vector<Quad> quads;              // vertex indices, CCW seen from outside
+  std::vector<std::array<Uv, 4>> uvs;   // per quad corner; same size as quads
+
+  std::size_t vertex_count() const { return positions.size(); }
+  std::size_t quad_count() const { return quads.size(); }
+};
+
+}  // namespace sylva::mesh

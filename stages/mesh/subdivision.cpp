@@ -1,0 +1,207 @@
+// Catmull–Clark (Catmull & Clark 1978; Nystad 2010 §2.1.1 eq. 2.1) with Nystad's texture rule
+// (§3.4.3). OpenSubdiv's layering in miniature: refine the topology once per level (half-edge
+// opposites, edge numbering), then apply it to positions and to face-varying uvs.
+#include "stages/mesh/subdivision.h"
+
+#include <stdexcept>
+
+// OpenMesh's subdivider header needs the mesh types declared first.
+#include "stages/mesh/openmesh_types.h"
+// clang-format off
+#include <OpenMesh/Core/System/omstream.hh>
+#include <OpenMesh/Tools/Subdivider/Uniform/CatmullClarkT.hh>
+// clang-format on
+
+namespace sylva::mesh {
+
+namespace detail {
+
+std::size_t to_openmesh(const QuadMesh& in, PolyMesh& out) {
+  out.clear();
+  out.reserve(in.positions.size(), in.quads.size() * 2, in.quads.size());
+  for (const Vec3& p : in.positions) out.add_vertex(PolyMesh::Point(p.x, p.y, p.z));
+  std::size_t refused = 0;
+  const bool err_enabled = omerr().is_enabled();
+  omerr().disable();  // OpenMesh prints "complex edge" per refused face; we count them instead
+  for (const Quad& q : in.quads) {
+    const std::vector<PolyMesh::VertexHandle> vs = {
+        PolyMesh::VertexHandle(static_cast<int>(q[0])), PolyMesh::VertexHandle(static_cast<int>(q[1])),
+        PolyMesh::VertexHandle(static_cast<int>(q[2])), PolyMesh::VertexHandle(static_cast<int>(q[3]))};
+    if (!out.add_face(vs).is_valid()) ++refused;
+  }
+  if (err_enabled) omerr().enable();
+  return refused;
+}
+
+}  // namespace detail
+
+namespace {
+
+Uv mid(Uv a, Uv b) { return {(a.u + b.u) * 0.5, (a.v + b.v) * 0.5}; }
+
+// One native Catmull–Clark step.
+QuadMesh step(const QuadMesh& in) {
+  const std::size_t nv = in.positions.size();
+  const std::size_t nf = in.quads.size();
+  const std::size_t nh = 4 * nf;
+  constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  auto from = [&](std::size_t h) { return in.quads[h / 4][h % 4]; };
+  auto to = [&](std::size_t h) { return in.quads[h / 4][(h + 1) % 4]; };
+
+  // Outgoing half-edges per vertex (CSR), then opposites.
+  std::vector<std::uint32_t> first(nv + 1, 0), out(nh);
+  for (std::size_t h = 0; h < nh; ++h) ++first[from(h) + 1];
+  for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t h = 0; h < nh; ++h) out[fill[from(h)]++] = static_cast<std::uint32_t>(h);
+  }
+  std::vector<std::uint32_t> opp(nh, kNone);
+  for (std::size_t h = 0; h < nh; ++h) {
+    const std::uint32_t a = from(h), b = to(h);
+    for (std::uint32_t k = first[b]; k < first[b + 1]; ++k)
+      if (to(out[k]) == a) {
+        opp[h] = out[k];
+        break;
+      }
+  }
+  // Edge numbering: an edge takes the number of its first half-edge in (face, corner) order.
+  std::vector<std::uint32_t> edge(nh);
+  std::vector<std::uint32_t> edge_half;  // a half-edge of every edge
+  for (std::size_t h = 0; h < nh; ++h) {
+    if (opp[h] == kNone || opp[h] > h) {
+      edge[h] = static_cast<std::uint32_t>(edge_half.size());
+      edge_half.push_back(static_cast<std::uint32_t>(h));
+    } else {
+      edge[h] = edge[opp[h]];
+    }
+  }
+  const std::size_t ne = edge_half.size();
+
+  QuadMesh outm;
+  outm.positions.resize(nv + ne + nf);
+  Vec3* vp = outm.positions.data();
+  Vec3* ep = vp + nv;
+  Vec3* fp = ep + ne;
+  const auto& P = in.positions;
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Quad& q = in.quads[f];
+    fp[f] = (P[q[0]] + P[q[1]] + P[q[2]] + P[q[3]]) * 0.25;
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    const std::uint32_t h = edge_half[e];
+    const Vec3 s = P[from(h)] + P[to(h)];
+    ep[e] = opp[h] == kNone ? s * 0.5 : (s + fp[h / 4] + fp[opp[h] / 4]) * 0.25;
+  }
+  // Boundary neighbours: a half-edge without opposite runs along the boundary.
+  std::vector<std::uint32_t> bnd_next(nv, kNone), bnd_prev(nv, kNone);
+  std::vector<std::uint8_t> bnd_count(nv, 0);
+  for (std::size_t h = 0; h < nh; ++h)
+    if (opp[h] == kNone) {
+      bnd_next[from(h)] = to(h);
+      bnd_prev[to(h)] = from(h);
+      ++bnd_count[from(h)];
+      ++bnd_count[to(h)];
+    }
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::uint32_t n = first[v + 1] - first[v];
+    if (bnd_count[v] == 0 && n > 0) {
+      Vec3 fsum{}, nsum{};
+      for (std::uint32_t k = first[v]; k < first[v + 1]; ++k) {
+        fsum += fp[out[k] / 4];
+        nsum += P[to(out[k])];
+      }
+      // (F + 2R + (n - 3) P) / n with R = (P + mean neighbour) / 2.
+      const double dn = n;
+      vp[v] = fsum / (dn * dn) + nsum / (dn * dn) + P[v] * ((dn - 2) / dn);
+    } else if (bnd_count[v] == 2 && bnd_next[v] != kNone && bnd_prev[v] != kNone) {
+      vp[v] = P[v] * 0.75 + (P[bnd_next[v]] + P[bnd_prev[v]]) * 0.125;
+    } else {
+      vp[v] = P[v];  // isolated, or a corner where the boundary is not a simple curve
+    }
+  }
+
+  outm.quads.resize(4 * nf);
+  outm.uvs.resize(4 * nf);
+  const std::uint32_t ebase = static_cast<std::uint32_t>(nv), fbase = static_cast<std::uint32_t>(nv + ne);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const Quad& q = in.quads[f];
+    const auto& uv = in.uvs[f];
+    const Uv centre{(uv[0].u + uv[1].u + uv[2].u + uv[3].u) * 0.25, (uv[0].v + uv[1].v + uv[2].v + uv[3].v) * 0.25};
+    for (std::size_t i = 0; i < 4; ++i) {
+      const std::size_t prev = (i + 3) % 4;
+      outm.quads[4 * f + i] = {q[i], ebase + edge[4 * f + i], fbase + static_cast<std::uint32_t>(f), ebase + edge[4 * f + prev]};
+      outm.uvs[4 * f + i] = {uv[i], mid(uv[i], uv[(i + 1) % 4]), centre, mid(uv[prev], uv[i])};
+    }
+  }
+  return outm;
+}
+
+// OpenMesh's CatmullClarkT, one level; uvs follow from the vertex numbering it produces
+// (old vertices, then one per edge in edge order, then one per face in face order).
+QuadMesh step_openmesh(const QuadMesh& in) {
+  detail::PolyMesh m;
+  if (detail::to_openmesh(in, m) != 0)
+    throw std::invalid_argument("OpenMesh refused a quad: the mesh is not a consistently oriented 2-manifold");
+  const std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces();
+  std::vector<std::array<std::uint32_t, 2>> ends(ne);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const auto h = m.halfedge_handle(m.edge_handle(static_cast<int>(e)), 0);
+    ends[e] = {static_cast<std::uint32_t>(m.from_vertex_handle(h).idx()),
+               static_cast<std::uint32_t>(m.to_vertex_handle(h).idx())};
+  }
+  OpenMesh::Subdivider::Uniform::CatmullClarkT<detail::PolyMesh> cc;
+  cc.attach(m);
+  cc(1);
+  cc.detach();
+  if (m.n_vertices() != nv + ne + nf) throw std::logic_error("OpenMesh Catmull-Clark: unexpected vertex numbering");
+  auto uv_in = [&](std::size_t f, std::uint32_t v) {
+    for (std::size_t i = 0; i < 4; ++i)
+      if (in.quads[f][i] == v) return in.uvs[f][i];
+    throw std::logic_error("OpenMesh Catmull-Clark: corner not in its parent face");
+  };
+  QuadMesh out;
+  out.positions.reserve(m.n_vertices());
+  for (const auto vh : m.vertices()) {
+    const auto& p = m.point(vh);
+    out.positions.push_back({p[0], p[1], p[2]});
+  }
+  out.quads.reserve(m.n_faces());
+  out.uvs.reserve(m.n_faces());
+  for (const auto fh : m.faces()) {
+    Quad q{};
+    std::size_t i = 0, parent = 0;
+    for (const auto vh : m.fv_range(fh)) {
+      if (i < 4) q[i] = static_cast<std::uint32_t>(vh.idx());
+      ++i;
+    }
+    if (i != 4) throw std::logic_error("OpenMesh Catmull-Clark produced a face that is not a quad");
+    for (std::uint32_t v : q)
+      if (v >= nv + ne) parent = v - nv - ne;
+    std::array<Uv, 4> uv;
+    for (std::size_t c = 0; c < 4; ++c) {
+      const std::uint32_t v = q[c];
+      if (v < nv) {
+        uv[c] = uv_in(parent, v);
+      } else if (v < nv + ne) {
+        uv[c] = mid(uv_in(parent, ends[v - nv][0]), uv_in(parent, ends[v - nv][1]));
+      } else {
+        const auto& u4 = in.uvs[parent];
+        uv[c] = {(u4[0].u + u4[1].u + u4[2].u + u4[3].u) * 0.25, (u4[0].v + u4[1].v + u4[2].v + u4[3].v) * 0.25};
+      }
+    }
+    out.quads.push_back(q);
+    out.uvs.push_back(uv);
+  }
+  return out;
+}
+
+}  // namespace
+
+QuadMesh subdivide(const QuadMesh& mesh, int levels, Subdivider subdivider) {
+  QuadMesh m = mesh;
+  for (int l = 0; l < levels; ++l) m = subdivider == Subdivider::kNative ? step(m) : step_openmesh(m);
+  return m;
+}
+
+}  // namespace sylva::mesh

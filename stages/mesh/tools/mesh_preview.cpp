@@ -1,0 +1,114 @@
+// Developer preview of the mesh stage: meshes a species preset (or a .sylt / QSM file), writes
+// the GLB, renders views of it with the headless renderer and prints the statistics.
+//   mesh_preview preset configs/species/oak.yaml adult 1 out/oak [subdivision] [max_level]
+//   mesh_preview file ../shared/data/qsm/rTwig_QSM.csv - 1 out/qsm [subdivision] [max_level]
+// Writes out/oak.glb, out/oak_front.png, out/oak_side.png, out/oak_close.png.
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "libs/gltf/writer.h"
+#include "libs/image/image_io.h"
+#include "libs/render/camera.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/renderer.h"
+#include "stages/generate/preset.h"
+#include "stages/generate/textures.h"
+#include "stages/generate/weber_penn.h"
+#include "stages/import/import_file.h"
+#include "stages/mesh/tree_mesh.h"
+
+using namespace sylva;
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::string png_of(const generate::Rgba8& px, const std::string& path) {
+  image::Image img(px.width, px.height);
+  img.bytes() = px.pixels;
+  image::write_png(img, path);
+  return slurp(path);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 6) {
+    std::fprintf(stderr, "usage: mesh_preview preset|file PATH AGE SEED OUT_PREFIX [SUBDIVISION] [MAX_LEVEL]\n");
+    return 2;
+  }
+  try {
+    const std::string kind = argv[1], path = argv[2], age = argv[3], out = argv[5];
+    const std::uint64_t seed = std::stoull(argv[4]);
+    mesh::MeshOptions o;
+    o.subdivision = argc > 6 ? std::stoi(argv[6]) : 1;
+    o.max_level = argc > 7 ? std::stoi(argv[7]) : -1;
+    o.count_self_intersections = std::getenv("SELF_INTERSECTIONS") != nullptr;
+    tree::Tree t;
+    mesh::Texture bark{"bark.png", ""}, leaves{"leaves.png", ""};
+    if (kind == "preset") {
+      const auto species = generate::load_species_preset(path);
+      generate::GenerateOptions g;
+      g.max_node_spacing = 0.5;
+      g.name = species.species + "/" + age;
+      Rng rng(seed, "tree");
+      t = generate::generate_tree(species.age(age).params, g, rng);
+      Rng brng(seed, "bark"), lrng(seed, "leaves");
+      bark.bytes = png_of(generate::make_bark_texture(species.bark, 256, brng), out + "_bark.png");
+      leaves.bytes = png_of(generate::make_leaf_atlas(species.leaf, 256, lrng), out + "_leaves.png");
+    } else {
+      import::ImportOptions io;
+      t = import::import_tree(slurp(path), path, io);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const mesh::TreeMesh m = mesh::mesh_tree(t, o);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const gltf::Scene scene = mesh::make_scene(m, t, bark, leaves, {{"statistics", mesh::stats_json(m.stats)}});
+    gltf::write_file(scene, out + ".glb");
+    std::printf("%s\nmeshed in %.1f ms -> %s.glb\n", mesh::stats_json(m.stats).dump(1).c_str(), ms, out.c_str());
+
+    const render::Scene rs = render::load_gltf_scene(out + ".glb");
+    auto renderer = render::Renderer::create_headless();
+    render::RenderOptions ro;
+    ro.width = 900;
+    ro.height = 900;
+    const render::Bounds b = rs.bounds();
+    struct View {
+      const char* name;
+      render::CameraView v;
+    };
+    std::vector<View> views;
+    views.push_back({"front", {"front", render::OrbitView{0, 5, 1.05f, 0}, 40}});
+    views.push_back({"side", {"side", render::OrbitView{90, 20, 1.05f, 0}, 40}});
+    const float h = b.max.y() - b.min.y();
+    const float span = std::max({h, b.max.x() - b.min.x(), b.max.z() - b.min.z()});
+    views.push_back({"close", {"close", render::LookAtView{render::Vec3(span * 0.12f, h * 0.32f, span * 0.16f),
+                                                           render::Vec3(0, h * 0.28f, 0), render::Vec3::UnitY()},
+                               40}});
+    // CLOSE="ex ey ez tx ty tz [fov]" replaces the close-up camera.
+    if (const char* c = std::getenv("CLOSE")) {
+      float e[7] = {0, 0, 0, 0, 0, 0, 40};
+      std::istringstream in(c);
+      for (float& x : e) in >> x;
+      views.back().v = {"close", render::LookAtView{render::Vec3(e[0], e[1], e[2]), render::Vec3(e[3], e[4], e[5]),
+                                                     render::Vec3::UnitY()},
+                        e[6]};
+    }
+    for (const View& v : views) {
+      const render::Camera cam = render::resolve(v.v, b, 1.0f);
+      image::write_png(renderer->render(rs, cam, ro), out + "_" + v.name + ".png");
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "mesh_preview: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

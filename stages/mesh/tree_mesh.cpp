@@ -1,0 +1,184 @@
+// The mesh stage's core as a sequence of named passes (tree_mesh.h lists them).
+// Seed: Nystad 2010 §4.1 step 5, §4.3, §5.3; §5.5.4 for foliage.
+#include "stages/mesh/tree_mesh.h"
+
+#include <algorithm>
+#include <string>
+
+#include "stages/mesh/foliage.h"
+#include "stages/mesh/surface.h"
+
+namespace sylva::mesh {
+namespace {
+
+std::string mime_type(const Texture& t) {
+  const std::string& b = t.bytes;
+  if (b.size() >= 8 && b.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0) return "image/png";
+  if (b.size() >= 3 && static_cast<unsigned char>(b[0]) == 0xFF && static_cast<unsigned char>(b[1]) == 0xD8 &&
+      static_cast<unsigned char>(b[2]) == 0xFF)
+    return "image/jpeg";
+  throw MeshError("texture '" + t.name + "' is neither a PNG nor a JPEG file");
+}
+
+std::array<float, 4> colour_or(const tree::Color& c, std::array<float, 4> fallback) {
+  if (c.r == 0 && c.g == 0 && c.b == 0) return fallback;
+  auto clamp01 = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
+  return {clamp01(c.r), clamp01(c.g), clamp01(c.b), 1.0f};
+}
+
+}  // namespace
+
+TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
+  TreeMesh out;
+  MeshStats& st = out.stats;
+  const int levels = std::clamp(options.subdivision, 0, 3);
+  const double corner_scale = corner_scale_for_subdivision(levels);
+
+  // 1. Skeleton.
+  SkeletonOptions so;
+  so.max_level = options.max_level;
+  so.min_radius = options.min_radius;
+  so.corner_scale = corner_scale;
+  const MeshSkeleton skeleton = build_skeleton(tree, so);
+  st.skeleton = skeleton.stats;
+  st.branches = skeleton.branches.size();
+  st.rings = skeleton.ring_count();
+
+  // 2. Bark mesh with box joints.
+  BarkOptions bo;
+  bo.open_base = options.open_base;
+  bo.corner_scale = corner_scale;
+  bo.bark_repeat = std::clamp(options.bark_repeat, 1, 16);
+  QuadMesh base = build_bark_mesh(skeleton, bo, &st.joints);
+  st.base_vertices = base.vertex_count();
+  st.base_quads = base.quad_count();
+
+  // 3. Topology check: closed (except the open base), manifold, consistently oriented.
+  st.topology = check_topology(base);
+  const std::size_t open_edges = options.open_base ? 4 * st.joints.components : 0;
+  if (!st.topology.manifold_and_oriented() || st.topology.boundary_edges != open_edges)
+    throw MeshError("internal error: the bark mesh is not a closed, consistently oriented 2-manifold (" +
+                    std::to_string(st.topology.refused_faces) + " quads refused, " +
+                    std::to_string(st.topology.boundary_edges) + " boundary edges); please report this tree");
+
+  // 4. Subdivision.
+  out.bark = subdivide(base, levels, options.subdivider);
+  st.quads = out.bark.quad_count();
+  st.vertices = out.bark.vertex_count();
+  if (options.count_self_intersections) st.self_intersections = static_cast<long long>(count_self_intersections(out.bark));
+
+  // 5. Surface for glTF.
+  out.bark_surface = to_primitive(out.bark);
+  st.gltf_vertices = out.bark_surface.vertex_count();
+  st.triangles = out.bark_surface.indices.size() / 3;
+
+  // 6. Foliage.
+  if (options.foliage) {
+    out.leaves = leaf_cards(tree);
+    out.needles = needle_geometry(tree);
+    st.leaves = tree.leaves.size();
+    st.needles = tree.needles.size();
+  }
+  return out;
+}
+
+gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Texture& bark, const Texture& leaves,
+                       const nlohmann::json& sylva) {
+  gltf::Scene s;
+  auto add_image = [&](const Texture& t) {
+    if (t.bytes.empty()) return -1;
+    s.images.push_back({t.name, mime_type(t), t.bytes});
+    return static_cast<int>(s.images.size() - 1);
+  };
+  const int bark_image = add_image(bark);
+
+  gltf::Mesh m;
+  m.name = "tree";
+  // Bark.
+  {
+    gltf::Material mat;
+    mat.name = "bark";
+    mat.roughness = 0.9f;
+    if (bark_image >= 0) {
+      mat.base_color_texture.image = bark_image;
+    } else {
+      mat.base_color = colour_or(tree.materials.bark_color, {0.22f, 0.15f, 0.10f, 1});
+    }
+    s.materials.push_back(mat);
+    gltf::Primitive p = mesh.bark_surface;
+    p.material = 0;
+    m.primitives.push_back(std::move(p));
+  }
+  // Leaf cards.
+  if (!mesh.leaves.positions.empty()) {
+    const int leaf_image = add_image(leaves);
+    gltf::Material mat;
+    mat.name = "leaves";
+    mat.roughness = 0.7f;
+    mat.alpha_mode = gltf::AlphaMode::kMask;
+    mat.alpha_cutoff = 0.5f;
+    mat.double_sided = true;
+    if (leaf_image >= 0) {
+      mat.base_color_texture = {leaf_image, gltf::Wrap::kClampToEdge, gltf::Wrap::kClampToEdge};
+    } else {
+      mat.base_color = colour_or(tree.materials.leaf_color, {0.10f, 0.30f, 0.05f, 1});
+    }
+    s.materials.push_back(mat);
+    gltf::Primitive p = mesh.leaves;
+    p.material = static_cast<int>(s.materials.size() - 1);
+    m.primitives.push_back(std::move(p));
+  }
+  // Needles.
+  if (!mesh.needles.positions.empty()) {
+    gltf::Material mat;
+    mat.name = "needles";
+    mat.roughness = 0.7f;
+    mat.base_color = colour_or(tree.materials.leaf_color, {0.08f, 0.22f, 0.06f, 1});
+    s.materials.push_back(mat);
+    gltf::Primitive p = mesh.needles;
+    p.material = static_cast<int>(s.materials.size() - 1);
+    m.primitives.push_back(std::move(p));
+  }
+  s.meshes.push_back(std::move(m));
+  gltf::Node node;
+  node.name = "tree";
+  node.mesh = 0;
+  s.nodes.push_back(node);
+  s.roots = {0};
+  s.generator = "sylva";
+  if (!sylva.is_null()) s.extras = {{"sylva", sylva}};
+  return s;
+}
+
+nlohmann::json stats_json(const MeshStats& st) {
+  nlohmann::json j;
+  j["branches"] = st.branches;
+  j["rings"] = st.rings;
+  j["base_vertices"] = st.base_vertices;
+  j["base_quads"] = st.base_quads;
+  j["quads"] = st.quads;
+  j["vertices"] = st.vertices;
+  j["gltf_vertices"] = st.gltf_vertices;
+  j["triangles"] = st.triangles;
+  j["leaves"] = st.leaves;
+  j["needles"] = st.needles;
+  j["components"] = st.topology.components;
+  j["euler_characteristic"] = st.topology.euler;
+  j["joints"] = {{"bridges", st.joints.bridges},
+                 {"ordinary", st.joints.ordinary_joints},
+                 {"equal_split", st.joints.split_joints},
+                 {"recursive_sides", st.joints.recursive_sides},
+                 {"backward_fallbacks", st.joints.backward_fallbacks},
+                 {"insets", st.joints.insets},
+                 {"tip_caps", st.joints.tip_caps},
+                 {"base_caps", st.joints.base_caps}};
+  j["skeleton"] = {{"virtual_rings", st.skeleton.virtual_rings},
+                   {"clamped_radii", st.skeleton.clamped_radii},
+                   {"dropped_rings", st.skeleton.dropped_rings},
+                   {"pushed_rings", st.skeleton.pushed_rings},
+                   {"dropped_branches", st.skeleton.dropped_branches}};
+  if (st.self_intersections >= 0) j["self_intersections"] = st.self_intersections;
+  return j;
+}
+
+}  // namespace sylva::mesh
