@@ -52,9 +52,11 @@ std::string type_text(const ParamSpec& p) {
     for (std::size_t i = 0; i < p.choices.size(); ++i) t += (i ? "," : "") + p.choices[i];
     t += "}";
   }
-  if (p.min || p.max)
-    t += " [" + (p.min ? format_real(*p.min) : std::string("-inf")) + ", " +
-         (p.max ? format_real(*p.max) : std::string("inf")) + "]";
+  if (p.min || p.max) {
+    const bool integral = p.type == ParamType::kInt || p.type == ParamType::kIntList;
+    auto num = [&](double d) { return integral ? std::to_string(static_cast<long long>(d)) : format_real(d); };
+    t += " [" + (p.min ? num(*p.min) : std::string("-inf")) + ", " + (p.max ? num(*p.max) : std::string("inf")) + "]";
+  }
   return t;
 }
 

@@ -20,7 +20,9 @@ class InspectCommand final : public CliCommand {
     try {
       const tree::Tree t = tree::read_sylt(file_);
       const auto stats = tree::compute_stats(t);
-      std::fputs((json_ ? tree::format_stats_json(stats) : tree::format_stats(stats)).c_str(), io.out);
+      std::string text = json_ ? tree::format_stats_json(stats) : tree::format_stats(stats);
+      if (text.empty() || text.back() != '\n') text += '\n';
+      std::fputs(text.c_str(), io.out);
       return kExitOk;
     } catch (const std::exception& e) {
       std::fprintf(io.err, "error: %s\n", e.what());

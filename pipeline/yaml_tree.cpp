@@ -72,7 +72,12 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
   try {
     root = YAML::Load(*text);
   } catch (const YAML::Exception& e) {
-    sources_.error(diags_, loc_of(name, e.mark), "malformed YAML: " + e.msg);
+    const SourceLoc at = loc_of(name, e.mark);
+    std::string hint;
+    // `{ a: ${x} }` is the most common slip: `{` after `$` is YAML flow syntax.
+    if (sources_.line(name, at.line).find("${") != std::string::npos)
+      hint = " (inside { } or [ ], quote values that contain ${...})";
+    sources_.error(diags_, at, "malformed YAML: " + e.msg + hint);
     return std::nullopt;
   }
 

@@ -230,3 +230,12 @@ TEST_F(RecipeTest, CanonicalParametersIgnoreSpelling) {
 
 }  // namespace
 }  // namespace sylva
+
+namespace sylva {
+namespace {
+TEST_F(RecipeTest, UnquotedVariableInFlowMapGetsAHint) {
+  EXPECT_FALSE(load("version: 1\nname: r\nmatrix: { s: [a] }\nnodes:\n  t_${s}:\n    stage: text\n    with: { text: x/${s} }\n"));
+  EXPECT_EQ(errors(), "r.yaml:7:22: error: malformed YAML: end of map flow not found (inside { } or [ ], quote values that contain ${...})\n");
+}
+}  // namespace
+}  // namespace sylva
