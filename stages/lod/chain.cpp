@@ -1,0 +1,131 @@
+// The LOD chain: epsilon ladder, switch distances, and the per-level passes.
+// Seeds: Zhang et al. 2017, §3 (delta, epsilon), §4.4, §5.1–5.5, §6 (N <= 8, 0.22 m);
+// Remolar et al. (FSA/VDF) §4 (uniform extraction); DESIGN.md "LOD error model".
+#include "stages/lod/chain.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "stages/lod/topology.h"
+
+namespace sylva::lod {
+
+double pixel_size(const Camera& camera, double distance) {
+  return 2 * distance * std::tan(camera.fov_y_rad / 2) / camera.height_px;
+}
+
+double switch_distance(const Camera& camera, double epsilon, double delta) {
+  return epsilon / (delta * pixel_size(camera, 1.0));
+}
+
+std::vector<LevelSpec> plan_levels(const ChainOptions& o) {
+  if (!(o.camera.fov_y_rad > 0 && o.camera.fov_y_rad < 3.14159) || o.camera.height_px <= 0)
+    throw std::invalid_argument("camera: fov must be in (0, 180) degrees and the image height positive");
+  if (!(o.pixel_error > 0)) throw std::invalid_argument("pixel_error must be positive");
+  if (o.max_edges < 3) throw std::invalid_argument("max_edges must be >= 3");
+  std::vector<double> eps = o.errors;
+  if (eps.empty()) {
+    if (o.levels < 1 || o.levels > 8) throw std::invalid_argument("levels must be in 1..8 (Zhang §6)");
+    if (!(o.min_error > 0) || !(o.max_error >= o.min_error))
+      throw std::invalid_argument("need 0 < min_error_m <= max_error_m");
+    if (o.levels == 1) {
+      eps.push_back(o.max_error);
+    } else {
+      for (int i = 0; i < o.levels; ++i)
+        eps.push_back(o.min_error * std::pow(o.max_error / o.min_error, static_cast<double>(i) / (o.levels - 1)));
+    }
+  }
+  if (eps.size() > 8) throw std::invalid_argument("at most 8 levels (Zhang §6)");
+  for (std::size_t i = 0; i < eps.size(); ++i) {
+    if (!(eps[i] > 0) || !std::isfinite(eps[i]))
+      throw std::invalid_argument("errors[" + std::to_string(i) + "] must be a positive number of metres");
+    if (i > 0 && !(eps[i] > eps[i - 1]))
+      throw std::invalid_argument("errors must increase strictly (errors[" + std::to_string(i) + "])");
+  }
+  std::vector<LevelSpec> out;
+  for (double e : eps) {
+    LevelSpec s;
+    s.epsilon = e;
+    s.delta = o.pixel_error;
+    s.switch_distance = switch_distance(o.camera, e, o.pixel_error);
+    s.e1 = o.e1 * e;
+    s.e2 = o.e2 * e;
+    s.e3 = o.e3 * e;
+    s.e4 = o.e4 * e;
+    s.e5 = o.e5 * e;
+    out.push_back(s);
+  }
+  return out;
+}
+
+Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
+  Precomputed pre;
+  pre.skeletons = build_skeletons(tree);
+  if (options.topology) {
+    const std::vector<double> h = bearer_distances(pre.skeletons);
+    pre.accumulated = accumulated_distances(pre.skeletons, h);
+  } else {
+    pre.accumulated.assign(pre.skeletons.size(), std::numeric_limits<double>::infinity());
+  }
+  if (options.foliage) {
+    pre.leaf_forest = build_leaf_forest(tree.leaves);
+    pre.needle_forest = build_needle_forest(tree.needles);
+  }
+  return pre;
+}
+
+Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec, const ChainOptions& options) {
+  Level level;
+  level.spec = spec;
+  const std::size_t nb = pre.skeletons.size();
+  level.kept_nodes.resize(nb);
+  const MergeLimits limits{spec.e1, spec.e2, options.torsion_limit};
+  // Topology first decides which branches exist (A(b) <= E4 deletes the subtree; §5.3); it is
+  // precomputed on the full skeleton, so only the threshold is per level. Merging (§4.4) then
+  // runs on the kept branches, and polygonisation (§5.1–5.2) last.
+  std::vector<char> kept_branch(nb, 1);
+  for (std::size_t i = 0; i < nb; ++i) {
+    const std::int32_t p = pre.skeletons[i].parent;
+    if ((p >= 0 && !kept_branch[static_cast<std::size_t>(p)]) || pre.accumulated[i] <= spec.e4) kept_branch[i] = 0;
+  }
+  for (std::size_t i = 0; i < nb; ++i) {
+    if (!kept_branch[i]) continue;
+    const auto& g = pre.skeletons[i].g;
+    merge_internodes(g, limits, level.kept_nodes[i]);
+    polygonize_branch(g, level.kept_nodes[i], spec.e3, options.max_edges, level.branches);
+    level.counts.internodes += level.kept_nodes[i].size() - 1;
+    ++level.counts.branches;
+  }
+  if (options.foliage) {
+    // Foliage of the decimated branches goes with them; the rest is cut by error.
+    if (!tree.leaves.empty()) {
+      std::vector<std::uint32_t> active = pre.leaf_forest.forest.cut_by_error(spec.e5);
+      leaf_geometry(pre.leaf_forest, active, level.leaves);
+    }
+    if (!tree.needles.empty()) {
+      std::vector<std::uint32_t> active = pre.needle_forest.forest.cut_by_error(spec.e5);
+      needle_geometry(pre.needle_forest, active, spec.e3, options.max_edges, level.needles);
+    }
+  }
+  level.line_alpha = level.branches.level_alpha();
+  level.counts.quads = level.branches.quads;
+  level.counts.triangles = level.branches.triangles;
+  level.counts.lines = level.branches.lines;
+  level.counts.leaves = level.leaves.leaves;
+  level.counts.needle_lines = level.needles.lines;
+  level.counts.needle_quads = level.needles.quads + level.needles.triangles;
+  return level;
+}
+
+std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options) {
+  const std::vector<LevelSpec> specs = plan_levels(options);
+  const Precomputed pre = precompute(tree, options);
+  std::vector<Level> out;
+  out.reserve(specs.size());
+  for (const LevelSpec& s : specs) out.push_back(build_level(tree, pre, s, options));
+  return out;
+}
+
+}  // namespace sylva::lod

@@ -1,0 +1,98 @@
+// The LOD chain: from a camera and a pixel error to a ladder of spatial errors, and from a tree
+// to one simplified model per level.
+//
+// Seeds: Zhang et al. 2017, §3 (permitted pixel error delta, permitted spatial error epsilon),
+// §5.4 (E1 = E2 = E3 = E4 = epsilon per level in the paper), §6 (N <= 8 levels, coarsest
+// epsilon 0.22 m); DESIGN.md "LOD error model": s(d) = 2 d tan(phi/2) / H_px, epsilon =
+// delta s(d), switch distance d = epsilon / (delta s(1)).
+//
+// Per level the budgets are E_i = factor_i * epsilon (docs/stages/lod.md explains the defaults:
+// E1 = E2 = epsilon/4 and E4 = epsilon/2, so a point of the full-detail branch surface is within
+// max(E1 + E2, E1 + E2 + E4) <= epsilon of the simplified skeleton surface, plus E3 for the
+// polygonisation).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "libs/tree/tree.h"
+#include "stages/lod/foliage.h"
+#include "stages/lod/internodes.h"
+#include "stages/lod/needles.h"
+#include "stages/lod/polygonize.h"
+
+namespace sylva::lod {
+
+struct Camera {
+  double fov_y_rad = 0.785398163397448;  // vertical field of view phi (45°)
+  int height_px = 1080;                  // image height H in pixels
+};
+
+// s(d) = 2 d tan(phi/2) / H: metres spanned by one pixel at distance d (m).
+double pixel_size(const Camera& camera, double distance);
+
+// d = epsilon / (delta s(1)): the distance from which a level of spatial error epsilon is valid.
+double switch_distance(const Camera& camera, double epsilon, double delta);
+
+struct ChainOptions {
+  Camera camera;
+  double pixel_error = 0.5;          // delta, px
+  int levels = 6;                    // N, 1..8, used when `errors` is empty
+  std::vector<double> errors;        // explicit epsilon per level (m), increasing; overrides N
+  double min_error = 0.001;          // epsilon of level 0 (m)
+  double max_error = 0.22;           // epsilon of the coarsest level (m), Zhang §6
+  double e1 = 0.25, e2 = 0.25, e3 = 1.0, e4 = 0.5, e5 = 1.0;  // factors of epsilon
+  double torsion_limit = 1.0471975511965976;  // Γ (rad), 60°
+  int max_edges = 12;                // H, >= 3
+  bool topology = true;              // E4 branch decimation
+  bool foliage = true;               // leaf collapse (FSA) and needle merging (E5)
+};
+
+struct LevelSpec {
+  double epsilon = 0;          // m
+  double delta = 0;            // px
+  double switch_distance = 0;  // m
+  double e1 = 0, e2 = 0, e3 = 0, e4 = 0, e5 = 0;  // m
+};
+
+// The epsilon ladder: `errors` when given, else N values geometric from min_error to
+// max_error (one level: max_error). Throws std::invalid_argument for a bad ladder.
+std::vector<LevelSpec> plan_levels(const ChainOptions& options);
+
+struct LevelCounts {
+  std::size_t quads = 0, triangles = 0, lines = 0;  // branches
+  std::size_t leaves = 0;                           // leaf quads
+  std::size_t needle_lines = 0, needle_quads = 0;   // needles (3 lines, or a triangular prism)
+  std::size_t internodes = 0;                       // internodes after merging and decimation
+  std::size_t branches = 0;                         // branches kept after decimation
+  std::size_t total() const { return quads + triangles + lines + leaves + needle_lines + needle_quads; }
+};
+
+struct Level {
+  LevelSpec spec;
+  BranchGeometry branches;
+  BranchGeometry needles;  // needles drawn like internodes (lines or prisms)
+  LeafGeometry leaves;
+  double line_alpha = 1;   // one alpha per level (length-weighted mean of eq. 12)
+  LevelCounts counts;
+  std::vector<std::vector<std::uint32_t>> kept_nodes;  // per branch; empty = decimated
+};
+
+// Data computed once per tree and shared by every level.
+struct Precomputed {
+  std::vector<BranchSkeleton> skeletons;
+  std::vector<double> accumulated;  // A(b), topology.h
+  LeafForest leaf_forest;
+  NeedleForest needle_forest;
+};
+
+Precomputed precompute(const tree::Tree& tree, const ChainOptions& options);
+
+// One level from the precomputed data (the three passes of Zhang §3: merging, topology,
+// polygonisation; then foliage).
+Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec, const ChainOptions& options);
+
+// Every level of plan_levels(options).
+std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options);
+
+}  // namespace sylva::lod

@@ -1,0 +1,103 @@
+// Leaf collapse (FSA) and the foliage binary forest (VDF).
+// Seed: Remolar et al. (FSA/VDF), §3 (leaf collapse cost, vertex placement) and §4 (binary forest).
+#include "stages/lod/foliage.h"
+
+#include <cmath>
+
+namespace sylva::lod {
+
+using tree::Vec3;
+
+namespace {
+
+double quad_area(const std::array<Vec3, 4>& v) { return 0.5 * length(cross(v[2] - v[0], v[3] - v[1])); }
+
+}  // namespace
+
+LeafQuad leaf_quad(const tree::Leaf& leaf) {
+  const Vec3 p = tree::to_double(leaf.position);
+  const Vec3 d = tree::to_double(leaf.direction);
+  const Vec3 n = tree::to_double(leaf.normal);
+  const Vec3 side = normalized(cross(n, d)) * (0.5 * leaf.width);
+  const Vec3 tip = p + d * static_cast<double>(leaf.length);
+  LeafQuad q;
+  // Counter-clockwise seen from +n: side = n x d, so (p - side) -> (p + side) -> tip + side -> tip - side.
+  q.v = {p - side, p + side, tip + side, tip - side};
+  // 2x2 atlas: variant i at column i % 2, row i / 2 (row 0 at the top; v low at the petiole).
+  const float u0 = 0.5f * static_cast<float>(leaf.variant % 2);
+  const float v0 = 0.5f * static_cast<float>(leaf.variant / 2);
+  q.uv = {{{u0, v0 + 0.5f}, {u0 + 0.5f, v0 + 0.5f}, {u0 + 0.5f, v0}, {u0, v0}}};
+  q.normal = n;
+  q.area = quad_area(q.v);
+  return q;
+}
+
+double leaf_collapse_cost(const LeafQuad& a, const LeafQuad& b) {
+  const double planarity = 0.5 * (std::sqrt(a.area) + std::sqrt(b.area)) * (1 - std::abs(dot(a.normal, b.normal)));
+  return length(a.center() - b.center()) + planarity;
+}
+
+LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
+  const double target = a.area + b.area;
+  const Vec3 mean_normal = a.normal * a.area + b.normal * b.area;
+  LeafQuad best;
+  double best_diff = std::numeric_limits<double>::infinity();
+  for (int ea = 0; ea < 4; ++ea)
+    for (int eb = 0; eb < 4; ++eb)
+      for (int flip = 0; flip < 2; ++flip) {
+        const int a0 = ea, a1 = (ea + 1) % 4;
+        const int b0 = flip ? (eb + 1) % 4 : eb, b1 = flip ? eb : (eb + 1) % 4;
+        LeafQuad q;
+        q.v = {a.v[a0], a.v[a1], b.v[b0], b.v[b1]};
+        q.uv = {a.uv[a0], a.uv[a1], b.uv[b0], b.uv[b1]};
+        q.area = quad_area(q.v);
+        const double diff = std::abs(q.area - target);
+        if (diff < best_diff) {
+          best_diff = diff;
+          best = q;
+        }
+      }
+  Vec3 n = cross(best.v[2] - best.v[0], best.v[3] - best.v[1]);
+  if (length(n) == 0) n = mean_normal;
+  n = normalized(n);
+  if (dot(n, mean_normal) < 0) {
+    // Keep the front face on the pair's side: reverse the winding.
+    std::swap(best.v[1], best.v[3]);
+    std::swap(best.uv[1], best.uv[3]);
+    n = -n;
+  }
+  best.normal = length(n) > 0 ? n : Vec3{0, 1, 0};
+  return best;
+}
+
+LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves) {
+  LeafForest lf;
+  lf.quads.reserve(leaves.size() * 2);
+  for (const tree::Leaf& l : leaves) lf.quads.push_back(leaf_quad(l));
+  lf.forest = agglomerate(
+      lf.quads, [](const LeafQuad& a, const LeafQuad& b) { return leaf_collapse_cost(a, b); },
+      [](const LeafQuad& a, const LeafQuad& b, double ea, double eb) {
+        return std::pair<LeafQuad, double>(collapse_leaves(a, b), std::max(ea, eb) + leaf_collapse_cost(a, b));
+      },
+      [](const LeafQuad& q) { return q.center(); });
+  return lf;
+}
+
+void leaf_geometry(const LeafForest& forest, std::span<const std::uint32_t> active, LeafGeometry& out) {
+  for (std::uint32_t id : active) {
+    const LeafQuad& q = forest.quads[id];
+    const auto base = static_cast<std::uint32_t>(out.positions.size() / 3);
+    for (int i = 0; i < 4; ++i) {
+      out.positions.insert(out.positions.end(), {static_cast<float>(q.v[i].x), static_cast<float>(q.v[i].y),
+                                                 static_cast<float>(q.v[i].z)});
+      out.normals.insert(out.normals.end(), {static_cast<float>(q.normal.x), static_cast<float>(q.normal.y),
+                                             static_cast<float>(q.normal.z)});
+      out.texcoords.insert(out.texcoords.end(), {q.uv[i][0], q.uv[i][1]});
+    }
+    out.indices.insert(out.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    ++out.leaves;
+    out.area += q.area;
+  }
+}
+
+}  // namespace sylva::lod

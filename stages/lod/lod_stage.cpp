@@ -1,0 +1,2 @@
+// Placeholder adapter (filled in next).
+#include "stages/lod/lod_stage.h"

@@ -1,0 +1,287 @@
+// Tests of the pure lod core: Zhang et al. 2017 §4–§6 and FSA/VDF leaf collapse.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "libs/tree/tree.h"
+#include "stages/lod/chain.h"
+#include "stages/lod/foliage.h"
+#include "stages/lod/internodes.h"
+#include "stages/lod/needles.h"
+#include "stages/lod/polygonize.h"
+#include "stages/lod/tests/test_trees.h"
+#include "stages/lod/topology.h"
+
+namespace sylva::lod {
+namespace {
+
+using tree::Vec3;
+
+double P(int i) { return 1 - std::cos(std::numbers::pi / i); }
+
+// Eq. (9)/(11): the edge function's steps at P_i = 1 - cos(pi/i) and its two extensions.
+TEST(EdgeFunction, StepsOfEquation11) {
+  EXPECT_EQ(edge_count(0.0, 12), 12);
+  EXPECT_EQ(edge_count(P(12) * 0.99, 12), 12);  // rho < P_H: H
+  EXPECT_EQ(edge_count(P(12), 12), 12);
+  EXPECT_EQ(edge_count(P(7), 12), 7);           // the 7-gon's error is exactly P_7
+  EXPECT_EQ(edge_count(P(7) * 0.999, 12), 8);
+  EXPECT_EQ(edge_count(P(4), 12), 4);
+  EXPECT_EQ(edge_count(0.49, 12), 4);
+  EXPECT_EQ(edge_count(0.5, 12), 3);            // 0.5 <= rho < 2: a prism of 3
+  EXPECT_EQ(edge_count(1.99, 12), 3);
+  EXPECT_EQ(edge_count(2.0, 12), 1);            // rho >= 2: a line
+  EXPECT_EQ(edge_count(INFINITY, 12), 1);       // R = 0
+  EXPECT_DOUBLE_EQ(line_alpha(4.0), 0.5);       // eq. (12)
+  EXPECT_DOUBLE_EQ(line_alpha(1.0), 1.0);
+  // Every h-gon chosen keeps its polygonisation error under E3 = rho R.
+  for (double rho = 0.001; rho < 2; rho *= 1.1) {
+    const int h = edge_count(rho, 1000);
+    EXPECT_LE(P(h), rho + 1e-12) << rho;
+  }
+}
+
+tree::Tree one_branch(std::vector<Vec3> ps, std::vector<double> rs) {
+  tree::Tree t;
+  tree::Branch b;
+  for (std::size_t i = 0; i < ps.size(); ++i) b.nodes.push_back({ps[i], rs[i]});
+  t.branches.push_back(b);
+  return t;
+}
+
+// A straight branch with linear taper merges into one internode with zero error.
+TEST(InternodeMerging, StraightTaperedBranchMergesCompletely) {
+  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}}, {0.4, 0.3, 0.2, 0.1});
+  const auto sk = build_skeletons(t);
+  const MergeError e = merge_error(sk[0].g, 0, 3);
+  EXPECT_NEAR(e.phi, 0, 1e-12);
+  EXPECT_NEAR(e.varphi, 0, 1e-12);
+  std::vector<std::uint32_t> kept;
+  merge_internodes(sk[0].g, {1e-9, 1e-9, 1.0}, kept);
+  EXPECT_EQ(kept, (std::vector<std::uint32_t>{0, 3}));
+}
+
+// A bent branch: phi is the inner node's distance from the chord at tau (eq. 4, 5), computed
+// explicitly; merging happens exactly when E1 reaches it.
+TEST(InternodeMerging, PositionalErrorIsEquation4) {
+  const auto t = one_branch({{0, 0, 0}, {0.1, 1, 0}, {0, 2, 0}}, {0.01, 0.01, 0.01});
+  const auto sk = build_skeletons(t);
+  const MergeError e = merge_error(sk[0].g, 0, 2);
+  EXPECT_NEAR(e.phi, 0.1, 1e-12);  // tau = 1/2 by symmetry: X = (0,1,0) - (0.1,1,0)
+  EXPECT_NEAR(e.torsion, 2 * sk[0].g[1].beta, 1e-15);
+  std::vector<std::uint32_t> kept;
+  merge_internodes(sk[0].g, {0.0999, 1, 1}, kept);
+  EXPECT_EQ(kept.size(), 3u);
+  kept.clear();
+  merge_internodes(sk[0].g, {0.1001, 1, 1}, kept);
+  EXPECT_EQ(kept.size(), 2u);
+  // The torsion limit alone blocks it.
+  kept.clear();
+  merge_internodes(sk[0].g, {1, 1, 2 * sk[0].g[1].beta * 0.99}, kept);
+  EXPECT_EQ(kept.size(), 3u);
+}
+
+// Vertex connection cases (ii), (iii) and (i) of §5.1.
+TEST(Polygonize, PrismPrismoidAndFanCover) {
+  // R = 1, 1, 0.2: E3 = 0.03 gives H = 12 (rho 0.03), 12, then rho 0.15 -> 6.
+  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}}, {1, 1, 0.2, 0.01});
+  const auto sk = build_skeletons(t);
+  const std::uint32_t kept[] = {0, 1, 2, 3};
+  BranchGeometry g;
+  polygonize_branch(sk[0].g, kept, 0.03, 12, g);
+  EXPECT_EQ(g.ring_edges, (std::vector<int>{12, 12, 6}));
+  // prism: 12 quads; prismoid 12 -> 6: d = 6 triangles + f = 6 quads; fan cover: 6 triangles
+  // to the line node (rho = 3 at R = 0.01); no line internode after the last node.
+  EXPECT_EQ(g.quads, 12u + 6u);
+  EXPECT_EQ(g.triangles, 6u + 6u);
+  EXPECT_EQ(g.lines, 0u);
+  EXPECT_EQ(g.tri_indices.size(), 3 * (2 * g.quads + g.triangles));
+  // No sliver: in the prismoid every triangle spans one edge of the 12-gon.
+}
+
+// Lines: h = 1 from rho >= 2; three segments per internode with normals 120° apart (§5.5).
+TEST(Polygonize, ThinBranchBecomesThreeLinesPerInternode) {
+  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.01, 0.01, 0.01});
+  const auto sk = build_skeletons(t);
+  const std::uint32_t kept[] = {0, 1, 2};
+  BranchGeometry g;
+  polygonize_branch(sk[0].g, kept, 0.04, 12, g);  // rho = 4
+  EXPECT_EQ(g.lines, 6u);
+  EXPECT_EQ(g.line_indices.size(), 12u);
+  EXPECT_EQ(g.line_positions.size(), 9u * 3);  // 3 vertices per node, shared along the chain
+  EXPECT_DOUBLE_EQ(g.level_alpha(), 0.5);      // eq. (12): 2 / 4
+  const float* n = g.line_normals.data();
+  EXPECT_NEAR(n[0] * n[3] + n[1] * n[4] + n[2] * n[5], -0.5, 1e-6);  // cos 120°
+}
+
+// Zhang Figure 7: a helix cylinder (radius 0.1 m on a helix of radius 1 m, pitch 2 m, 64 nodes a
+// turn, 2 turns) under rising epsilon reproduces the prism edge counts 12, 6, 4, 3, 3 with the
+// quad count falling. With E3 = epsilon and R = 0.1: epsilon = 3.5, 15, 30, 60, 150 mm give
+// rho = 0.035 (12-gon), 0.15 (6), 0.30 (4), 0.6 (3), 1.5 (3).
+TEST(Chain, HelixReproducesFigure7) {
+  const tree::Tree t = test::helix(1.0, 2.0, 2, 64, 0.1);
+  ChainOptions o;
+  o.errors = {0.0035, 0.015, 0.03, 0.06, 0.15};
+  const auto levels = build_chain(t, o);
+  ASSERT_EQ(levels.size(), 5u);
+  const int expected_edges[] = {12, 6, 4, 3, 3};
+  std::size_t previous_quads = SIZE_MAX;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const Level& l = levels[i];
+    for (int h : l.branches.ring_edges) EXPECT_EQ(h, expected_edges[i]) << "level " << i;
+    EXPECT_EQ(l.counts.triangles, 0u);  // a prism everywhere: constant radius
+    EXPECT_EQ(l.counts.quads, l.counts.internodes * static_cast<std::size_t>(expected_edges[i]));
+    EXPECT_LT(l.counts.quads, previous_quads) << "level " << i;
+    previous_quads = l.counts.quads;
+  }
+  // Merging does real work at the coarse end (64 nodes a turn -> far fewer internodes).
+  EXPECT_LT(levels.back().counts.internodes, 128u / 3);
+}
+
+// The error vocabulary of DESIGN.md: epsilon = delta s(d) at the switch distance.
+TEST(Chain, SwitchDistanceMatchesPixelError) {
+  ChainOptions o;
+  o.levels = 6;
+  const auto specs = plan_levels(o);
+  ASSERT_EQ(specs.size(), 6u);
+  EXPECT_NEAR(specs.front().epsilon, o.min_error, 1e-15);
+  EXPECT_NEAR(specs.back().epsilon, 0.22, 1e-12);
+  for (const auto& s : specs) EXPECT_NEAR(s.delta * pixel_size(o.camera, s.switch_distance), s.epsilon, 1e-12);
+  o.levels = 9;
+  EXPECT_THROW(plan_levels(o), std::invalid_argument);
+  o.errors = {0.1, 0.05};
+  EXPECT_THROW(plan_levels(o), std::invalid_argument);
+}
+
+// Zhang Figure 8: a holly-like tree 2.2 m tall seen at 36 m; the epsilon ladder 0.092, 3.87,
+// 10.8, 18.8, 39 cm gives strictly falling primitive counts, with lines at the coarse end.
+TEST(Chain, HollyLadderOfFigure8) {
+  const auto preset = std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species/holly.yaml";
+  const tree::Tree t = test::scaled_to_height(test::species_tree(preset, "young"), 2.2);
+  ChainOptions o;
+  o.errors = {0.00092, 0.0387, 0.108, 0.188, 0.39};
+  const auto levels = build_chain(t, o);
+  std::size_t previous = SIZE_MAX;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const LevelCounts& c = levels[i].counts;
+    const std::size_t branch_prims = c.quads + c.triangles + c.lines;
+    std::printf("holly eps %.4f m: quads %zu triangles %zu lines %zu leaves %zu branches %zu internodes %zu\n",
+                levels[i].spec.epsilon, c.quads, c.triangles, c.lines, c.leaves, c.branches, c.internodes);
+    EXPECT_LT(branch_prims, previous) << "level " << i;
+    EXPECT_LT(c.total(), i == 0 ? SIZE_MAX : levels[i - 1].counts.total());
+    previous = branch_prims;
+  }
+  EXPECT_GT(levels.front().counts.quads, 0u);
+  EXPECT_GT(levels.back().counts.lines, 0u);
+  EXPECT_EQ(levels.back().counts.quads, 0u);
+}
+
+// §5.3: a twig lying inside its bearer has A = its own reach; deleted once E4 covers it, and a
+// kept child keeps its bearer (A is monotone towards the root).
+TEST(Topology, AccumulatedDistanceDecimatesSubtrees) {
+  tree::Tree t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.2, 0.2, 0.2});
+  tree::Branch c;
+  c.parent = 0;
+  c.parent_node = 1;
+  c.level = 1;
+  c.nodes = {{{0.1, 1, 0}, 0.02}, {{0.5, 1, 0}, 0.02}};  // reaches 0.3 + 0.02 beyond the trunk
+  t.branches.push_back(c);
+  tree::Branch g;
+  g.parent = 1;
+  g.parent_node = 1;
+  g.level = 2;
+  g.nodes = {{{0.5, 1, 0}, 0.01}, {{0.5, 1.3, 0}, 0.01}};  // 0.3 - 0.02 + 0.01 beyond its bearer
+  t.branches.push_back(g);
+  ASSERT_TRUE(tree::validate_tree(t).empty());
+  const auto sk = build_skeletons(t);
+  const auto h = bearer_distances(sk);
+  EXPECT_NEAR(h[1], 0.32, 1e-9);
+  EXPECT_NEAR(h[2], 0.29, 1e-9);
+  const auto a = accumulated_distances(sk, h);
+  EXPECT_NEAR(a[1], 0.61, 1e-9);
+  EXPECT_NEAR(a[2], 0.29, 1e-9);
+  EXPECT_TRUE(std::isinf(a[0]));
+}
+
+std::vector<tree::Leaf> leaf_row(int n) {
+  std::vector<tree::Leaf> leaves;
+  for (int i = 0; i < n; ++i) {
+    tree::Leaf l;
+    l.position = {static_cast<float>(i) * 0.1f, 1.f, static_cast<float>(i % 3) * 0.05f};
+    l.direction = {0, 0, 1};
+    l.normal = {0, 1, 0};
+    l.length = 0.06f;
+    l.width = 0.03f;
+    l.variant = static_cast<std::uint8_t>(i % 4);
+    leaves.push_back(l);
+  }
+  return leaves;
+}
+
+// FSA: n leaves collapse into one binary tree of 2n - 1 elements; cuts by count give that many
+// leaves; a collapsed leaf keeps its vertices from its children and roughly the pair's area.
+TEST(Foliage, LeafCollapseBuildsBinaryForest) {
+  const auto leaves = leaf_row(40);
+  const LeafForest lf = build_leaf_forest(leaves);
+  EXPECT_EQ(lf.forest.size(), 79u);
+  EXPECT_EQ(lf.forest.roots(), 1u);
+  for (std::size_t k : {40u, 20u, 7u, 1u}) EXPECT_EQ(lf.forest.cut_by_count(k).size(), k);
+  EXPECT_EQ(lf.forest.cut_by_error(0).size(), 40u);
+  // Errors are monotone towards the roots; cuts by error shrink as the error grows.
+  for (std::size_t i = 0; i < lf.forest.size(); ++i)
+    if (lf.forest.parent[i] >= 0) {
+      EXPECT_LE(lf.forest.error[i], lf.forest.error[static_cast<std::size_t>(lf.forest.parent[i])]);
+    }
+  std::size_t prev = SIZE_MAX;
+  for (double e : {0.0, 0.05, 0.2, 1.0, 10.0}) {
+    const std::size_t n = lf.forest.cut_by_error(e).size();
+    EXPECT_LE(n, prev);
+    prev = n;
+  }
+  // The first collapse: two 18 cm^2 leaves -> a quad of two vertices each, area near 36 cm^2.
+  const std::size_t first = 40;
+  const LeafQuad& z = lf.quads[first];
+  const LeafQuad& a = lf.quads[static_cast<std::size_t>(lf.forest.left[first])];
+  const LeafQuad& b = lf.quads[static_cast<std::size_t>(lf.forest.right[first])];
+  int from_a = 0, from_b = 0;
+  for (const Vec3& v : z.v) {
+    for (const Vec3& w : a.v) from_a += v == w ? 1 : 0;
+    for (const Vec3& w : b.v) from_b += v == w ? 1 : 0;
+  }
+  EXPECT_EQ(from_a, 2);
+  EXPECT_EQ(from_b, 2);
+  EXPECT_NEAR(z.area, a.area + b.area, 0.5 * (a.area + b.area));
+}
+
+// E5 needle merging: pairs of parallel neighbours go first; cuts by error fall with E5 and the
+// error bounds every original needle's endpoint displacement.
+TEST(Needles, PairwiseMergingCutByError) {
+  std::vector<tree::Needle> ns;
+  for (int i = 0; i < 30; ++i) {
+    tree::Needle n;
+    n.base = {static_cast<float>(i) * 0.01f, 0, 0};
+    n.tip = {static_cast<float>(i) * 0.01f, 0.05f, 0.01f * static_cast<float>(i % 2)};
+    n.radius = 0.0005f;
+    ns.push_back(n);
+  }
+  const NeedleForest nf = build_needle_forest(ns);
+  EXPECT_EQ(nf.forest.size(), 59u);
+  std::size_t prev = SIZE_MAX;
+  for (double e : {0.0, 0.01, 0.03, 0.1, 1.0}) {
+    const auto cut = nf.forest.cut_by_error(e);
+    EXPECT_LE(cut.size(), prev);
+    prev = cut.size();
+    // Every original is represented exactly once.
+    std::size_t ranks = 0;
+    for (auto id : cut) ranks += nf.needles[id].rank;
+    EXPECT_EQ(ranks, 30u);
+  }
+  BranchGeometry g;
+  const auto all = nf.forest.cut_by_error(0);
+  needle_geometry(nf, all, 0.004, 12, g);  // rho = 8: lines
+  EXPECT_EQ(g.lines, 90u);
+}
+
+}  // namespace
+}  // namespace sylva::lod
