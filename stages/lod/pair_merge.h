@@ -114,33 +114,43 @@ BinaryForest agglomerate(std::vector<Item>& items, CostFn cost, MergeFn merge, C
   };
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   // Best partner of `id` among active elements, widening the search ring by ring.
+  // At most kMaxCandidates active elements are evaluated per search (own cell first, then the
+  // ring's cells in a fixed order): clustered sets (needles on a twig) would otherwise put
+  // hundreds into one cell.
+  constexpr int kMaxCandidates = 24;
   auto push_best = [&](std::uint32_t id) {
     std::int64_t cx, cy, cz;
     cell_of(center(items[id]), cx, cy, cz);
     double best = std::numeric_limits<double>::infinity();
     std::uint32_t best_id = id;
-    bool found = false;
+    int seen = 0;
+    auto visit = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      const auto it = grid.find(key_of(x, y, z));
+      if (it == grid.end()) return;
+      for (std::uint32_t other : it->second) {
+        if (other == id || !alive[other]) continue;
+        if (seen >= kMaxCandidates) return;
+        ++seen;
+        const double c = cost(items[id], items[other]);
+        if (c < best || (c == best && other < best_id)) {
+          best = c;
+          best_id = other;
+        }
+      }
+    };
+    visit(cx, cy, cz);
     const auto max_ring = static_cast<std::int64_t>(std::ceil(max_extent / cell)) + 1;
-    for (std::int64_t ring = 1; ring <= max_ring && !found; ++ring) {
+    for (std::int64_t ring = 1; ring <= max_ring && seen < kMaxCandidates; ++ring) {
       for (std::int64_t dx = -ring; dx <= ring; ++dx)
         for (std::int64_t dy = -ring; dy <= ring; ++dy)
           for (std::int64_t dz = -ring; dz <= ring; ++dz) {
-            // Only the shell of this ring (the inside was searched before), except ring 1.
-            if (ring > 1 && std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
-            const auto it = grid.find(key_of(cx + dx, cy + dy, cz + dz));
-            if (it == grid.end()) continue;
-            for (std::uint32_t other : it->second) {
-              if (other == id || !alive[other]) continue;
-              found = true;
-              const double c = cost(items[id], items[other]);
-              if (c < best || (c == best && other < best_id)) {
-                best = c;
-                best_id = other;
-              }
-            }
+            // Only the shell of this ring (the inside was searched before).
+            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
+            visit(cx + dx, cy + dy, cz + dz);
           }
+      if (seen > 0) break;  // ring 1 always, wider rings only until something is found
     }
-    if (found && std::isfinite(best)) queue.push({best, id, best_id});
+    if (seen > 0 && std::isfinite(best)) queue.push({best, id, best_id});
   };
   for (std::uint32_t i = 0; i < n; ++i) push_best(i);
   while (!queue.empty() && alive_count > 1) {
