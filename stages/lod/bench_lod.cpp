@@ -1,0 +1,76 @@
+// Benchmark of the lod core (a separate executable, never a timed unit test):
+//   - BM_MergeAndPolygonize: internode merging (eq. 3-5) + polygonisation (eq. 9-12) over every
+//     branch of a tree at one epsilon; items/s = input internodes per second;
+//   - BM_Chain/<preset>: the whole chain (precompute incl. FSA/E5 forests + every level) of every
+//     adult preset with the default options (6 levels, 1 mm .. 0.22 m).
+// Seeds: Zhang et al. 2017 §4–§6; Remolar et al. FSA/VDF.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+
+#include "pipeline/rng.h"
+#include "stages/generate/preset.h"
+#include "stages/generate/weber_penn.h"
+#include "stages/lod/chain.h"
+
+namespace {
+
+using namespace sylva;
+
+const tree::Tree& adult(const std::string& species) {
+  static std::map<std::string, tree::Tree> cache;
+  auto it = cache.find(species);
+  if (it != cache.end()) return it->second;
+  const auto sp = generate::load_species_preset(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"));
+  generate::GenerateOptions o;
+  o.max_node_spacing = 0.5;
+  Rng rng(1, "tree");
+  return cache.emplace(species, generate::generate_tree(sp.age("adult").params, o, rng)).first->second;
+}
+
+void BM_MergeAndPolygonize(benchmark::State& state, const std::string& species, double eps) {
+  const tree::Tree& t = adult(species);
+  const auto sk = lod::build_skeletons(t);
+  std::size_t internodes = 0;
+  for (const auto& b : sk) internodes += b.g.size() - 1;
+  const lod::MergeLimits limits{eps / 4, eps / 4, 1.047};
+  std::vector<std::uint32_t> kept;
+  for (auto _ : state) {
+    lod::BranchGeometry geo;
+    for (const auto& b : sk) {
+      kept.clear();
+      lod::merge_internodes(b.g, limits, kept);
+      lod::polygonize_branch(b.g, kept, eps, 12, geo);
+    }
+    benchmark::DoNotOptimize(geo.tri_indices.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * internodes));
+  state.counters["internodes"] = static_cast<double>(internodes);
+}
+
+void BM_Chain(benchmark::State& state, const std::string& species) {
+  const tree::Tree& t = adult(species);
+  lod::ChainOptions o;
+  for (auto _ : state) {
+    auto levels = lod::build_chain(t, o);
+    benchmark::DoNotOptimize(levels.data());
+  }
+  state.counters["leaves"] = static_cast<double>(t.leaves.size());
+  state.counters["needles"] = static_cast<double>(t.needles.size());
+  state.counters["branches"] = static_cast<double>(t.branches.size());
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_1mm, std::string("oak"), 0.001)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_22cm, std::string("oak"), 0.22)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, birch, std::string("birch"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, holly, std::string("holly"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, mugo_pine, std::string("mugo_pine"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, norway_spruce, std::string("norway_spruce"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();
