@@ -5,6 +5,8 @@
 
 #include "app/cli.h"
 #include "app/inspect_command.h"
+#include "app/render_command.h"
+#include "app/verify_command.h"
 #include "stages/register_stages.h"
 
 namespace {
@@ -28,5 +30,7 @@ int main(int argc, char** argv) {
   io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
   io.cancel = &g_cancel;
   auto inspect = sylva::make_inspect_command();
-  return sylva::run_cli(argc, argv, registry, io, {inspect.get()});
+  auto render = sylva::make_render_command();
+  auto verify = sylva::make_verify_command(registry);
+  return sylva::run_cli(argc, argv, registry, io, {inspect.get(), render.get(), verify.get()});
 }

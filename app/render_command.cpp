@@ -1,0 +1,133 @@
+// `sylva render`: a straight sequence of named passes — camera set, views, output plan, scene,
+// renderer, render, write — each failing with its own one-line message and exit code. Cheap
+// checks (options, camera set, the asset) come before creating the EGL context.
+#include "app/render_command.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "libs/image/image_io.h"
+#include "libs/render/camera.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/renderer.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Library errors already read "path: error: reason"; everything else gets the usual prefix.
+void print_error(std::FILE* err, const std::string& what) {
+  if (what.find(": error: ") != std::string::npos) std::fprintf(err, "%s\n", what.c_str());
+  else std::fprintf(err, "error: %s\n", what.c_str());
+}
+
+bool has_png_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".png";
+}
+
+class RenderCommand final : public CliCommand {
+ public:
+  CLI::App* add_to(CLI::App& app) override {
+    auto* sub = app.add_subcommand("render", "render a .glb/.gltf file from the views of a camera set to PNG");
+    sub->add_option("file", file_, "the .glb or .gltf file")->required();
+    sub->add_option("--camera", camera_, "camera set (default: configs/cameras/default.yaml)");
+    sub->add_option("--view", views_, "render only this view (repeatable; default: every view, or the first for -o FILE.png)");
+    sub->add_option("-o,--output", output_, "a .png file (one view) or a directory (one <view>.png per view)")->required();
+    return sub;
+  }
+
+  int run(const CliIo& io) override {
+    // 1. The camera set.
+    render::CameraSet set;
+    try {
+      set = render::load_camera_set(camera_);
+    } catch (const render::CameraSetError& e) {
+      std::fprintf(io.err, "%s\n", e.what());
+      if (!fs::exists(camera_) && camera_ == kDefaultCameras)
+        std::fprintf(io.err, "(run sylva from the repository root, or name a camera set with --camera)\n");
+      return kExitUsage;
+    }
+
+    // 2. The views: --view names, in the order given; unknown names are usage errors.
+    std::vector<render::CameraView> chosen;
+    for (const auto& name : views_) {
+      auto it = std::find_if(set.views.begin(), set.views.end(), [&](const auto& v) { return v.name == name; });
+      if (it == set.views.end()) {
+        std::string names;
+        for (const auto& v : set.views) names += (names.empty() ? "" : ", ") + v.name;
+        std::fprintf(io.err, "error: no view '%s' in %s (its views: %s)\n", name.c_str(), camera_.c_str(), names.c_str());
+        return kExitUsage;
+      }
+      if (std::none_of(chosen.begin(), chosen.end(), [&](const auto& v) { return v.name == name; })) chosen.push_back(*it);
+    }
+
+    // 3. One file or a directory.
+    std::error_code ec;
+    const bool single = has_png_extension(output_) && !fs::is_directory(output_, ec);
+    if (chosen.empty()) {
+      if (single) chosen.push_back(set.views.front());
+      else chosen = set.views;
+    }
+    if (single && chosen.size() > 1) {
+      std::fprintf(io.err, "error: -o %s is one image but %zu views were chosen; give -o a directory for several\n",
+                   output_.c_str(), chosen.size());
+      return kExitUsage;
+    }
+    set.views = chosen;
+
+    // 4. The asset, 5. the renderer, 6. the pictures.
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<render::RenderedView> images;
+    try {
+      const render::Scene scene = render::load_gltf_scene(file_);
+      auto renderer = render::Renderer::create_headless();
+      images = render::render_camera_set(*renderer, scene, set);
+    } catch (const std::exception& e) {  // SceneLoadError, RenderUnavailableError, RenderError: one line each
+      print_error(io.err, e.what());
+      return kExitBuildFailed;
+    }
+
+    // 7. Write.
+    try {
+      if (!single) {
+        fs::create_directories(output_, ec);
+        if (ec) {
+          std::fprintf(io.err, "%s: error: cannot create the directory: %s\n", output_.c_str(), ec.message().c_str());
+          return kExitBuildFailed;
+        }
+      }
+      for (const auto& v : images) {
+        const fs::path path = single ? fs::path(output_) : fs::path(output_) / (v.camera.name + ".png");
+        image::write_png(v.image, path);
+        std::fprintf(io.out, "%s\n", path.c_str());
+      }
+    } catch (const image::ImageError& e) {
+      print_error(io.err, e.what());
+      return kExitBuildFailed;
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(io.err, "sylva: rendered %zu view%s of %s at %dx%d (MSAA %dx) in %.2f s\n", images.size(),
+                 images.size() == 1 ? "" : "s", file_.c_str(), set.width, set.height, set.msaa, seconds);
+    return kExitOk;
+  }
+
+ private:
+  static constexpr const char* kDefaultCameras = "configs/cameras/default.yaml";
+  std::string file_;
+  std::string camera_ = kDefaultCameras;
+  std::vector<std::string> views_;
+  std::string output_;
+};
+
+}  // namespace
+
+std::unique_ptr<CliCommand> make_render_command() { return std::make_unique<RenderCommand>(); }
+
+}  // namespace sylva

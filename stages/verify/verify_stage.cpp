@@ -1,0 +1,137 @@
+// The adapter of stage `verify`: declares the parameters, turns the inputs into assets, runs the
+// core (verify_core.h) and writes the reports (report.h). A stage writes only its outputs, so it
+// never touches the references directory: accepting new images is `sylva verify --update-refs`.
+#include "stages/verify/verify_stage.h"
+
+#include <mutex>
+#include <string>
+
+#include "libs/render/camera.h"
+#include "stages/verify/report.h"
+
+namespace sylva {
+
+namespace {
+
+// Bump whenever the bytes of any output can change (report formats, file naming, verdicts).
+constexpr int kVersion = 1;
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+class VerifyStage final : public Stage {
+ public:
+  explicit VerifyStage(std::function<render::Renderer&()> renderer) : renderer_(std::move(renderer)) {
+    info_.name = "verify";
+    info_.version = kVersion;
+    info_.summary = "render fixed views of every glTF input, compare with reference images, report (JSON, JUnit, HTML)";
+    info_.inputs = InputSpec{{"mesh", "lod", "impostor", "forest", "pack"}, 1, -1,
+                             "artifacts with .glb/.gltf files; each file is one asset, named after its node"};
+    info_.output_type = "report";
+    info_.params = {
+        Param::path("cameras").describe("camera set (configs/cameras/verify.yaml: 384 px, 4x MSAA, 4 views)"),
+        Param::dir("references").describe("directory of reference images <asset>__<view>.png"),
+        Param::real("pixel_threshold", 0.016).range(0, 1)
+            .describe("a pixel fails when any channel differs by more than this (full scale 1; 0.016 = 4/255)"),
+        Param::real("max_failing_fraction", 0.01).range(0, 1)
+            .describe("a view fails when more than this fraction of its pixels fail"),
+        Param::real("min_psnr_db", 0.0).range(0, 200)
+            .describe("a view also fails when its PSNR is below this (dB); 0 = not checked"),
+        Param::boolean("compare_alpha", true).describe("compare the alpha channel too"),
+    };
+  }
+
+  const StageInfo& info() const override { return info_; }
+
+  void run(StageContext& ctx) const override {
+    // 1. The camera set and the assets.
+    render::CameraSet cameras;
+    try {
+      cameras = render::load_camera_set(ctx.param_file("cameras"));
+    } catch (const render::CameraSetError& e) {
+      throw StageError(e.what());
+    }
+    const std::vector<verify::Asset> assets = verify::assets_from_inputs(ctx.inputs());
+    const verify::Thresholds thresholds = verify::thresholds_from_params(ctx.params());
+
+    // 2. Render, compare, write images and reports.
+    verify::Report report;
+    try {
+      render::Renderer& renderer = renderer_();
+      const verify::RunEnv env{renderer, [&](const std::string& name) { return ctx.output_path(name); },
+                               [&] { ctx.check_cancelled(); }};
+      report = verify::run_verification(assets, cameras, ctx.param_file("references"), thresholds, env);
+      ctx.check_cancelled();
+      // A failing run publishes nothing, so its reports would be thrown away: write them only
+      // when they will be kept. `sylva verify` writes them in every case.
+      if (report.passed()) verify::write_reports(report, env.output_path);
+    } catch (const verify::VerifyError& e) {
+      throw StageError(e.what());
+    } catch (const render::RenderError& e) {  // including RenderUnavailableError: no EGL
+      throw StageError(e.what());
+    }
+
+    // 3. Any view that did not pass fails the node (and the build: exit code 1).
+    if (!report.passed())
+      throw StageError(verify::summary_line(report) +
+                       " (run 'sylva verify RECIPE' for report.html, or add --update-refs to accept the new images)");
+  }
+
+ private:
+  StageInfo info_;
+  std::function<render::Renderer&()> renderer_;
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> make_verify_stage(std::function<render::Renderer&()> renderer) {
+  return std::make_unique<VerifyStage>(std::move(renderer));
+}
+
+std::unique_ptr<Stage> make_verify_stage() { return make_verify_stage([]() -> render::Renderer& { return verify::shared_renderer(); }); }
+
+namespace verify {
+
+std::vector<Asset> assets_from_inputs(const std::vector<InputArtifact>& inputs) {
+  std::vector<Asset> assets;
+  for (const InputArtifact& in : inputs) {
+    std::vector<const ArtifactFile*> files;
+    for (const ArtifactFile& f : in.files)
+      if (ends_with(f.name, ".glb") || ends_with(f.name, ".gltf")) files.push_back(&f);
+    if (files.empty())
+      throw StageError("input '" + in.node + "' (type " + in.type + ") has no .glb or .gltf file to verify");
+    for (const ArtifactFile* f : files) {
+      const std::string stem = f->name.substr(0, f->name.rfind('.'));
+      assets.push_back({files.size() == 1 ? in.node : in.node + "." + stem, f->path});
+    }
+  }
+  return assets;
+}
+
+Thresholds thresholds_from_params(const Value::Object& params) {
+  auto real = [&](const char* name, double def) {
+    auto it = params.find(name);
+    return it == params.end() ? def : it->second.as_real();
+  };
+  Thresholds t;
+  t.pixel_threshold = real("pixel_threshold", t.pixel_threshold);
+  t.max_failing_fraction = real("max_failing_fraction", t.max_failing_fraction);
+  t.min_psnr_db = real("min_psnr_db", t.min_psnr_db);
+  if (auto it = params.find("compare_alpha"); it != params.end()) t.compare_alpha = it->second.as_bool();
+  return t;
+}
+
+render::Renderer& shared_renderer() {
+  // Created once and deliberately never destroyed: tearing an EGL display down from a static
+  // destructor races Mesa's own exit handlers. A failure is not remembered, so each verify node
+  // reports it (with the same one-line message).
+  static std::mutex mu;
+  static render::Renderer* renderer = nullptr;
+  std::lock_guard<std::mutex> lock(mu);
+  if (!renderer) renderer = render::Renderer::create_headless().release();
+  return *renderer;
+}
+
+}  // namespace verify
+}  // namespace sylva
