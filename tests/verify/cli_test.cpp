@@ -1,0 +1,287 @@
+// `sylva render` and `sylva verify` through the real binary: exit codes, one-line messages, the
+// files written, and the update-refs workflow on a small generate -> mesh -> verify recipe.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "libs/image/image_io.h"
+#include "libs/render/testing/gltf_builder.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+using render::Vec4;
+
+struct Outcome {
+  int code = -1;
+  std::string out, err;
+};
+
+// Runs `env sylva args` through the shell (paths here have no spaces) and captures its output.
+Outcome sylva(const test::TempDir& dir, const std::string& args, const std::string& env = "") {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = env + " " + SYLVA_BINARY + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  Outcome r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = test::read_file(out);
+  r.err = test::read_file(err);
+  return r;
+}
+
+int count_of(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+constexpr const char* kCameras =
+    "version: 1\nwidth: 96\nheight: 64\nmsaa: 4\nviews:\n"
+    "  - name: front\n    orbit: { azimuth_deg: 0, elevation_deg: 10 }\n"
+    "  - name: side\n    orbit: { azimuth_deg: 90, elevation_deg: 10 }\n";
+
+class RenderCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    render::testing::GltfBuilder b;
+    const int m = b.add_material({.base_color = Vec4(0.2f, 0.6f, 0.2f, 1)});
+    b.add_root(b.add_node({.mesh = b.add_mesh({render::testing::cube(1.f, m)})}));
+    b.write_glb(glb_);
+    test::write_file(cams_, kCameras);
+  }
+  test::TempDir dir_;
+  fs::path glb_ = dir_ / "cube.glb";
+  fs::path cams_ = dir_ / "cams.yaml";
+};
+
+// -o FILE.png: the first view (or the one --view names), one path on stdout.
+TEST_F(RenderCli, OnePng) {
+  const fs::path png = dir_ / "cube.png";
+  Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + png.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, png.string() + "\n");
+  EXPECT_NE(r.err.find("sylva: rendered 1 view of " + glb_.string() + " at 96x64 (MSAA 4x)"), std::string::npos) << r.err;
+  const image::Image img = image::read_image(png);
+  EXPECT_EQ(img.width(), 96);
+  EXPECT_EQ(img.height(), 64);
+  // The same command again writes the same bytes.
+  const std::string first = test::read_file(png);
+  ASSERT_EQ(sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + png.string()).code, 0);
+  EXPECT_EQ(test::read_file(png), first);
+  // --view picks another view: a different picture.
+  ASSERT_EQ(sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " --view side -o " + png.string()).code, 0);
+  EXPECT_NE(test::read_file(png), first);
+}
+
+// -o DIR: one <view>.png per view, the directory created.
+TEST_F(RenderCli, Directory) {
+  const fs::path out = dir_ / "views" / "cube";
+  const Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, (out / "front.png").string() + "\n" + (out / "side.png").string() + "\n");
+  EXPECT_TRUE(fs::exists(out / "front.png"));
+  EXPECT_TRUE(fs::exists(out / "side.png"));
+}
+
+// Usage errors exit 2 with one line.
+TEST_F(RenderCli, UsageErrors) {
+  Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " --view top -o x.png");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: no view 'top' in " + cams_.string() + " (its views: front, side)\n");
+  r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " --view front --view side -o " +
+                      (dir_ / "x.png").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: -o " + (dir_ / "x.png").string() +
+                       " is one image but 2 views were chosen; give -o a directory for several\n");
+  r = sylva(dir_, "render " + glb_.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--output is required"), std::string::npos) << r.err;
+  test::write_file(dir_ / "bad.yaml", "version: 1\nwidth: 0\nheight: 10\nviews: [{name: a}]\n");
+  r = sylva(dir_, "render " + glb_.string() + " --camera " + (dir_ / "bad.yaml").string() + " -o x.png");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.rfind((dir_ / "bad.yaml").string() + ":2:8: error: 'width' must be between 1 and 16384, got 0", 0), 0u)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+// Bad input exits 1 with one line naming the file; nothing is written.
+TEST_F(RenderCli, BadAssetsExitOne) {
+  const fs::path png = dir_ / "x.png";
+  test::write_file(dir_ / "garbage.glb", "this is not glTF");
+  Outcome r = sylva(dir_, "render " + (dir_ / "garbage.glb").string() + " --camera " + cams_.string() + " -o " + png.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err.rfind((dir_ / "garbage.glb").string() + ": error: invalid glTF: ", 0), 0u) << r.err;
+  EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
+  r = sylva(dir_, "render " + (dir_ / "none.glb").string() + " --camera " + cams_.string() + " -o " + png.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err, (dir_ / "none.glb").string() + ": error: no such file\n");
+  EXPECT_FALSE(fs::exists(png));
+}
+
+// Without any EGL vendor: exit 1 and the renderer's one-line reason.
+TEST_F(RenderCli, NoEglExitsOne) {
+  const Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + (dir_ / "x.png").string(),
+                      "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json __EGL_VENDOR_LIBRARY_DIRS=/nonexistent");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.err.rfind("error: headless OpenGL is not available: ", 0), 0u) << r.err;
+  EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
+}
+
+// A small recipe: generate (young birch, 2 levels) -> mesh (no subdivision, no foliage) -> verify.
+class VerifyCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::create_directories(refs_);
+    test::write_file(dir_ / "cams.yaml", kCameras);
+    write_recipe("");
+  }
+  void write_recipe(const std::string& verify_with) {
+    test::write_file(recipe_, "version: 1\nname: small\nnodes:\n"
+                              "  tree_birch:\n    stage: generate\n    with: { preset: " +
+                                  fs::absolute("configs/species/birch.yaml").string() +
+                                  ", age: young, texture_size: 16, levels: 2 }\n"
+                                  "  mesh_birch:\n    stage: mesh\n    needs: tree_birch\n"
+                                  "    with: { subdivision: 0, foliage: false }\n"
+                                  "  check:\n    stage: verify\n    needs: ['mesh_*']\n"
+                                  "    with: { cameras: cams.yaml, references: refs" +
+                                  verify_with + " }\n");
+  }
+  Outcome verify(const std::string& extra = "") {
+    return sylva(dir_, "--out " + out_.string() + " verify " + recipe_.string() + " " + extra);
+  }
+  Outcome build() { return sylva(dir_, "--out " + out_.string() + " build " + recipe_.string()); }
+
+  test::TempDir dir_;
+  fs::path recipe_ = dir_ / "small.yaml";
+  fs::path refs_ = dir_ / "refs";
+  fs::path out_ = dir_ / "out";
+  fs::path reports_ = out_ / "small" / "verify-reports" / "check";
+};
+
+// The whole workflow: no references -> fail with reports; --update-refs -> references written;
+// verify and build pass; a changed reference fails both, with the stage's one-line summary.
+TEST_F(VerifyCli, UpdateRefsWorkflow) {
+  // 1. No references: exit 1, one FAIL line per view, reports written anyway.
+  Outcome r = verify();
+  ASSERT_EQ(r.code, 1) << r.err;
+  EXPECT_EQ(r.out, "sylva verify: node 'check' FAILED (0/2 views passed, 2 did not pass); report: " +
+                       (reports_ / "report.html").string() + "\n");
+  EXPECT_NE(r.err.find("FAIL mesh_birch/front: no reference image 'mesh_birch__front.png' in the references directory\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(count_of(r.err, "FAIL "), 2);
+  for (const char* f : {"report.html", "report.json", "junit.xml", "mesh_birch__front.png", "mesh_birch__side.png"})
+    EXPECT_TRUE(fs::exists(reports_ / f)) << f;
+  auto j = nlohmann::json::parse(test::read_file(reports_ / "report.json"));
+  EXPECT_EQ(j["passed"], false);
+  EXPECT_EQ(j["summary"]["missing_reference"], 2);
+  EXPECT_EQ(count_of(test::read_file(reports_ / "junit.xml"), "<failure type=\"missing_reference\""), 2);
+  // `sylva build` fails the verify node the same way (exit 1), publishing nothing for it.
+  r = build();
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("error: node 'check' (stage verify): 2 of 2 views did not pass verification: mesh_birch/front: "
+                       "no reference image"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out_ / "small" / "check" / "report.html"));
+
+  // 2. --update-refs writes the new references and exits 0.
+  r = verify("--update-refs");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, "sylva verify: node 'check' updated (0/2 views passed, 2 references updated in " + refs_.string() +
+                       "); report: " + (reports_ / "report.html").string() + "\n");
+  EXPECT_EQ(count_of(r.err, "UPDATED mesh_birch/"), 2);
+  EXPECT_EQ(test::read_file(refs_ / "mesh_birch__front.png"), test::read_file(reports_ / "mesh_birch__front.png"));
+  EXPECT_TRUE(fs::exists(refs_ / "mesh_birch__side.png"));
+
+  // 3. Now everything passes, from the command and from the build (which publishes the reports).
+  r = verify();
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out, "sylva verify: node 'check' passed (2/2 views passed); report: " + (reports_ / "report.html").string() + "\n");
+  r = build();
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(test::read_file(out_ / "small" / "check" / "report.json"));
+  EXPECT_EQ(j["passed"], true);
+  // The stage and the command write the same report.
+  EXPECT_EQ(test::read_file(out_ / "small" / "check" / "report.html"), test::read_file(reports_ / "report.html"));
+
+  // 4. A reference that no longer matches (here: the other view's image) fails both.
+  fs::copy_file(refs_ / "mesh_birch__side.png", refs_ / "mesh_birch__front.png", fs::copy_options::overwrite_existing);
+  r = verify();
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("FAIL mesh_birch/front: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("% of pixels differ by more than 0.016 (allowed 1.00%)"), std::string::npos) << r.err;
+  j = nlohmann::json::parse(test::read_file(reports_ / "report.json"));
+  EXPECT_EQ(j["cases"][0]["status"], "failed");
+  EXPECT_GT(j["cases"][0]["metrics"]["failing_fraction"].get<double>(), 0.01);
+  EXPECT_EQ(build().code, 1);  // the references directory is hashed: the node re-ran
+
+  // 5. Thresholds come from the recipe: allowing every pixel to fail lets it through.
+  write_recipe(", max_failing_fraction: 1");
+  EXPECT_EQ(verify().code, 0);
+  EXPECT_EQ(build().code, 0);
+}
+
+// A reference for a view the camera set no longer has is pointed out, not failed.
+TEST_F(VerifyCli, UnusedReferenceNote) {
+  ASSERT_EQ(verify("--update-refs").code, 0);
+  test::write_file(refs_ / "mesh_birch__old.png", "x");
+  const Outcome r = verify();
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: mesh_birch__old.png in " + refs_.string() +
+                       " is not used by any view of node 'check' (delete it if the view is gone)"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST_F(VerifyCli, UsageErrors) {
+  Outcome r = verify("--node nope");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: no node 'nope' of stage 'verify' in recipe 'small'\n");
+  r = verify("--node mesh_birch");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: no node 'mesh_birch' of stage 'verify' in recipe 'small'\n");
+  r = verify("--node chek");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("did you mean 'check'"), std::string::npos) << r.err;
+  test::write_file(dir_ / "plain.yaml", "version: 1\nname: plain\nnodes:\n  t:\n    stage: generate\n    with: { preset: " +
+                                            fs::absolute("configs/species/birch.yaml").string() + " }\n");
+  r = sylva(dir_, "--out " + out_.string() + " verify " + (dir_ / "plain.yaml").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: recipe 'plain' (" + (dir_ / "plain.yaml").string() +
+                       ") has no node of stage 'verify'; add one (docs/stages/verify.md)\n");
+  r = sylva(dir_, "--out " + out_.string() + " verify " + (dir_ / "missing.yaml").string());
+  EXPECT_EQ(r.code, 2);
+}
+
+// --report-dir puts the reports elsewhere (one folder per node).
+TEST_F(VerifyCli, ReportDir) {
+  const Outcome r = verify("--report-dir " + (dir_ / "reports").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(fs::exists(dir_ / "reports" / "check" / "report.html"));
+  EXPECT_FALSE(fs::exists(reports_));
+}
+
+// A node whose input fails to build: exit 1, nothing verified.
+TEST_F(VerifyCli, BrokenInputIsABuildFailure) {
+  test::write_file(dir_ / "broken.yaml", "Levels: [");
+  test::write_file(recipe_, "version: 1\nname: small\nnodes:\n  tree:\n    stage: generate\n    with: { preset: broken.yaml }\n"
+                            "  mesh:\n    stage: mesh\n    needs: tree\n"
+                            "  check:\n    stage: verify\n    needs: mesh\n    with: { cameras: cams.yaml, references: refs }\n");
+  const Outcome r = verify();
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("error: node 'tree' (stage generate): "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sylva verify: the inputs did not build"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+}  // namespace
+}  // namespace sylva
