@@ -38,7 +38,8 @@ class RenderCommand final : public CliCommand {
     auto* sub = app.add_subcommand("render", "render a .glb/.gltf file from the views of a camera set to PNG");
     sub->add_option("file", file_, "the .glb or .gltf file")->required();
     sub->add_option("--camera", camera_, "camera set (default: configs/cameras/default.yaml)");
-    sub->add_option("--view", views_, "render only this view (repeatable; default: every view, or the first for -o FILE.png)");
+    sub->add_option("--view", views_, "render only this view (repeatable; default: every view, or the first for -o FILE.png)")
+        ->allow_extra_args(false);
     sub->add_option("-o,--output", output_, "a .png file (one view) or a directory (one <view>.png per view)")->required();
     return sub;
   }

@@ -3,6 +3,7 @@
 // reading as stage `verify` (stages/verify/verify_stage.h), so the command and the stage agree.
 #include "app/verify_command.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -36,7 +37,8 @@ class VerifyCommand final : public CliCommand {
     parent_ = &app;
     auto* sub = app.add_subcommand("verify", "build a recipe's verify nodes' inputs, compare renderings with references, report");
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
-    sub->add_option("--node", nodes_, "verify only this node (repeatable; default: every node of stage verify)");
+    sub->add_option("--node", nodes_, "verify only this node (repeatable; default: every node of stage verify)")
+        ->allow_extra_args(false);
     sub->add_flag("--update-refs", update_refs_,
                   "copy the new renderings of views that failed or had no reference into the references directory");
     sub->add_option("-j,--jobs", jobs_, "parallel nodes while building the inputs (default: all cores)")
@@ -76,7 +78,7 @@ class VerifyCommand final : public CliCommand {
                      recipe->name.c_str(), did_you_mean(name, verify_names).c_str());
         return kExitUsage;
       }
-      selected.push_back(n);
+      if (std::find(selected.begin(), selected.end(), n) == selected.end()) selected.push_back(n);
     }
     const fs::path out_dir = fs::path(out_root) / recipe->name;
     fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);

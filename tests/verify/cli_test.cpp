@@ -76,8 +76,8 @@ TEST_F(RenderCli, OnePng) {
   const std::string first = test::read_file(png);
   ASSERT_EQ(sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + png.string()).code, 0);
   EXPECT_EQ(test::read_file(png), first);
-  // --view picks another view: a different picture.
-  ASSERT_EQ(sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " --view side -o " + png.string()).code, 0);
+  // --view picks another view: a different picture (options may come before the file).
+  ASSERT_EQ(sylva(dir_, "render --view side --camera " + cams_.string() + " " + glb_.string() + " -o " + png.string()).code, 0);
   EXPECT_NE(test::read_file(png), first);
 }
 
@@ -203,7 +203,7 @@ TEST_F(VerifyCli, UpdateRefsWorkflow) {
   EXPECT_TRUE(fs::exists(refs_ / "mesh_birch__side.png"));
 
   // 3. Now everything passes, from the command and from the build (which publishes the reports).
-  r = verify();
+  r = sylva(dir_, "--out " + out_.string() + " verify --node check --node check " + recipe_.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out, "sylva verify: node 'check' passed (2/2 views passed); report: " + (reports_ / "report.html").string() + "\n");
   r = build();
