@@ -125,7 +125,7 @@ th{font-weight:600;color:#4a5160}
 .images{display:grid;grid-template-columns:repeat(3,minmax(0,1fr));gap:10px;margin:0 0 8px}
 figure{margin:0} figcaption{color:#4a5160;font-size:12px}
 figure img{width:100%;height:auto;image-rendering:pixelated;border:1px solid #d9dce3;background:#fff}
-.none{display:flex;align-items:center;justify-content:center;aspect-ratio:1;border:1px dashed #a15c00;color:#a15c00;background:#fff7ec;text-align:center;padding:8px}
+.none{box-sizing:border-box;display:flex;align-items:center;justify-content:center;aspect-ratio:1;border:1px dashed #a15c00;color:#a15c00;background:#fff7ec;text-align:center;padding:8px}
 .legend{color:#4a5160;font-size:12px}
 body:has(#only-failing:checked) .case.passed{display:none}
 )css";
