@@ -6,6 +6,7 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -125,14 +126,17 @@ th{font-weight:600;color:#4a5160}
 .images{display:grid;grid-template-columns:repeat(3,minmax(0,1fr));gap:10px;margin:0 0 8px}
 figure{margin:0} figcaption{color:#4a5160;font-size:12px}
 figure img{width:100%;height:auto;image-rendering:pixelated;border:1px solid #d9dce3;background:#fff}
-.none{box-sizing:border-box;display:flex;align-items:center;justify-content:center;aspect-ratio:1;border:1px dashed #a15c00;color:#a15c00;background:#fff7ec;text-align:center;padding:8px}
+.none{box-sizing:border-box;display:flex;align-items:center;justify-content:center;border:1px dashed #a15c00;color:#a15c00;background:#fff7ec;text-align:center;padding:8px}
 .legend{color:#4a5160;font-size:12px}
 body:has(#only-failing:checked) .case.passed{display:none}
 )css";
 
-std::string figure(const std::string& png, const std::string& caption, const std::string& missing) {
+// A placeholder keeps the image's aspect ratio (width x height of the camera set).
+std::string figure(const std::string& png, const std::string& caption, const std::string& missing, int width,
+                   int height) {
   if (png.empty())
-    return "<figure><div class=\"none\">" + escape(missing) + "</div><figcaption>" + escape(caption) +
+    return "<figure><div class=\"none\" style=\"aspect-ratio:" + std::to_string(std::max(width, 1)) + "/" +
+           std::to_string(std::max(height, 1)) + "\">" + escape(missing) + "</div><figcaption>" + escape(caption) +
            "</figcaption></figure>\n";
   return "<figure><img alt=\"" + escape(caption) + "\" src=\"" + data_uri(png) + "\"><figcaption>" + escape(caption) +
          "</figcaption></figure>\n";
@@ -288,11 +292,12 @@ std::string report_html(const Report& r) {
     if (!c.message.empty()) h += "<p class=\"msg\">" + escape(c.message) + "</p>\n";
     h += "<div class=\"images\">\n";
     h += figure(c.reference_png, "reference" + (c.compared ? " (" + c.image_file + ")" : std::string()),
-                c.status == CaseStatus::kMissingReference ? "no reference image" : "no reference compared");
+                c.status == CaseStatus::kMissingReference ? "no reference image" : "no reference compared", r.width,
+                r.height);
     h += figure(c.image_png, "new" + (c.image_file.empty() ? std::string() : " (" + c.image_file + ")"),
-                "no rendering");
+                "no rendering", r.width, r.height);
     h += figure(c.diff_png, "difference" + (c.diff_file.empty() ? std::string() : " (" + c.diff_file + ")"),
-                "no difference image");
+                "no difference image", r.width, r.height);
     h += "</div>\n";
     if (c.compared && !c.compare.size_mismatch) {
       const auto& m = c.compare;

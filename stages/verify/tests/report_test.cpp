@@ -190,7 +190,7 @@ TEST(ReportHtml, SelfContainedAndComplete) {
   // pass: 3 images, fail: 3, missing: the new one only, error: none.
   EXPECT_EQ(tags["img"], 7);
   EXPECT_EQ(count_of(h, "src=\"data:image/png;base64,"), 7);
-  EXPECT_EQ(count_of(h, "no reference image</div>"), 1);
+  EXPECT_EQ(count_of(h, "<div class=\"none\" style=\"aspect-ratio:8/8\">no reference image</div>"), 1);
   EXPECT_NE(h.find("<title>sylva verify: FAILED (3 of 4 views)</title>"), std::string::npos);
   EXPECT_NE(h.find("1 passed · 1 failed · 1 missing reference · 1 error"), std::string::npos);
   // Nothing is loaded from elsewhere.
