@@ -21,6 +21,7 @@ build: configure
 
 run: build
 	@$(SYLVA) build $(RECIPE)
+	@$(SYLVA) verify $(RECIPE)
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 600
