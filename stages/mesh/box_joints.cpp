@@ -74,7 +74,7 @@ class Mesher {
       ++st_.components;
       const std::uint32_t base = make_ring(b, 0);
       if (!o_.open_base) {
-        emit_projected({base + 3, base + 2, base + 1, base}, ring(b, 0).v);
+        emit_projected({base + 3, base + 2, base + 1, base}, ring(b, 0).v, FaceKind::kCap);
         ++st_.base_caps;
       }
       walk_.push_back({b, 0});
@@ -120,13 +120,14 @@ class Mesher {
   }
   Vec3 seg_centre(const Segment& s) const { return ring(s.branch, s.ring).center; }
 
-  void emit(const Loop& l, const std::array<Uv, 4>& uv) {
+  void emit(const Loop& l, const std::array<Uv, 4>& uv, FaceKind kind) {
     m_.quads.push_back(l);
     m_.uvs.push_back(uv);
+    m_.kinds.push_back(kind);
   }
 
   // Planar projection at the bark's texel density (caps, crotches, backward boxes).
-  void emit_projected(const Loop& l, double v_ref) {
+  void emit_projected(const Loop& l, double v_ref, FaceKind kind) {
     const Vec3 c = centre(l), n = normal(l);
     Vec3 e1 = normalized(p(l[1]) - p(l[0]));
     if (length(e1) == 0) e1 = Vec3{1, 0, 0};
@@ -135,9 +136,9 @@ class Mesher {
     std::array<Uv, 4> uv;
     for (std::size_t i = 0; i < 4; ++i) {
       const Vec3 d = p(l[i]) - c;
-      uv[i] = {0.5 + dot(d, e1) * scale, v_ref * repeat_ + dot(d, e2) * scale};
+      uv[i] = {static_cast<float>(0.5 + dot(d, e1) * scale), static_cast<float>(v_ref * repeat_ + dot(d, e2) * scale)};
     }
-    emit(l, uv);
+    emit(l, uv, kind);
   }
 
   // Segments at ring k of branch b: the continuation, then the children in tree order.
@@ -156,7 +157,7 @@ class Mesher {
   // Appendix D, Connect(Quad, Segments).
   void connect(const Loop& port, std::vector<Segment> segs, double v_base, int level) {
     if (segs.empty()) {
-      emit_projected(port, v_base);  // a tip cap, or a box side nothing connects to
+      emit_projected(port, v_base, FaceKind::kCap);  // a tip cap
       ++st_.tip_caps;
       return;
     }
@@ -167,9 +168,9 @@ class Mesher {
     }
     if (segs.size() == 1) {
       const Bridge br = bridge(port, segs[0], v_base);
-      for (std::size_t i = 0; i < 4; ++i) emit(br.sides[i], br.side_uv[i]);
+      for (std::size_t i = 0; i < 4; ++i) emit(br.sides[i], br.side_uv[i], br.kind);
       if (br.inset)
-        for (const Loop& l : br.rim) emit_projected(l, v_base);
+        for (const Loop& l : br.rim) emit_projected(l, v_base, FaceKind::kRim);
       return;
     }
     if (segs[1].radius >= segs[0].radius * (1 - kEqualRadius)) {
@@ -221,6 +222,7 @@ class Mesher {
   struct Bridge {
     std::array<Loop, 4> sides;                 // the four bridge quads (the box's side faces)
     std::array<std::array<Uv, 4>, 4> side_uv;  // their uvs
+    FaceKind kind = FaceKind::kTube;           // kTube for a continuation, kJoint for a child
     bool inset = false;                        // the port was inset first:
     std::array<Loop, 4> rim;                   // the four quads around the inset
   };
@@ -232,6 +234,7 @@ class Mesher {
   Bridge bridge(const Loop& port_in, const Segment& s, double v_base) {
     ++st_.bridges;
     Bridge out;
+    out.kind = s.ring > 0 ? FaceKind::kTube : FaceKind::kJoint;
     Loop port = port_in;
     const Ring& g = ring(s.branch, s.ring);
     const double ring_size = o_.corner_scale * g.radius;
@@ -260,7 +263,9 @@ class Mesher {
       const std::uint32_t rb = base + static_cast<std::uint32_t>((a + 1) % 4);
       const double ua = repeat_ * a / 4.0, ub = repeat_ * (a + 1) / 4.0;  // corner 0 is u = 1 after corner 3
       out.sides[static_cast<std::size_t>(i)] = {port[static_cast<std::size_t>(i)], port[static_cast<std::size_t>((i + 1) % 4)], rb, ra};
-      out.side_uv[static_cast<std::size_t>(i)] = {Uv{ua, v_port}, Uv{ub, v_port}, Uv{ub, v_ring}, Uv{ua, v_ring}};
+      const float fa = static_cast<float>(ua), fb = static_cast<float>(ub);
+      const float fp = static_cast<float>(v_port), fr = static_cast<float>(v_ring);
+      out.side_uv[static_cast<std::size_t>(i)] = {Uv{fa, fp}, Uv{fb, fp}, Uv{fb, fr}, Uv{fa, fr}};
     }
     walk_.push_back(s);
     return out;
@@ -291,9 +296,9 @@ class Mesher {
     for (std::size_t i = 0; i < nfaces; ++i) {
       if (on_face[i].empty()) {
         if (i < 4) {
-          emit(faces[i], br.side_uv[i]);
+          emit(faces[i], br.side_uv[i], br.kind);
         } else {
-          emit_projected(faces[i], v_base);
+          emit_projected(faces[i], v_base, FaceKind::kRim);
         }
       } else {
         if (on_face[i].size() > 1) ++st_.recursive_sides;
@@ -342,9 +347,9 @@ class Mesher {
     const Vec3 m12 = (p(q[1]) + p(q[2])) * 0.5 + n * lift, m30 = (p(q[3]) + p(q[0])) * 0.5 + n * lift;
     const std::uint32_t a1 = add_vertex(m12 + s * gap), a2 = add_vertex(m12 - s * gap);
     const std::uint32_t b1 = add_vertex(m30 + s * gap), b2 = add_vertex(m30 - s * gap);
-    emit_projected({q[1], q[2], a2, a1}, v_base);
-    emit_projected({q[3], q[0], b1, b2}, v_base);
-    emit_projected({a1, a2, b2, b1}, v_base);
+    emit_projected({q[1], q[2], a2, a1}, v_base, FaceKind::kCrotch);
+    emit_projected({q[3], q[0], b1, b2}, v_base, FaceKind::kCrotch);
+    emit_projected({a1, a2, b2, b1}, v_base, FaceKind::kCrotch);
     // Sides by direction; never all on one side.
     std::vector<std::pair<double, Segment>> by_side;
     for (const Segment& g : segs) by_side.emplace_back(dot(seg_centre(g) - c, s), g);
@@ -392,7 +397,7 @@ class Mesher {
     }
     for (std::size_t i = 0; i < nfaces; ++i) {
       if (on_face[i].empty()) {
-        emit_projected(faces[i], v_base);
+        emit_projected(faces[i], v_base, i < 5 ? FaceKind::kBox : FaceKind::kRim);
       } else {
         connect(faces[i], on_face[i], v_base, level + 1);
       }
@@ -420,6 +425,7 @@ QuadMesh build_bark_mesh(const MeshSkeleton& skeleton, const BarkOptions& option
   m.positions.reserve(rings * 4 + 64);
   m.quads.reserve(rings * 4 + 64);
   m.uvs.reserve(rings * 4 + 64);
+  m.kinds.reserve(rings * 4 + 64);
   JointStats local;
   Mesher(skeleton, options, m, stats ? *stats : local).run();
   return m;

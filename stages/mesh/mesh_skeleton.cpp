@@ -14,6 +14,7 @@ using tree::Node;
 
 constexpr double kSnap = 0.1;  // parent_t within 10 % of a node snaps to it (Nystad's 10 % rule)
 constexpr double kRadiusTolerance = 1e-3;  // relative; "equal" radii (the split case)
+constexpr double kMergeFraction = 0.02;    // rings closer than this many corner distances merge
 
 // Where a child hangs on its parent's original polyline: node k, plus t for a virtual ring.
 struct Hang {
@@ -42,9 +43,77 @@ struct Work {
   std::int32_t drop_parent = -1;
   std::uint32_t drop_ring = 0;
   std::vector<Hang> inserts;     // virtual rings requested by children
-  std::vector<std::uint32_t> node_ring;  // original node -> ring index before clearance
+  std::vector<std::pair<Hang, bool>> hangs;  // every meshed child: where, and whether it sits
+                                             // on a box side (thinner than the continuation)
+  std::vector<std::uint32_t> node_ring;  // original node -> ring index with virtual rings
+  std::vector<std::uint32_t> collapsed;  // that index -> ring index after junction collapse
   std::uint32_t ring_offset = 0;         // leading rings removed by the clearance rule
 };
+
+// Frames of the rings. Zhang et al.'s rule (eq. A1, as libs/tree/frames.h) propagates the normal,
+// but each tangent is the chord over +-w of arc length around the ring (w = the ring's corner
+// distance) rather than the bisector of the two adjacent segments: rings closer together than
+// their size then stay nearly parallel, so a bend at a short segment (the generator's prepended
+// and appended nodes sit one child radius from a junction where the natural rules turn the
+// branch) does not make neighbouring rings cross and fold the tube.
+std::vector<Frame> ring_frames(const std::vector<Node>& nodes, double corner_scale, Vec3 initial_normal,
+                               Vec3 fallback_t) {
+  const std::size_t n = nodes.size();
+  std::vector<double> s(n, 0);
+  for (std::size_t i = 1; i < n; ++i) s[i] = s[i - 1] + tree::length(nodes[i].position - nodes[i - 1].position);
+  auto at = [&](double x) {
+    x = std::clamp(x, 0.0, s.back());
+    std::size_t j = static_cast<std::size_t>(std::upper_bound(s.begin(), s.end(), x) - s.begin());
+    j = std::clamp<std::size_t>(j, 1, n - 1);
+    const double len = s[j] - s[j - 1];
+    const double t = len > 0 ? (x - s[j - 1]) / len : 0;
+    return nodes[j - 1].position + (nodes[j].position - nodes[j - 1].position) * t;
+  };
+  std::vector<Frame> f(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 t{};
+    if (n > 1) {
+      const double w = std::max(corner_scale * nodes[i].radius, 1e-9);
+      t = at(s[i] + w) - at(s[i] - w);
+      // A zero chord (a 180-degree reversal): the nearest non-degenerate segment.
+      for (std::size_t d = 0; tree::length(t) == 0 && d < n; ++d) {
+        if (i + d + 1 < n) t = nodes[i + d + 1].position - nodes[i + d].position;
+        if (tree::length(t) == 0 && i >= d + 1) t = nodes[i - d].position - nodes[i - d - 1].position;
+      }
+    }
+    f[i].t = tree::length(t) > 0 ? tree::normalized(t) : fallback_t;
+  }
+  // Normals: N_0 from the initial normal, then N_{k+1} = (T_{k+1} x N_k) x T_{k+1} (A1).
+  auto perpendicular = [](Vec3 t) {
+    const Vec3 a = std::abs(t.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    return tree::normalized(tree::cross(tree::cross(t, a), t));
+  };
+  Vec3 n0 = initial_normal - f[0].t * tree::dot(initial_normal, f[0].t);
+  f[0].n = tree::length(n0) > 1e-9 ? tree::normalized(n0) : perpendicular(f[0].t);
+  f[0].b = tree::cross(f[0].t, f[0].n);
+  for (std::size_t i = 1; i < n; ++i) {
+    const Vec3 b = tree::cross(f[i].t, f[i - 1].n);
+    if (tree::length(b) > 1e-9) {
+      f[i].b = tree::normalized(b);
+      f[i].n = tree::cross(f[i].b, f[i].t);
+    } else {
+      const Frame g = tree::transport_frame(f[i - 1], f[i].t);
+      f[i].n = g.n;
+      f[i].b = g.b;
+    }
+  }
+  return f;
+}
+
+// Ring index (virtual rings included, before the junction collapse) of a hang on `w`'s branch.
+std::uint32_t ring_index(const Work& w, const Hang& h) {
+  std::uint32_t ring = w.node_ring[h.node];
+  if (h.t > 0) {
+    const auto it = std::lower_bound(w.inserts.begin(), w.inserts.end(), h);
+    ring += 1 + static_cast<std::uint32_t>(it - std::lower_bound(w.inserts.begin(), w.inserts.end(), Hang{h.node, 0}));
+  }
+  return ring;
+}
 
 }  // namespace
 
@@ -80,7 +149,10 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
     if (b.parent < 0) continue;
     const tree::Branch& p = tree.branches[static_cast<std::size_t>(b.parent)];
     const Hang h = hang_of(b, p);
-    if (h.t > 0) work[static_cast<std::size_t>(b.parent)].inserts.push_back(h);
+    Work& pw = work[static_cast<std::size_t>(b.parent)];
+    if (h.t > 0) pw.inserts.push_back(h);
+    const bool side = h.node + 1 < p.nodes.size() && b.nodes[0].radius < p.nodes[h.node + 1].radius * (1 - kRadiusTolerance);
+    pw.hangs.emplace_back(h, side);
   }
 
   const double r0 = std::max(tree.branches[0].nodes[0].radius, min_r);
@@ -102,12 +174,7 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
         parent_ring = pw.drop_ring;
       } else {
         parent = pw.skel;
-        const Hang h = hang_of(b, tree.branches[static_cast<std::size_t>(b.parent)]);
-        std::uint32_t ring = pw.node_ring[h.node];
-        if (h.t > 0) {
-          const auto it = std::lower_bound(pw.inserts.begin(), pw.inserts.end(), h);
-          ring += 1 + static_cast<std::uint32_t>(it - std::lower_bound(pw.inserts.begin(), pw.inserts.end(), Hang{h.node, 0}));
-        }
+        const std::uint32_t ring = pw.collapsed[ring_index(pw, hang_of(b, tree.branches[static_cast<std::size_t>(b.parent)]))];
         parent_ring = ring >= pw.ring_offset ? ring - pw.ring_offset : 0;
       }
       if (parent < 0) continue;  // cannot happen for a valid tree; keep the mesher safe
@@ -129,6 +196,59 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
         ++next_insert;
       }
     }
+    // 2b. Junction collapse: a ring whose children all sit on box sides is the attachment point
+    // between the generator's prepended and appended nodes (Nystad §4.2.2); the children hang
+    // from the ring before it instead, so their box spans prepended -> appended, centred on
+    // them. Not when the ring before has children of its own (its box is taken).
+    {
+      std::vector<char> has(nodes.size(), 0), all_side(nodes.size(), 1);
+      for (const auto& [h, side] : w.hangs) {
+        const std::uint32_t r = ring_index(w, h);
+        has[r] = 1;
+        if (!side) all_side[r] = 0;
+      }
+      w.collapsed.assign(nodes.size(), 0);
+      std::vector<Node> kept;
+      kept.reserve(nodes.size());
+      bool previous_has = false;
+      for (std::size_t j = 0; j < nodes.size(); ++j) {
+        if (j >= 1) {
+          // 2c. A ring (almost) on top of the previous one — the generator's intermediate nodes
+          // next to a tapered tip lie microns apart — is merged into it: such rings only make
+          // degenerate quads. The last ring replaces the one before it instead, so the tip stays.
+          const double tiny = kMergeFraction * k * std::max(nodes[j].radius, min_r);
+          if (tree::length(nodes[j].position - kept.back().position) < tiny) {
+            ++sk.stats.merged_rings;
+            if (j + 1 < nodes.size() || kept.size() < 2) {
+              if (j + 1 == nodes.size()) {
+                // A two-ring branch of (almost) zero length: keep both rings.
+                w.collapsed[j] = static_cast<std::uint32_t>(kept.size());
+                kept.push_back(nodes[j]);
+                continue;
+              }
+              w.collapsed[j] = static_cast<std::uint32_t>(kept.size() - 1);
+              previous_has = previous_has || has[j];
+              continue;
+            }
+            kept.back() = nodes[j];
+            w.collapsed[j] = static_cast<std::uint32_t>(kept.size() - 1);
+            previous_has = previous_has || has[j];
+            continue;
+          }
+        }
+        if (j >= 1 && j + 1 < nodes.size() && has[j] && all_side[j] && !previous_has) {
+          w.collapsed[j] = static_cast<std::uint32_t>(kept.size() - 1);
+          previous_has = true;
+          ++sk.stats.collapsed_junctions;
+          continue;
+        }
+        w.collapsed[j] = static_cast<std::uint32_t>(kept.size());
+        kept.push_back(nodes[j]);
+        previous_has = has[j];
+      }
+      nodes = std::move(kept);
+    }
+
     std::vector<double> source_radius;
     source_radius.reserve(nodes.size());
     for (const Node& nd : nodes) source_radius.push_back(nd.radius);
@@ -188,6 +308,13 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
             const double t = c1 > c0 ? std::clamp(-c0 / (c1 - c0), 0.0, 1.0) : 1.0;
             nodes[0] = lerp(nodes[0], nodes[1], t);
             source_radius[0] += (source_radius[1] - source_radius[0]) * t;
+            // Cut right next to the second ring: drop the first instead (no degenerate quads).
+            if (tree::length(nodes[1].position - nodes[0].position) < kMergeFraction * k * nodes[1].radius) {
+              nodes.erase(nodes.begin());
+              source_radius.erase(source_radius.begin());
+              ++w.ring_offset;
+              ++sk.stats.dropped_rings;
+            }
           }
           if (inside(nodes[0])) nodes[0].position += facing(nodes[0]) * (-clearance(nodes[0]));
           ++sk.stats.pushed_rings;
@@ -202,20 +329,16 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
     out.parent_ring = parent_ring;
     out.level = b.level;
     out.clone = tree::is_clone(tree, b);
-    std::vector<Frame> frames;
-    if (parent_frame == nullptr) {
-      frames = tree::compute_frames(nodes, Vec3{1, 0, 0});
-    } else {
+    Vec3 initial_normal{1, 0, 0};
+    Vec3 fallback_t{0, 1, 0};
+    if (parent_frame != nullptr) {
       const Ring& pr = sk.branches[static_cast<std::size_t>(parent)].rings[parent_ring];
-      Vec3 t0 = nodes.size() > 1 ? nodes[1].position - nodes[0].position : nodes[0].position - pr.center;
-      if (tree::length(t0) == 0) t0 = pr.frame.t;
-      frames = tree::compute_frames(nodes, tree::transport_frame(*parent_frame, tree::normalized(t0)).n);
-      if (nodes.size() == 1) {
-        // One ring: its tangent points away from the attachment ring.
-        const Frame f = tree::transport_frame(*parent_frame, tree::normalized(t0));
-        frames[0] = f;
-      }
+      fallback_t = nodes.size() > 1 ? nodes[1].position - nodes[0].position : nodes[0].position - pr.center;
+      if (tree::length(fallback_t) == 0) fallback_t = pr.frame.t;
+      fallback_t = tree::normalized(fallback_t);
+      initial_normal = tree::transport_frame(*parent_frame, fallback_t).n;
     }
+    const std::vector<Frame> frames = ring_frames(nodes, k, initial_normal, fallback_t);
 
     // 6. Texture v.
     out.rings.resize(nodes.size());

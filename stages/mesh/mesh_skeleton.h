@@ -11,7 +11,15 @@
 //   1. Branches above `max_level` are left out (with everything growing from them).
 //   2. A child attached inside a segment (parent_t in (0.1, 0.9)) gets a virtual ring inserted
 //      into its parent at the attachment point; otherwise it hangs from the nearer node.
-//   3. Radii below `min_radius` are raised to it (tapered tips reach 0).
+//   3. Junction collapse: a ring whose children are all thinner than the continuation (they
+//      will sit on the sides of a joint box) is removed and its children hang from the ring
+//      before it — unless that ring has children itself. For generated trees this is Nystad's
+//      DAG exactly: the junction node lies between the prepended and appended nodes (§4.2.2),
+//      the child hangs from the prepended one, and the box (prepended -> appended) is centred
+//      on the child. Without it the child would sit on the lower edge of its box.
+//      A ring closer than 2 % of its corner distance to the previous ring is merged into it
+//      (its children move along); such rings only make degenerate quads.
+//      Radii below `min_radius` are raised to it (tapered tips reach 0).
 //   4. Joint clearance: a child thinner than its parent's continuation will sit on a side face
 //      of the parent's joint box (box_joints.h). Its rings that lie inside the box are dropped
 //      while the next one is inside too; the first ring kept is moved along the child's first
@@ -21,7 +29,11 @@
 //      children on the parent's axis; generated ones start outside, but at subdivision >= 1 the
 //      box is larger than the branch, see corner_scale.)
 //   5. Frames: each root starts from N = +X, each child from its parent's frame at the
-//      attachment ring carried to the child's first tangent (as libs/tree's compute_tree_frames).
+//      attachment ring carried to the child's first tangent (as libs/tree's compute_tree_frames);
+//      normals follow Zhang's rotation-minimising rule (eq. A1) but each tangent is the chord
+//      over +-(corner distance) of arc length around the ring instead of the bisector of the
+//      two adjacent segments, so rings closer than their size stay parallel and a bend at a
+//      short segment does not fold the tube.
 //   6. v grows with arc length divided by 2*pi*(0.2 r0 + 0.8 r) (r0: radius of the first root's
 //      base), so one texture repeat is square on the trunk; a child continues the v of its
 //      attachment ring plus the length of the joint segment.
@@ -66,6 +78,8 @@ struct SkeletonBranch {
 struct SkeletonStats {
   std::size_t branches_in = 0;        // branches of the tree at levels <= max_level
   std::size_t virtual_rings = 0;      // rings inserted at mid-segment attachments
+  std::size_t collapsed_junctions = 0;  // attachment rings removed so the box centres on the child
+  std::size_t merged_rings = 0;       // rings within 2 % of their corner distance of the previous
   std::size_t clamped_radii = 0;      // node radii raised to min_radius
   std::size_t dropped_rings = 0;      // child rings inside the parent's joint box
   std::size_t pushed_rings = 0;       // first child rings moved out of the joint box

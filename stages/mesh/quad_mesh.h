@@ -16,17 +16,30 @@ namespace sylva::mesh {
 
 using tree::Vec3;
 
+// Texture coordinates in float, as glTF stores them (half the memory of double on meshes of
+// millions of quads; exact for the ring u values).
 struct Uv {
-  double u = 0, v = 0;
+  float u = 0, v = 0;
   friend bool operator==(const Uv&, const Uv&) = default;
 };
 
 using Quad = std::array<std::uint32_t, 4>;
 
+// Where a quad comes from (box_joints.h); kept through subdivision, used by statistics and tests.
+enum class FaceKind : std::uint8_t {
+  kTube,    // between two rings of one branch
+  kJoint,   // between a port and a child's first ring
+  kCap,     // a tip or base cap
+  kRim,     // around an inset port
+  kCrotch,  // the ridge of an equal split
+  kBox,     // a backward box
+};
+
 struct QuadMesh {
   std::vector<Vec3> positions;          // m, object space
   std::vector<Quad> quads;              // vertex indices, CCW seen from outside
   std::vector<std::array<Uv, 4>> uvs;   // per quad corner; same size as quads
+  std::vector<FaceKind> kinds;          // per quad; same size as quads
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t quad_count() const { return quads.size(); }

@@ -5,7 +5,11 @@
 
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 // OpenMesh's subdivider header needs the mesh types declared first.
+#include "stages/mesh/halfedges.h"
 #include "stages/mesh/openmesh_types.h"
 // clang-format off
 #include <OpenMesh/Core/System/omstream.hh>
@@ -37,18 +41,30 @@ std::size_t to_openmesh(const QuadMesh& in, PolyMesh& out) {
 
 namespace {
 
-Uv mid(Uv a, Uv b) { return {(a.u + b.u) * 0.5, (a.v + b.v) * 0.5}; }
+// Runs body(i) for i in [0, n) on the TBB pool. Every body writes only its own elements, so the
+// result does not depend on the thread count or the schedule.
+template <typename Body>
+void parallel_for(std::size_t n, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+  });
+}
 
-// One native Catmull–Clark step.
-QuadMesh step(const QuadMesh& in) {
+Uv mid(Uv a, Uv b) { return {(a.u + b.u) * 0.5f, (a.v + b.v) * 0.5f}; }
+Uv centre(const std::array<Uv, 4>& u) {
+  return {(u[0].u + u[1].u + u[2].u + u[3].u) * 0.25f, (u[0].v + u[1].v + u[2].v + u[3].v) * 0.25f};
+}
+
+}  // namespace
+
+namespace detail {
+
+std::vector<std::uint32_t> opposite_halfedges(const QuadMesh& in) {
   const std::size_t nv = in.positions.size();
-  const std::size_t nf = in.quads.size();
-  const std::size_t nh = 4 * nf;
-  constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  const std::size_t nh = 4 * in.quads.size();
   auto from = [&](std::size_t h) { return in.quads[h / 4][h % 4]; };
   auto to = [&](std::size_t h) { return in.quads[h / 4][(h + 1) % 4]; };
-
-  // Outgoing half-edges per vertex (CSR), then opposites.
+  // Outgoing half-edges per vertex (CSR), then for a -> b the half-edge b -> a among b's.
   std::vector<std::uint32_t> first(nv + 1, 0), out(nh);
   for (std::size_t h = 0; h < nh; ++h) ++first[from(h) + 1];
   for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
@@ -56,7 +72,7 @@ QuadMesh step(const QuadMesh& in) {
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
     for (std::size_t h = 0; h < nh; ++h) out[fill[from(h)]++] = static_cast<std::uint32_t>(h);
   }
-  std::vector<std::uint32_t> opp(nh, kNone);
+  std::vector<std::uint32_t> opp(nh, kNoHalfedge);
   for (std::size_t h = 0; h < nh; ++h) {
     const std::uint32_t a = from(h), b = to(h);
     for (std::uint32_t k = first[b]; k < first[b + 1]; ++k)
@@ -65,9 +81,27 @@ QuadMesh step(const QuadMesh& in) {
         break;
       }
   }
+  return opp;
+}
+
+}  // namespace detail
+
+namespace {
+
+// One native Catmull–Clark step. `opp` holds the input's opposite half-edges and is replaced by
+// the output's, derived from the refinement itself (no search), so the next level is cheaper.
+QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
+  const std::size_t nv = in.positions.size();
+  const std::size_t nf = in.quads.size();
+  const std::size_t nh = 4 * nf;
+  constexpr std::uint32_t kNone = detail::kNoHalfedge;
+  auto from = [&](std::size_t h) { return in.quads[h / 4][h % 4]; };
+  auto to = [&](std::size_t h) { return in.quads[h / 4][(h + 1) % 4]; };
+
   // Edge numbering: an edge takes the number of its first half-edge in (face, corner) order.
   std::vector<std::uint32_t> edge(nh);
   std::vector<std::uint32_t> edge_half;  // a half-edge of every edge
+  edge_half.reserve(nh / 2 + 16);
   for (std::size_t h = 0; h < nh; ++h) {
     if (opp[h] == kNone || opp[h] > h) {
       edge[h] = static_cast<std::uint32_t>(edge_half.size());
@@ -84,56 +118,79 @@ QuadMesh step(const QuadMesh& in) {
   Vec3* ep = vp + nv;
   Vec3* fp = ep + ne;
   const auto& P = in.positions;
-  for (std::size_t f = 0; f < nf; ++f) {
+  parallel_for(nf, [&](std::size_t f) {
     const Quad& q = in.quads[f];
     fp[f] = (P[q[0]] + P[q[1]] + P[q[2]] + P[q[3]]) * 0.25;
-  }
-  for (std::size_t e = 0; e < ne; ++e) {
+  });
+  parallel_for(ne, [&](std::size_t e) {
     const std::uint32_t h = edge_half[e];
     const Vec3 s = P[from(h)] + P[to(h)];
     ep[e] = opp[h] == kNone ? s * 0.5 : (s + fp[h / 4] + fp[opp[h] / 4]) * 0.25;
-  }
-  // Boundary neighbours: a half-edge without opposite runs along the boundary.
+  });
+  // Vertex points. Every outgoing half-edge of a vertex belongs to one of its quads and leads to
+  // one of its neighbours, so one pass over the half-edges sums both (in half-edge order).
+  // A half-edge without opposite runs along the boundary.
+  std::vector<Vec3> fsum(nv, Vec3{}), nsum(nv, Vec3{});
+  std::vector<std::uint32_t> valence(nv, 0);
   std::vector<std::uint32_t> bnd_next(nv, kNone), bnd_prev(nv, kNone);
   std::vector<std::uint8_t> bnd_count(nv, 0);
-  for (std::size_t h = 0; h < nh; ++h)
+  for (std::size_t h = 0; h < nh; ++h) {
+    const std::uint32_t a = from(h), b = to(h);
+    fsum[a] += fp[h / 4];
+    nsum[a] += P[b];
+    ++valence[a];
     if (opp[h] == kNone) {
-      bnd_next[from(h)] = to(h);
-      bnd_prev[to(h)] = from(h);
-      ++bnd_count[from(h)];
-      ++bnd_count[to(h)];
+      bnd_next[a] = b;
+      bnd_prev[b] = a;
+      ++bnd_count[a];
+      ++bnd_count[b];
     }
-  for (std::size_t v = 0; v < nv; ++v) {
-    const std::uint32_t n = first[v + 1] - first[v];
+  }
+  parallel_for(nv, [&](std::size_t v) {
+    const std::uint32_t n = valence[v];
     if (bnd_count[v] == 0 && n > 0) {
-      Vec3 fsum{}, nsum{};
-      for (std::uint32_t k = first[v]; k < first[v + 1]; ++k) {
-        fsum += fp[out[k] / 4];
-        nsum += P[to(out[k])];
-      }
       // (F + 2R + (n - 3) P) / n with R = (P + mean neighbour) / 2.
       const double dn = n;
-      vp[v] = fsum / (dn * dn) + nsum / (dn * dn) + P[v] * ((dn - 2) / dn);
+      vp[v] = fsum[v] / (dn * dn) + nsum[v] / (dn * dn) + P[v] * ((dn - 2) / dn);
     } else if (bnd_count[v] == 2 && bnd_next[v] != kNone && bnd_prev[v] != kNone) {
       vp[v] = P[v] * 0.75 + (P[bnd_next[v]] + P[bnd_prev[v]]) * 0.125;
     } else {
       vp[v] = P[v];  // isolated, or a corner where the boundary is not a simple curve
     }
-  }
+  });
 
   outm.quads.resize(4 * nf);
   outm.uvs.resize(4 * nf);
+  outm.kinds.resize(in.kinds.size() == nf ? 4 * nf : 0);
   const std::uint32_t ebase = static_cast<std::uint32_t>(nv), fbase = static_cast<std::uint32_t>(nv + ne);
-  for (std::size_t f = 0; f < nf; ++f) {
+  parallel_for(nf, [&](std::size_t f) {
     const Quad& q = in.quads[f];
     const auto& uv = in.uvs[f];
-    const Uv centre{(uv[0].u + uv[1].u + uv[2].u + uv[3].u) * 0.25, (uv[0].v + uv[1].v + uv[2].v + uv[3].v) * 0.25};
+    const Uv c = centre(uv);
     for (std::size_t i = 0; i < 4; ++i) {
       const std::size_t prev = (i + 3) % 4;
       outm.quads[4 * f + i] = {q[i], ebase + edge[4 * f + i], fbase + static_cast<std::uint32_t>(f), ebase + edge[4 * f + prev]};
-      outm.uvs[4 * f + i] = {uv[i], mid(uv[i], uv[(i + 1) % 4]), centre, mid(uv[prev], uv[i])};
+      outm.uvs[4 * f + i] = {uv[i], mid(uv[i], uv[(i + 1) % 4]), c, mid(uv[prev], uv[i])};
+      if (!outm.kinds.empty()) outm.kinds[4 * f + i] = in.kinds[f];
     }
-  }
+  });
+  // Opposites of the children's half-edges. Child c = 4 f + i has corners (q_i, E_i, F, E_i-1):
+  // half-edges 1 and 2 are inside f and pair with the neighbouring children; 0 and 3 are halves
+  // of f's edges and pair with the children of the face across.
+  if (last) return outm;  // no further level needs them
+  std::vector<std::uint32_t> child_opp(4 * outm.quads.size());
+  parallel_for(nf, [&](std::size_t f) {
+    for (std::size_t i = 0; i < 4; ++i) {
+      const std::size_t base = 4 * (4 * f + i);
+      child_opp[base + 1] = static_cast<std::uint32_t>(4 * (4 * f + (i + 1) % 4) + 2);
+      child_opp[base + 2] = static_cast<std::uint32_t>(4 * (4 * f + (i + 3) % 4) + 1);
+      const std::uint32_t o = opp[4 * f + i];  // q_i -> q_i+1, seen from across
+      child_opp[base + 0] = o == kNone ? kNone : static_cast<std::uint32_t>(4 * (4 * (o / 4) + (o % 4 + 1) % 4) + 3);
+      const std::uint32_t op = opp[4 * f + (i + 3) % 4];  // q_i-1 -> q_i, seen from across
+      child_opp[base + 3] = op == kNone ? kNone : static_cast<std::uint32_t>(4 * (4 * (op / 4) + op % 4) + 0);
+    }
+  });
+  opp = std::move(child_opp);
   return outm;
 }
 
@@ -186,12 +243,12 @@ QuadMesh step_openmesh(const QuadMesh& in) {
       } else if (v < nv + ne) {
         uv[c] = mid(uv_in(parent, ends[v - nv][0]), uv_in(parent, ends[v - nv][1]));
       } else {
-        const auto& u4 = in.uvs[parent];
-        uv[c] = {(u4[0].u + u4[1].u + u4[2].u + u4[3].u) * 0.25, (u4[0].v + u4[1].v + u4[2].v + u4[3].v) * 0.25};
+        uv[c] = centre(in.uvs[parent]);
       }
     }
     out.quads.push_back(q);
     out.uvs.push_back(uv);
+    if (in.kinds.size() == in.quads.size()) out.kinds.push_back(in.kinds[parent]);
   }
   return out;
 }
@@ -200,7 +257,13 @@ QuadMesh step_openmesh(const QuadMesh& in) {
 
 QuadMesh subdivide(const QuadMesh& mesh, int levels, Subdivider subdivider) {
   QuadMesh m = mesh;
-  for (int l = 0; l < levels; ++l) m = subdivider == Subdivider::kNative ? step(m) : step_openmesh(m);
+  if (levels <= 0) return m;
+  if (subdivider == Subdivider::kOpenMesh) {
+    for (int l = 0; l < levels; ++l) m = step_openmesh(m);
+    return m;
+  }
+  std::vector<std::uint32_t> opp = detail::opposite_halfedges(m);
+  for (int l = 0; l < levels; ++l) m = step(m, opp, l + 1 == levels);
   return m;
 }
 

@@ -1,7 +1,13 @@
 // Quad mesh -> glTF triangles with normals, tangents and split texture seams (surface.h).
 // Seed: Nystad 2010 §3.3.1 (per-vertex normal, tangent and texture coordinates).
+//
+// A tree at subdivision 2 has millions of quads, so the passes write the glTF arrays in place
+// and keep temporaries small (every fresh megabyte costs page faults): normals per mesh vertex;
+// glTF vertex ids per quad corner (stored in the index array); the vertex arrays, sized exactly;
+// triangles and tangent sums (expanding the corner ids into triangle indices in place).
 #include "stages/mesh/surface.h"
 
+#include <array>
 #include <cmath>
 
 namespace sylva::mesh {
@@ -10,12 +16,13 @@ namespace {
 using tree::cross;
 using tree::dot;
 using tree::length;
-using tree::normalized;
+
+constexpr std::uint32_t kNone = 0xFFFFFFFFu;
 
 // Any unit vector orthogonal to unit n.
 Vec3 orthogonal(Vec3 n) {
   const Vec3 a = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  return normalized(cross(n, a));
+  return tree::normalized(cross(n, a));
 }
 
 }  // namespace
@@ -24,112 +31,115 @@ gltf::Primitive to_primitive(const QuadMesh& m) {
   const std::size_t nv = m.positions.size();
   const std::size_t nf = m.quads.size();
 
-  // 1. Smooth normals per topological vertex.
+  // 1. Smooth normals per mesh vertex: the sum of its quads' normals (cross product of the
+  // diagonals: twice the quad's area times its normal).
   std::vector<Vec3> normal(nv, Vec3{});
   for (const Quad& q : m.quads) {
     const Vec3 n = cross(m.positions[q[2]] - m.positions[q[0]], m.positions[q[3]] - m.positions[q[1]]);
     for (std::uint32_t v : q) normal[v] += n;
   }
-  for (Vec3& n : normal) {
-    n = normalized(n);
-    if (length(n) == 0) n = Vec3{0, 1, 0};
-  }
 
-  // 2. glTF vertices: one per distinct (vertex, uv), in first-use order.
-  std::vector<std::uint32_t> head(nv, 0xFFFFFFFFu);  // first glTF vertex of each mesh vertex
-  std::vector<std::uint32_t> next;                   // chain of glTF vertices of the same vertex
-  std::vector<std::uint32_t> source;                 // glTF vertex -> mesh vertex
+  // 2. glTF vertex ids: one per distinct (vertex, uv), in first-use order. The id of corner i
+  // of quad f goes to indices[4 f + i] for now.
+  gltf::Primitive p;
+  p.mode = gltf::PrimitiveMode::kTriangles;
+  p.indices.resize(6 * nf);
+  std::vector<std::uint32_t> head(nv, kNone), next, source;
   std::vector<Uv> uv;
-  std::vector<std::array<std::uint32_t, 4>> corner(nf);
-  next.reserve(nv + nv / 4);
-  source.reserve(nv + nv / 4);
-  uv.reserve(nv + nv / 4);
-  for (std::size_t f = 0; f < nf; ++f) {
+  const std::size_t guess = nv + nv / 4 + 64;  // seams add a few percent of the vertices
+  next.reserve(guess);
+  source.reserve(guess);
+  uv.reserve(guess);
+  for (std::size_t f = 0; f < nf; ++f)
     for (std::size_t i = 0; i < 4; ++i) {
       const std::uint32_t v = m.quads[f][i];
       const Uv& t = m.uvs[f][i];
-      std::uint32_t g = head[v];
-      std::uint32_t last = 0xFFFFFFFFu;
-      while (g != 0xFFFFFFFFu && !(uv[g] == t)) last = g, g = next[g];
-      if (g == 0xFFFFFFFFu) {
+      std::uint32_t g = head[v], last = kNone;
+      while (g != kNone && !(uv[g] == t)) last = g, g = next[g];
+      if (g == kNone) {
         g = static_cast<std::uint32_t>(source.size());
+        (last == kNone ? head[v] : next[last]) = g;
+        next.push_back(kNone);
         source.push_back(v);
         uv.push_back(t);
-        next.push_back(0xFFFFFFFFu);
-        if (last == 0xFFFFFFFFu) {
-          head[v] = g;
-        } else {
-          next[last] = g;
-        }
       }
-      corner[f][i] = g;
+      p.indices[4 * f + i] = g;
     }
-  }
   const std::size_t ng = source.size();
+  head = {};
+  next = {};
 
-  // 3. Tangents from the uv gradient of each quad's two triangles, per glTF vertex.
-  std::vector<Vec3> tan(ng, Vec3{}), bit(ng, Vec3{});
-  auto accumulate = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    const Vec3 e1 = m.positions[source[b]] - m.positions[source[a]];
-    const Vec3 e2 = m.positions[source[c]] - m.positions[source[a]];
-    const double du1 = uv[b].u - uv[a].u, dv1 = uv[b].v - uv[a].v;
-    const double du2 = uv[c].u - uv[a].u, dv2 = uv[c].v - uv[a].v;
-    const double det = du1 * dv2 - du2 * dv1;
-    if (det == 0 || !std::isfinite(det)) return;
-    const double r = 1.0 / det;
-    const Vec3 t = (e1 * dv2 - e2 * dv1) * r;
-    const Vec3 s = (e2 * du1 - e1 * du2) * r;
-    // Weight by the triangle's area so tiny triangles (tips) do not dominate.
-    const double w = length(cross(e1, e2)) * std::abs(det);
-    for (std::uint32_t g : {a, b, c}) {
-      tan[g] += t * w;
-      bit[g] += s * w;
-    }
-  };
-
-  // 4. Triangles along the shorter diagonal.
-  gltf::Primitive p;
-  p.mode = gltf::PrimitiveMode::kTriangles;
-  p.indices.reserve(6 * nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    const auto& c = corner[f];
-    const Quad& q = m.quads[f];
-    const double d02 = length(m.positions[q[2]] - m.positions[q[0]]);
-    const double d13 = length(m.positions[q[3]] - m.positions[q[1]]);
-    if (d13 < d02) {
-      p.indices.insert(p.indices.end(), {c[0], c[1], c[3], c[1], c[2], c[3]});
-      accumulate(c[0], c[1], c[3]);
-      accumulate(c[1], c[2], c[3]);
-    } else {
-      p.indices.insert(p.indices.end(), {c[0], c[1], c[2], c[0], c[2], c[3]});
-      accumulate(c[0], c[1], c[2]);
-      accumulate(c[0], c[2], c[3]);
-    }
-  }
-
+  // 3. Vertex arrays.
   p.positions.resize(3 * ng);
   p.normals.resize(3 * ng);
-  p.tangents.resize(4 * ng);
   p.texcoords.resize(2 * ng);
   for (std::size_t g = 0; g < ng; ++g) {
     const Vec3& x = m.positions[source[g]];
-    const Vec3& n = normal[source[g]];
-    Vec3 t = tan[g] - n * dot(n, tan[g]);
+    const Vec3& ns = normal[source[g]];
+    const double l = length(ns);
+    const Vec3 n = l > 0 ? ns / l : Vec3{0, 1, 0};
+    float* P = &p.positions[3 * g];
+    float* N = &p.normals[3 * g];
+    P[0] = static_cast<float>(x.x), P[1] = static_cast<float>(x.y), P[2] = static_cast<float>(x.z);
+    N[0] = static_cast<float>(n.x), N[1] = static_cast<float>(n.y), N[2] = static_cast<float>(n.z);
+    p.texcoords[2 * g] = uv[g].u;
+    p.texcoords[2 * g + 1] = uv[g].v;
+  }
+  normal = {};
+  source = {};
+  uv = {};
+
+  // 4. Triangles along the shorter diagonal (the corner ids expand in place, last quad first, so
+  // no id is overwritten before it is read), and per glTF vertex the sum of its triangles' dP/du
+  // scaled by their uv area, T = (e1 dv2 - e2 dv1) sign(det), and of det, whose sign is the uv
+  // frame's handedness for counter-clockwise triangles. Directions only: float is ample.
+  std::vector<std::array<float, 3>> tan(ng, std::array<float, 3>{0, 0, 0});
+  std::vector<float> handed(ng, 0);
+  const float* P = p.positions.data();
+  const float* T = p.texcoords.data();
+  auto accumulate = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    float e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) e1[k] = P[3 * b + k] - P[3 * a + k], e2[k] = P[3 * c + k] - P[3 * a + k];
+    const float du1 = T[2 * b] - T[2 * a], dv1 = T[2 * b + 1] - T[2 * a + 1];
+    const float du2 = T[2 * c] - T[2 * a], dv2 = T[2 * c + 1] - T[2 * a + 1];
+    const float det = du1 * dv2 - du2 * dv1;
+    if (det == 0) return;
+    const float sign = det > 0 ? 1.0f : -1.0f;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const float t = (e1[k] * dv2 - e2[k] * dv1) * sign;
+      tan[a][k] += t;
+      tan[b][k] += t;
+      tan[c][k] += t;
+    }
+    handed[a] += det, handed[b] += det, handed[c] += det;
+  };
+  for (std::size_t f = nf; f-- > 0;) {
+    const Quad& q = m.quads[f];
+    const std::uint32_t c[4] = {p.indices[4 * f], p.indices[4 * f + 1], p.indices[4 * f + 2], p.indices[4 * f + 3]};
+    std::uint32_t* idx = &p.indices[6 * f];
+    const Vec3 d02 = m.positions[q[2]] - m.positions[q[0]];
+    const Vec3 d13 = m.positions[q[3]] - m.positions[q[1]];
+    if (dot(d13, d13) < dot(d02, d02)) {
+      idx[0] = c[0], idx[1] = c[1], idx[2] = c[3], idx[3] = c[1], idx[4] = c[2], idx[5] = c[3];
+    } else {
+      idx[0] = c[0], idx[1] = c[1], idx[2] = c[2], idx[3] = c[0], idx[4] = c[2], idx[5] = c[3];
+    }
+    accumulate(idx[0], idx[1], idx[2]);
+    accumulate(idx[3], idx[4], idx[5]);
+  }
+
+  // 5. Tangents: orthogonal to the normal, unit length, w = the uv frame's handedness.
+  p.tangents.resize(4 * ng);
+  for (std::size_t g = 0; g < ng; ++g) {
+    const Vec3 n{p.normals[3 * g], p.normals[3 * g + 1], p.normals[3 * g + 2]};
+    const Vec3 tg{tan[g][0], tan[g][1], tan[g][2]};
+    Vec3 t = tg - n * dot(n, tg);
     const double tl = length(t);
     t = tl > 1e-30 && std::isfinite(tl) ? t / tl : orthogonal(n);
-    const double w = dot(cross(n, t), bit[g]) < 0 ? -1.0 : 1.0;
-    p.positions[3 * g] = static_cast<float>(x.x);
-    p.positions[3 * g + 1] = static_cast<float>(x.y);
-    p.positions[3 * g + 2] = static_cast<float>(x.z);
-    p.normals[3 * g] = static_cast<float>(n.x);
-    p.normals[3 * g + 1] = static_cast<float>(n.y);
-    p.normals[3 * g + 2] = static_cast<float>(n.z);
     p.tangents[4 * g] = static_cast<float>(t.x);
     p.tangents[4 * g + 1] = static_cast<float>(t.y);
     p.tangents[4 * g + 2] = static_cast<float>(t.z);
-    p.tangents[4 * g + 3] = static_cast<float>(w);
-    p.texcoords[2 * g] = static_cast<float>(uv[g].u);
-    p.texcoords[2 * g + 1] = static_cast<float>(uv[g].v);
+    p.tangents[4 * g + 3] = handed[g] < 0 ? -1.0f : 1.0f;
   }
   return p;
 }

@@ -6,9 +6,11 @@
 //     so the surface is smooth across texture seams.
 //   - Seams: glTF has one uv per vertex; a vertex whose quads give it different uvs becomes one
 //     glTF vertex per distinct uv (first use order), sharing position and normal.
-//   - Tangents: per glTF vertex, the sum of its quads' dP/du (from the quad's two triangles),
-//     made orthogonal to the normal; w = +1 when dP/dv agrees with normal x tangent, else -1.
-//     Where dP/du vanishes (degenerate uvs) any unit vector orthogonal to the normal is used.
+//   - Tangents: per glTF vertex, the sum of its triangles' dP/du, each weighted by the
+//     triangle's uv area, made orthogonal to the normal; w = the sign of the summed uv area
+//     (+1: the uv frame is right-handed about the outward normal, so normal x tangent points
+//     along dP/dv). Where dP/du vanishes (degenerate uvs) any unit vector orthogonal to the
+//     normal is used.
 //   - Triangles: each quad is split along its shorter diagonal (ties: corner 0 to 2), keeping
 //     the quad's counter-clockwise order.
 #pragma once

@@ -54,7 +54,7 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   st.base_quads = base.quad_count();
 
   // 3. Topology check: closed (except the open base), manifold, consistently oriented.
-  st.topology = check_topology(base);
+  st.topology = check_topology_fast(base);
   const std::size_t open_edges = options.open_base ? 4 * st.joints.components : 0;
   if (!st.topology.manifold_and_oriented() || st.topology.boundary_edges != open_edges)
     throw MeshError("internal error: the bark mesh is not a closed, consistently oriented 2-manifold (" +
@@ -173,6 +173,8 @@ nlohmann::json stats_json(const MeshStats& st) {
                  {"tip_caps", st.joints.tip_caps},
                  {"base_caps", st.joints.base_caps}};
   j["skeleton"] = {{"virtual_rings", st.skeleton.virtual_rings},
+                   {"collapsed_junctions", st.skeleton.collapsed_junctions},
+                   {"merged_rings", st.skeleton.merged_rings},
                    {"clamped_radii", st.skeleton.clamped_radii},
                    {"dropped_rings", st.skeleton.dropped_rings},
                    {"pushed_rings", st.skeleton.pushed_rings},

@@ -5,7 +5,7 @@
 //
 //   1. skeleton   (mesh_skeleton.h)  tree -> rings per branch, children per ring (§4.3.1)
 //   2. bark mesh  (box_joints.h)     rings -> one closed quad mesh, box joints (App. D)
-//   3. check      (topology_check.h) OpenMesh: closed, manifold, consistently oriented
+//   3. check      (topology_check.h) closed, manifold, consistently oriented (half-edges)
 //   4. subdivide  (subdivision.h)    Catmull–Clark 0..3 levels, uvs per §3.4.3
 //   5. surface    (surface.h)        normals, tangents, uv seams, triangles
 //   6. foliage    (foliage.h)        leaf cards, needles
@@ -41,7 +41,7 @@ struct MeshOptions {
 struct MeshStats {
   SkeletonStats skeleton;
   JointStats joints;
-  TopologyReport topology;  // of the base (unsubdivided) mesh
+  TopologyReport topology;  // of the base (unsubdivided) mesh, check_topology_fast
   std::size_t branches = 0, rings = 0;
   std::size_t base_vertices = 0, base_quads = 0;  // before subdivision
   std::size_t quads = 0, vertices = 0;            // after subdivision (quad mesh)

@@ -30,6 +30,11 @@ Built build(const tree::Tree& t, BarkOptions o = {}) {
   b.skeleton = build_skeleton(t, so);
   b.mesh = build_bark_mesh(b.skeleton, o, &b.joints);
   b.topo = check_topology(b.mesh);
+  // The half-edge check agrees with OpenMesh.
+  const TopologyReport fast = check_topology_fast(b.mesh);
+  EXPECT_EQ(fast.refused_faces, b.topo.refused_faces);
+  EXPECT_EQ(fast.boundary_edges, b.topo.boundary_edges);
+  EXPECT_EQ(fast.euler, b.topo.euler);
   return b;
 }
 
@@ -75,8 +80,8 @@ TEST(BoxJoints, OpenBaseLeavesOneLoop) {
 // about one child diameter tall.
 TEST(BoxJoints, OneLateralIsAnOrdinaryJoint) {
   tree::Tree t;
-  t.branches.push_back(branch({{0, 0, 0}, {0, 0.96, 0}, {0, 1.04, 0}, {0, 2, 0}}, 0.1));
-  t.branches.push_back(branch({{0.2, 1.0, 0}, {1.2, 1.4, 0}, {2.0, 1.6, 0}}, 0.04, 0, 1, 1));
+  t.branches.push_back(branch({{0, 0, 0}, {0, 0.96, 0}, {0, 1.0, 0}, {0, 1.04, 0}, {0, 2, 0}}, 0.1));
+  t.branches.push_back(branch({{0.2, 1.0, 0}, {1.2, 1.4, 0}, {2.0, 1.6, 0}}, 0.04, 0, 2, 1));
   const Built b = build(t);
   expect_closed_sphere(b);
   EXPECT_EQ(b.joints.ordinary_joints, 1u);
@@ -84,7 +89,8 @@ TEST(BoxJoints, OneLateralIsAnOrdinaryJoint) {
   EXPECT_EQ(b.joints.backward_fallbacks, 0u);
   EXPECT_EQ(b.joints.insets, 0u);
   EXPECT_EQ(b.joints.tip_caps, 2u);
-  EXPECT_EQ(b.mesh.positions.size(), 28u);  // 7 rings
+  EXPECT_EQ(b.skeleton.stats.collapsed_junctions, 1u);
+  EXPECT_EQ(b.mesh.positions.size(), 28u);  // 7 rings (the junction ring collapsed)
 }
 
 // Two equal segments (a split: continuation and clone share the radius): the crotch adds 4
@@ -139,6 +145,32 @@ TEST(BoxJoints, ChildrenAtTheTip) {
   EXPECT_EQ(b.joints.ordinary_joints, 1u);
 }
 
+// The half-edge check finds what OpenMesh finds: a flipped quad, a hole, a pinched vertex.
+TEST(BoxJoints, FastCheckFindsBrokenMeshes) {
+  const Built b = build(test::straight_trunk(3));
+  QuadMesh flipped = b.mesh;
+  std::swap(flipped.quads[2][1], flipped.quads[2][3]);
+  EXPECT_GT(check_topology_fast(flipped).refused_faces, 0u);
+  EXPECT_GT(check_topology(flipped).refused_faces, 0u);
+  QuadMesh holed = b.mesh;
+  holed.quads.pop_back();
+  holed.uvs.pop_back();
+  EXPECT_EQ(check_topology_fast(holed).boundary_edges, 4u);
+  EXPECT_EQ(check_topology(holed).boundary_edges, 4u);
+  // Two prisms sharing one vertex: each edge is fine, the shared vertex is not one fan.
+  QuadMesh pinched = b.mesh;
+  const std::uint32_t n = static_cast<std::uint32_t>(pinched.positions.size());
+  for (const Vec3& p : b.mesh.positions) pinched.positions.push_back(p + Vec3{1, 0, 0});
+  for (std::size_t f = 0; f < b.mesh.quads.size(); ++f) {
+    Quad q = b.mesh.quads[f];
+    for (auto& v : q) v = v == 0 ? 0 : v + n;
+    pinched.quads.push_back(q);
+    pinched.uvs.push_back(b.mesh.uvs[f]);
+  }
+  EXPECT_GT(check_topology_fast(pinched).refused_faces, 0u);
+  EXPECT_GT(check_topology(pinched).refused_faces, 0u);
+}
+
 // A backward connection (a child whose first segment turns back into its parent, as imported
 // skeletons can have): the port is extruded into a box and the child joins the box face that
 // faces it best.
@@ -168,14 +200,14 @@ TEST(BoxJoints, TubeUvsWrapOnceWithASeam) {
   // Quads 0..3 join rings 0 and 1 (the first bridge); quad i spans u from i/4 to (i+1)/4.
   for (std::size_t i = 0; i < 4; ++i) {
     const auto& uv = b.mesh.uvs[i];
-    EXPECT_DOUBLE_EQ(uv[0].u, i / 4.0);
-    EXPECT_DOUBLE_EQ(uv[1].u, (i + 1) / 4.0);
-    EXPECT_DOUBLE_EQ(uv[0].v, 0);
-    EXPECT_NEAR(uv[3].v, 1 / (2 * std::numbers::pi * 0.1), 1e-12);
+    EXPECT_FLOAT_EQ(uv[0].u, static_cast<float>(i) / 4);
+    EXPECT_FLOAT_EQ(uv[1].u, static_cast<float>(i + 1) / 4);
+    EXPECT_FLOAT_EQ(uv[0].v, 0);
+    EXPECT_NEAR(uv[3].v, 1 / (2 * std::numbers::pi * 0.1), 1e-5);
   }
   // The seam: vertex 0 has u = 0 in quad 0 and u = 1 in quad 3.
   EXPECT_EQ(b.mesh.quads[3][1], b.mesh.quads[0][0]);
-  EXPECT_DOUBLE_EQ(b.mesh.uvs[3][1].u, 1.0);
+  EXPECT_FLOAT_EQ(b.mesh.uvs[3][1].u, 1.0f);
 }
 
 // The ring size compensates Catmull-Clark's shrinkage: sqrt(pi/2) at level 0, growing to the

@@ -30,20 +30,45 @@ TEST(MeshSkeleton, StraightTrunkHasOneRingPerNode) {
 }
 
 // A child hanging in the middle of a segment gets a virtual ring in its parent; near a node it
-// snaps to the node (Nystad's 10 % rule).
+// snaps to the node (Nystad's 10 % rule). (Children as thick as the continuation: they go on
+// top of the ring, so the junction collapse below leaves the rings alone.)
 TEST(MeshSkeleton, MidSegmentAttachmentInsertsAVirtualRing) {
   tree::Tree t = test::straight_trunk(3);
-  t.branches.push_back(branch({{0.5, 0.5, 0}, {1.5, 1.0, 0}}, 0.02, 0, 0, 1, 0.5));
-  t.branches.push_back(branch({{0, 1.03, 0.5}, {0, 1.5, 1.5}}, 0.02, 0, 0, 1, 0.97));
+  t.branches.push_back(branch({{0.3, 0.7, 0}, {1.0, 1.2, 0}}, 0.1, 0, 0, 0, 0.5));
+  t.branches.push_back(branch({{0, 1.3, 0.3}, {0, 1.8, 1.2}}, 0.1, 0, 0, 0, 0.97));
   const MeshSkeleton sk = build_skeleton(t, {});
   ASSERT_EQ(sk.branches.size(), 3u);
   EXPECT_EQ(sk.stats.virtual_rings, 1u);
+  EXPECT_EQ(sk.stats.collapsed_junctions, 0u);
   ASSERT_EQ(sk.branches[0].rings.size(), 4u);
   EXPECT_NEAR(sk.branches[0].rings[1].center.y, 0.5, 1e-12);
   EXPECT_EQ(sk.branches[1].parent_ring, 1u);  // the virtual ring
   EXPECT_EQ(sk.branches[2].parent_ring, 2u);  // snapped to node 1 (ring 2 after the insert)
   EXPECT_EQ(sk.children[0][1], (std::vector<std::uint32_t>{1}));
   EXPECT_EQ(sk.children[0][2], (std::vector<std::uint32_t>{2}));
+}
+
+// Junction collapse: a lateral hangs from the generator's prepended node, so its joint box runs
+// from the prepended to the appended node, centred on it; the junction ring goes.
+TEST(MeshSkeleton, LateralJunctionCollapsesOntoThePrependedRing) {
+  tree::Tree t;
+  t.branches.push_back(branch({{0, 0, 0}, {0, 0.96, 0}, {0, 1, 0}, {0, 1.04, 0}, {0, 2, 0}}, 0.1));
+  t.branches.push_back(branch({{0.2, 1, 0}, {1, 1.3, 0}}, 0.04, 0, 2, 1));
+  const MeshSkeleton sk = build_skeleton(t, {});
+  EXPECT_EQ(sk.stats.collapsed_junctions, 1u);
+  ASSERT_EQ(sk.branches[0].rings.size(), 4u);
+  EXPECT_EQ(sk.branches[1].parent_ring, 1u);
+  EXPECT_NEAR(sk.branches[0].rings[1].center.y, 0.96, 1e-12);
+  EXPECT_NEAR(sk.branches[0].rings[2].center.y, 1.04, 1e-12);
+}
+
+// Rings microns apart (the generator's intermediate nodes next to a tapered tip) merge.
+TEST(MeshSkeleton, NearlyCoincidentRingsMerge) {
+  tree::Tree t = test::straight_trunk(3);
+  t.branches[0].nodes.insert(t.branches[0].nodes.begin() + 2, tree::Node{{0, 1.000001, 0}, 0.1});
+  const MeshSkeleton sk = build_skeleton(t, {});
+  EXPECT_EQ(sk.stats.merged_rings, 1u);
+  EXPECT_EQ(sk.branches[0].rings.size(), 3u);
 }
 
 // max_level leaves deeper branches out, and with them everything that grows from them.
@@ -104,7 +129,7 @@ TEST(MeshSkeleton, ChildEntirelyInsideIsDroppedAndItsChildrenReattached) {
   ASSERT_EQ(sk.branches.size(), 2u);
   EXPECT_EQ(sk.branches[1].source, 2u);
   EXPECT_EQ(sk.branches[1].parent, 0);
-  EXPECT_EQ(sk.branches[1].parent_ring, 1u);
+  EXPECT_EQ(sk.branches[1].parent_ring, 0u);  // the dropped child's ring, collapsed onto ring 0
 }
 
 // Bad input: a clear MeshError naming the problem, never a crash.

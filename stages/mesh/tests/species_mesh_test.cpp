@@ -38,7 +38,9 @@ void expect_valid(const tree::Tree& t, const TreeMesh& m, int subdivision, const
   EXPECT_EQ(s.base_vertices, 4 * (s.rings + s.joints.split_joints + s.joints.insets + s.joints.backward_fallbacks)) << what;
   EXPECT_EQ(s.base_quads, s.base_vertices - 2 * roots(t)) << what;
   EXPECT_EQ(s.quads, s.base_quads << (2 * subdivision)) << what;
-  // The subdivided mesh, checked again with OpenMesh.
+  // The stage's own half-edge check agrees with OpenMesh on the base mesh...
+  EXPECT_EQ(s.topology.edges, s.base_quads * 2) << what;
+  // ...and OpenMesh checks the subdivided mesh again.
   const TopologyReport r = check_topology(m.bark);
   EXPECT_TRUE(r.manifold_and_oriented() && r.closed()) << what << ": " << r.refused_faces << " refused, "
                                                        << r.boundary_edges << " boundary edges";
@@ -78,7 +80,23 @@ TEST(SpeciesMesh, AdultPresetsAtDefaultOptions) {
   }
 }
 
-// Self-intersections (CGAL) of the base mesh: a statistic, reported, not a failure.
+// The half-edge check the stage runs and OpenMesh's agree (base meshes of the young presets).
+TEST(SpeciesMesh, FastTopologyCheckAgreesWithOpenMesh) {
+  for (const fs::path& preset : test::species_presets()) {
+    MeshOptions o;
+    o.subdivision = 0;
+    const TreeMesh m = mesh_tree(test::species_tree(preset, "young"), o);
+    const TopologyReport fast = check_topology_fast(m.bark), om = check_topology(m.bark);
+    EXPECT_EQ(fast.refused_faces, om.refused_faces) << name_of(preset);
+    EXPECT_EQ(fast.boundary_edges, om.boundary_edges) << name_of(preset);
+    EXPECT_EQ(fast.edges, om.edges) << name_of(preset);
+    EXPECT_EQ(fast.euler, om.euler) << name_of(preset);
+    EXPECT_EQ(fast.components, om.components) << name_of(preset);
+  }
+}
+
+// Self-intersections (CGAL) of the base mesh: a statistic, reported, not a failure. Most sit at
+// twig tips thinner than min_radius (meshed fatter than they are, so their joints overlap).
 TEST(SpeciesMesh, SelfIntersectionsAreReported) {
   for (const fs::path& preset : test::species_presets()) {
     MeshOptions o;
