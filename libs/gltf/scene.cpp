@@ -199,6 +199,9 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
       }
     }
     if (!n.extras.is_null() && !n.extras.is_object()) c.fail(where, "extras must be a JSON object");
+    if (!n.extensions.is_null() && !n.extensions.is_object()) c.fail(where, "extensions must be a JSON object");
+    if (n.extensions.is_object() && n.extensions.contains("EXT_mesh_gpu_instancing"))
+      c.fail(where, "EXT_mesh_gpu_instancing is written from `instances`, not `extensions`");
   }
   for (int i = 0; i < node_count; ++i)
     if (parents[static_cast<std::size_t>(i)] > 1) c.fail("nodes[" + std::to_string(i) + "]", "has more than one parent");

@@ -16,7 +16,7 @@
 //     3, lines: multiple of 2). Without indices the vertex count must fit the mode instead.
 //   - Indices into materials, images, meshes and nodes are in range; -1 means none. The node
 //     graph is a forest; `roots` lists the scene's root nodes, each at most once.
-//   - extras are JSON objects (or null = none) and are written as they are.
+//   - extras and Node::extensions are JSON objects (or null = none) and are written as they are.
 #pragma once
 
 #include <array>
@@ -110,6 +110,10 @@ struct Node {
   std::array<double, 4> rotation{0, 0, 0, 1};  // unit quaternion xyzw
   std::array<double, 3> scale{1, 1, 1};
   Instances instances;  // requires mesh >= 0 when not empty
+  // Further node extensions, written as they are: a JSON object {name: value}, e.g.
+  // {"MSFT_lod": {"ids": [3, 4]}}; each name goes into extensionsUsed (and extensionsRequired
+  // when listed in Scene::extensions_required). Null = none. (Instancing has its own field.)
+  nlohmann::json extensions;
   nlohmann::json extras;
 };
 
@@ -121,6 +125,7 @@ struct Scene {
   std::vector<Image> images;
   std::string generator = "sylva";  // asset.generator; no version or date, so bytes stay stable
   nlohmann::json extras;            // written as asset.extras (sylva metadata, docs/gltf.md)
+  std::vector<std::string> extensions_required;  // names of Node::extensions a reader must know
 };
 
 // Every broken contract point, one message each ("meshes[0].primitives[1]: normals has 5

@@ -84,6 +84,8 @@ class ModelBuilder {
     } else {
       m_.buffers[0].data = std::move(data_);
     }
+    for (const std::string& name : s_.extensions_required)
+      if (used_.count(name)) required_.insert(name);
     m_.extensionsUsed.assign(used_.begin(), used_.end());
     m_.extensionsRequired.assign(required_.begin(), required_.end());
     return std::move(m_);
@@ -303,6 +305,11 @@ class ModelBuilder {
       used_.insert(kInstancing);
       required_.insert(kInstancing);
     }
+    if (in.extensions.is_object())
+      for (auto it = in.extensions.begin(); it != in.extensions.end(); ++it) {
+        out.extensions[it.key()] = to_value(it.value());
+        used_.insert(it.key());
+      }
     if (!in.extras.is_null()) out.extras = to_value(in.extras);
     return out;
   }

@@ -336,6 +336,25 @@ TEST(GltfWriter, InstancingValidates) {
   EXPECT_EQ(j["accessors"][j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"].get<std::size_t>()]["count"], 3);
 }
 
+// Node extensions (MSFT_lod here) are written as given and listed in extensionsUsed.
+TEST(GltfWriter, NodeExtensionsAreWrittenAndListed) {
+  Scene s;
+  Mesh mesh;
+  mesh.primitives.push_back(grid(1));
+  s.meshes.push_back(mesh);
+  Node lod0 = make_node("lod0", 0);
+  lod0.extensions = {{"MSFT_lod", {{"ids", {1}}}}};
+  lod0.extras = {{"MSFT_screencoverage", {0.5, 0.0}}};
+  s.nodes = {lod0, make_node("lod1", 0)};
+  s.roots = {0};
+  test::TempDir dir;
+  SYLVA_EXPECT_VALID_GLTF(write(dir, "lod.glb", encode(s)));
+  const nlohmann::json j = parse_glb(encode(s)).json;
+  EXPECT_EQ(j["nodes"][0]["extensions"]["MSFT_lod"]["ids"], nlohmann::json::array({1}));
+  EXPECT_EQ(j["extensionsUsed"], nlohmann::json::array({"MSFT_lod"}));
+  EXPECT_FALSE(j.contains("extensionsRequired"));
+}
+
 // A scene that breaks the contract is refused with the element named, before anything is written.
 TEST(GltfWriter, InvalidSceneIsRefusedWithTheElementNamed) {
   Scene s = textured_scene();
