@@ -16,7 +16,7 @@ namespace sylva {
 
 namespace {
 
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // 2: junction collapse, insets, windowed ring frames, ring merging
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
