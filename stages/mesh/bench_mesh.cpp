@@ -6,8 +6,9 @@
 //   cmake -S . -B out/build-mesh-rel -G Ninja -DCMAKE_BUILD_TYPE=Release
 //   cmake --build out/build-mesh-rel --target bench_mesh -j2
 //   out/build-mesh-rel/stages/mesh/bench_mesh
-// Also: mesh/<preset>/adult/subdivision:N/phase:<name> times the phases separately, and
-// gltf/<preset>/adult encodes the default-options scene to GLB.
+// Also: phase/oak/adult/subdivision:2/phase:N times the phases separately — 0 skeleton, 1 box
+// joints, 2 half-edge check, 3 Catmull-Clark (native), 4 glTF surface, 5 Catmull-Clark
+// (OpenMesh), 6 OpenMesh topology check — and gltf/oak/adult encodes the default-options scene.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -72,10 +73,11 @@ void phases(benchmark::State& state, std::filesystem::path preset) {
     switch (phase) {
       case 0: benchmark::DoNotOptimize(mesh::build_skeleton(t, so).branches.data()); break;
       case 1: benchmark::DoNotOptimize(mesh::build_bark_mesh(sk, bo, nullptr).quads.data()); break;
-      case 2: benchmark::DoNotOptimize(mesh::check_topology(base).euler); break;
+      case 2: benchmark::DoNotOptimize(mesh::check_topology_fast(base).euler); break;
       case 3: benchmark::DoNotOptimize(mesh::subdivide(base, levels).quads.data()); break;
       case 4: benchmark::DoNotOptimize(mesh::to_primitive(fine).indices.data()); break;
-      default: benchmark::DoNotOptimize(mesh::subdivide(base, levels, mesh::Subdivider::kOpenMesh).quads.data()); break;
+      case 5: benchmark::DoNotOptimize(mesh::subdivide(base, levels, mesh::Subdivider::kOpenMesh).quads.data()); break;
+      default: benchmark::DoNotOptimize(mesh::check_topology(base).euler); break;
     }
   }
 }
@@ -108,7 +110,7 @@ int main(int argc, char** argv) {
   const std::filesystem::path oak = std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species/oak.yaml";
   benchmark::RegisterBenchmark("phase/oak/adult", phases, oak)
       ->ArgNames({"subdivision", "phase"})
-      ->ArgsProduct({{2}, {0, 1, 2, 3, 4, 5}})
+      ->ArgsProduct({{2}, {0, 1, 2, 3, 4, 5, 6}})
       ->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("gltf/oak/adult", encode, oak)->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
