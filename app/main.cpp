@@ -1,5 +1,6 @@
 // Library plus main(): the only place the real stages, the real disk and the real signals meet.
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
 
@@ -32,5 +33,13 @@ int main(int argc, char** argv) {
   auto inspect = sylva::make_inspect_command();
   auto render = sylva::make_render_command();
   auto verify = sylva::make_verify_command(registry);
-  return sylva::run_cli(argc, argv, registry, io, {inspect.get(), render.get(), verify.get()});
+  const int code = sylva::run_cli(argc, argv, registry, io, {inspect.get(), render.get(), verify.get()});
+  // Leave without running static destructors. The shared EGL renderer (stages/verify) lives on a
+  // worker thread's context, and Mesa's llvmpipe threads and LLVM's static destructors racing at
+  // exit() corrupted the heap now and then ("corrupted size vs. prev_size", exit 134) after
+  // successful builds. Everything sylva writes is already fsynced and renamed; only stdio needs
+  // flushing.
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::_Exit(code);
 }
