@@ -2,7 +2,9 @@
 //   - BM_MergeAndPolygonize: internode merging (eq. 3-5) + polygonisation (eq. 9-12) over every
 //     branch of a tree at one epsilon; items/s = input internodes per second;
 //   - BM_Chain/<preset>: the whole chain (precompute incl. FSA/E5 forests + every level) of every
-//     adult preset with the default options (6 levels, 1 mm .. 0.22 m).
+//     adult preset with the default options (6 levels, 1 mm .. 0.22 m);
+//   - BM_LeafForest/<preset>, BM_NeedleForest/<preset>: the one-off agglomeration alone (FSA leaf
+//     collapse, E5 needle merging; pair_merge.h), the part of the chain that dominated it.
 // Seeds: Zhang et al. 2017 §4–§6; Remolar et al. FSA/VDF.
 #include <benchmark/benchmark.h>
 
@@ -13,6 +15,8 @@
 #include "stages/generate/preset.h"
 #include "stages/generate/weber_penn.h"
 #include "stages/lod/chain.h"
+#include "stages/lod/foliage.h"
+#include "stages/lod/needles.h"
 
 namespace {
 
@@ -61,6 +65,24 @@ void BM_Chain(benchmark::State& state, const std::string& species) {
   state.counters["branches"] = static_cast<double>(t.branches.size());
 }
 
+void BM_LeafForest(benchmark::State& state, const std::string& species) {
+  const tree::Tree& t = adult(species);
+  for (auto _ : state) {
+    auto forest = lod::build_leaf_forest(t.leaves);
+    benchmark::DoNotOptimize(forest.forest.error.data());
+  }
+  state.counters["leaves"] = static_cast<double>(t.leaves.size());
+}
+
+void BM_NeedleForest(benchmark::State& state, const std::string& species) {
+  const tree::Tree& t = adult(species);
+  for (auto _ : state) {
+    auto forest = lod::build_needle_forest(t.needles);
+    benchmark::DoNotOptimize(forest.forest.error.data());
+  }
+  state.counters["needles"] = static_cast<double>(t.needles.size());
+}
+
 }  // namespace
 
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_1mm, std::string("oak"), 0.001)->Unit(benchmark::kMillisecond);
@@ -73,4 +95,7 @@ BENCHMARK_CAPTURE(BM_Chain, oak, std::string("oak"))->Unit(benchmark::kMilliseco
 BENCHMARK_CAPTURE(BM_Chain, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LeafForest, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LeafForest, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_NeedleForest, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

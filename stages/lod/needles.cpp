@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace sylva::lod {
@@ -23,17 +24,46 @@ double disp(const NeedleLine& a, const NeedleLine& z) {
   return std::max(length(b.base - z.base), length(b.tip - z.tip));
 }
 
+// The merging cost over cached per-needle values (pair_merge.h's metric), the one definition of
+// the cost (needles.h); needle_cost uses it. Flipping b (aligned()) negates its direction and unit
+// vector exactly and leaves its midpoint unchanged, so the cached form gives the same bits.
+struct NeedleKey {
+  Vec3 mid, dir, unit;  // (base + tip) / 2, tip - base, normalized(tip - base)
+  std::uint32_t rank;
+};
+
+struct NeedleMetric {
+  double mean_length;
+  NeedleKey key(const NeedleLine& l) const {
+    return {(l.base + l.tip) * 0.5, l.tip - l.base, normalized(l.tip - l.base), l.rank};
+  }
+  Vec3 center(const NeedleKey& k) const { return k.mid; }
+  // The cost is (distance + angle) + rank with both first terms >= 0, and rounding is monotone,
+  // so it is >= rank and >= distance + rank: once either passes the bound, the rest (the
+  // square roots, the acos) is not needed (pair_merge.h: any value above the bound will do).
+  double cost(const NeedleKey& a, const NeedleKey& b, double bound) const {
+    const double rank = 1 - 2.0 / static_cast<double>(a.rank + b.rank);
+    if (0.5 * rank > bound) return 0.5 * rank;
+    const bool flip = dot(a.dir, b.dir) < 0;
+    const double mismatch = 0.5 * std::max(length(flip ? a.dir + b.dir : a.dir - b.dir), 0.0);
+    const double d = length(a.mid - b.mid) + 0.5 * mismatch;
+    const double distance_term = 0.25 * d / std::max(mean_length, 1e-9);
+    const double without_angle = distance_term + 0.5 * rank;
+    if (without_angle > bound) return without_angle;
+    const double angle = std::acos(std::clamp(std::abs(dot(a.unit, b.unit)), 0.0, 1.0));
+    return distance_term + 0.25 * angle / (std::numbers::pi / 2) + 0.5 * rank;
+  }
+  // d >= the midpoint distance, and rank_b >= 1.
+  double lower_bound(const NeedleKey& a, double distance) const {
+    return 0.25 * distance / std::max(mean_length, 1e-9) + 0.5 * (1 - 2.0 / static_cast<double>(a.rank + 1));
+  }
+};
+
 }  // namespace
 
-double needle_cost(const NeedleLine& a, const NeedleLine& b0, double mean_length) {
-  const NeedleLine b = aligned(a, b0);
-  const Vec3 ma = (a.base + a.tip) * 0.5, mb = (b.base + b.tip) * 0.5;
-  const double mismatch = 0.5 * std::max(length((a.tip - a.base) - (b.tip - b.base)), 0.0);
-  const double d = length(ma - mb) + 0.5 * mismatch;
-  const Vec3 da = normalized(a.tip - a.base), db = normalized(b.tip - b.base);
-  const double angle = std::acos(std::clamp(std::abs(dot(da, db)), 0.0, 1.0));
-  const double rank = 1 - 2.0 / static_cast<double>(a.rank + b.rank);
-  return 0.25 * d / std::max(mean_length, 1e-9) + 0.25 * angle / (std::numbers::pi / 2) + 0.5 * rank;
+double needle_cost(const NeedleLine& a, const NeedleLine& b, double mean_length) {
+  const NeedleMetric m{mean_length};
+  return m.cost(m.key(a), m.key(b), std::numeric_limits<double>::infinity());
 }
 
 NeedleLine merge_needles(const NeedleLine& a, const NeedleLine& b0) {
@@ -60,14 +90,12 @@ NeedleForest build_needle_forest(std::span<const tree::Needle> needles) {
   }
   nf.mean_length = needles.empty() ? 0 : total / static_cast<double>(needles.size());
   const double mean = nf.mean_length;
-  nf.forest = agglomerate(
-      nf.needles, [mean](const NeedleLine& a, const NeedleLine& b) { return needle_cost(a, b, mean); },
-      [](const NeedleLine& a, const NeedleLine& b, double ea, double eb) {
-        NeedleLine z = merge_needles(a, b);
-        const double err = std::max(ea + disp(a, z), eb + disp(b, z));
-        return std::pair<NeedleLine, double>(z, err);
-      },
-      [](const NeedleLine& l) { return (l.base + l.tip) * 0.5; });
+  nf.forest = agglomerate(nf.needles, NeedleMetric{mean},
+                          [](const NeedleLine& a, const NeedleLine& b, double ea, double eb) {
+                            NeedleLine z = merge_needles(a, b);
+                            const double err = std::max(ea + disp(a, z), eb + disp(b, z));
+                            return std::pair<NeedleLine, double>(z, err);
+                          });
   return nf;
 }
 
