@@ -22,6 +22,7 @@ build: configure
 run: build
 	@$(SYLVA) build $(RECIPE)
 	@$(SYLVA) verify $(RECIPE)
+	@$(SYLVA) lodcheck $(RECIPE) --no-images
 
 test: build
 	@cd $(BUILD) && SYLVA_REQUIRE_GLTF_VALIDATOR=1 ctest --output-on-failure -j $(JOBS) --timeout 600

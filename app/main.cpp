@@ -6,6 +6,7 @@
 
 #include "app/cli.h"
 #include "app/inspect_command.h"
+#include "app/lodcheck_command.h"
 #include "app/render_command.h"
 #include "app/verify_command.h"
 #include "stages/register_stages.h"
@@ -33,7 +34,9 @@ int main(int argc, char** argv) {
   auto inspect = sylva::make_inspect_command();
   auto render = sylva::make_render_command();
   auto verify = sylva::make_verify_command(registry);
-  const int code = sylva::run_cli(argc, argv, registry, io, {inspect.get(), render.get(), verify.get()});
+  auto lodcheck = sylva::make_lodcheck_command(registry);
+  const int code =
+      sylva::run_cli(argc, argv, registry, io, {inspect.get(), render.get(), verify.get(), lodcheck.get()});
   // Leave without running static destructors. The shared EGL renderer (stages/verify) lives on a
   // worker thread's context, and Mesa's llvmpipe threads and LLVM's static destructors racing at
   // exit() corrupted the heap now and then ("corrupted size vs. prev_size", exit 134) after

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/progress.h"
+#include "app/recipe_build.h"
 #include "libs/render/camera.h"
 #include "pipeline/cache.h"
 #include "pipeline/diagnostic.h"
@@ -49,7 +49,7 @@ class VerifyCommand final : public CliCommand {
 
   int run(const CliIo& io) override {
     RealFileSystem fsys;
-    const std::string out_root = global("--out").value_or("out");
+    const std::string out_root = global_option(parent_, "--out").value_or("out");
 
     // 1. Load the recipe and pick the verify nodes.
     Diagnostics diags;
@@ -92,38 +92,14 @@ class VerifyCommand final : public CliCommand {
     std::vector<std::string> targets;
     for (const NodeDecl* n : selected)
       for (const auto& up : n->needs) targets.push_back(up);
-    std::string cache_root = global("--cache").value_or("");
-    if (cache_root.empty()) {
-      const char* env = std::getenv("SYLVA_CACHE");
-      cache_root = env && *env ? env : (fs::path(out_root) / "cache").string();
-    }
-    Cache cache(fsys, cache_root);
-    SteadyClock clock;
-    ProgressPrinter progress(io.err, io.err_is_terminal, clock);
-    BuildEnv env{fsys, cache, out_dir, clock, io.cancel, &progress};
-    BuildOptions opt;
-    opt.jobs = jobs_;
-    opt.targets = targets;
-    std::string error;
-    const BuildSummary built = run_build(*recipe, env, opt, &error);
-    progress.stop();
-    if (!error.empty()) {
-      std::fprintf(io.err, "error: %s\n", error.c_str());
-      return kExitUsage;
-    }
-    if (built.interrupted()) return kExitInterrupted;
-    if (!built.ok()) {
-      std::fprintf(io.err, "sylva verify: the inputs did not build (%s); nothing was verified\n", summary_line(built).c_str());
-      return kExitBuildFailed;
-    }
-    std::map<std::string, const NodeReport*> reports;
-    for (const auto& r : built.nodes) reports[r.name] = &r;
+    const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva verify");
+    if (built.exit_code != kExitOk) return built.exit_code;
 
     // 3. Verify each node; 4. accept new images when asked.
     bool all_ok = true;
     for (const NodeDecl* node : selected) {
       if (io.cancel && io.cancel->load()) return kExitInterrupted;
-      const int rc = verify_node(*recipe, *node, reports, out_dir, report_root / node->name, io);
+      const int rc = verify_node(*recipe, *node, built, report_root / node->name, io);
       if (rc == kExitInterrupted) return rc;
       all_ok = all_ok && rc == kExitOk;
     }
@@ -131,15 +107,8 @@ class VerifyCommand final : public CliCommand {
   }
 
  private:
-  // The value of a global option (`sylva --out DIR verify ...`), if given.
-  std::optional<std::string> global(const char* name) const {
-    const CLI::Option* o = parent_ ? parent_->get_option_no_throw(name) : nullptr;
-    if (!o || o->count() == 0) return std::nullopt;
-    return o->as<std::string>();
-  }
-
-  int verify_node(const Recipe& recipe, const NodeDecl& node, const std::map<std::string, const NodeReport*>& reports,
-                  const fs::path& out_dir, const fs::path& report_dir, const CliIo& io) {
+  int verify_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, const fs::path& report_dir,
+                  const CliIo& io) {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage verify): %s\n", name, what.c_str());
@@ -148,12 +117,8 @@ class VerifyCommand final : public CliCommand {
     // The node's inputs, exactly as the executor hands them to the stage.
     std::vector<InputArtifact> inputs;
     for (const auto& up : node.needs) {
-      const NodeDecl* u = recipe.find(up);
-      InputArtifact a{up, u->stage->info().output_type, {}};
-      auto it = reports.find(up);
-      if (it == reports.end()) return fail("input '" + up + "' was not built");
-      for (const auto& o : it->second->outputs) a.files.push_back({o.name, out_dir / up / o.name, o.digest.hash});
-      inputs.push_back(std::move(a));
+      if (!built.report(up)) return fail("input '" + up + "' was not built");
+      inputs.push_back(input_artifact(recipe, built, up));
     }
     const fs::path references = node.files.at("references");
     verify::Report report;

@@ -700,6 +700,12 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
     ss << f.rdbuf();
     bytes = ss.str();
   }
+  return load_gltf_scene_from_memory(std::move(bytes), file, path.parent_path());
+}
+
+Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name, const std::filesystem::path& base_dir_path) {
+  const std::string& file = name;
+  auto fail = [&](const std::string& why) -> SceneLoadError { return SceneLoadError(file + ": error: " + why); };
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (binary) {
     patch_glb(bytes);
@@ -711,7 +717,7 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF reader;
   std::string err, warn;
-  const std::string base_dir = path.parent_path().string();
+  const std::string base_dir = base_dir_path.string();
   bool ok = false;
   try {
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -723,7 +729,7 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
   }
   if (!ok) throw fail("invalid glTF: " + one_line(err.empty() ? warn : err));
 
-  Loader loader(model, file, path.parent_path());
+  Loader loader(model, file, base_dir_path);
   loader.warnings = warn;
   try {
     return loader.load();

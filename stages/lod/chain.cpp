@@ -3,6 +3,7 @@
 // Remolar et al. (FSA/VDF) §4 (uniform extraction); DESIGN.md "LOD error model".
 #include "stages/lod/chain.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -99,7 +100,9 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
     ++level.counts.branches;
   }
   if (options.foliage) {
-    // Foliage of the decimated branches goes with them; the rest is cut by error.
+    // Foliage is cut by its own error (E5) and kept when its branch is decimated: that branch
+    // lies within A(b) <= E4 of its bearer's surface, so its leaves hang at most E4 from drawn
+    // bark, while deleting them would move canopy by their whole extent (docs/stages/lod.md).
     if (!tree.leaves.empty()) {
       std::vector<std::uint32_t> active = pre.leaf_forest.forest.cut_by_error(spec.e5);
       leaf_geometry(pre.leaf_forest, active, level.leaves);
@@ -109,7 +112,10 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
       needle_geometry(pre.needle_forest, active, spec.e3, options.max_edges, level.needles);
     }
   }
-  level.line_alpha = level.branches.level_alpha();
+  level.line_alpha_eq12 = level.branches.level_alpha();
+  level.line_alpha = drawn_line_alpha(level.line_alpha_eq12, spec.delta);
+  level.needle_alpha_eq12 = level.needles.level_alpha();
+  level.needle_line_alpha = drawn_line_alpha(level.needle_alpha_eq12, spec.delta);
   level.counts.quads = level.branches.quads;
   level.counts.triangles = level.branches.triangles;
   level.counts.lines = level.branches.lines;
@@ -117,6 +123,17 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
   level.counts.needle_lines = level.needles.lines;
   level.counts.needle_quads = level.needles.quads + level.needles.triangles;
   return level;
+}
+
+double drawn_line_alpha(double eq12_alpha, double delta) {
+  const double coverage = std::clamp(eq12_alpha * delta, 0.0, 1.0);
+  return 1 - std::cbrt(1 - coverage);
+}
+
+Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const ChainOptions& options) {
+  LevelSpec spec;
+  spec.delta = options.pixel_error;
+  return build_level(tree, pre, spec, options);
 }
 
 std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options) {

@@ -73,10 +73,20 @@ struct Level {
   BranchGeometry branches;
   BranchGeometry needles;  // needles drawn like internodes (lines or prisms)
   LeafGeometry leaves;
-  double line_alpha = 1;   // one alpha per level (length-weighted mean of eq. 12)
+  double line_alpha_eq12 = 1;    // length-weighted mean of eq. 12 over the branch line internodes
+  double line_alpha = 1;         // drawn alpha of each branch line: drawn_line_alpha(eq. 12 mean, delta)
+  double needle_alpha_eq12 = 1;  // the same for needle lines
+  double needle_line_alpha = 1;
   LevelCounts counts;
   std::vector<std::vector<std::uint32_t>> kept_nodes;  // per branch; empty = decimated
 };
+
+// The alpha each of an internode's three lines is drawn with (docs/stages/lod.md, "Line
+// alpha"). Eq. (12)'s 2/rho is the pixel coverage 2R/s of a branch of radius R where the pixel
+// size s is E3 / delta with delta = 1 px; for the chain's delta the coverage at the switch
+// distance is delta * 2/rho. The three lines of an internode (§5.5) lie on the same pixels and
+// blend over each other, so each gets 1 - (1 - coverage)^(1/3): together they cover `coverage`.
+double drawn_line_alpha(double eq12_alpha, double delta);
 
 // Data computed once per tree and shared by every level.
 struct Precomputed {
@@ -91,6 +101,11 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options);
 // One level from the precomputed data (the three passes of Zhang §3: merging, topology,
 // polygonisation; then foliage).
 Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec, const ChainOptions& options);
+
+// The full-detail model the levels are measured against (`sylva lodcheck`): epsilon = 0, so no
+// merging (except exactly collinear runs of equal radius), no decimation, every polygon with
+// max_edges sides, every leaf and needle. Its switch distance is 0.
+Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const ChainOptions& options);
 
 // Every level of plan_levels(options).
 std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options);

@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <functional>
 #include <numbers>
 #include <stdexcept>
 
@@ -31,7 +29,7 @@ void add_materials(gltf::Scene& s, const tree::Tree& tree, const Level& level, c
   lines.name = "bark_lines";
   lines.base_color = rgba(m.bark_color, level.line_alpha);
   lines.alpha_mode = gltf::AlphaMode::kBlend;
-  lines.extras = {{"alpha_eq12", level.line_alpha}};
+  lines.extras = {{"alpha_eq12", level.line_alpha_eq12}};
   s.materials.push_back(lines);
   gltf::Material leaves;
   leaves.name = "leaves";
@@ -48,7 +46,8 @@ void add_materials(gltf::Scene& s, const tree::Tree& tree, const Level& level, c
   s.materials.push_back(leaves);
   gltf::Material needle_lines;
   needle_lines.name = "needle_lines";
-  needle_lines.base_color = rgba(m.leaf_color, level.needles.level_alpha());
+  needle_lines.base_color = rgba(m.leaf_color, level.needle_line_alpha);
+  needle_lines.extras = {{"alpha_eq12", level.needle_alpha_eq12}};
   needle_lines.alpha_mode = gltf::AlphaMode::kBlend;
   s.materials.push_back(needle_lines);
   gltf::Material needles;
@@ -103,33 +102,6 @@ gltf::Mesh level_mesh(const Level& level, std::size_t index, int material_base) 
   return mesh;
 }
 
-std::uint32_t read_u32(const std::string& s, std::size_t at) {
-  std::uint32_t v;
-  std::memcpy(&v, s.data() + at, 4);
-  return v;
-}
-void put_u32(std::string& s, std::uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
-
-// Rewrites the JSON chunk of a GLB (little-endian hosts; GLB is little-endian).
-std::string patch_glb_json(const std::string& glb, const std::function<void(nlohmann::json&)>& edit) {
-  if (glb.size() < 20 || read_u32(glb, 0) != 0x46546C67u) throw std::runtime_error("not a GLB");
-  const std::uint32_t json_len = read_u32(glb, 12);
-  nlohmann::json j = nlohmann::json::parse(glb.substr(20, json_len));
-  edit(j);
-  std::string text = j.dump();
-  while (text.size() % 4 != 0) text.push_back(' ');
-  const std::string rest = glb.substr(20 + json_len);  // BIN chunk (header included), if any
-  std::string out;
-  put_u32(out, 0x46546C67u);
-  put_u32(out, 2);
-  put_u32(out, static_cast<std::uint32_t>(12 + 8 + text.size() + rest.size()));
-  put_u32(out, static_cast<std::uint32_t>(text.size()));
-  put_u32(out, 0x4E4F534Au);
-  out += text;
-  out += rest;
-  return out;
-}
-
 }  // namespace
 
 double tree_height(const tree::Tree& tree) {
@@ -155,7 +127,9 @@ nlohmann::json level_extras(const Level& level, std::size_t index) {
           {"E4_m", s.e4},
           {"E5_m", s.e5},
           {"line_alpha", level.line_alpha},
-          {"needle_line_alpha", level.needles.level_alpha()},
+          {"line_alpha_eq12", level.line_alpha_eq12},
+          {"needle_line_alpha", level.needle_line_alpha},
+          {"needle_line_alpha_eq12", level.needle_alpha_eq12},
           {"max_polygon_error_m", level.branches.max_polygon_error},
           {"counts",
            {{"quads", c.quads},
@@ -226,16 +200,12 @@ std::string encode_chain_glb(const tree::Tree& tree, const std::vector<Level>& l
   s.nodes[0].extras["MSFT_screencoverage"] = coverage;
   s.roots = {0};
   s.extras = {{"sylva_stage", "lod"}, {"tree", tree.name}};
-  const std::string glb = gltf::encode(s);
-  if (levels.size() < 2) return glb;
-  return patch_glb_json(glb, [&](nlohmann::json& j) {
+  if (levels.size() >= 2) {
     nlohmann::json ids = nlohmann::json::array();
     for (std::size_t i = 1; i < levels.size(); ++i) ids.push_back(i);
-    j["nodes"][0]["extensions"]["MSFT_lod"]["ids"] = ids;
-    auto& used = j["extensionsUsed"];
-    if (!used.is_array()) used = nlohmann::json::array();
-    used.push_back("MSFT_lod");
-  });
+    s.nodes[0].extensions = {{"MSFT_lod", {{"ids", ids}}}};
+  }
+  return gltf::encode(s);
 }
 
 nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels, const ChainOptions& o) {

@@ -37,9 +37,8 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
 std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double tree_height);
 
 // The chain as one GLB: level 0 is the scene's root node, carrying MSFT_lod ids of the other
-// levels' nodes and extras.MSFT_screencoverage; those nodes are not scene roots (MSFT_lod). The
-// writer's GLB is patched to add the node extension and extensionsUsed (libs/gltf writes extras,
-// not extensions). Deterministic bytes.
+// levels' nodes and extras.MSFT_screencoverage; those nodes are not scene roots (MSFT_lod).
+// Deterministic bytes.
 std::string encode_chain_glb(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
                              const OutputTextures& tex);
 

@@ -28,7 +28,7 @@ class LodStage : public Stage {
  public:
   LodStage() {
     info_.name = "lod";
-    info_.version = 1;
+    info_.version = 2;  // 2: MSFT_lod written by libs/gltf (JSON bytes changed)
     info_.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
     info_.output_type = "lod";
     info_.inputs = {{"tree"}, 1, 1, "one tree artifact (tree.sylt, optional leaves.png)"};
@@ -74,24 +74,7 @@ class LodStage : public Stage {
       if (const ArtifactFile* f = in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
     }
     // 2. Options.
-    lod::ChainOptions o;
-    const Value::Object& cam = ctx.param("camera").as_object();
-    o.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
-    o.camera.height_px = static_cast<int>(cam.at("height_px").as_int());
-    o.pixel_error = ctx.real("pixel_error");
-    o.levels = static_cast<int>(ctx.integer("levels"));
-    for (const Value& v : ctx.param("errors_m").as_list()) o.errors.push_back(v.as_real());
-    o.min_error = ctx.real("min_error_m");
-    o.max_error = ctx.real("max_error_m");
-    o.e1 = ctx.real("e1");
-    o.e2 = ctx.real("e2");
-    o.e3 = ctx.real("e3");
-    o.e4 = ctx.real("e4");
-    o.e5 = ctx.real("e5");
-    o.torsion_limit = ctx.real("torsion_limit_deg") * std::numbers::pi / 180;
-    o.max_edges = static_cast<int>(ctx.integer("max_edges"));
-    o.topology = ctx.boolean("topology");
-    o.foliage = ctx.boolean("foliage");
+    const lod::ChainOptions o = chain_options_from_params(ctx.params());
     // 3. The chain (pure core).
     std::vector<lod::Level> levels;
     try {
@@ -116,6 +99,33 @@ class LodStage : public Stage {
 };
 
 }  // namespace
+
+lod::ChainOptions chain_options_from_params(const Value::Object& params) {
+  auto at = [&](const char* name) -> const Value& {
+    auto it = params.find(name);
+    if (it == params.end()) throw std::invalid_argument(std::string("lod parameters: '") + name + "' is missing");
+    return it->second;
+  };
+  lod::ChainOptions o;
+  const Value::Object& cam = at("camera").as_object();
+  o.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
+  o.camera.height_px = static_cast<int>(cam.at("height_px").as_int());
+  o.pixel_error = at("pixel_error").as_real();
+  o.levels = static_cast<int>(at("levels").as_int());
+  for (const Value& v : at("errors_m").as_list()) o.errors.push_back(v.as_real());
+  o.min_error = at("min_error_m").as_real();
+  o.max_error = at("max_error_m").as_real();
+  o.e1 = at("e1").as_real();
+  o.e2 = at("e2").as_real();
+  o.e3 = at("e3").as_real();
+  o.e4 = at("e4").as_real();
+  o.e5 = at("e5").as_real();
+  o.torsion_limit = at("torsion_limit_deg").as_real() * std::numbers::pi / 180;
+  o.max_edges = static_cast<int>(at("max_edges").as_int());
+  o.topology = at("topology").as_bool();
+  o.foliage = at("foliage").as_bool();
+  return o;
+}
 
 std::unique_ptr<Stage> make_lod_stage() { return std::make_unique<LodStage>(); }
 

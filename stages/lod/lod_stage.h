@@ -6,9 +6,15 @@
 #include <memory>
 
 #include "pipeline/stage.h"
+#include "stages/lod/chain.h"
 
 namespace sylva {
 
 std::unique_ptr<Stage> make_lod_stage();
+
+// The chain options of a lod node's complete (defaults filled) parameters: what the stage runs
+// with, for commands that rebuild part of a chain (`sylva lodcheck`). Throws
+// std::invalid_argument if a parameter is missing.
+lod::ChainOptions chain_options_from_params(const Value::Object& params);
 
 }  // namespace sylva

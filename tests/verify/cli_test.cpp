@@ -1,5 +1,6 @@
-// `sylva render` and `sylva verify` through the real binary: exit codes, one-line messages, the
-// files written, and the update-refs workflow on a small generate -> mesh -> verify recipe.
+// `sylva render`, `sylva verify` and `sylva lodcheck` through the real binary: exit codes,
+// one-line messages, the files written, the update-refs workflow on a small generate -> mesh ->
+// verify recipe, and the LOD proof on a small generate -> lod recipe.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -12,6 +13,7 @@
 
 #include "libs/image/image_io.h"
 #include "libs/render/testing/gltf_builder.h"
+#include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
 namespace sylva {
@@ -281,6 +283,80 @@ TEST_F(VerifyCli, BrokenInputIsABuildFailure) {
   EXPECT_NE(r.err.find("error: node 'tree' (stage generate): "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("sylva verify: the inputs did not build"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");
+}
+
+// `sylva lodcheck` on a young birch's chain at a 200-px camera: builds, renders each level at
+// its switch distance against the full-detail tree, prints the table, writes lodcheck.json and
+// the images, and passes; a coarse chain seen with a tighter pixel threshold fails with exit 1.
+class LodcheckCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    test::write_file(recipe_, "version: 1\nname: small\nnodes:\n"
+                              "  tree_birch:\n    stage: generate\n    with: { preset: " +
+                                  fs::absolute("configs/species/birch.yaml").string() +
+                                  ", age: young, texture_size: 16 }\n"
+                                  "  lod_birch:\n    stage: lod\n    needs: tree_birch\n"
+                                  "    with: { camera: { height_px: 200 }, levels: 3 }\n");
+  }
+  Outcome lodcheck(const std::string& extra = "") {
+    return sylva(dir_, "--out " + out_.string() + " lodcheck " + recipe_.string() + " " + extra);
+  }
+  test::TempDir dir_;
+  fs::path recipe_ = dir_ / "small.yaml";
+  fs::path out_ = dir_ / "out";
+  fs::path report_ = out_ / "small" / "lodcheck" / "lod_birch";
+};
+
+TEST_F(LodcheckCli, PassesAndReports) {
+  const Outcome r = lodcheck("--write-full " + (dir_ / "full.glb").string());
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_EQ(count_of(r.out, "  sylva "), 6) << r.out;  // 3 levels x 2 views
+  EXPECT_EQ(count_of(r.out, " ok\n"), 6) << r.out;
+  EXPECT_NE(r.out.find("sylva lodcheck: node 'lod_birch' passed (6/6 views passed); report: " +
+                       (report_ / "lodcheck.json").string() + "\n"),
+            std::string::npos)
+      << r.out;
+  const auto j = nlohmann::json::parse(test::read_file(report_ / "lodcheck.json"));
+  EXPECT_TRUE(j.at("passed").get<bool>());
+  ASSERT_EQ(j.at("views").size(), 6u);
+  double last_distance = 0;
+  for (const auto& v : j.at("views")) {
+    EXPECT_GT(v.at("footprint_pixels").get<std::size_t>(), 0u);
+    EXPECT_GE(v.at("distance_m").get<double>(), last_distance);
+    last_distance = v.at("distance_m").get<double>();
+  }
+  EXPECT_EQ(j.at("camera").at("height_px").get<int>(), 200);
+  for (const char* f : {"full_lod0_az0.png", "sylva_lod2_az90.png", "sylva_lod2_az90_diff.png"})
+    EXPECT_TRUE(fs::exists(report_ / f)) << f;
+  EXPECT_EQ(image::read_image(report_ / "sylva_lod1_az0.png").height(), 200);
+  EXPECT_TRUE(fs::exists(dir_ / "full.glb"));
+  SYLVA_EXPECT_VALID_GLTF(dir_ / "full.glb");
+}
+
+TEST_F(LodcheckCli, AnImpossibleThresholdFails) {
+  const Outcome r = lodcheck("--no-images --pixel-threshold 0 --max-failing-fraction 0");
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAIL: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("sylva lodcheck: node 'lod_birch' FAILED"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(report_ / "sylva_lod0_az0.png"));
+}
+
+TEST_F(LodcheckCli, UsageErrors) {
+  Outcome r = lodcheck("--node lod_brch");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: no node 'lod_brch' of stage 'lod' in recipe 'small'; did you mean 'lod_birch'?\n");
+  r = lodcheck("--node tree_birch");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: no node 'tree_birch' of stage 'lod' in recipe 'small'\n");
+  r = lodcheck("--candidates " + (dir_ / "nope").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: --candidates " + (dir_ / "nope").string() + ": not a directory\n");
+  test::write_file(dir_ / "plain.yaml", "version: 1\nname: plain\nnodes:\n  t:\n    stage: generate\n    with: { preset: " +
+                                            fs::absolute("configs/species/birch.yaml").string() + " }\n");
+  r = sylva(dir_, "--out " + out_.string() + " lodcheck " + (dir_ / "plain.yaml").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "error: recipe 'plain' (" + (dir_ / "plain.yaml").string() +
+                       ") has no node of stage 'lod'; add one (docs/stages/lod.md)\n");
 }
 
 }  // namespace

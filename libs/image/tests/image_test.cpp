@@ -4,6 +4,9 @@
 
 #include "libs/image/image.h"
 #include "libs/image/image_io.h"
+#include "libs/image/resample.h"
+
+#include <stdexcept>
 #include "tests/support/test_support.h"
 
 namespace sylva::image {
@@ -115,3 +118,22 @@ TEST(ImageIo, ErrorsNameTheFile) {
 
 }  // namespace
 }  // namespace sylva::image
+
+// Supersampling: a 2x2 block of black and white averages to 50 % linear grey (sRGB 188), not to
+// sRGB 128; a uniform image stays as it is; sizes that do not divide are refused.
+TEST(Downsample, AveragesInLinearLight) {
+  sylva::image::Image img(4, 2, {10, 20, 30, 255});
+  img.set(0, 0, {0, 0, 0, 255});
+  img.set(1, 0, {255, 255, 255, 255});
+  img.set(0, 1, {0, 0, 0, 255});
+  img.set(1, 1, {255, 255, 255, 255});
+  const sylva::image::Image small = sylva::image::downsample(img, 2);
+  ASSERT_EQ(small.width(), 2);
+  ASSERT_EQ(small.height(), 1);
+  EXPECT_NEAR(small.at(0, 0).r, 188, 1);
+  EXPECT_EQ(small.at(0, 0).a, 255);
+  EXPECT_NEAR(small.at(1, 0).r, 10, 1);
+  EXPECT_NEAR(small.at(1, 0).b, 30, 1);
+  EXPECT_EQ(sylva::image::downsample(img, 1), img);
+  EXPECT_THROW(sylva::image::downsample(img, 3), std::invalid_argument);
+}

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <set>
 
 #include "libs/tree/tree.h"
 #include "stages/lod/chain.h"
@@ -35,6 +36,11 @@ TEST(EdgeFunction, StepsOfEquation11) {
   EXPECT_EQ(edge_count(INFINITY, 12), 1);       // R = 0
   EXPECT_DOUBLE_EQ(line_alpha(4.0), 0.5);       // eq. (12)
   EXPECT_DOUBLE_EQ(line_alpha(1.0), 1.0);
+  // Drawn alpha: coverage delta * eq. 12, shared by three overlapping lines.
+  EXPECT_NEAR(drawn_line_alpha(0.5, 0.5), 1 - std::cbrt(0.75), 1e-15);
+  EXPECT_NEAR(1 - std::pow(1 - drawn_line_alpha(0.5, 0.5), 3), 0.25, 1e-12);  // three lines blend to 0.25
+  EXPECT_NEAR(drawn_line_alpha(0.8, 2.0), 1.0, 1e-15);                       // coverage clamps at 1
+  EXPECT_NEAR(drawn_line_alpha(0.4, 1.0), 1 - std::cbrt(0.6), 1e-15);        // delta = 1: eq. 12 itself
   // Every h-gon chosen keeps its polygonisation error under E3 = rho R.
   for (double rho = 0.001; rho < 2; rho *= 1.1) {
     const int h = edge_count(rho, 1000);
@@ -252,6 +258,30 @@ TEST(Foliage, LeafCollapseBuildsBinaryForest) {
   EXPECT_EQ(from_a, 2);
   EXPECT_EQ(from_b, 2);
   EXPECT_NEAR(z.area, a.area + b.area, 0.5 * (a.area + b.area));
+}
+
+// A collapsed leaf shows one whole atlas leaf: the larger leaf's variant cell, corner for corner
+// (petiole edge at high v from the first leaf, tip edge at low v from the second).
+TEST(Foliage, CollapsedLeafShowsAWholeAtlasLeaf) {
+  tree::Leaf la, lb;
+  la.position = {0, 0, 0};
+  lb.position = {0.02f, 0.01f, 0};
+  la.direction = lb.direction = {0, 1, 0};
+  la.normal = lb.normal = {0, 0, 1};
+  la.length = 0.06f;
+  la.width = 0.03f;
+  lb.length = 0.04f;
+  lb.width = 0.02f;
+  la.variant = 3;  // bottom-right cell: u, v in [0.5, 1]
+  lb.variant = 0;
+  for (bool swapped : {false, true}) {
+    const LeafQuad qa = leaf_quad(la), qb = leaf_quad(lb);
+    const LeafQuad z = swapped ? collapse_leaves(qb, qa) : collapse_leaves(qa, qb);
+    std::set<std::pair<float, float>> corners;
+    for (const auto& uv : z.uv) corners.insert({uv[0], uv[1]});
+    const std::set<std::pair<float, float>> cell = {{0.5f, 0.5f}, {1.f, 0.5f}, {1.f, 1.f}, {0.5f, 1.f}};
+    EXPECT_EQ(corners, cell) << swapped;
+  }
 }
 
 // E5 needle merging: pairs of parallel neighbours go first; cuts by error fall with E5 and the

@@ -1,0 +1,338 @@
+// `sylva lodcheck`: load → build the lod nodes → per node, the full-detail model and the written
+// levels → render and compare (stages/lod/check) → table, JSON, images. The chain options come
+// from the node's parameters through the stage's own reading (chain_options_from_params), so
+// the full-detail model is the one the stage's levels were simplified from.
+#include "app/lodcheck_command.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/recipe_build.h"
+#include "libs/gltf/writer.h"
+#include "libs/image/image_io.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/renderer.h"
+#include "libs/tree/sylt_format.h"
+#include "pipeline/diagnostic.h"
+#include "pipeline/filesystem.h"
+#include "pipeline/recipe_loader.h"
+#include "stages/lod/chain.h"
+#include "stages/lod/check/lodcheck.h"
+#include "stages/lod/lod_gltf.h"
+#include "stages/lod/lod_stage.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kLodStage = "lod";
+constexpr const char* kReportsDir = "lodcheck";
+
+std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw std::runtime_error(p.string() + ": cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// JSON has no infinity: identical images have PSNR +inf.
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+class LodcheckCommand final : public CliCommand {
+ public:
+  explicit LodcheckCommand(const StageRegistry& registry) : registry_(registry) {}
+
+  CLI::App* add_to(CLI::App& app) override {
+    parent_ = &app;
+    auto* sub = app.add_subcommand(
+        "lodcheck", "render each LOD level at its switch distance against the full-detail tree and report the image error");
+    sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
+    sub->add_option("--node", nodes_, "check only this lod node (repeatable; default: every node of stage lod)")
+        ->allow_extra_args(false);
+    sub->add_option("-j,--jobs", jobs_, "parallel nodes while building (default: all cores)")->check(CLI::Range(1, 1024));
+    sub->add_option("--report-dir", report_root_, "where reports and images go (default: <out>/<recipe>/lodcheck)");
+    sub->add_option("--pixel-threshold", options_.pixel_threshold,
+                    "a pixel fails when its coverage changes by more than this (0..1; default delta = 0.5)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    sub->add_option("--max-failing-fraction", options_.max_failing_fraction,
+                    "a view passes while at most this fraction of the tree's pixels fail (0..1)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    sub->add_option("--max-coverage-error", options_.max_coverage_error,
+                    "a view passes while the mean coverage change over the tree's pixels is at most this (0..1)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    sub->add_option("--supersample", options_.supersample,
+                    "render at this multiple of the image height and average down (1 = off)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 8));
+    sub->add_option("--azimuth", azimuths_, "view azimuths in degrees (repeatable; default: 0 and 90)")
+        ->check(CLI::Range(-360.0, 360.0));
+    sub->add_flag("--branches-only", branches_only_, "draw bark and branch lines only (no leaves or needles)");
+    sub->add_option("--candidates", candidates_dir_,
+                    "also measure another simplifier's models DIR/lod<i>.glb (reported, not judged)");
+    sub->add_option("--candidate-label", candidate_label_, "name of the candidates in the report (default: DIR's name)");
+    sub->add_option("--write-full", write_full_, "write the full-detail model as a GLB (with exactly one node)");
+    sub->add_flag("--no-images", no_images_, "do not write the renders and heat maps (lodcheck.json only)");
+    return sub;
+  }
+
+  int run(const CliIo& io) override {
+    RealFileSystem fsys;
+    Diagnostics diags;
+    auto recipe = load_recipe(recipe_, registry_, fsys, diags);
+    if (!recipe) {
+      std::fputs(diags.pretty().c_str(), io.err);
+      std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", recipe_.c_str());
+      return kExitUsage;
+    }
+    std::vector<std::string> lod_names, selected;
+    for (const auto& n : recipe->nodes)
+      if (n.stage->info().name == kLodStage) lod_names.push_back(n.name);
+    for (const auto& name : nodes_) {
+      const NodeDecl* n = recipe->find(name);
+      if (!n || n->stage->info().name != kLodStage) {
+        std::fprintf(io.err, "error: no node '%s' of stage '%s' in recipe '%s'%s\n", name.c_str(), kLodStage,
+                     recipe->name.c_str(), did_you_mean(name, lod_names).c_str());
+        return kExitUsage;
+      }
+      if (std::find(selected.begin(), selected.end(), name) == selected.end()) selected.push_back(name);
+    }
+    if (nodes_.empty()) selected = lod_names;
+    if (selected.empty()) {
+      std::fprintf(io.err, "error: recipe '%s' (%s) has no node of stage '%s'; add one (docs/stages/lod.md)\n",
+                   recipe->name.c_str(), recipe_.c_str(), kLodStage);
+      return kExitUsage;
+    }
+    if ((!write_full_.empty() || !candidates_dir_.empty()) && selected.size() != 1) {
+      std::fprintf(io.err, "error: --write-full and --candidates need exactly one lod node (--node NODE); %zu selected\n",
+                   selected.size());
+      return kExitUsage;
+    }
+    if (!candidates_dir_.empty() && !fs::is_directory(candidates_dir_)) {
+      std::fprintf(io.err, "error: --candidates %s: not a directory\n", candidates_dir_.c_str());
+      return kExitUsage;
+    }
+    if (!azimuths_.empty()) options_.azimuths_deg = azimuths_;
+    const std::string out_root = global_option(parent_, "--out").value_or("out");
+    const fs::path out_dir = fs::path(out_root) / recipe->name;
+    if (report_root_.empty() && recipe->find(kReportsDir)) {
+      std::fprintf(io.err, "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
+                   "choose another directory with --report-dir\n", recipe->name.c_str(), kReportsDir);
+      return kExitUsage;
+    }
+    const fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);
+
+    const RecipeBuild built = build_recipe_targets(*recipe, selected, parent_, jobs_, io, "sylva lodcheck");
+    if (built.exit_code != kExitOk) return built.exit_code;
+
+    std::unique_ptr<render::Renderer> renderer;
+    try {
+      renderer = render::Renderer::create_headless();
+    } catch (const render::RenderError& e) {
+      std::fprintf(io.err, "error: %s\n", e.what());
+      return kExitBuildFailed;
+    }
+    bool all_ok = true;
+    for (const auto& name : selected) {
+      if (io.cancel && io.cancel->load()) return kExitInterrupted;
+      const int rc = check_node(*recipe, *recipe->find(name), built, *renderer, report_root / name, io);
+      if (rc == kExitInterrupted) return rc;
+      all_ok = all_ok && rc == kExitOk;
+    }
+    return all_ok ? kExitOk : kExitBuildFailed;
+  }
+
+ private:
+  int check_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, render::Renderer& renderer,
+                 const fs::path& report_dir, const CliIo& io) {
+    const char* name = node.name.c_str();
+    auto fail = [&](const std::string& what) {
+      std::fprintf(io.err, "error: node '%s' (stage lod): %s\n", name, what.c_str());
+      return kExitBuildFailed;
+    };
+    std::vector<lod::ViewCheck> results;
+    lod::ChainOptions chain;
+    nlohmann::json summary;
+    std::pair<std::size_t, std::size_t> full_counts;
+    try {
+      // The tree the chain was built from, and the chain as written.
+      const InputArtifact tree_in = input_artifact(recipe, built, node.needs.at(0));
+      const InputArtifact lod_out = input_artifact(recipe, built, node.name);
+      const ArtifactFile* sylt = tree_in.file("tree.sylt");
+      const ArtifactFile* lod_json = lod_out.file("lod.json");
+      if (!sylt) return fail("input '" + tree_in.node + "' has no tree.sylt");
+      if (!lod_json) return fail("the node wrote no lod.json");
+      const tree::Tree tree = tree::read_sylt(sylt->path);
+      summary = nlohmann::json::parse(read_bytes(lod_json->path));
+      chain = chain_options_from_params(node.params);
+
+      // The full-detail model, through the same glTF path as the levels.
+      lod::OutputTextures tex;
+      if (!tree.materials.leaf_texture.empty())
+        if (const ArtifactFile* f = tree_in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
+      const lod::Precomputed pre = lod::precompute(tree, chain);
+      lod::Level full_level = lod::build_full_detail(tree, pre, chain);
+      if (branches_only_) {  // so that --write-full writes what is compared
+        full_level.leaves = {};
+        full_level.needles = {};
+      }
+      std::string full_glb = gltf::encode(lod::level_scene(tree, full_level, 0, tex));
+      if (!write_full_.empty()) {
+        RealFileSystem fsys;
+        if (!fsys.write_atomic(write_full_, full_glb)) return fail("cannot write " + write_full_);
+      }
+      render::Scene full = render::load_gltf_scene_from_memory(std::move(full_glb), node.name + " (full detail)");
+      if (branches_only_) full = lod::branches_only(full);
+      full_counts = {full.triangle_count(), full.line_count()};
+
+      // Subjects: the levels as written, then the candidates.
+      std::vector<lod::CheckSubject> subjects;
+      const std::string cand_label =
+          !candidate_label_.empty() ? candidate_label_ : fs::path(candidates_dir_).filename().string();
+      for (const auto& l : summary.at("levels")) {
+        const std::size_t i = subjects.empty() ? 0 : subjects.back().level + 1;
+        const std::string file = l.at("file").get<std::string>();
+        const ArtifactFile* f = lod_out.file(file);
+        if (!f) return fail("the node wrote no " + file + " though lod.json lists it");
+        lod::CheckSubject s{"sylva", i, l.at("epsilon_m").get<double>(), l.at("switch_distance_m").get<double>(),
+                            render::load_gltf_scene(f->path)};
+        if (branches_only_) s.scene = lod::branches_only(s.scene);
+        subjects.push_back(std::move(s));
+      }
+      if (!candidates_dir_.empty()) {
+        const std::size_t n = subjects.size();
+        for (std::size_t i = 0; i < n; ++i) {
+          const fs::path f = fs::path(candidates_dir_) / ("lod" + std::to_string(i) + ".glb");
+          if (!fs::exists(f)) continue;
+          lod::CheckSubject s{cand_label, i, subjects[i].epsilon, subjects[i].distance, render::load_gltf_scene(f)};
+          if (branches_only_) s.scene = lod::branches_only(s.scene);
+          subjects.push_back(std::move(s));
+        }
+      }
+
+      std::error_code ec;
+      fs::remove_all(report_dir, ec);
+      fs::create_directories(report_dir, ec);
+      if (ec) return fail(report_dir.string() + ": cannot create the report directory: " + ec.message());
+      lod::CheckImageSink sink;
+      if (!no_images_)
+        sink = [&](const lod::ViewCheck& c, const image::Image& ref, const image::Image& test, const image::Image& diff) {
+          if (io.cancel && io.cancel->load()) throw Cancelled();
+          const std::string stem = c.label + "_lod" + std::to_string(c.level) + "_" + c.view;
+          if (c.label == "sylva") image::write_png(ref, report_dir / ("full_lod" + std::to_string(c.level) + "_" + c.view + ".png"));
+          image::write_png(test, report_dir / (stem + ".png"));
+          image::write_png(diff, report_dir / (stem + "_diff.png"));
+        };
+      results = lod::check_subjects(renderer, full, subjects, chain.camera, options_, sink);
+      write_json(report_dir / "lodcheck.json", node, summary, chain, full, results);
+    } catch (const Cancelled&) {
+      return kExitInterrupted;
+    } catch (const std::exception& e) {  // unreadable tree or outputs, render failure, unwritable report
+      return fail(e.what());
+    }
+    return print_table(node, chain, full_counts, results, report_dir, io);
+  }
+
+  int print_table(const NodeDecl& node, const lod::ChainOptions& chain, const std::pair<std::size_t, std::size_t>& full,
+                  const std::vector<lod::ViewCheck>& results, const fs::path& report_dir, const CliIo& io) const {
+    std::fprintf(io.out,
+                 "lodcheck %s: camera %.4g deg, %d px, delta %.3g px; a view passes when <= %.2f%% of the tree's pixels "
+                 "change coverage by > %.3g and the mean coverage change is <= %.3g%s\n",
+                 node.name.c_str(), chain.camera.fov_y_rad * 180 / std::numbers::pi, chain.camera.height_px,
+                 chain.pixel_error, 100 * options_.max_failing_fraction, options_.pixel_threshold,
+                 options_.max_coverage_error, branches_only_ ? " (branches only)" : "");
+    std::fprintf(io.out, "  full detail: %zu triangles, %zu lines\n", full.first, full.second);
+    std::fprintf(io.out, "  %-10s %5s %9s %9s %6s %10s %9s %7s %8s %8s %6s  %s\n", "model", "level", "eps_m", "dist_m",
+                 "view", "primitives", "footprint", "fail%", "cov_mean", "cov_bias", "rgb_mean", "verdict");
+    std::size_t failed = 0, judged = 0;
+    for (const auto& c : results) {
+      const bool is_sylva = c.label == "sylva";
+      if (is_sylva) {
+        ++judged;
+        failed += c.passed ? 0 : 1;
+      }
+      std::fprintf(io.out, "  %-10s %5zu %9.4f %9.2f %6s %10zu %9zu %7.3f %8.5f %+8.5f %8.5f  %s\n", c.label.c_str(),
+                   c.level, c.epsilon, c.distance, c.view.c_str(), c.primitives, c.footprint_pixels,
+                   100 * c.coverage_failing_fraction, c.coverage_mean_error, c.coverage_bias, c.colour_mean_error,
+                   !is_sylva ? "-" : c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
+    }
+    std::fprintf(io.out, "sylva lodcheck: node '%s' %s (%zu/%zu views passed); report: %s\n", node.name.c_str(),
+                 failed ? "FAILED" : "passed", judged - failed, judged, (report_dir / "lodcheck.json").c_str());
+    return failed ? kExitBuildFailed : kExitOk;
+  }
+
+  void write_json(const fs::path& file, const NodeDecl& node, const nlohmann::json& summary,
+                  const lod::ChainOptions& chain, const render::Scene& full,
+                  const std::vector<lod::ViewCheck>& results) const {
+    nlohmann::json j;
+    j["node"] = node.name;
+    j["tree"] = summary.value("tree", "");
+    j["camera"] = {{"fov_y_deg", chain.camera.fov_y_rad * 180 / std::numbers::pi}, {"height_px", chain.camera.height_px}};
+    j["pixel_error_px"] = chain.pixel_error;
+    j["thresholds"] = {{"pixel_threshold", options_.pixel_threshold},
+                       {"max_failing_fraction", options_.max_failing_fraction},
+                       {"max_coverage_error", options_.max_coverage_error},
+                       {"supersample", options_.supersample},
+                       {"msaa", options_.msaa}};
+    j["branches_only"] = branches_only_;
+    j["full_detail"] = {{"triangles", full.triangle_count()}, {"lines", full.line_count()}};
+    nlohmann::json views = nlohmann::json::array();
+    bool passed = true;
+    for (const auto& c : results) {
+      if (c.label == "sylva") passed = passed && c.passed;
+      views.push_back({{"model", c.label},
+                       {"level", c.level},
+                       {"view", c.view},
+                       {"epsilon_m", c.epsilon},
+                       {"distance_m", c.distance},
+                       {"primitives", c.primitives},
+                       {"footprint_pixels", c.footprint_pixels},
+                       {"coverage_failing_fraction", c.coverage_failing_fraction},
+                       {"coverage_mean_error", c.coverage_mean_error},
+                       {"coverage_bias", c.coverage_bias},
+                       {"colour_mean_error", c.colour_mean_error},
+                       {"colour_max_error", c.colour.max_error},
+                       {"colour_psnr_db", finite_or_null(c.colour.psnr)},
+                       {"judged", c.label == "sylva"},
+                       {"passed", c.passed},
+                       {"failure", c.failure}});
+    }
+    j["views"] = views;
+    j["passed"] = passed;
+    RealFileSystem fsys;
+    if (!fsys.write_atomic(file, j.dump(2) + "\n")) throw std::runtime_error("cannot write " + file.string());
+  }
+
+  const StageRegistry& registry_;
+  CLI::App* parent_ = nullptr;
+  std::string recipe_ = "configs/default.yaml";
+  std::vector<std::string> nodes_;
+  int jobs_ = 0;
+  std::string report_root_;
+  lod::LodCheckOptions options_;
+  std::vector<double> azimuths_;
+  bool branches_only_ = false;
+  std::string candidates_dir_, candidate_label_, write_full_;
+  bool no_images_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<CliCommand> make_lodcheck_command(const StageRegistry& registry) {
+  return std::make_unique<LodcheckCommand>(registry);
+}
+
+}  // namespace sylva

@@ -1,0 +1,71 @@
+// Building part of a recipe for a command: the same cache, progress and exit codes as `sylva
+// build`, so `sylva verify` and `sylva lodcheck` never disagree with it about what is built.
+#include "app/recipe_build.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "app/progress.h"
+#include "pipeline/cache.h"
+#include "pipeline/clock.h"
+#include "pipeline/filesystem.h"
+
+namespace sylva {
+
+namespace fs = std::filesystem;
+
+std::optional<std::string> global_option(const CLI::App* parent, const char* name) {
+  const CLI::Option* o = parent ? parent->get_option_no_throw(name) : nullptr;
+  if (!o || o->count() == 0) return std::nullopt;
+  return o->as<std::string>();
+}
+
+const NodeReport* RecipeBuild::report(const std::string& node) const {
+  for (const auto& r : summary.nodes)
+    if (r.name == node) return &r;
+  return nullptr;
+}
+
+RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets, const CLI::App* parent,
+                                 int jobs, const CliIo& io, const char* command) {
+  RecipeBuild b;
+  const std::string out_root = global_option(parent, "--out").value_or("out");
+  b.out_dir = fs::path(out_root) / recipe.name;
+  std::string cache_root = global_option(parent, "--cache").value_or("");
+  if (cache_root.empty()) {
+    const char* env = std::getenv("SYLVA_CACHE");
+    cache_root = env && *env ? env : (fs::path(out_root) / "cache").string();
+  }
+  RealFileSystem fsys;
+  Cache cache(fsys, cache_root);
+  SteadyClock clock;
+  ProgressPrinter progress(io.err, io.err_is_terminal, clock);
+  BuildEnv env{fsys, cache, b.out_dir, clock, io.cancel, &progress};
+  BuildOptions opt;
+  opt.jobs = jobs;
+  opt.targets = targets;
+  std::string error;
+  b.summary = run_build(recipe, env, opt, &error);
+  progress.stop();
+  if (!error.empty()) {
+    std::fprintf(io.err, "error: %s\n", error.c_str());
+    b.exit_code = kExitUsage;
+  } else if (b.summary.interrupted()) {
+    b.exit_code = kExitInterrupted;
+  } else if (!b.summary.ok()) {
+    std::fprintf(io.err, "%s: the inputs did not build (%s); nothing was checked\n", command,
+                 summary_line(b.summary).c_str());
+    b.exit_code = kExitBuildFailed;
+  }
+  return b;
+}
+
+InputArtifact input_artifact(const Recipe& recipe, const RecipeBuild& built, const std::string& node) {
+  const NodeDecl* n = recipe.find(node);
+  InputArtifact a{node, n ? n->stage->info().output_type : std::string(), {}};
+  if (const NodeReport* r = built.report(node))
+    for (const auto& o : r->outputs) a.files.push_back({o.name, built.out_dir / node / o.name, o.digest.hash});
+  return a;
+}
+
+}  // namespace sylva
