@@ -2,6 +2,7 @@
 // Seed: Remolar et al. (FSA/VDF), §3 (leaf collapse cost, vertex placement) and §4 (binary forest).
 #include "stages/lod/foliage.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -61,6 +62,16 @@ double leaf_collapse_cost(const LeafQuad& a, const LeafQuad& b) {
 LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
   const double target = a.area + b.area;
   const Vec3 mean_normal = a.normal * a.area + b.normal * b.area;
+  // The new leaf shows one whole leaf of the atlas (the larger leaf's variant), the edge taken
+  // from `a` as its petiole and the one from `b` as its tip. Keeping the corners' own uvs would
+  // map a sliver of the atlas (or parts of two variants) onto the quad, which the alpha mask then
+  // mostly discards: merged leaves all but vanished in lodcheck's renders.
+  const LeafQuad& big = a.area >= b.area ? a : b;
+  const float u0 = std::min({big.uv[0][0], big.uv[1][0], big.uv[2][0], big.uv[3][0]});
+  const float v0 = std::min({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]});
+  const float du = std::max({big.uv[0][0], big.uv[1][0], big.uv[2][0], big.uv[3][0]}) - u0;
+  const float dv = std::max({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]}) - v0;
+  const std::array<std::array<float, 2>, 4> uv = {{{u0, v0 + dv}, {u0 + du, v0 + dv}, {u0 + du, v0}, {u0, v0}}};
   LeafQuad best;
   double best_diff = std::numeric_limits<double>::infinity();
   for (int ea = 0; ea < 4; ++ea)
@@ -70,7 +81,7 @@ LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
         const int b0 = flip ? (eb + 1) % 4 : eb, b1 = flip ? eb : (eb + 1) % 4;
         LeafQuad q;
         q.v = {a.v[a0], a.v[a1], b.v[b0], b.v[b1]};
-        q.uv = {a.uv[a0], a.uv[a1], b.uv[b0], b.uv[b1]};
+        q.uv = uv;
         q.area = quad_area(q.v);
         const double diff = std::abs(q.area - target);
         if (diff < best_diff) {
