@@ -27,7 +27,7 @@ mkdir -p "$work/gltfpack" "$work/gltfpack-sa"
 full=$(awk '/full detail:/ { print $3 }' "$work/sylva.txt")
 [ -n "$full" ] || { cat "$work/sylva.txt" >&2; echo "lodcheck did not run" >&2; exit 1; }
 # level -> primitives of the sylva level (first view's row)
-awk '$1 == "sylva" && !seen[$2]++ { print $2, $6 }' "$work/sylva.txt" >"$work/budgets.txt"
+awk '$1 == "sylva" && $2 ~ /^[0-9]+$/ && !seen[$2]++ { print $2, $6 }' "$work/sylva.txt" >"$work/budgets.txt"
 
 while read -r level prims; do
   ratio=$(awk -v p="$prims" -v f="$full" 'BEGIN { r = p / f; if (r > 1) r = 1; printf "%.6f", r }')

@@ -87,14 +87,14 @@ void BM_NeedleForest(benchmark::State& state, const std::string& species) {
 
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_1mm, std::string("oak"), 0.001)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_22cm, std::string("oak"), 0.22)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, birch, std::string("birch"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, holly, std::string("holly"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, mugo_pine, std::string("mugo_pine"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, norway_spruce, std::string("norway_spruce"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_Chain, birch, std::string("birch"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, holly, std::string("holly"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, mugo_pine, std::string("mugo_pine"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, norway_spruce, std::string("norway_spruce"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, oak, std::string("oak"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_LeafForest, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LeafForest, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_NeedleForest, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);

@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include "stages/lod/topology.h"
 
 namespace sylva::lod {
@@ -64,16 +67,23 @@ std::vector<LevelSpec> plan_levels(const ChainOptions& o) {
 Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
   Precomputed pre;
   pre.skeletons = build_skeletons(tree);
-  if (options.topology) {
-    const std::vector<double> h = bearer_distances(pre.skeletons);
-    pre.accumulated = accumulated_distances(pre.skeletons, h);
-  } else {
-    pre.accumulated.assign(pre.skeletons.size(), std::numeric_limits<double>::infinity());
-  }
-  if (options.foliage) {
-    pre.leaf_forest = build_leaf_forest(tree.leaves);
-    pre.needle_forest = build_needle_forest(tree.needles);
-  }
+  // The three precomputations are independent (each writes its own member): run them side by
+  // side. Each is sequential and deterministic, so the result does not depend on the threads.
+  tbb::parallel_invoke(
+      [&] {
+        if (options.topology) {
+          const std::vector<double> h = bearer_distances(pre.skeletons);
+          pre.accumulated = accumulated_distances(pre.skeletons, h);
+        } else {
+          pre.accumulated.assign(pre.skeletons.size(), std::numeric_limits<double>::infinity());
+        }
+      },
+      [&] {
+        if (options.foliage) pre.leaf_forest = build_leaf_forest(tree.leaves);
+      },
+      [&] {
+        if (options.foliage) pre.needle_forest = build_needle_forest(tree.needles);
+      });
   return pre;
 }
 
@@ -139,9 +149,9 @@ Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const Ch
 std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options) {
   const std::vector<LevelSpec> specs = plan_levels(options);
   const Precomputed pre = precompute(tree, options);
-  std::vector<Level> out;
-  out.reserve(specs.size());
-  for (const LevelSpec& s : specs) out.push_back(build_level(tree, pre, s, options));
+  // Levels are independent given the precomputed data: one task per level, each into its slot.
+  std::vector<Level> out(specs.size());
+  tbb::parallel_for(std::size_t{0}, specs.size(), [&](std::size_t i) { out[i] = build_level(tree, pre, specs[i], options); });
   return out;
 }
 

@@ -63,9 +63,9 @@ LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
   const double target = a.area + b.area;
   const Vec3 mean_normal = a.normal * a.area + b.normal * b.area;
   // The new leaf shows one whole leaf of the atlas (the larger leaf's variant), the edge taken
-  // from `a` as its petiole and the one from `b` as its tip. Keeping the corners' own uvs would
-  // map a sliver of the atlas (or parts of two variants) onto the quad, which the alpha mask then
-  // mostly discards: merged leaves all but vanished in lodcheck's renders.
+  // from `a` as its petiole and the one from `b` as its tip. Keeping the corners' own uvs maps
+  // a sliver of the atlas (two side edges), or parts of two variants, onto the quad, and the
+  // alpha mask then cuts a shape that is no leaf.
   const LeafQuad& big = a.area >= b.area ? a : b;
   const float u0 = std::min({big.uv[0][0], big.uv[1][0], big.uv[2][0], big.uv[3][0]});
   const float v0 = std::min({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]});

@@ -313,5 +313,25 @@ TEST(Needles, PairwiseMergingCutByError) {
   EXPECT_EQ(g.lines, 90u);
 }
 
+// The chain runs its precomputations and levels as parallel tasks: the result must equal the
+// sequential computation bit for bit (counts, alpha and every vertex of every level).
+TEST(Chain, ParallelEqualsSequential) {
+  const tree::Tree& t = test::species_tree(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species/oak.yaml", "young");
+  ChainOptions o;
+  const std::vector<Level> parallel = build_chain(t, o);
+  const Precomputed pre = precompute(t, o);
+  const std::vector<LevelSpec> specs = plan_levels(o);
+  ASSERT_EQ(parallel.size(), specs.size());
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const Level seq = build_level(t, pre, specs[i], o);
+    EXPECT_EQ(parallel[i].counts.total(), seq.counts.total()) << i;
+    EXPECT_EQ(parallel[i].line_alpha, seq.line_alpha) << i;
+    EXPECT_EQ(parallel[i].branches.tri_positions, seq.branches.tri_positions) << i;
+    EXPECT_EQ(parallel[i].branches.line_positions, seq.branches.line_positions) << i;
+    EXPECT_EQ(parallel[i].leaves.positions, seq.leaves.positions) << i;
+    EXPECT_EQ(parallel[i].kept_nodes, seq.kept_nodes) << i;
+  }
+}
+
 }  // namespace
 }  // namespace sylva::lod
