@@ -2,12 +2,16 @@
 //  - DenseMesh: one mesh of 500,000 triangles standing in for a full-detail adult tree.
 //  - Instanced1000: 1,000 EXT_mesh_gpu_instancing instances of a 2,048-triangle mesh on a
 //    32 x 32 grid (a small forest of 2 million triangles).
-// Both load a .glb written with tinygltf, so the timings cover exactly what `sylva render`
-// draws. Each iteration is one render_views() call: upload + draw + MSAA resolve + read-back;
+//  - RealTree / RealTree1000: a GLB sylva wrote (path in $SYLVA_BENCH_TREE, e.g. the default
+//    recipe's out/default/mesh_oak/tree.glb: an adult oak with bark, leaf cards and textures),
+//    alone and as 1,000 instances on a 32 x 32 grid spaced by the tree's width.
+// All load a .glb, so the timings cover exactly what `sylva render` draws. Each iteration is one render_views() call: upload + draw + MSAA resolve + read-back;
 // the "views:4" variants render four views per upload (items_per_second = views per second).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <unistd.h>
@@ -61,6 +65,39 @@ const Scene& instanced_scene() {
   return scene;
 }
 
+// The tree of $SYLVA_BENCH_TREE, or nullptr when the variable is unset.
+const Scene* real_tree() {
+  static const std::unique_ptr<Scene> scene = []() -> std::unique_ptr<Scene> {
+    const char* path = std::getenv("SYLVA_BENCH_TREE");
+    if (!path || !*path) return nullptr;
+    return std::make_unique<Scene>(load_gltf_scene(path));
+  }();
+  return scene.get();
+}
+
+// 1,000 copies of every mesh of `tree`, on a grid spaced by the tree's horizontal extent.
+const Scene* real_forest() {
+  static const std::unique_ptr<Scene> scene = []() -> std::unique_ptr<Scene> {
+    const Scene* tree = real_tree();
+    if (!tree) return nullptr;
+    auto forest = std::make_unique<Scene>(*tree);
+    const Bounds b = tree->bounds();
+    const float step = std::max(b.max.x() - b.min.x(), b.max.z() - b.min.z());
+    for (auto& mesh : forest->meshes) {
+      const std::vector<Mat4> base = mesh.instances;
+      mesh.instances.clear();
+      for (int i = 0; i < 1000; ++i) {
+        Mat4 t = Mat4::Identity();
+        t.block<3, 1>(0, 3) = Vec3(float(i % 32) * step, 0.f, float(i / 32) * step);
+        t.block<3, 3>(0, 0) = Eigen::AngleAxisf(float(i) * 0.7f, Vec3::UnitY()).toRotationMatrix();
+        for (const Mat4& m : base) mesh.instances.push_back(t * m);
+      }
+    }
+    return forest;
+  }();
+  return scene.get();
+}
+
 Renderer* renderer() {
   static std::unique_ptr<Renderer> r = [] {
     try {
@@ -101,11 +138,24 @@ void run(benchmark::State& state, const Scene& scene) {
 }
 
 void BM_DenseMesh500k(benchmark::State& state) { run(state, dense_scene()); }
+void run_real(benchmark::State& state, const Scene* scene) {
+  if (!scene) {
+    state.SkipWithError("set SYLVA_BENCH_TREE to a GLB (e.g. out/default/mesh_oak/tree.glb)");
+    return;
+  }
+  run(state, *scene);
+}
+void BM_RealTree(benchmark::State& state) { run_real(state, real_tree()); }
+void BM_RealTree1000(benchmark::State& state) { run_real(state, real_forest()); }
 void BM_Instanced1000(benchmark::State& state) { run(state, instanced_scene()); }
 
 BENCHMARK(BM_DenseMesh500k)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})->Args({4, 4})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_Instanced1000)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})->Args({4, 4})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_RealTree)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_RealTree1000)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})
     ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
 }  // namespace
