@@ -21,8 +21,8 @@ build: configure
 
 run: build
 	@$(SYLVA) build $(RECIPE)
-	@$(SYLVA) verify $(RECIPE)
 	@$(SYLVA) lodcheck $(RECIPE) --no-images
+	@$(SYLVA) verify $(RECIPE)
 
 test: build
 	@cd $(BUILD) && SYLVA_REQUIRE_GLTF_VALIDATOR=1 ctest --output-on-failure -j $(JOBS) --timeout 600
