@@ -48,9 +48,9 @@ struct LodCheckOptions {
   double elevation_deg = 0;
   int msaa = 4;  // samples per pixel, as the verifier renders
   // Renders are made at supersample x H and box-averaged (linear light) down to H, so twigs and
-  // needles far thinner than a pixel are integrated (16 x msaa samples per pixel at 4) rather
-  // than hit or missed by 4 sample positions; both images are treated alike. 2 gives 16 samples
-  // per pixel (4 costs 4x the fill and changed no verdict on the default recipe).
+  // needles far thinner than a pixel are integrated (supersample^2 x msaa samples per pixel)
+  // rather than hit or missed by 4 sample positions; both images are treated alike. 2 gives 16
+  // samples per pixel; 4 costs 4x the fill.
   int supersample = 2;
 };
 
