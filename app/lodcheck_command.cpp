@@ -62,10 +62,10 @@ class LodcheckCommand final : public CliCommand {
         ->allow_extra_args(false);
     sub->add_option("-j,--jobs", jobs_, "parallel nodes while building (default: all cores)")->check(CLI::Range(1, 1024));
     sub->add_option("--report-dir", report_root_, "where reports and images go (default: <out>/<recipe>/lodcheck)");
-    sub->add_option("--pixel-threshold", options_.pixel_threshold,
-                    "a pixel fails when its coverage changes by more than this (0..1; default delta = 0.5)")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
+    pixel_threshold_opt_ = sub->add_option("--pixel-threshold", options_.pixel_threshold,
+                                           "a pixel fails when its coverage changes by more than this (0..1; "
+                                           "default: the node's pixel_error delta, at most 1)")
+                               ->check(CLI::Range(0.0, 1.0));
     sub->add_option("--max-failing-fraction", options_.max_failing_fraction,
                     "a view passes while at most this fraction of the tree's pixels fail (0..1)")
         ->capture_default_str()
@@ -236,6 +236,8 @@ class LodcheckCommand final : public CliCommand {
           image::write_png(test, report_dir / (stem + ".png"));
           image::write_png(diff, report_dir / (stem + "_diff.png"));
         };
+      // An edge moved by delta pixels changes a pixel's coverage by at most delta.
+      if (pixel_threshold_opt_->count() == 0) options_.pixel_threshold = std::min(1.0, chain.pixel_error);
       results = lod::check_subjects(renderer, full, subjects, chain.camera, options_, sink);
       write_json(report_dir / "lodcheck.json", node, summary, chain, full, results);
     } catch (const Cancelled&) {
@@ -323,6 +325,7 @@ class LodcheckCommand final : public CliCommand {
   int jobs_ = 0;
   std::string report_root_;
   lod::LodCheckOptions options_;
+  CLI::Option* pixel_threshold_opt_ = nullptr;
   std::vector<double> azimuths_;
   bool branches_only_ = false;
   std::string candidates_dir_, candidate_label_, write_full_;

@@ -311,6 +311,7 @@ TEST_F(LodcheckCli, PassesAndReports) {
   const Outcome r = lodcheck("--write-full " + (dir_ / "full.glb").string());
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_EQ(count_of(r.out, "  sylva "), 6) << r.out;  // 3 levels x 2 views
+  EXPECT_NE(r.out.find("change coverage by > 0.5 and the mean coverage change is <= 0.15"), std::string::npos) << r.out;
   EXPECT_EQ(count_of(r.out, " ok\n"), 6) << r.out;
   EXPECT_NE(r.out.find("sylva lodcheck: node 'lod_birch' passed (6/6 views passed); report: " +
                        (report_ / "lodcheck.json").string() + "\n"),
@@ -331,6 +332,20 @@ TEST_F(LodcheckCli, PassesAndReports) {
   EXPECT_EQ(image::read_image(report_ / "sylva_lod1_az0.png").height(), 200);
   EXPECT_TRUE(fs::exists(dir_ / "full.glb"));
   SYLVA_EXPECT_VALID_GLTF(dir_ / "full.glb");
+}
+
+// The per-pixel threshold follows the node's pixel error delta unless given.
+TEST_F(LodcheckCli, ThresholdFollowsPixelError) {
+  std::string text = test::read_file(recipe_);
+  text.replace(text.find("levels: 3"), 9, "levels: 1, pixel_error: 0.8");
+  test::write_file(recipe_, text);
+  Outcome r = lodcheck("--no-images");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("delta 0.8 px; a view passes when <= 1.00% of the tree's pixels change coverage by > 0.8"),
+            std::string::npos)
+      << r.out;
+  r = lodcheck("--no-images --pixel-threshold 0.3");
+  EXPECT_NE(r.out.find("change coverage by > 0.3"), std::string::npos) << r.out;
 }
 
 TEST_F(LodcheckCli, AnImpossibleThresholdFails) {
