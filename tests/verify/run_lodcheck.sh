@@ -1,6 +1,8 @@
 #!/bin/sh
 # ctest lodcheck_default_recipe: `sylva lodcheck` on a recipe in the verify gate's output
-# directory (its trees are already in that cache). Reports go to OUT_DIR/<recipe>/lodcheck/.
+# directory (its trees are already in that cache), then the Khronos glTF-Validator on every GLB
+# the recipe's nodes wrote (meshes, LOD chains, LOD levels). Reports go to
+# OUT_DIR/<recipe>/lodcheck/.
 # usage: run_lodcheck.sh SYLVA RECIPE OUT_DIR [DATA_FILE]
 # Exits 77 (ctest: skipped) when DATA_FILE, third-party data the recipe reads, is missing.
 set -u
@@ -11,5 +13,18 @@ if [ $# -ge 4 ] && [ ! -e "$4" ]; then
 fi
 "$sylva" --out "$out" lodcheck "$recipe"
 rc=$?
-[ $rc -ne 0 ] && echo "lodcheck FAILED (exit $rc) for $recipe: see the table above and the images beside lodcheck.json" >&2
-exit $rc
+if [ $rc -ne 0 ]; then
+  echo "lodcheck FAILED (exit $rc) for $recipe: see the table above and the images beside lodcheck.json" >&2
+  exit $rc
+fi
+# Every GLB of the recipe's outputs (one directory per node), with zero errors.
+glbs=$(find "$out" -mindepth 3 -maxdepth 3 -name '*.glb' -not -path '*/cache/*' | sort)
+[ -n "$glbs" ] || { echo "no GLB under $out" >&2; exit 1; }
+node tools/validate_gltf.mjs --max-warnings 0 $glbs
+vrc=$?
+if [ $vrc -eq 3 ] && [ "${SYLVA_REQUIRE_GLTF_VALIDATOR:-0}" != 1 ]; then
+  echo "note: the glTF-Validator is not installed (tools/setup.sh); GLBs not validated"
+  exit 0
+fi
+[ $vrc -ne 0 ] && echo "glTF-Validator: some GLB of $recipe has errors (exit $vrc)" >&2
+exit $vrc
