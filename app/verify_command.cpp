@@ -4,18 +4,13 @@
 #include "app/verify_command.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
-#include <map>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/recipe_build.h"
 #include "libs/render/camera.h"
-#include "pipeline/cache.h"
 #include "pipeline/diagnostic.h"
-#include "pipeline/executor.h"
 #include "pipeline/recipe_loader.h"
 #include "stages/verify/report.h"
 #include "stages/verify/verify_core.h"
