@@ -27,23 +27,8 @@ struct Common {
   std::string out_dir = "out";
   std::string cache_dir;  // default: $SYLVA_CACHE or <out>/cache
 
-  fs::path cache_root() const {
-    if (!cache_dir.empty()) return cache_dir;
-    if (const char* env = std::getenv("SYLVA_CACHE"); env && *env) return env;
-    return fs::path(out_dir) / "cache";
-  }
+  fs::path cache_root() const { return cache_root_for(out_dir, cache_dir); }
 };
-
-std::optional<Recipe> load(const std::string& file, const StageRegistry& reg, FileSystem& fsys,
-                           const CliIo& io) {
-  Diagnostics diags;
-  auto recipe = load_recipe(file, reg, fsys, diags);
-  if (!recipe) {
-    std::fputs(diags.pretty().c_str(), io.err);
-    std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", file.c_str());
-  }
-  return recipe;
-}
 
 std::string type_text(const ParamSpec& p) {
   std::string t = param_type_name(p.type);
@@ -86,7 +71,7 @@ int cmd_stages(const StageRegistry& reg, const CliIo& io) {
 }
 
 int cmd_graph(const std::string& file, bool dot, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
-  auto recipe = load(file, reg, fsys, io);
+  auto recipe = load_recipe_or_report(file, reg, fsys, io);
   if (!recipe) return kExitUsage;
   BuildGraph g(*recipe);
   if (dot) {
@@ -117,7 +102,7 @@ struct BuildArgs {
 };
 
 int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
-  auto recipe = load(a.recipe, reg, fsys, io);
+  auto recipe = load_recipe_or_report(a.recipe, reg, fsys, io);
   if (!recipe) return kExitUsage;
   Cache cache(fsys, c.cache_root());
   SteadyClock clock;
@@ -144,7 +129,7 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
 
 int cmd_explain(const std::string& file, const std::string& node, const Common& c, const StageRegistry& reg,
                 FileSystem& fsys, const CliIo& io) {
-  auto recipe = load(file, reg, fsys, io);
+  auto recipe = load_recipe_or_report(file, reg, fsys, io);
   if (!recipe) return kExitUsage;
   if (!recipe->find(node)) {
     std::vector<std::string> names;
@@ -170,6 +155,24 @@ std::string human_bytes(std::uint64_t b) {
 }
 
 }  // namespace
+
+std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
+                                            const CliIo& io) {
+  Diagnostics diags;
+  auto recipe = load_recipe(file, registry, fsys, diags);
+  if (!recipe) {
+    std::fputs(diags.pretty().c_str(), io.err);
+    std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", file.c_str());
+  }
+  return recipe;
+}
+
+fs::path cache_root_for(const std::string& out_dir, const std::string& cache_dir) {
+  if (!cache_dir.empty()) return cache_dir;
+  if (const char* env = std::getenv("SYLVA_CACHE"); env && *env) return env;
+  return fs::path(out_dir) / "cache";
+}
+
 
 int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io,
             const std::vector<CliCommand*>& extra) {
@@ -274,7 +277,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
         std::fprintf(io.err, "error: 'sylva clean' needs a recipe or --all\n");
         return kExitUsage;
       }
-      auto recipe = load(clean_recipe, reg, fsys, io);
+      auto recipe = load_recipe_or_report(clean_recipe, reg, fsys, io);
       if (!recipe) return kExitUsage;
       fsys.remove_all(fs::path(common.out_dir) / recipe->name);
       return kExitOk;

@@ -7,10 +7,15 @@
 
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "pipeline/filesystem.h"
+#include "pipeline/recipe.h"
 #include "pipeline/registry.h"
 
 namespace sylva {
@@ -37,6 +42,14 @@ class CliCommand {
   // Runs after a successful parse when this subcommand was chosen; returns the exit code.
   virtual int run(const CliIo& io) = 0;
 };
+
+// Loads and checks a recipe. On failure prints every diagnostic (file:line:col) and the error
+// count to io.err and returns nullopt; the caller exits with kExitUsage.
+std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
+                                            const CliIo& io);
+
+// The cache directory: `cache_dir` when given (--cache), else $SYLVA_CACHE, else <out_dir>/cache.
+std::filesystem::path cache_root_for(const std::string& out_dir, const std::string& cache_dir);
 
 int run_cli(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io,
             const std::vector<CliCommand*>& extra = {});

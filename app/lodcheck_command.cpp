@@ -22,9 +22,7 @@
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
 #include "libs/tree/sylt_format.h"
-#include "pipeline/diagnostic.h"
 #include "pipeline/filesystem.h"
-#include "pipeline/recipe_loader.h"
 #include "stages/lod/chain.h"
 #include "stages/lod/check/lodcheck.h"
 #include "stages/lod/lod_gltf.h"
@@ -91,34 +89,13 @@ class LodcheckCommand final : public CliCommand {
 
   int run(const CliIo& io) override {
     RealFileSystem fsys;
-    Diagnostics diags;
-    auto recipe = load_recipe(recipe_, registry_, fsys, diags);
-    if (!recipe) {
-      std::fputs(diags.pretty().c_str(), io.err);
-      std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", recipe_.c_str());
-      return kExitUsage;
-    }
-    std::vector<std::string> lod_names, selected;
-    for (const auto& n : recipe->nodes)
-      if (n.stage->info().name == kLodStage) lod_names.push_back(n.name);
-    for (const auto& name : nodes_) {
-      const NodeDecl* n = recipe->find(name);
-      if (!n || n->stage->info().name != kLodStage) {
-        std::fprintf(io.err, "error: no node '%s' of stage '%s' in recipe '%s'%s\n", name.c_str(), kLodStage,
-                     recipe->name.c_str(), did_you_mean(name, lod_names).c_str());
-        return kExitUsage;
-      }
-      if (std::find(selected.begin(), selected.end(), name) == selected.end()) selected.push_back(name);
-    }
-    if (nodes_.empty()) selected = lod_names;
-    if (selected.empty()) {
-      std::fprintf(io.err, "error: recipe '%s' (%s) has no node of stage '%s'; add one (docs/stages/lod.md)\n",
-                   recipe->name.c_str(), recipe_.c_str(), kLodStage);
-      return kExitUsage;
-    }
-    if ((!write_full_.empty() || !candidates_dir_.empty()) && selected.size() != 1) {
+    auto recipe = load_recipe_or_report(recipe_, registry_, fsys, io);
+    if (!recipe) return kExitUsage;
+    const auto selected = select_stage_nodes(*recipe, recipe_, kLodStage, nodes_, "docs/stages/lod.md", io);
+    if (!selected) return kExitUsage;
+    if ((!write_full_.empty() || !candidates_dir_.empty()) && selected->size() != 1) {
       std::fprintf(io.err, "error: --write-full and --candidates need exactly one lod node (--node NODE); %zu selected\n",
-                   selected.size());
+                   selected->size());
       return kExitUsage;
     }
     if (!candidates_dir_.empty() && !fs::is_directory(candidates_dir_)) {
@@ -135,7 +112,9 @@ class LodcheckCommand final : public CliCommand {
     }
     const fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);
 
-    const RecipeBuild built = build_recipe_targets(*recipe, selected, parent_, jobs_, io, "sylva lodcheck");
+    std::vector<std::string> targets;
+    for (const NodeDecl* n : *selected) targets.push_back(n->name);
+    const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva lodcheck");
     if (built.exit_code != kExitOk) return built.exit_code;
 
     std::unique_ptr<render::Renderer> renderer;
@@ -146,9 +125,9 @@ class LodcheckCommand final : public CliCommand {
       return kExitBuildFailed;
     }
     bool all_ok = true;
-    for (const auto& name : selected) {
+    for (const NodeDecl* node : *selected) {
       if (io.cancel && io.cancel->load()) return kExitInterrupted;
-      const int rc = check_node(*recipe, *recipe->find(name), built, *renderer, report_root / name, io);
+      const int rc = check_node(*recipe, *node, built, *renderer, report_root / node->name, io);
       if (rc == kExitInterrupted) return rc;
       all_ok = all_ok && rc == kExitOk;
     }

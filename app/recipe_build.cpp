@@ -2,12 +2,13 @@
 // build`, so `sylva verify` and `sylva lodcheck` never disagree with it about what is built.
 #include "app/recipe_build.h"
 
+#include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 
 #include "app/progress.h"
 #include "pipeline/cache.h"
 #include "pipeline/clock.h"
+#include "pipeline/diagnostic.h"
 #include "pipeline/filesystem.h"
 
 namespace sylva {
@@ -26,18 +27,38 @@ const NodeReport* RecipeBuild::report(const std::string& node) const {
   return nullptr;
 }
 
+std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& recipe, const std::string& recipe_file,
+                                                               const std::string& stage,
+                                                               const std::vector<std::string>& names,
+                                                               const std::string& doc_page, const CliIo& io) {
+  std::vector<std::string> of_stage;
+  for (const auto& n : recipe.nodes)
+    if (n.stage->info().name == stage) of_stage.push_back(n.name);
+  std::vector<const NodeDecl*> selected;
+  for (const auto& name : names.empty() ? of_stage : names) {
+    const NodeDecl* n = recipe.find(name);
+    if (!n || n->stage->info().name != stage) {
+      std::fprintf(io.err, "error: no node '%s' of stage '%s' in recipe '%s'%s\n", name.c_str(), stage.c_str(),
+                   recipe.name.c_str(), did_you_mean(name, of_stage).c_str());
+      return std::nullopt;
+    }
+    if (std::find(selected.begin(), selected.end(), n) == selected.end()) selected.push_back(n);
+  }
+  if (selected.empty()) {
+    std::fprintf(io.err, "error: recipe '%s' (%s) has no node of stage '%s'; add one (%s)\n", recipe.name.c_str(),
+                 recipe_file.c_str(), stage.c_str(), doc_page.c_str());
+    return std::nullopt;
+  }
+  return selected;
+}
+
 RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets, const CLI::App* parent,
                                  int jobs, const CliIo& io, const char* command) {
   RecipeBuild b;
   const std::string out_root = global_option(parent, "--out").value_or("out");
   b.out_dir = fs::path(out_root) / recipe.name;
-  std::string cache_root = global_option(parent, "--cache").value_or("");
-  if (cache_root.empty()) {
-    const char* env = std::getenv("SYLVA_CACHE");
-    cache_root = env && *env ? env : (fs::path(out_root) / "cache").string();
-  }
   RealFileSystem fsys;
-  Cache cache(fsys, cache_root);
+  Cache cache(fsys, cache_root_for(out_root, global_option(parent, "--cache").value_or("")));
   SteadyClock clock;
   ProgressPrinter progress(io.err, io.err_is_terminal, clock);
   BuildEnv env{fsys, cache, b.out_dir, clock, io.cancel, &progress};

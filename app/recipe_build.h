@@ -26,6 +26,15 @@ struct RecipeBuild {
   const NodeReport* report(const std::string& node) const;  // nullptr if the node was not built
 };
 
+// The nodes of stage `stage` a command works on: those named in `names` (in that order, once
+// each), or every node of the stage when `names` is empty. On error prints one line to io.err
+// ("no node 'x' of stage 's' in recipe 'r'; did you mean ...", or "recipe ... has no node of
+// stage 's'; add one (<doc_page>)") and returns nullopt: a usage error.
+std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& recipe, const std::string& recipe_file,
+                                                               const std::string& stage,
+                                                               const std::vector<std::string>& names,
+                                                               const std::string& doc_page, const CliIo& io);
+
 // Builds `targets` (and what they need) of `recipe`. On failure prints why to io.err, prefixed
 // with `command` ("sylva verify"), and sets exit_code (usage error, build failure, interrupted).
 RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets, const CLI::App* parent,

@@ -10,8 +10,6 @@
 
 #include "app/recipe_build.h"
 #include "libs/render/camera.h"
-#include "pipeline/diagnostic.h"
-#include "pipeline/recipe_loader.h"
 #include "stages/verify/report.h"
 #include "stages/verify/verify_core.h"
 #include "stages/verify/verify_stage.h"
@@ -47,34 +45,10 @@ class VerifyCommand final : public CliCommand {
     const std::string out_root = global_option(parent_, "--out").value_or("out");
 
     // 1. Load the recipe and pick the verify nodes.
-    Diagnostics diags;
-    auto recipe = load_recipe(recipe_, registry_, fsys, diags);
-    if (!recipe) {
-      std::fputs(diags.pretty().c_str(), io.err);
-      std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", recipe_.c_str());
-      return kExitUsage;
-    }
-    std::vector<const NodeDecl*> selected;
-    std::vector<std::string> verify_names;
-    for (const auto& n : recipe->nodes)
-      if (n.stage->info().name == kVerifyStage) verify_names.push_back(n.name);
-    if (nodes_.empty()) {
-      for (const auto& name : verify_names) selected.push_back(recipe->find(name));
-      if (selected.empty()) {
-        std::fprintf(io.err, "error: recipe '%s' (%s) has no node of stage '%s'; add one (docs/stages/verify.md)\n",
-                     recipe->name.c_str(), recipe_.c_str(), kVerifyStage);
-        return kExitUsage;
-      }
-    }
-    for (const auto& name : nodes_) {
-      const NodeDecl* n = recipe->find(name);
-      if (!n || n->stage->info().name != kVerifyStage) {
-        std::fprintf(io.err, "error: no node '%s' of stage '%s' in recipe '%s'%s\n", name.c_str(), kVerifyStage,
-                     recipe->name.c_str(), did_you_mean(name, verify_names).c_str());
-        return kExitUsage;
-      }
-      if (std::find(selected.begin(), selected.end(), n) == selected.end()) selected.push_back(n);
-    }
+    auto recipe = load_recipe_or_report(recipe_, registry_, fsys, io);
+    if (!recipe) return kExitUsage;
+    const auto selected = select_stage_nodes(*recipe, recipe_, kVerifyStage, nodes_, "docs/stages/verify.md", io);
+    if (!selected) return kExitUsage;
     const fs::path out_dir = fs::path(out_root) / recipe->name;
     fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);
     if (report_root_.empty() && recipe->find(kReportsDir)) {
@@ -85,14 +59,14 @@ class VerifyCommand final : public CliCommand {
 
     // 2. Build their inputs (not the verify nodes themselves: step 3 runs them here).
     std::vector<std::string> targets;
-    for (const NodeDecl* n : selected)
+    for (const NodeDecl* n : *selected)
       for (const auto& up : n->needs) targets.push_back(up);
     const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva verify");
     if (built.exit_code != kExitOk) return built.exit_code;
 
     // 3. Verify each node; 4. accept new images when asked.
     bool all_ok = true;
-    for (const NodeDecl* node : selected) {
+    for (const NodeDecl* node : *selected) {
       if (io.cancel && io.cancel->load()) return kExitInterrupted;
       const int rc = verify_node(*recipe, *node, built, report_root / node->name, io);
       if (rc == kExitInterrupted) return rc;
