@@ -38,6 +38,29 @@ std::string view_name(double azimuth_deg) {
 
 std::size_t primitive_count(const render::Scene& s) { return s.triangle_count() + s.line_count(); }
 
+// Coverage (alpha) and colour statistics over the footprint: the pixels either image covers.
+void add_footprint_stats(const image::Image& ref, const image::Image& test, double pixel_threshold, ViewCheck& c) {
+  const auto& rb = ref.bytes();
+  const auto& tb = test.bytes();
+  double coverage_sum = 0, coverage_signed = 0, colour_sum = 0;
+  std::size_t failing = 0;
+  for (std::size_t p = 0; p + 3 < rb.size() && p + 3 < tb.size(); p += 4) {
+    if (rb[p + 3] == 0 && tb[p + 3] == 0) continue;
+    ++c.footprint_pixels;
+    const double signed_change = (int(tb[p + 3]) - int(rb[p + 3])) / 255.0;
+    coverage_sum += std::abs(signed_change);
+    coverage_signed += signed_change;
+    failing += std::abs(signed_change) > pixel_threshold ? 1 : 0;
+    for (int ch = 0; ch < 3; ++ch) colour_sum += std::abs(int(rb[p + ch]) - int(tb[p + ch])) / 255.0;
+  }
+  if (c.footprint_pixels == 0) return;
+  const double n = double(c.footprint_pixels);
+  c.coverage_failing_fraction = double(failing) / n;
+  c.coverage_mean_error = coverage_sum / n;
+  c.coverage_bias = coverage_signed / n;
+  c.colour_mean_error = colour_sum / (3.0 * n);
+}
+
 }  // namespace
 
 render::Camera check_camera(const render::Bounds& full_bounds, double distance, double azimuth_deg,
@@ -117,27 +140,7 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
       c.distance = s.distance;
       c.primitives = primitive_count(s.scene);
       c.colour = image::compare_images(ref, test, co);
-      // Coverage and colour over the footprint: pixels either image covers.
-      const auto& rb = ref.bytes();
-      const auto& tb = test.bytes();
-      double coverage_sum = 0, coverage_signed = 0, colour_sum = 0;
-      std::size_t failing = 0;
-      for (std::size_t p = 0; p + 3 < rb.size() && p + 3 < tb.size(); p += 4) {
-        if (rb[p + 3] == 0 && tb[p + 3] == 0) continue;
-        ++c.footprint_pixels;
-        const double dc = std::abs(int(rb[p + 3]) - int(tb[p + 3])) / 255.0;
-        coverage_sum += dc;
-        coverage_signed += (int(tb[p + 3]) - int(rb[p + 3])) / 255.0;
-        failing += dc > options.pixel_threshold ? 1 : 0;
-        for (int ch = 0; ch < 3; ++ch) colour_sum += std::abs(int(rb[p + ch]) - int(tb[p + ch])) / 255.0;
-      }
-      if (c.footprint_pixels > 0) {
-        const double n = double(c.footprint_pixels);
-        c.coverage_failing_fraction = double(failing) / n;
-        c.coverage_mean_error = coverage_sum / n;
-        c.coverage_bias = coverage_signed / n;
-        c.colour_mean_error = colour_sum / (3.0 * n);
-      }
+      add_footprint_stats(ref, test, options.pixel_threshold, c);
       char buf[256];
       if (c.colour.size_mismatch) {
         c.failure = c.colour.failure;
