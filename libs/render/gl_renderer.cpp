@@ -49,8 +49,10 @@ out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_texcoord;
 out vec4 v_color;
+flat out float v_mirrored;  // 1 when the instance matrix mirrors (det < 0): CW is then the front
 
 void main() {
+  v_mirrored = determinant(mat3(a_model)) < 0.0 ? 1.0 : 0.0;
   vec4 world = a_model * vec4(a_position, 1.0);
   v_world = world.xyz;
   v_normal = a_normal_matrix * a_normal;
@@ -74,6 +76,7 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_texcoord;
 in vec4 v_color;
+flat in float v_mirrored;
 
 uniform vec4 u_base_color;
 uniform sampler2D u_texture;
@@ -82,9 +85,9 @@ uniform int u_alpha_mode;     // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
 uniform bool u_lit;
 uniform bool u_has_normals;
-uniform bool u_face_eye;      // turn the normal toward the eye (two-sided, lines, points)
+uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
+uniform bool u_cull_in_shader;  // single-sided triangles of a mirrored instance: discard back faces
 uniform bool u_round_points;
-uniform vec3 u_eye;
 uniform vec3 u_ambient;
 uniform vec3 u_light_color;
 uniform vec3 u_light_dir;     // unit, toward the light
@@ -97,6 +100,11 @@ float to_srgb(float c) {
 }
 
 void main() {
+  // glTF 2.0, 3.9.2 (double sided): the front face is the counter-clockwise one (clockwise under a
+  // mirroring matrix); the back face of a double-sided material is lit with the reversed normal.
+  // Nothing is inferred from the eye: a leaf wound against its normal is dark, as in clients.
+  bool front = gl_FrontFacing != (v_mirrored > 0.5);
+  if (u_cull_in_shader && !front) discard;
   if (u_round_points) {
     vec2 p = gl_PointCoord * 2.0 - 1.0;
     if (dot(p, p) > 1.0) discard;
@@ -111,11 +119,12 @@ void main() {
   }
   vec3 color = base.rgb;
   if (u_lit) {
-    // Without normals, the face normal from screen-space derivatives (it always faces the eye).
+    // Without normals, the flat face normal (glTF: computed from the triangle) from screen-space
+    // derivatives: it faces the eye, which is right for every face that is drawn (a front face,
+    // or the back face of a double-sided triangle, whose reversed normal faces the eye).
     vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
-    // Celba 2007, 4.6.3: one normal per leaf; for the other side, flip it by the sign of the
-    // eye's distance to the plane through this point with that normal.
-    if (u_face_eye && dot(n, u_eye - v_world) < 0.0) n = -n;
+    // Lines and points have no faces: their normals are used as given.
+    if (u_has_normals && u_two_sided && !front) n = -n;
     color = base.rgb * (u_ambient + u_light_color * max(dot(n, u_light_dir), 0.0));
   }
   o_color = vec4(to_srgb(color.r), to_srgb(color.g), to_srgb(color.b), base.a);
@@ -207,6 +216,7 @@ struct GpuMesh {
   const Mesh* source = nullptr;
   std::vector<GpuPrimitive> primitives;
   std::vector<float> instance_data;  // kInstanceFloats per instance
+  bool mirrored = false;             // some instance matrix has a negative determinant
 };
 
 template <typename T>
@@ -395,7 +405,10 @@ class GlRenderer final : public Renderer {
         continue;
       }
       gm.instance_data.resize(mesh.instances.size() * kInstanceFloats);
-      for (std::size_t i = 0; i < mesh.instances.size(); ++i) fill_instance(mesh.instances[i], &gm.instance_data[i * kInstanceFloats]);
+      for (std::size_t i = 0; i < mesh.instances.size(); ++i) {
+        fill_instance(mesh.instances[i], &gm.instance_data[i * kInstanceFloats]);
+        gm.mirrored |= mesh.instances[i].topLeftCorner<3, 3>().determinant() < 0;
+      }
       const GLuint instance_buffer = upload_array(gl, GL_ARRAY_BUFFER, gm.instance_data);
       for (const Primitive& p : mesh.primitives) {
         check_primitive(scene, p);
@@ -463,19 +476,35 @@ class GlRenderer final : public Renderer {
 
   struct Uniforms {
     GLint view, proj, viewport_height, default_point_size, min_point_size, base_color, texture, has_texture,
-        alpha_mode, alpha_cutoff, lit, has_normals, face_eye, round_points, eye, ambient, light_color, light_dir;
+        alpha_mode, alpha_cutoff, lit, has_normals, two_sided, cull_in_shader, round_points, ambient,
+        light_color, light_dir;
   };
 
   Uniforms uniforms() const {
     auto u = [&](const char* n) { return glGetUniformLocation(program_, n); };
-    return {u("u_view"), u("u_proj"), u("u_viewport_height"), u("u_default_point_size"), u("u_min_point_size"),
-            u("u_base_color"), u("u_texture"), u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"),
-            u("u_lit"), u("u_has_normals"), u("u_face_eye"), u("u_round_points"), u("u_eye"), u("u_ambient"),
-            u("u_light_color"), u("u_light_dir")};
+    return {u("u_view"),
+            u("u_proj"),
+            u("u_viewport_height"),
+            u("u_default_point_size"),
+            u("u_min_point_size"),
+            u("u_base_color"),
+            u("u_texture"),
+            u("u_has_texture"),
+            u("u_alpha_mode"),
+            u("u_alpha_cutoff"),
+            u("u_lit"),
+            u("u_has_normals"),
+            u("u_two_sided"),
+            u("u_cull_in_shader"),
+            u("u_round_points"),
+            u("u_ambient"),
+            u("u_light_color"),
+            u("u_light_dir")};
   }
 
   // Material and per-primitive state for one draw.
-  void set_primitive_state(const Scene& scene, const Uploaded& up, const Uniforms& u, const Primitive& p) const {
+  void set_primitive_state(const Scene& scene, const Uploaded& up, const Uniforms& u, const Primitive& p,
+                           bool mirrored_instances) const {
     static const Material kDefault;
     const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
     glUniform4fv(u.base_color, 1, m.base_color.data());
@@ -488,12 +517,20 @@ class GlRenderer final : public Renderer {
     glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2);
     glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
     const bool has_normals = !p.normals.empty();
-    const bool lit = !m.unlit && (p.topology == Topology::kTriangles || has_normals);
+    // LINES are unlit, as three.js draws them (GLTFLoader: LineBasicMaterial = base colour x
+    // COLOR_0): glTF defines no lighting for lines, and the verifier must see what clients do.
+    const bool lit =
+        !m.unlit && p.topology != Topology::kLines && (p.topology == Topology::kTriangles || has_normals);
     glUniform1i(u.lit, lit);
     glUniform1i(u.has_normals, has_normals);
-    glUniform1i(u.face_eye, m.double_sided || p.topology != Topology::kTriangles);
+    const bool triangles = p.topology == Topology::kTriangles;
+    glUniform1i(u.two_sided, triangles && m.double_sided);
     glUniform1i(u.round_points, p.topology == Topology::kPoints);
-    if (p.topology == Topology::kTriangles && !m.double_sided) {
+    // Back faces of single-sided triangles are culled; GL's cull state is per draw, so a mesh
+    // with a mirrored instance culls in the shader instead (front = CW there).
+    const bool cull = triangles && !m.double_sided;
+    glUniform1i(u.cull_in_shader, cull && mirrored_instances);
+    if (cull && !mirrored_instances) {
       glEnable(GL_CULL_FACE);
     } else {
       glDisable(GL_CULL_FACE);
@@ -546,7 +583,6 @@ class GlRenderer final : public Renderer {
     glUniform1f(u.default_point_size, o.default_point_size_px);
     glUniform1f(u.min_point_size, o.min_point_size_px);
     glUniform1i(u.texture, 0);
-    glUniform3fv(u.eye, 1, cam.eye.data());
     glUniform3fv(u.ambient, 1, o.lighting.ambient.data());
     glUniform3fv(u.light_color, 1, o.lighting.light_color.data());
     const Vec3 l = o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
@@ -574,7 +610,7 @@ class GlRenderer final : public Renderer {
           }
           continue;
         }
-        set_primitive_state(scene, up, u, *gp.source);
+        set_primitive_state(scene, up, u, *gp.source, gm.mirrored);
         glBindVertexArray(gp.vao_instanced);
         glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr, GLsizei(instances));
       }
@@ -593,7 +629,7 @@ class GlRenderer final : public Renderer {
       for (const BlendDraw& d : blended) {
         const Primitive& p = *d.prim->source;
         const Mat4& model = d.mesh->source->instances[d.instance];
-        set_primitive_state(scene, up, u, p);
+        set_primitive_state(scene, up, u, p, d.mesh->mirrored);
         sort_elements(p, view * model, keys, sorted);
         glBindVertexArray(d.prim->vao_single);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d.prim->sorted_indices);

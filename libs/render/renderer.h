@@ -13,9 +13,10 @@
 //    depth test on and depth write off (Zhang et al. 2017, §6.1).
 //  - Lighting: colour = base * (ambient + light_color * max(0, n.l)) in linear space, then
 //    encoded to sRGB. base = baseColorFactor * COLOR_0 * texture (sRGB-decoded).
-//    Double-sided materials, lines and points turn the normal toward the eye (Celba 2007,
-//    §4.6.3); triangles without normals use flat face normals; lines and points without
-//    normals, and KHR_materials_unlit materials, are unlit.
+//    glTF's two-sided rule: the back face (by winding; clockwise under a mirroring matrix) of a
+//    double-sided triangle is lit with the reversed normal, nothing is inferred from the eye;
+//    triangles without normals use flat face normals; LINES (as in three.js), points without
+//    normals and KHR_materials_unlit materials are unlit; points with normals use them as given.
 //  - Thread safety: render calls are serialised by an internal mutex; the GL context is made
 //    current on the calling thread for the duration of a call and released afterwards, so one
 //    Renderer may be shared by threads (they take turns).

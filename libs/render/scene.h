@@ -56,7 +56,7 @@ struct Material {
   int base_color_texture = -1;     // index into Scene::textures, -1 = none
   AlphaMode alpha_mode = AlphaMode::kOpaque;
   float alpha_cutoff = 0.5f;  // kMask: fragments with alpha < cutoff are discarded
-  bool double_sided = false;  // no back-face culling; the normal is turned toward the eye
+  bool double_sided = false;  // no back-face culling; back faces use the reversed normal (glTF)
   bool unlit = false;         // KHR_materials_unlit: colour = base colour, no lighting
 };
 

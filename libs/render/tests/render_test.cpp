@@ -246,6 +246,48 @@ TEST_F(RenderTest, AlphaMaskedTwoSidedLeaves) {
   EXPECT_TRUE(near(render(single, front, o).at(24, 32), {0, std::uint8_t(srgb8(0.2)), 0, 255}));
 }
 
+// glTF's two-sided rule (3.9.2): the back face -- decided by winding, not by the eye -- is lit
+// with the reversed normal. A leaf wound clockwise (against its +Z normal) is a back face from
+// the front, so its normal turns to -Z and a light in front leaves it ambient-lit (dark, as
+// three.js, Babylon.js and Cycles draw it); from behind it is a front face lit by the light
+// behind. Under a mirroring node (scale -1 in x, determinant < 0) glTF's front face is the
+// clockwise one on screen: the well-wound leaf stays lit and the mis-wound one stays dark.
+TEST_F(RenderTest, TwoSidedBackFaceUsesReversedNormalByWinding) {
+  const int two_sided_mat = 0;
+  auto leaf = [&](bool mis_wound, Vec3 scale) {
+    GltfBuilder b;
+    const int m = b.add_material({.base_color = Vec4(0, 1, 0, 1), .double_sided = true});
+    EXPECT_EQ(m, two_sided_mat);
+    PrimitiveData q = testing::quad(1.f, m);
+    if (q.indices.empty())
+      for (std::uint32_t i = 0; i < q.positions.size(); ++i) q.indices.push_back(i);
+    if (mis_wound)
+      for (std::size_t t = 0; t + 2 < q.indices.size(); t += 3) std::swap(q.indices[t + 1], q.indices[t + 2]);
+    b.add_root(b.add_node({.mesh = b.add_mesh({q}), .scale = scale}));
+    return load(b, mis_wound ? "miswound.glb" : "wound.glb");
+  };
+  RenderOptions o = small();
+  o.lighting.ambient = Vec3::Constant(0.2f);
+  o.lighting.light_color = Vec3::Constant(0.8f);
+  o.lighting.direction_to_light = Vec3::UnitZ();  // light in front (+Z)
+  const Camera front = look(Vec3(0, 0, 2));
+  const Camera back = look(Vec3(0, 0, -2));
+  const Rgba8 lit{0, 255, 0, 255}, ambient{0, std::uint8_t(srgb8(0.2)), 0, 255};
+
+  const Scene good = leaf(false, Vec3::Ones());
+  const Scene bad = leaf(true, Vec3::Ones());
+  EXPECT_TRUE(near(render(good, front, o).at(32, 32), lit));
+  const Image f = render(bad, front, o);
+  keep(f, "miswound_leaf_front");
+  EXPECT_TRUE(near(f.at(32, 32), ambient));        // back face: reversed normal, away from the light
+  o.lighting.direction_to_light = -Vec3::UnitZ();  // light behind (-Z)
+  EXPECT_TRUE(near(render(bad, back, o).at(32, 32), ambient));  // front face, normal +Z, light at -Z
+  EXPECT_TRUE(near(render(good, back, o).at(32, 32), lit));     // back face of the good leaf: -Z
+  o.lighting.direction_to_light = Vec3::UnitZ();
+  EXPECT_TRUE(near(render(leaf(false, Vec3(-1, 1, 1)), front, o).at(32, 32), lit));
+  EXPECT_TRUE(near(render(leaf(true, Vec3(-1, 1, 1)), front, o).at(32, 32), ambient));
+}
+
 // Horizontal lines one pixel apart, one per pixel row, at depth z (camera on +Z at distance 2,
 // 45 degree fov, 64 pixels): rows [first, last).
 PrimitiveData line_rows(float z, int first, int last, int material) {
@@ -274,6 +316,23 @@ TEST_F(RenderTest, LinesWithAlphaOverBackground) {
   for (int row : {20, 30, 43}) EXPECT_TRUE(near(img.at(32, row), want)) << "row " << row;
   EXPECT_TRUE(near(img.at(32, 19), kBackground, 0));
   EXPECT_TRUE(near(img.at(32, 44), kBackground, 0));
+}
+
+// LINES are unlit even with normals and a lit material (three.js's GLTFLoader draws them with
+// LineBasicMaterial): the colour is the base colour whatever the light and the normals.
+TEST_F(RenderTest, LinesAreUnlitAsInThreeJs) {
+  GltfBuilder b;
+  const int grey = b.add_material({.base_color = Vec4(0.5f, 0.25f, 0.125f, 1)});
+  PrimitiveData p = line_rows(0.f, 20, 44, grey);
+  for (std::size_t i = 0; i < p.positions.size(); ++i)
+    p.normals.push_back(i % 4 < 2 ? Vec3(Vec3::UnitZ()) : Vec3(-Vec3::UnitZ()));
+  b.add_root(b.add_node({.mesh = b.add_mesh({p})}));
+  const Scene scene = load(b);
+  RenderOptions o = small(64, 1);
+  o.lighting.direction_to_light = -Vec3::UnitZ();  // behind the lines' +Z normals
+  const Image img = render(scene, look(Vec3(0, 0, 2)), o);
+  const Rgba8 want{std::uint8_t(srgb8(0.5)), std::uint8_t(srgb8(0.25)), std::uint8_t(srgb8(0.125)), 255};
+  for (int row : {20, 21, 30, 43}) EXPECT_TRUE(near(img.at(32, row), want)) << "row " << row;
 }
 
 // Zhang 6.1: blended lines are drawn far to near whatever the file order, both across draws

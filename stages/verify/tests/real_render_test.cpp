@@ -108,6 +108,37 @@ TEST_F(RealRenderTest, ShiftedSquareFailsWithPredictedFraction) {
   EXPECT_LE(nudged.cases[0].compare.failing_pixels, std::size_t(4 * 56));  // and only they
 }
 
+// A deliberately mis-wound primitive (a lit, double-sided leaf whose triangles run clockwise
+// against its normal) is flagged: glTF's two-sided rule lights its visible back face with the
+// reversed normal, so it renders dark as in three.js, Babylon.js and Cycles. (The renderer used
+// to turn the normal toward the eye, and verify could not see the defect.)
+TEST_F(RealRenderTest, MisWoundPrimitiveIsFlagged) {
+  auto leaf = [&](const std::string& name, bool mis_wound) {
+    render::testing::GltfBuilder b;
+    const int green = b.add_material({.base_color = Vec4(0.2f, 0.7f, 0.1f, 1), .double_sided = true});
+    render::testing::PrimitiveData q = render::testing::quad(2.f, green);
+    if (q.indices.empty())
+      for (std::uint32_t i = 0; i < q.positions.size(); ++i) q.indices.push_back(i);
+    if (mis_wound)
+      for (std::size_t t = 0; t + 2 < q.indices.size(); t += 3) std::swap(q.indices[t + 1], q.indices[t + 2]);
+    b.add_root(b.add_node({.mesh = b.add_mesh({q})}));
+    const fs::path p = dir_ / (name + ".glb");
+    b.write_glb(p);
+    return p;
+  };
+  fs::create_directories(refs_);
+  run({{"leaf", leaf("good", false)}}, dir_ / "ref");
+  for (const char* v : {"leaf__front.png", "leaf__oblique.png"}) fs::copy_file(dir_ / "ref" / v, refs_ / v);
+  EXPECT_TRUE(run({{"leaf", leaf("good_again", false)}}, dir_ / "again").passed());
+  const Report bad = run({{"leaf", leaf("miswound", true)}}, dir_ / "bad");
+  ASSERT_EQ(bad.cases.size(), 2u);
+  for (const CaseResult& c : bad.cases) {
+    EXPECT_EQ(c.status, CaseStatus::kFailed) << c.view;
+    // The whole leaf changes colour: 54.9 px square at the front view (see above).
+    EXPECT_GT(c.compare.failing_fraction, 0.05) << c.view << ": " << c.message;
+  }
+}
+
 // A real third-party tree with alpha-masked leaves, verified against itself (skipped without
 // ../shared/data).
 TEST_F(RealRenderTest, RealTreeAgainstItself) {
