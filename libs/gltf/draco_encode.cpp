@@ -34,7 +34,7 @@ int clamp_bits(int b) { return std::clamp(b, 1, 30); }
 
 }  // namespace
 
-DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options) {
+DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options, bool with_tangents) {
   const std::size_t points = p.vertex_count();
   draco::Mesh mesh;
   mesh.set_num_points(static_cast<std::uint32_t>(points));
@@ -56,7 +56,7 @@ DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options) {
   };
   add("POSITION", draco::GeometryAttribute::POSITION, 3, p.positions);
   add("NORMAL", draco::GeometryAttribute::NORMAL, 3, p.normals);
-  add("TANGENT", draco::GeometryAttribute::GENERIC, 4, p.tangents);
+  if (with_tangents) add("TANGENT", draco::GeometryAttribute::GENERIC, 4, p.tangents);
   add("TEXCOORD_0", draco::GeometryAttribute::TEX_COORD, 2, p.texcoords);
   add("COLOR_0", draco::GeometryAttribute::COLOR, 4, p.colors);
   std::vector<const CustomAttribute*> custom;

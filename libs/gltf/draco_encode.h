@@ -19,7 +19,8 @@ struct DracoEncoded {
 };
 
 // Encodes positions, normals, tangents (generic), texcoords, colors and custom attributes of a
-// TRIANGLES primitive (indexed or not). Throws GltfError when Draco fails.
-DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options);
+// TRIANGLES primitive (indexed or not); tangents only when `with_tangents` (the writer's
+// normal-map rule, writer.h). Throws GltfError when Draco fails.
+DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options, bool with_tangents);
 
 }  // namespace sylva::gltf::detail

@@ -113,12 +113,24 @@ void check_primitive(Checker& c, const Scene& s, const Primitive& p, const std::
                         std::to_string(n) + " vertices");
       break;
     }
+  if (p.buffer < -1 || (p.buffer > 0 && p.buffer >= static_cast<int>(s.buffer_uris.size())))
+    c.fail(where, "buffer " + std::to_string(p.buffer) + " is not in buffer_uris");
   if (p.material < -1 || p.material >= static_cast<int>(s.materials.size()))
     c.fail(where, "material " + std::to_string(p.material) + " does not exist");
   if (!p.extras.is_null() && !p.extras.is_object()) c.fail(where, "extras must be a JSON object");
 }
 
 bool unit_interval(float x) { return x >= 0.0f && x <= 1.0f; }
+
+// A file name that is also a relative URI needing no escaping, with no directory part.
+bool plain_file_name(const std::string& n) {
+  if (n.empty() || n == "." || n == "..") return false;
+  for (char ch : n)
+    if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '.' ||
+          ch == '_' || ch == '-'))
+      return false;
+  return true;
+}
 
 }  // namespace
 
@@ -130,6 +142,21 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
     if (im.bytes.empty()) c.fail(where, "has no bytes");
     if (im.mime_type != "image/png" && im.mime_type != "image/jpeg")
       c.fail(where, "mime type '" + im.mime_type + "' is not image/png or image/jpeg");
+    if (!im.uri.empty() && !plain_file_name(im.uri))
+      c.fail(where, "uri '" + im.uri + "' is not a plain file name (letters, digits, '.', '_', '-')");
+  }
+  {
+    std::set<std::string> uris;
+    for (const Image& im : s.images)
+      if (!im.uri.empty() && !uris.insert(im.uri).second)
+        c.fail("images", "uri '" + im.uri + "' is used twice");
+    for (std::size_t b = 0; b < s.buffer_uris.size(); ++b) {
+      const std::string& u = s.buffer_uris[b];
+      if (!plain_file_name(u))
+        c.fail("buffer_uris[" + std::to_string(b) + "]", "'" + u + "' is not a plain file name");
+      if (!uris.insert(u).second)
+        c.fail("buffer_uris[" + std::to_string(b) + "]", "'" + u + "' is used twice");
+    }
   }
   for (std::size_t i = 0; i < s.materials.size() && !c.full(); ++i) {
     const Material& m = s.materials[i];
@@ -138,14 +165,17 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
       if (!unit_interval(x)) c.fail(where, "base_color has a value outside [0, 1]");
     if (!unit_interval(m.metallic) || !unit_interval(m.roughness)) c.fail(where, "metallic/roughness outside [0, 1]");
     if (!(m.alpha_cutoff >= 0.0f)) c.fail(where, "alpha_cutoff must be >= 0");
-    const int t = m.base_color_texture.image;
-    if (t < -1 || t >= static_cast<int>(s.images.size())) c.fail(where, "texture image " + std::to_string(t) + " does not exist");
+    for (const int t : {m.base_color_texture.image, m.normal_texture.image})
+      if (t < -1 || t >= static_cast<int>(s.images.size()))
+        c.fail(where, "texture image " + std::to_string(t) + " does not exist");
     if (!m.extras.is_null() && !m.extras.is_object()) c.fail(where, "extras must be a JSON object");
   }
   for (std::size_t i = 0; i < s.meshes.size() && !c.full(); ++i) {
     const Mesh& m = s.meshes[i];
     const std::string where = "meshes[" + std::to_string(i) + "]";
     if (m.primitives.empty()) c.fail(where, "has no primitives");
+    if (m.buffer < 0 || (m.buffer > 0 && m.buffer >= static_cast<int>(s.buffer_uris.size())))
+      c.fail(where, "buffer " + std::to_string(m.buffer) + " is not in buffer_uris");
     for (std::size_t j = 0; j < m.primitives.size() && !c.full(); ++j)
       check_primitive(c, s, m.primitives[j], where + ".primitives[" + std::to_string(j) + "]");
     if (!m.extras.is_null() && !m.extras.is_object()) c.fail(where, "extras must be a JSON object");

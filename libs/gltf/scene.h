@@ -17,6 +17,8 @@
 //   - Indices into materials, images, meshes and nodes are in range; -1 means none. The node
 //     graph is a forest; `roots` lists the scene's root nodes, each at most once.
 //   - extras and Node::extensions are JSON objects (or null = none) and are written as they are.
+//   - Written but not stored: materials no primitive uses, images no written material uses, and
+//     tangents of primitives whose material has no normal map (docs/gltf.md).
 #pragma once
 
 #include <array>
@@ -40,6 +42,9 @@ struct Image {
   std::string name;                     // e.g. "bark.png"; informative only
   std::string mime_type = "image/png";  // "image/png" or "image/jpeg"
   std::string bytes;                    // the file's bytes, non-empty
+  // FileFormat::kGltfExternal only: the image is a file of this name beside the .gltf (a plain
+  // file name: letters, digits, '.', '_', '-'). Empty: embedded in buffer 0 as in the other formats.
+  std::string uri;
 };
 
 // A texture use: an image with its sampler's wrap modes. Filtering is always linear with
@@ -50,11 +55,12 @@ struct TextureRef {
   Wrap wrap_t = Wrap::kRepeat;
 };
 
-// pbrMetallicRoughness with a base colour; the texture is read with TEXCOORD_0.
+// pbrMetallicRoughness with a base colour; the textures are read with TEXCOORD_0.
 struct Material {
   std::string name;
   std::array<float, 4> base_color{1, 1, 1, 1};  // linear RGBA factor, each in [0, 1]
   TextureRef base_color_texture;
+  TextureRef normal_texture;  // tangent-space normal map (normalTexture); TANGENT is written only with one
   float metallic = 0;   // [0, 1]
   float roughness = 1;  // [0, 1]
   AlphaMode alpha_mode = AlphaMode::kOpaque;
@@ -82,6 +88,7 @@ struct Primitive {
   std::vector<std::uint32_t> indices;   // empty = non-indexed
   int material = -1;                    // index into Scene::materials or -1 (glTF default material)
   nlohmann::json extras;
+  int buffer = -1;  // kGltfExternal only: index into Scene::buffer_uris; -1 = the mesh's buffer
 
   std::size_t vertex_count() const { return positions.size() / 3; }
 };
@@ -90,6 +97,9 @@ struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;  // at least one
   nlohmann::json extras;
+  // FileFormat::kGltfExternal only: index into Scene::buffer_uris, the .bin file that holds this
+  // mesh's data (and its nodes' instancing attributes). Ignored by GLB and embedded .gltf.
+  int buffer = 0;
 };
 
 // EXT_mesh_gpu_instancing: the node's mesh drawn once per instance, each placed by its own
@@ -126,6 +136,15 @@ struct Scene {
   std::string generator = "sylva";  // asset.generator; no version or date, so bytes stay stable
   nlohmann::json extras;            // written as asset.extras (sylva metadata, docs/gltf.md)
   std::vector<std::string> extensions_required;  // names of Node::extensions a reader must know
+  // FileFormat::kGltfExternal only: the file name of each buffer (plain names as Image::uri).
+  // Buffer b holds, in mesh and primitive order, the data of every primitive assigned to b
+  // (Primitive::buffer, else its Mesh::buffer), laid out exactly as in a scene that holds those
+  // primitives alone: so two .gltf files can share one .bin, or one a prefix of the other's.
+  std::vector<std::string> buffer_uris;
+  // kGltfExternal only, optional: the byteLength to declare for buffer b when the file of that
+  // name is longer than this scene's data for it (another scene wrote it, with this scene's data
+  // as its prefix). 0 or absent = the data's own length; smaller than the data is an error.
+  std::vector<std::size_t> buffer_byte_lengths;
 };
 
 // Every broken contract point, one message each ("meshes[0].primitives[1]: normals has 5

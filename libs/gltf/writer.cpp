@@ -1,5 +1,6 @@
-// gltf::Scene -> tinygltf::Model -> bytes. Everything goes into one buffer in a fixed order
-// (writer.h, "Layout"), so equal scenes give equal bytes. tinygltf serialises the JSON (keys in
+// gltf::Scene -> tinygltf::Model -> bytes. Everything goes into one buffer (external .gltf: one
+// buffer per Scene::buffer_uris entry) in a fixed order (writer.h, "Layout"), so equal scenes
+// give equal bytes. tinygltf serialises the JSON (keys in
 // a fixed order) and frames the GLB; images are handed to it as buffer views with a mime type,
 // which it writes as they are (it re-encodes only images given as decoded pixels).
 //
@@ -60,29 +61,66 @@ class ModelBuilder {
  public:
   ModelBuilder(const Scene& scene, const WriteOptions& options) : s_(scene), o_(options) {}
 
+  // The model; with kGltfExternal its buffers carry no data (external_data() has it) and images
+  // with a uri carry neither a buffer view nor bytes.
   tinygltf::Model build() {
     m_.asset.version = "2.0";
     m_.asset.generator = s_.generator;
     if (!s_.extras.is_null()) m_.asset.extras = to_value(s_.extras);
-    m_.buffers.emplace_back();
-    for (const Material& mat : s_.materials) m_.materials.push_back(material(mat));
-    for (const Mesh& mesh : s_.meshes) m_.meshes.push_back(this->mesh(mesh));
-    for (const Node& n : s_.nodes) m_.nodes.push_back(node(n));
+    external_ = o_.format == FileFormat::kGltfExternal;
+    data_.resize(external_ ? std::max<std::size_t>(1, s_.buffer_uris.size()) : 1);
+    prune();
+    for (int i : used_materials_) m_.materials.push_back(material(s_.materials[std::size_t(i)]));
+    for (const Mesh& mesh : s_.meshes) {
+      buffer_ = external_ ? mesh.buffer : 0;
+      m_.meshes.push_back(this->mesh(mesh));
+    }
+    for (const Node& n : s_.nodes) {
+      buffer_ = external_ && n.mesh >= 0 ? s_.meshes[std::size_t(n.mesh)].buffer : 0;
+      m_.nodes.push_back(node(n));
+    }
     tinygltf::Scene scene;
     scene.nodes = s_.roots;
     m_.scenes.push_back(scene);
     m_.defaultScene = 0;
-    for (const Image& im : s_.images) {
+    buffer_ = 0;
+    for (int i : used_images_) {
+      const Image& im = s_.images[std::size_t(i)];
       tinygltf::Image out;
       out.name = im.name;
       out.mimeType = im.mime_type;
-      out.bufferView = add_view(im.bytes.data(), im.bytes.size(), 0);
+      if (external_ && !im.uri.empty()) {
+        out.uri = im.uri;
+        resources_.push_back({im.uri, im.bytes});
+      } else {
+        out.bufferView = add_view(im.bytes.data(), im.bytes.size(), 0);
+      }
       m_.images.push_back(std::move(out));
     }
-    if (data_.empty()) {
-      m_.buffers.clear();  // glTF forbids empty buffers
+    if (!external_) {
+      if (!data_[0].empty()) {  // glTF forbids empty buffers
+        m_.buffers.emplace_back();
+        m_.buffers[0].data = std::move(data_[0]);
+      }
     } else {
-      m_.buffers[0].data = std::move(data_);
+      for (std::size_t b = 0; b < data_.size(); ++b) {
+        const std::string uri = s_.buffer_uris.empty() ? std::string() : s_.buffer_uris[b];
+        if (data_[b].empty())
+          throw GltfError("invalid glTF scene: buffer_uris[" + std::to_string(b) + "] ('" + uri +
+                          "') holds no data");
+        if (uri.empty()) throw GltfError("invalid glTF scene: an external .gltf needs buffer_uris");
+        m_.buffers.emplace_back();
+        m_.buffers.back().uri = uri;
+        const std::size_t declared = b < s_.buffer_byte_lengths.size() ? s_.buffer_byte_lengths[b] : 0;
+        if (declared != 0 && declared < data_[b].size())
+          throw GltfError("invalid glTF scene: buffer_byte_lengths[" + std::to_string(b) + "] is " +
+                          std::to_string(declared) + ", less than the buffer's " +
+                          std::to_string(data_[b].size()) + " bytes");
+        buffer_sizes_.push_back(declared != 0 ? declared : data_[b].size());
+        resources_.insert(resources_.begin() + std::ptrdiff_t(b),
+                          {uri, std::string(data_[b].begin(), data_[b].end())});
+        std::vector<unsigned char>().swap(data_[b]);
+      }
     }
     for (const std::string& name : s_.extensions_required)
       if (used_.count(name)) required_.insert(name);
@@ -91,17 +129,45 @@ class ModelBuilder {
     return std::move(m_);
   }
 
+  // kGltfExternal: (uri, bytes) of every buffer in order, then of every image file.
+  std::vector<EncodedFile> take_resources() { return std::move(resources_); }
+  const std::vector<std::size_t>& buffer_sizes() const { return buffer_sizes_; }
+
  private:
-  // Appends bytes at a 4-byte aligned offset; returns the buffer view index.
+  // Materials no primitive uses and images no written material uses are not written; the
+  // indices of the rest are remapped (in their original order).
+  void prune() {
+    std::vector<char> mat_used(s_.materials.size(), 0), img_used(s_.images.size(), 0);
+    for (const Mesh& m : s_.meshes)
+      for (const Primitive& p : m.primitives)
+        if (p.material >= 0) mat_used[std::size_t(p.material)] = 1;
+    material_index_.assign(s_.materials.size(), -1);
+    for (std::size_t i = 0; i < s_.materials.size(); ++i) {
+      if (!mat_used[i]) continue;
+      material_index_[i] = static_cast<int>(used_materials_.size());
+      used_materials_.push_back(static_cast<int>(i));
+      for (const int t : {s_.materials[i].base_color_texture.image, s_.materials[i].normal_texture.image})
+        if (t >= 0) img_used[std::size_t(t)] = 1;
+    }
+    image_index_.assign(s_.images.size(), -1);
+    for (std::size_t i = 0; i < s_.images.size(); ++i)
+      if (img_used[i]) {
+        image_index_[i] = static_cast<int>(used_images_.size());
+        used_images_.push_back(static_cast<int>(i));
+      }
+  }
+
+  // Appends bytes at a 4-byte aligned offset of the current buffer; returns the view index.
   int add_view(const void* bytes, std::size_t size, int target) {
-    while (data_.size() % 4 != 0) data_.push_back(0);
+    std::vector<unsigned char>& data = data_[std::size_t(buffer_)];
+    while (data.size() % 4 != 0) data.push_back(0);
     tinygltf::BufferView v;
-    v.buffer = 0;
-    v.byteOffset = data_.size();
+    v.buffer = buffer_;
+    v.byteOffset = data.size();
     v.byteLength = size;
     v.target = target;
     const auto* b = static_cast<const unsigned char*>(bytes);
-    data_.insert(data_.end(), b, b + size);
+    data.insert(data.end(), b, b + size);
     m_.bufferViews.push_back(v);
     return static_cast<int>(m_.bufferViews.size() - 1);
   }
@@ -165,12 +231,19 @@ class ModelBuilder {
     return v;
   }
 
+  // Tangents serve normal maps only (TEAM decision): without one they are dead weight (a quarter
+  // of a mesh's vertex bytes).
+  bool writes_tangents(const Primitive& p) const {
+    return !p.tangents.empty() && p.material >= 0 &&
+           s_.materials[std::size_t(p.material)].normal_texture.image >= 0;
+  }
+
   tinygltf::Primitive plain_primitive(const Primitive& p) {
     tinygltf::Primitive out;
     const int t = TINYGLTF_TARGET_ARRAY_BUFFER;
     out.attributes["POSITION"] = float_attribute(p.positions, 3, true, t);
     if (!p.normals.empty()) out.attributes["NORMAL"] = float_attribute(p.normals, 3, false, t);
-    if (!p.tangents.empty()) out.attributes["TANGENT"] = float_attribute(p.tangents, 4, false, t);
+    if (writes_tangents(p)) out.attributes["TANGENT"] = float_attribute(p.tangents, 4, false, t);
     if (!p.texcoords.empty()) out.attributes["TEXCOORD_0"] = float_attribute(p.texcoords, 2, false, t);
     if (!p.colors.empty()) out.attributes["COLOR_0"] = float_attribute(p.colors, 4, false, t);
     for (const CustomAttribute* a : sorted_custom(p)) out.attributes[a->name] = float_attribute(a->values, a->components, false, t);
@@ -179,7 +252,7 @@ class ModelBuilder {
   }
 
   tinygltf::Primitive draco_primitive(const Primitive& p) {
-    const detail::DracoEncoded enc = detail::encode_draco(p, o_.draco);
+    const detail::DracoEncoded enc = detail::encode_draco(p, o_.draco, writes_tangents(p));
     tinygltf::Primitive out;
     tinygltf::Value::Object attributes;
     for (const auto& [name, id] : enc.attribute_ids) {
@@ -223,20 +296,24 @@ class ModelBuilder {
   tinygltf::Mesh mesh(const Mesh& in) {
     tinygltf::Mesh out;
     out.name = in.name;
+    const int mesh_buffer = buffer_;
     for (const Primitive& p : in.primitives) {
+      buffer_ = external_ && p.buffer >= 0 ? p.buffer : mesh_buffer;
       tinygltf::Primitive gp = o_.draco.enabled && p.mode == PrimitiveMode::kTriangles ? draco_primitive(p)
                                                                                        : plain_primitive(p);
       gp.mode = static_cast<int>(p.mode);
-      gp.material = p.material;
+      gp.material = p.material >= 0 ? material_index_[std::size_t(p.material)] : -1;
       if (!p.extras.is_null()) gp.extras = to_value(p.extras);
       out.primitives.push_back(std::move(gp));
     }
+    buffer_ = mesh_buffer;
     if (!in.extras.is_null()) out.extras = to_value(in.extras);
     return out;
   }
 
   // Samplers and textures are shared: one per distinct (wrap_s, wrap_t) and (image, sampler).
   int texture(const TextureRef& t) {
+    const int image = image_index_[std::size_t(t.image)];
     const std::pair<int, int> wrap{static_cast<int>(t.wrap_s), static_cast<int>(t.wrap_t)};
     auto [sit, new_sampler] = samplers_.emplace(wrap, static_cast<int>(m_.samplers.size()));
     if (new_sampler) {
@@ -247,11 +324,11 @@ class ModelBuilder {
       s.wrapT = wrap.second;
       m_.samplers.push_back(s);
     }
-    const std::pair<int, int> key{t.image, sit->second};
+    const std::pair<int, int> key{image, sit->second};
     auto [tit, new_texture] = textures_.emplace(key, static_cast<int>(m_.textures.size()));
     if (new_texture) {
       tinygltf::Texture tex;
-      tex.source = t.image;
+      tex.source = image;
       tex.sampler = sit->second;
       m_.textures.push_back(tex);
     }
@@ -266,6 +343,7 @@ class ModelBuilder {
     out.pbrMetallicRoughness.roughnessFactor = in.roughness;
     if (in.base_color_texture.image >= 0)
       out.pbrMetallicRoughness.baseColorTexture.index = texture(in.base_color_texture);
+    if (in.normal_texture.image >= 0) out.normalTexture.index = texture(in.normal_texture);
     switch (in.alpha_mode) {
       case AlphaMode::kOpaque: out.alphaMode = "OPAQUE"; break;
       case AlphaMode::kMask: out.alphaMode = "MASK"; break;
@@ -317,22 +395,33 @@ class ModelBuilder {
   const Scene& s_;
   const WriteOptions& o_;
   tinygltf::Model m_;
-  std::vector<unsigned char> data_;
+  bool external_ = false;
+  int buffer_ = 0;                                // buffer the next view goes to
+  std::vector<std::vector<unsigned char>> data_;  // per buffer
+  std::vector<int> used_materials_, used_images_, material_index_, image_index_;
+  std::vector<EncodedFile> resources_;
+  std::vector<std::size_t> buffer_sizes_;
   std::set<std::string> used_, required_;
   std::map<std::pair<int, int>, int> samplers_, textures_;
 };
 
-}  // namespace
-
-const char* extension(FileFormat format) { return format == FileFormat::kGlb ? ".glb" : ".gltf"; }
-
-std::string encode(const Scene& scene, const WriteOptions& options) {
+void check_scene(const Scene& scene) {
   const std::vector<std::string> problems = validate_scene(scene);
   if (!problems.empty()) {
     std::string msg = "invalid glTF scene: " + problems.front();
     if (problems.size() > 1) msg += " (and " + std::to_string(problems.size() - 1) + " more problems)";
     throw GltfError(msg);
   }
+}
+
+}  // namespace
+
+const char* extension(FileFormat format) { return format == FileFormat::kGlb ? ".glb" : ".gltf"; }
+
+std::string encode(const Scene& scene, const WriteOptions& options) {
+  if (options.format == FileFormat::kGltfExternal)
+    throw GltfError("an external .gltf is several files: use encode_external()");
+  check_scene(scene);
   tinygltf::Model model = ModelBuilder(scene, options).build();
   tinygltf::TinyGLTF writer;
   std::ostringstream out(std::ios::binary);
@@ -340,6 +429,37 @@ std::string encode(const Scene& scene, const WriteOptions& options) {
   if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/!glb, /*writeBinary=*/glb))
     throw GltfError("tinygltf could not serialise the scene");
   return std::move(out).str();
+}
+
+EncodedFiles encode_external(const Scene& scene, const WriteOptions& options) {
+  check_scene(scene);
+  WriteOptions o = options;
+  o.format = FileFormat::kGltfExternal;
+  ModelBuilder builder(scene, o);
+  tinygltf::Model model = builder.build();
+  tinygltf::TinyGLTF writer;
+  std::ostringstream out(std::ios::binary);
+  if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/true, /*writeBinary=*/false))
+    throw GltfError("tinygltf could not serialise the scene");
+  // tinygltf's stream writer embeds every buffer as a data URI (here: empty ones) and gives
+  // images without a buffer view no uri; name the files instead. nlohmann keeps keys sorted, so
+  // the text stays deterministic.
+  nlohmann::json j = nlohmann::json::parse(std::move(out).str());
+  const std::vector<std::size_t>& sizes = builder.buffer_sizes();
+  for (std::size_t b = 0; b < sizes.size(); ++b)
+    j["buffers"][b] = {{"byteLength", sizes[b]}, {"uri", model.buffers[b].uri}};
+  for (std::size_t i = 0; i < model.images.size(); ++i) {
+    const tinygltf::Image& im = model.images[i];
+    if (im.uri.empty()) continue;
+    nlohmann::json& ji = j["images"][i];
+    ji.erase("bufferView");
+    ji["uri"] = im.uri;
+    ji["mimeType"] = im.mimeType;
+  }
+  EncodedFiles files;
+  files.gltf = j.dump(2) + "\n";
+  files.resources = builder.take_resources();
+  return files;
 }
 
 void write_file(const Scene& scene, const std::filesystem::path& path, const WriteOptions& options) {

@@ -7,6 +7,10 @@
 //     glTF-Validator with zero errors.
 //   - Self-contained: GLB holds everything in its binary chunk; a .gltf carries its one buffer as
 //     a base64 data URI (images live in that buffer too), so every output is a single file.
+//     Except kGltfExternal (encode_external): JSON plus one .bin per Scene::buffer_uris entry and
+//     one file per image with a uri, so several .gltf files can share geometry and textures.
+//   - Lean: materials no primitive uses and images no written material uses are left out;
+//     TANGENT is written only when the primitive's material has a normal map.
 //   - Layout: one buffer; per mesh, per primitive: POSITION, NORMAL, TANGENT, TEXCOORD_0,
 //     COLOR_0, custom attributes (name order), indices, each in its own 4-byte aligned buffer
 //     view; then the images in order. Indices are UNSIGNED_SHORT when every vertex index fits
@@ -21,6 +25,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "libs/gltf/scene.h"
 
@@ -33,7 +38,7 @@ class GltfError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class FileFormat { kGlb, kGltf };
+enum class FileFormat { kGlb, kGltf, kGltfExternal };
 
 struct DracoOptions {
   bool enabled = false;
@@ -50,8 +55,26 @@ struct WriteOptions {
   DracoOptions draco;
 };
 
-// The file's bytes. Throws GltfError.
+// The file's bytes (kGlb or kGltf; kGltfExternal throws: use encode_external). Throws GltfError.
 std::string encode(const Scene& scene, const WriteOptions& options = {});
+
+struct EncodedFile {
+  std::string name;  // the uri, a plain file name
+  std::string bytes;
+};
+
+// A .gltf whose buffers and images are files beside it. Buffer b is the file
+// Scene::buffer_uris[b] and holds, in mesh and primitive order, the data of the primitives
+// assigned to b (Primitive::buffer, else Mesh::buffer), then the instancing attributes of nodes
+// whose mesh is in b; images without a uri go last into buffer 0. Each view is 4-byte aligned
+// from the start of its buffer: so primitives encoded in two scenes, alone in a buffer of the
+// same name in both, give the same .bin bytes (the lod stage relies on it).
+// Every buffer must hold data. options.format is ignored. Throws GltfError.
+struct EncodedFiles {
+  std::string gltf;                    // the JSON text (pretty-printed, ends with a newline)
+  std::vector<EncodedFile> resources;  // every buffer in order, then every written image with a uri
+};
+EncodedFiles encode_external(const Scene& scene, const WriteOptions& options = {});
 
 // encode() and write to `path` (created or replaced). Throws GltfError.
 void write_file(const Scene& scene, const std::filesystem::path& path, const WriteOptions& options = {});

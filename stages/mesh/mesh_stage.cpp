@@ -16,7 +16,9 @@ namespace sylva {
 
 namespace {
 
-constexpr int kVersion = 2;  // 2: junction collapse, insets, windowed ring frames, ring merging
+constexpr int kVersion =
+    3;  // 2: junction collapse, insets, windowed ring frames, ring merging. 3: libs/gltf writes no tangents
+        // without a normal map; colours from libs/tree/default_colors.h
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
