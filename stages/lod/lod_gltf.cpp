@@ -1,96 +1,141 @@
-// glTF output of a LOD chain: per-level primitives, MSFT_lod linking, extras.
+// glTF output of a LOD chain: per-level primitives, MSFT_lod linking, extras, shared files.
 // Seeds: Zhang et al. 2017 §6 (meshes and semi-transparent lines per level); MSFT_lod.
 #include "stages/lod/lod_gltf.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 
-#include "libs/gltf/writer.h"
+#include "libs/tree/default_colors.h"
+#include "stages/lod/ribbons.h"
 
 namespace sylva::lod {
 
 namespace {
 
-std::array<float, 4> rgba(const tree::Color& c, double a) {
-  return {c.r, c.g, c.b, static_cast<float>(std::clamp(a, 0.0, 1.0))};
+std::string level_bin(std::size_t i) { return "lod" + std::to_string(i) + ".bin"; }
+std::string ribbons_bin(std::size_t i) { return "lod" + std::to_string(i) + "_ribbons.bin"; }
+
+std::array<float, 4> with_alpha(std::array<float, 4> c, double a) {
+  c[3] = static_cast<float>(std::clamp(a, 0.0, 1.0));
+  return c;
 }
 
-// Materials: 0 bark, 1 branch lines, 2 leaves, 3 needle lines, 4 needle prisms.
-void add_materials(gltf::Scene& s, const tree::Tree& tree, const Level& level, const OutputTextures& tex) {
+// The materials of a level, by role; a role a level does not use is left out by the writer.
+// Colours are those of the mesh stage (libs/tree/default_colors.h), including its fallbacks
+// for trees without colours (an imported TreeQSM tree), and its roughness.
+struct LevelMaterials {
+  gltf::Material bark, lines, leaves, needle_lines, needles;
+};
+
+LevelMaterials level_materials(const tree::Tree& tree, const Level& level, int leaf_image) {
   const tree::Materials& m = tree.materials;
-  gltf::Material bark;
-  bark.name = "bark";
-  bark.base_color = rgba(m.bark_color, 1);
-  s.materials.push_back(bark);
-  gltf::Material lines;
-  lines.name = "bark_lines";
-  lines.base_color = rgba(m.bark_color, level.line_alpha);
-  lines.alpha_mode = gltf::AlphaMode::kBlend;
-  lines.extras = {{"alpha_eq12", level.line_alpha_eq12}};
-  s.materials.push_back(lines);
-  gltf::Material leaves;
-  leaves.name = "leaves";
-  leaves.base_color = rgba(m.leaf_color, 1);
-  leaves.double_sided = true;
-  if (!tex.leaf_png.empty()) {
-    s.images.push_back({"leaves.png", "image/png", tex.leaf_png});
-    leaves.base_color = {1, 1, 1, 1};
-    leaves.base_color_texture.image = 0;
-    leaves.base_color_texture.wrap_s = gltf::Wrap::kClampToEdge;
-    leaves.base_color_texture.wrap_t = gltf::Wrap::kClampToEdge;
-    leaves.alpha_mode = gltf::AlphaMode::kMask;
+  LevelMaterials out;
+  out.bark.name = "bark";
+  out.bark.base_color = tree::bark_color(m);
+  out.bark.roughness = 0.9f;
+  out.lines.name = "bark_lines";
+  out.lines.base_color = with_alpha(tree::bark_color(m), level.line_alpha);
+  out.lines.roughness = 0.9f;
+  out.lines.alpha_mode = gltf::AlphaMode::kBlend;
+  out.lines.extras = {{"alpha_eq12", level.line_alpha_eq12}};
+  out.leaves.name = "leaves";
+  out.leaves.base_color = tree::leaf_color(m);
+  out.leaves.roughness = 0.7f;
+  out.leaves.double_sided = true;
+  if (leaf_image >= 0) {
+    out.leaves.base_color = {1, 1, 1, 1};
+    out.leaves.base_color_texture = {leaf_image, gltf::Wrap::kClampToEdge, gltf::Wrap::kClampToEdge};
+    out.leaves.alpha_mode = gltf::AlphaMode::kMask;
   }
-  s.materials.push_back(leaves);
-  gltf::Material needle_lines;
-  needle_lines.name = "needle_lines";
-  needle_lines.base_color = rgba(m.leaf_color, level.needle_line_alpha);
-  needle_lines.extras = {{"alpha_eq12", level.needle_alpha_eq12}};
-  needle_lines.alpha_mode = gltf::AlphaMode::kBlend;
-  s.materials.push_back(needle_lines);
-  gltf::Material needles;
-  needles.name = "needles";
-  needles.base_color = rgba(m.leaf_color, 1);
-  s.materials.push_back(needles);
+  out.needle_lines.name = "needle_lines";
+  out.needle_lines.base_color = with_alpha(tree::needle_color(m), level.needle_line_alpha);
+  out.needle_lines.roughness = 0.7f;
+  out.needle_lines.extras = {{"alpha_eq12", level.needle_alpha_eq12}};
+  out.needle_lines.alpha_mode = gltf::AlphaMode::kBlend;
+  out.needles.name = "needles";
+  out.needles.base_color = tree::needle_color(m);
+  out.needles.roughness = 0.7f;
+  return out;
 }
 
-void add_geometry(gltf::Mesh& mesh, const BranchGeometry& g, int tri_material, int line_material) {
-  if (!g.tri_indices.empty()) {
-    gltf::Primitive p;
-    p.mode = gltf::PrimitiveMode::kTriangles;
-    p.positions = g.tri_positions;
-    p.normals = g.tri_normals;
-    p.indices = g.tri_indices;
-    p.material = tri_material;
-    mesh.primitives.push_back(std::move(p));
+// Adds `m` unless an equal material is there already; returns its index.
+int add_material(gltf::Scene& s, const gltf::Material& m) {
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const gltf::Material& o = s.materials[i];
+    if (o.name == m.name && o.base_color == m.base_color &&
+        o.base_color_texture.image == m.base_color_texture.image && o.alpha_mode == m.alpha_mode &&
+        o.double_sided == m.double_sided && o.roughness == m.roughness && o.extras == m.extras)
+      return static_cast<int>(i);
   }
-  if (!g.line_indices.empty()) {
-    gltf::Primitive p;
-    p.mode = gltf::PrimitiveMode::kLines;
-    p.positions = g.line_positions;
-    p.normals = g.line_normals;
-    p.indices = g.line_indices;
-    p.material = line_material;
-    mesh.primitives.push_back(std::move(p));
-  }
+  s.materials.push_back(m);
+  return static_cast<int>(s.materials.size() - 1);
 }
 
-gltf::Mesh level_mesh(const Level& level, std::size_t index, int material_base) {
+int add_leaf_image(gltf::Scene& s, const OutputTextures& tex) {
+  if (tex.leaf_png.empty()) return -1;
+  s.images.push_back({kLeafImageFile, "image/png", tex.leaf_png, kLeafImageFile});
+  return static_cast<int>(s.images.size() - 1);
+}
+
+gltf::Primitive triangles(const std::vector<float>& positions, const std::vector<float>& normals,
+                          const std::vector<std::uint32_t>& indices, int material) {
+  gltf::Primitive p;
+  p.mode = gltf::PrimitiveMode::kTriangles;
+  p.positions = positions;
+  p.normals = normals;
+  p.indices = indices;
+  p.material = material;
+  return p;
+}
+
+gltf::Primitive lines(const BranchGeometry& g, int material) {
+  gltf::Primitive p;
+  p.mode = gltf::PrimitiveMode::kLines;
+  p.positions = g.line_positions;
+  p.normals = g.line_normals;
+  p.indices = g.line_indices;
+  p.material = material;
+  return p;
+}
+
+// The level's mesh with materials added to `s` (shared when equal). With `ribbon_buffer` >= 0
+// the lines become opaque ribbons in that buffer.
+gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level, std::size_t index,
+                      int leaf_image, int ribbon_buffer) {
+  const LevelMaterials mats = level_materials(tree, level, leaf_image);
   gltf::Mesh mesh;
   mesh.name = "lod" + std::to_string(index);
-  add_geometry(mesh, level.branches, material_base + 0, material_base + 1);
+  // Opaque and masked triangles first, lines last (lod_gltf.h).
+  if (!level.branches.tri_indices.empty())
+    mesh.primitives.push_back(triangles(level.branches.tri_positions, level.branches.tri_normals,
+                                        level.branches.tri_indices, add_material(s, mats.bark)));
   if (!level.leaves.indices.empty()) {
-    gltf::Primitive p;
-    p.positions = level.leaves.positions;
-    p.normals = level.leaves.normals;
+    gltf::Primitive p = triangles(level.leaves.positions, level.leaves.normals, level.leaves.indices,
+                                  add_material(s, mats.leaves));
     p.texcoords = level.leaves.texcoords;
-    p.indices = level.leaves.indices;
-    p.material = material_base + 2;
     mesh.primitives.push_back(std::move(p));
   }
-  add_geometry(mesh, level.needles, material_base + 4, material_base + 3);
+  if (!level.needles.tri_indices.empty())
+    mesh.primitives.push_back(triangles(level.needles.tri_positions, level.needles.tri_normals,
+                                        level.needles.tri_indices, add_material(s, mats.needles)));
+  auto add_lines = [&](const BranchGeometry& g, const gltf::Material& line_mat, const gltf::Material& solid) {
+    if (g.line_indices.empty()) return;
+    if (ribbon_buffer < 0) {
+      mesh.primitives.push_back(lines(g, add_material(s, line_mat)));
+      return;
+    }
+    const Ribbons r = line_ribbons(g);
+    gltf::Primitive p = triangles(r.positions, r.normals, r.indices, add_material(s, solid));
+    p.buffer = ribbon_buffer;
+    mesh.primitives.push_back(std::move(p));
+  };
+  add_lines(level.branches, mats.lines, mats.bark);
+  add_lines(level.needles, mats.needle_lines, mats.needles);
   if (mesh.primitives.empty()) {
     // An empty level (no branch survives: impossible with roots kept, but stay valid): one point.
     gltf::Primitive p;
@@ -100,6 +145,16 @@ gltf::Mesh level_mesh(const Level& level, std::size_t index, int material_base) 
   }
   mesh.extras = level_extras(level, index);
   return mesh;
+}
+
+nlohmann::json file_extras(const tree::Tree& tree) { return {{"sylva_stage", "lod"}, {"tree", tree.name}}; }
+
+void extend(double (&lo)[3], double (&hi)[3], const std::vector<float>& xyz) {
+  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], double(xyz[i + k]));
+      hi[k] = std::max(hi[k], double(xyz[i + k]));
+    }
 }
 
 }  // namespace
@@ -142,85 +197,168 @@ nlohmann::json level_extras(const Level& level, std::size_t index) {
             {"branches", c.branches}}}};
 }
 
-gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t index, const OutputTextures& tex) {
+bool has_lines(const Level& level) {
+  return !level.branches.line_indices.empty() || !level.needles.line_indices.empty();
+}
+
+gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t index,
+                        const OutputTextures& tex, bool ribbons) {
   gltf::Scene s;
-  add_materials(s, tree, level, tex);
-  s.meshes.push_back(level_mesh(level, index, 0));
+  const int leaf_image = level.leaves.indices.empty() ? -1 : add_leaf_image(s, tex);
+  s.buffer_uris = {level_bin(index)};
+  const bool with_ribbons = ribbons && has_lines(level);
+  if (with_ribbons) s.buffer_uris.push_back(ribbons_bin(index));
+  s.meshes.push_back(level_mesh(s, tree, level, index, leaf_image, with_ribbons ? 1 : -1));
+  if (with_ribbons) {
+    // A level of lines only (a leafless tree's coarsest): nothing of lod<i>.bin is used.
+    bool uses_level_bin = false;
+    for (const gltf::Primitive& p : s.meshes[0].primitives) uses_level_bin |= p.buffer < 0;
+    if (!uses_level_bin) {
+      s.buffer_uris = {ribbons_bin(index)};
+      for (gltf::Primitive& p : s.meshes[0].primitives) p.buffer = -1;
+    }
+  }
   gltf::Node node;
   node.name = "lod" + std::to_string(index);
   node.mesh = 0;
   node.extras = level_extras(level, index);
   s.nodes.push_back(node);
   s.roots = {0};
-  s.extras = {{"sylva_stage", "lod"}, {"tree", tree.name}};
+  s.extras = file_extras(tree);
   return s;
 }
 
-std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double height) {
+double bounding_radius(const Level& l) {
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (const BranchGeometry* g : {&l.branches, &l.needles}) {
+    extend(lo, hi, g->tri_positions);
+    extend(lo, hi, g->line_positions);
+  }
+  extend(lo, hi, l.leaves.positions);
+  if (!(lo[0] <= hi[0])) return 0.0;
+  return 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                         (hi[2] - lo[2]) * (hi[2] - lo[2]));
+}
+
+std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double radius) {
   std::vector<double> out;
+  const double t = std::tan(camera.fov_y_rad / 2);
   for (std::size_t i = 0; i < levels.size(); ++i) {
     if (i + 1 == levels.size()) {
       out.push_back(0.0);
     } else {
       const double d = levels[i + 1].spec.switch_distance;
-      out.push_back(height / (2 * d * std::tan(camera.fov_y_rad / 2)));
+      const double c = std::numbers::pi * radius * radius / ((2 * d * t) * (2 * d * t));
+      out.push_back(std::min(1.0, c));
     }
   }
   return out;
 }
 
-std::string encode_chain_glb(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
-                             const OutputTextures& tex) {
+double coverage_distance(double coverage, const Camera& camera, double radius) {
+  if (!(coverage > 0)) return std::numeric_limits<double>::infinity();
+  return radius * std::sqrt(std::numbers::pi) / (2 * std::tan(camera.fov_y_rad / 2) * std::sqrt(coverage));
+}
+
+gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
+                        const OutputTextures& tex) {
   gltf::Scene s;
+  bool any_leaves = false;
+  for (const Level& l : levels) any_leaves |= !l.leaves.indices.empty();
+  const int leaf_image = any_leaves ? add_leaf_image(s, tex) : -1;
   for (std::size_t i = 0; i < levels.size(); ++i) {
-    const int base = static_cast<int>(s.materials.size());
-    // Each level has its own alpha, hence its own line materials; the leaf image is shared.
-    gltf::Scene tmp;
-    add_materials(tmp, tree, levels[i], i == 0 ? tex : OutputTextures{});
-    for (auto& m : tmp.materials) {
-      if (i > 0 && m.name == "leaves" && !tex.leaf_png.empty()) {
-        m.base_color = {1, 1, 1, 1};
-        m.base_color_texture.image = 0;
-        m.base_color_texture.wrap_s = gltf::Wrap::kClampToEdge;
-        m.base_color_texture.wrap_t = gltf::Wrap::kClampToEdge;
-        m.alpha_mode = gltf::AlphaMode::kMask;
-      }
-      m.name += "_lod" + std::to_string(i);
-      s.materials.push_back(m);
-    }
-    if (i == 0) s.images = tmp.images;
-    s.meshes.push_back(level_mesh(levels[i], i, base));
+    s.buffer_uris.push_back(level_bin(i));
+    gltf::Mesh mesh = level_mesh(s, tree, levels[i], i, leaf_image, -1);
+    mesh.buffer = static_cast<int>(i);
+    s.meshes.push_back(std::move(mesh));
     gltf::Node node;
     node.name = "lod" + std::to_string(i);
     node.mesh = static_cast<int>(i);
     node.extras = level_extras(levels[i], i);
     s.nodes.push_back(node);
   }
-  const std::vector<double> coverage = screen_coverages(levels, camera, tree_height(tree));
-  s.nodes[0].extras["MSFT_screencoverage"] = coverage;
+  // Per-level line materials share a name; tell them apart in the one file.
+  std::map<std::string, int> seen;
+  for (gltf::Material& m : s.materials)
+    if (m.alpha_mode == gltf::AlphaMode::kBlend) m.name += "_" + std::to_string(seen[m.name]++);
+  s.nodes[0].extras["MSFT_screencoverage"] = screen_coverages(levels, camera, bounding_radius(levels[0]));
   s.roots = {0};
-  s.extras = {{"sylva_stage", "lod"}, {"tree", tree.name}};
+  s.extras = file_extras(tree);
   if (levels.size() >= 2) {
     nlohmann::json ids = nlohmann::json::array();
     for (std::size_t i = 1; i < levels.size(); ++i) ids.push_back(i);
     s.nodes[0].extensions = {{"MSFT_lod", {{"ids", ids}}}};
   }
-  return gltf::encode(s);
+  return s;
 }
 
-nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels, const ChainOptions& o) {
+std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,
+                                                  const Camera& camera, const OutputTextures& tex,
+                                                  bool ribbons) {
+  std::vector<gltf::EncodedFile> out;
+  std::map<std::string, std::string> stored;  // name -> bytes of every resource written
+  auto keep = [&](const gltf::EncodedFile& f) {
+    auto [it, fresh] = stored.emplace(f.name, f.bytes);
+    if (fresh) {
+      out.push_back(f);
+    } else if (it->second != f.bytes) {
+      throw std::logic_error("lod output: two files disagree on the bytes of " + f.name);
+    }
+  };
+  // A ribbons file reads the leading non-line part of lod<i>.bin.
+  auto check_prefix = [&](const gltf::EncodedFile& f) {
+    auto it = stored.find(f.name);
+    if (it == stored.end() || it->second.compare(0, f.bytes.size(), f.bytes) != 0)
+      throw std::logic_error("lod output: " + f.name + " of a ribbons file is not a prefix of the level's");
+  };
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    gltf::EncodedFiles level = gltf::encode_external(level_scene(tree, levels[i], i, tex));
+    out.push_back({"lod" + std::to_string(i) + ".gltf", std::move(level.gltf)});
+    for (const gltf::EncodedFile& f : level.resources) keep(f);
+  }
+  gltf::EncodedFiles chain = gltf::encode_external(chain_scene(tree, levels, camera, tex));
+  out.insert(out.begin(), {"lod.gltf", std::move(chain.gltf)});
+  for (const gltf::EncodedFile& f : chain.resources) keep(f);
+  if (ribbons)
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+      if (!has_lines(levels[i])) continue;
+      gltf::Scene rs = level_scene(tree, levels[i], i, tex, true);
+      // Its buffer 0 is the level's whole lod<i>.bin (lines included): declare the file's size.
+      if (rs.buffer_uris.size() == 2) rs.buffer_byte_lengths = {stored.at(level_bin(i)).size(), 0};
+      gltf::EncodedFiles r = gltf::encode_external(rs);
+      out.push_back({"lod" + std::to_string(i) + "_ribbons.gltf", std::move(r.gltf)});
+      for (const gltf::EncodedFile& f : r.resources) {
+        if (f.name == level_bin(i)) {
+          check_prefix(f);
+        } else {
+          keep(f);
+        }
+      }
+    }
+  return out;
+}
+
+nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels, const ChainOptions& o,
+                             bool ribbons) {
   nlohmann::json j;
   j["tree"] = tree.name;
   j["camera"] = {{"fov_y_deg", o.camera.fov_y_rad * 180 / std::numbers::pi}, {"height_px", o.camera.height_px}};
   j["pixel_error_px"] = o.pixel_error;
   j["tree_height_m"] = tree_height(tree);
+  const double radius = levels.empty() ? 0.0 : bounding_radius(levels[0]);
+  j["bounding_radius_m"] = radius;
   j["source"] = {{"branches", tree.branches.size()}, {"leaves", tree.leaves.size()}, {"needles", tree.needles.size()}};
-  const std::vector<double> coverage = screen_coverages(levels, o.camera, tree_height(tree));
+  j["chain_file"] = "lod.gltf";
+  const std::vector<double> coverage = screen_coverages(levels, o.camera, radius);
   nlohmann::json ls = nlohmann::json::array();
   for (std::size_t i = 0; i < levels.size(); ++i) {
     nlohmann::json l = level_extras(levels[i], i);
-    l["file"] = "lod" + std::to_string(i) + ".glb";
+    l["file"] = "lod" + std::to_string(i) + ".gltf";
+    if (ribbons && has_lines(levels[i])) l["ribbons_file"] = "lod" + std::to_string(i) + "_ribbons.gltf";
     l["screen_coverage"] = coverage[i];
+    // Where a loader that switches by MSFT_screencoverage leaves this level for the next one.
+    const double d = coverage_distance(coverage[i], o.camera, radius);
+    l["coverage_switch_distance_m"] = std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(nullptr);
     ls.push_back(l);
   }
   j["levels"] = ls;

@@ -2,21 +2,29 @@
 //
 // Seeds: Zhang et al. 2017 §6 (opaque meshes, then semi-transparent lines with one alpha per
 // level); Microsoft MSFT_lod extension (node.extensions.MSFT_lod.ids = the coarser levels'
-// nodes, highest detail first; node.extras.MSFT_screencoverage, read by Babylon.js/three.js).
+// nodes, highest detail first; node.extras.MSFT_screencoverage, one value per level).
 //
-// One glTF node and mesh per level. A level's mesh has up to four primitives, each only when
-// non-empty: bark (TRIANGLES, opaque), branch lines (LINES, BLEND, alpha = the level's eq. 12
-// alpha), leaves (TRIANGLES, double-sided, alpha MASK with the leaf atlas when given), needles
-// (LINES with their own alpha and/or TRIANGLES prisms). Every level's node and mesh carry the
-// level's extras (level_extras()).
+// Files (docs/stages/lod.md "Outputs"), every byte stored once:
+//   lod<i>.gltf + lod<i>.bin   one level; any glTF client opens it
+//   lod.gltf                   the MSFT_lod chain; its buffer i is the same lod<i>.bin
+//   leaves.png                 the leaf atlas, shared by every file that shows leaves
+//   lod<i>_ribbons.gltf + lod<i>_ribbons.bin  (levels with lines, `ribbons` on) the level with
+//                              its LINES as three-sided ribbons (ribbons.h); its buffer 0 is
+//                              lod<i>.bin, of which it uses the leading non-line primitives
+//
+// One glTF node and mesh per level. A level's mesh has, each only when non-empty and in this
+// order: bark (TRIANGLES, opaque), leaves (TRIANGLES, double-sided, alpha MASK with the leaf
+// atlas when given), needle prisms (TRIANGLES), branch lines (LINES, BLEND, alpha = the level's
+// drawn line alpha), needle lines (LINES, BLEND). Lines last, so a level's non-line data is a
+// prefix of its .bin. Every level's node and mesh carry the level's extras (level_extras()).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "libs/gltf/scene.h"
+#include "libs/gltf/writer.h"
 #include "libs/tree/tree.h"
 #include "stages/lod/chain.h"
 
@@ -26,24 +34,55 @@ struct OutputTextures {
   std::string leaf_png;  // bytes of the leaf atlas (empty = leaves use the leaf colour only)
 };
 
+inline constexpr const char* kLeafImageFile = "leaves.png";
+
 // The level's description: epsilon, delta, switch distance, budgets E1..E5, counts, alpha.
 nlohmann::json level_extras(const Level& level, std::size_t index);
 
-// The scene of a single level (lod<i>.glb): one root node.
-gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t index, const OutputTextures& tex);
+// The scene of a single level (lod<i>.gltf, or a GLB when encoded with gltf::encode): one root
+// node; its buffer is "lod<i>.bin", the atlas "leaves.png". With `ribbons` the LINES primitives
+// are replaced by ribbons (ribbons.h) in a second buffer "lod<i>_ribbons.bin".
+gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t index,
+                        const OutputTextures& tex, bool ribbons = false);
 
-// MSFT_screencoverage of every level: the fraction of the image height the tree's height covers
-// at the next level's switch distance (0 for the last level).
-std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double tree_height);
+// True when the level has LINES (branch or needle lines), i.e. a ribbons variant differs.
+bool has_lines(const Level& level);
 
-// The chain as one GLB: level 0 is the scene's root node, carrying MSFT_lod ids of the other
-// levels' nodes and extras.MSFT_screencoverage; those nodes are not scene roots (MSFT_lod).
-// Deterministic bytes.
-std::string encode_chain_glb(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
-                             const OutputTextures& tex);
+// Radius (m) of the bounding sphere of level 0's geometry: half the diagonal of its axis-aligned
+// box, as Babylon.js bounds a mesh (0 for an empty level).
+double bounding_radius(const Level& level0);
+
+// MSFT_screencoverage of every level, as the extension and Babylon.js define screen coverage:
+// the area of the screen the object covers over the screen's area, for the bounding sphere of
+// radius R at distance d, vertical fov phi, a square screen (aspect 1):
+//   c(d) = pi R^2 / (2 d tan(phi/2))^2
+// Value i is c at the switch distance of level i + 1 (level i is drawn while the coverage is at
+// least c_i), clamped to 1 (a loader never sees more than the whole screen, so a level whose
+// switch distance lies where the sphere overfills the screen takes over where c = 1, i.e. later:
+// a finer level is kept longer, never a coarser one shown early); the last value is 0 (the
+// coarsest level is never culled). Non-increasing, in [0, 1].
+std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double radius);
+
+// The distance at which a loader switches to level i + 1 from c_i (the inverse of c(d)):
+//   d = R sqrt(pi) / (2 tan(phi/2) sqrt(c)); infinite for c = 0.
+double coverage_distance(double coverage, const Camera& camera, double radius);
+
+// The chain's scene (lod.gltf): level 0 is the scene's root node, carrying MSFT_lod ids of the
+// other levels' nodes and extras.MSFT_screencoverage; those nodes are not scene roots
+// (MSFT_lod). Mesh i lives in buffer "lod<i>.bin". Materials equal across levels are shared.
+gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
+                        const OutputTextures& tex);
+
+// Every output file of the chain but lod.json (names above), in a fixed order; each .bin and the
+// atlas once. Throws std::logic_error if the chain and the level files would disagree on a
+// .bin's bytes, gltf::GltfError if a scene cannot be written.
+std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,
+                                                  const Camera& camera, const OutputTextures& tex,
+                                                  bool ribbons);
 
 // Summary JSON of the chain (lod.json).
-nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels, const ChainOptions& options);
+nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels,
+                             const ChainOptions& options, bool ribbons);
 
 // Height (y extent) of the tree's skeleton, m.
 double tree_height(const tree::Tree& tree);

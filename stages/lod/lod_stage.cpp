@@ -1,5 +1,6 @@
 // The thin adapter of stage `lod`: declares the parameters, reads the tree artifact, runs the
-// pure chain (chain.h) and writes lod.glb (every level, MSFT_lod), lod<i>.glb and lod.json.
+// pure chain (chain.h) and writes the chain's files (lod_gltf.h: lod.gltf with MSFT_lod,
+// lod<i>.gltf + lod<i>.bin, leaves.png, ribbons variants) and lod.json.
 // Seeds: Zhang et al. 2017 §3–§6 (parameters delta, epsilon, E1–E5, Γ, H, N); Remolar et al.
 // FSA/VDF (leaves). docs/stages/lod.md lists every parameter with its equation.
 #include "stages/lod/lod_stage.h"
@@ -28,31 +29,47 @@ class LodStage : public Stage {
  public:
   LodStage() {
     info_.name = "lod";
-    info_.version = 2;  // 2: MSFT_lod written by libs/gltf (JSON bytes changed)
+    // 2: MSFT_lod written by libs/gltf (JSON bytes changed). 3: leaves wound with their normals,
+    // mesh-stage colours, screen coverage as a screen fraction, .gltf + shared .bin files, ribbons.
+    info_.version = 3;
     info_.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
     info_.output_type = "lod";
     info_.inputs = {{"tree"}, 1, 1, "one tree artifact (tree.sylt, optional leaves.png)"};
     info_.params = {
-        Param::object("camera",
-                      {Param::real("fov_y_deg", 45.0).range(1, 179).describe("vertical field of view phi (deg)"),
-                       Param::integer("height_px", 1080).range(1, 65536).describe("image height H (px)")}),
-        Param::real("pixel_error", 0.5).range(0.01, 100).describe("permitted pixel error delta (px), Zhang §3"),
+        Param::object(
+            "camera",
+            {Param::real("fov_y_deg", 45.0).range(1, 179).describe("vertical field of view phi (deg)"),
+             Param::integer("height_px", 1080).range(1, 65536).describe("image height H (px)")}),
+        Param::real("pixel_error", 0.5)
+            .range(0.01, 100)
+            .describe("permitted pixel error delta (px), Zhang §3"),
         Param::integer("levels", 6).range(1, 8).describe("number of levels N (Zhang §6: N <= 8)"),
         Param::real_list("errors_m", Value::List{})
             .range(1e-6, 100)
             .items(0, 8)
             .describe("explicit spatial error epsilon per level (m), increasing; overrides levels"),
         Param::real("min_error_m", 0.001).range(1e-6, 100).describe("epsilon of level 0 (m)"),
-        Param::real("max_error_m", 0.22).range(1e-6, 100).describe("epsilon of the coarsest level (m), Zhang §6"),
+        Param::real("max_error_m", 0.22)
+            .range(1e-6, 100)
+            .describe("epsilon of the coarsest level (m), Zhang §6"),
         Param::real("e1", 0.25).range(0, 10).describe("E1 / epsilon: positional merging error phi (eq. 3)"),
-        Param::real("e2", 0.25).range(0, 10).describe("E2 / epsilon: radius/frame merging error varphi (eq. 3)"),
-        Param::real("e3", 1.0).range(0, 10).describe("E3 / epsilon: polygonisation error, rho = E3/R (eq. 9-12)"),
-        Param::real("e4", 0.5).range(0, 10).describe("E4 / epsilon: topology (accumulated bearer distance, §5.3)"),
+        Param::real("e2", 0.25)
+            .range(0, 10)
+            .describe("E2 / epsilon: radius/frame merging error varphi (eq. 3)"),
+        Param::real("e3", 1.0).range(0, 10).describe(
+            "E3 / epsilon: polygonisation error, rho = E3/R (eq. 9-12)"),
+        Param::real("e4", 0.5).range(0, 10).describe(
+            "E4 / epsilon: topology (accumulated bearer distance, §5.3)"),
         Param::real("e5", 1.0).range(0, 10).describe("E5 / epsilon: needle merging and leaf collapse error"),
-        Param::real("torsion_limit_deg", 60.0).range(0, 360).describe("torsion limit Gamma of one merged internode (deg)"),
+        Param::real("torsion_limit_deg", 60.0)
+            .range(0, 360)
+            .describe("torsion limit Gamma of one merged internode (deg)"),
         Param::integer("max_edges", 12).range(3, 64).describe("H: most edges of an end polygon (eq. 9)"),
         Param::boolean("topology", true).describe("topology simplification by E4 (§5.3)"),
         Param::boolean("foliage", true).describe("leaf collapse (FSA) and needle merging (E5)"),
+        Param::boolean("ribbons", false)
+            .describe("also write lod<i>_ribbons.gltf: line levels as three-sided ribbons for clients "
+                      "without LINES"),
     };
   }
 
@@ -83,15 +100,16 @@ class LodStage : public Stage {
       throw StageError(e.what());
     }
     ctx.check_cancelled();
-    // 4. Write: the linked chain, one file per level, the summary.
+    // 4. Write: the linked chain, one file per level, shared buffers and atlas, the summary.
+    const auto r = ctx.params().find("ribbons");
+    const bool ribbons = r != ctx.params().end() && r->second.as_bool();
     try {
-      ctx.write_output("lod.glb", lod::encode_chain_glb(tree, levels, o.camera, tex));
-      for (std::size_t i = 0; i < levels.size(); ++i)
-        ctx.write_output("lod" + std::to_string(i) + ".glb", gltf::encode(lod::level_scene(tree, levels[i], i, tex)));
+      for (const gltf::EncodedFile& f : lod::encode_chain_files(tree, levels, o.camera, tex, ribbons))
+        ctx.write_output(f.name, f.bytes);
     } catch (const gltf::GltfError& e) {
       throw StageError(std::string("writing glTF: ") + e.what());
     }
-    ctx.write_output("lod.json", lod::chain_summary(tree, levels, o).dump(2) + "\n");
+    ctx.write_output("lod.json", lod::chain_summary(tree, levels, o, ribbons).dump(2) + "\n");
   }
 
  private:

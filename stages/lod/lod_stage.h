@@ -1,4 +1,4 @@
-// Stage `lod`: tree -> LOD chain (lod.glb with MSFT_lod, lod0.glb.., lod.json).
+// Stage `lod`: tree -> LOD chain (lod.gltf with MSFT_lod, lod<i>.gltf + lod<i>.bin, leaves.png, lod.json).
 // Seeds: Zhang et al. 2017 (branches, needles), Remolar et al. FSA/VDF (leaves); parameters in
 // docs/stages/lod.md.
 #pragma once

@@ -132,6 +132,7 @@ void polygonize_branch(std::span<const SkeletalVector> g, std::span<const std::u
           const double a = 2 * std::numbers::pi * c / 3;
           push3(out.line_positions, sa.p);
           push3(out.line_normals, sa.n * std::cos(a) + sa.b * std::sin(a));
+          out.line_radii.push_back(static_cast<float>(sa.r));
         }
       }
       const auto next = static_cast<std::uint32_t>(out.line_positions.size() / 3);
@@ -139,6 +140,7 @@ void polygonize_branch(std::span<const SkeletalVector> g, std::span<const std::u
         const double a = 2 * std::numbers::pi * c / 3;
         push3(out.line_positions, sb.p);
         push3(out.line_normals, sb.n * std::cos(a) + sb.b * std::sin(a));
+        out.line_radii.push_back(static_cast<float>(sb.r));
         out.line_indices.push_back(line_base + static_cast<std::uint32_t>(c));
         out.line_indices.push_back(next + static_cast<std::uint32_t>(c));
       }

@@ -37,6 +37,7 @@ struct BranchGeometry {
   std::vector<float> tri_positions, tri_normals;  // xyz per vertex
   std::vector<std::uint32_t> tri_indices;         // triangles (a quad is two)
   std::vector<float> line_positions, line_normals;
+  std::vector<float> line_radii;                  // R_k of the node of each line vertex, m
   std::vector<std::uint32_t> line_indices;        // segments
   std::size_t quads = 0;            // quads emitted (prisms and prismoids)
   std::size_t triangles = 0;        // triangles emitted (prismoids and fan covers)

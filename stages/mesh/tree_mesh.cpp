@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <string>
 
+#include "libs/tree/default_colors.h"
 #include "stages/mesh/foliage.h"
 #include "stages/mesh/surface.h"
 
@@ -18,12 +19,6 @@ std::string mime_type(const Texture& t) {
       static_cast<unsigned char>(b[2]) == 0xFF)
     return "image/jpeg";
   throw MeshError("texture '" + t.name + "' is neither a PNG nor a JPEG file");
-}
-
-std::array<float, 4> colour_or(const tree::Color& c, std::array<float, 4> fallback) {
-  if (c.r == 0 && c.g == 0 && c.b == 0) return fallback;
-  auto clamp01 = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
-  return {clamp01(c.r), clamp01(c.g), clamp01(c.b), 1.0f};
 }
 
 }  // namespace
@@ -102,7 +97,7 @@ gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Textu
     if (bark_image >= 0) {
       mat.base_color_texture.image = bark_image;
     } else {
-      mat.base_color = colour_or(tree.materials.bark_color, {0.22f, 0.15f, 0.10f, 1});
+      mat.base_color = tree::bark_color(tree.materials);
     }
     s.materials.push_back(mat);
     gltf::Primitive p = mesh.bark_surface;
@@ -121,7 +116,7 @@ gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Textu
     if (leaf_image >= 0) {
       mat.base_color_texture = {leaf_image, gltf::Wrap::kClampToEdge, gltf::Wrap::kClampToEdge};
     } else {
-      mat.base_color = colour_or(tree.materials.leaf_color, {0.10f, 0.30f, 0.05f, 1});
+      mat.base_color = tree::leaf_color(tree.materials);
     }
     s.materials.push_back(mat);
     gltf::Primitive p = mesh.leaves;
@@ -133,7 +128,7 @@ gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Textu
     gltf::Material mat;
     mat.name = "needles";
     mat.roughness = 0.7f;
-    mat.base_color = colour_or(tree.materials.leaf_color, {0.08f, 0.22f, 0.06f, 1});
+    mat.base_color = tree::needle_color(tree.materials);
     s.materials.push_back(mat);
     gltf::Primitive p = mesh.needles;
     p.material = static_cast<int>(s.materials.size() - 1);

@@ -1,7 +1,8 @@
 #!/bin/sh
 # ctest lodcheck_default_recipe: `sylva lodcheck` on a recipe in the verify gate's output
-# directory (its trees are already in that cache), then the Khronos glTF-Validator on every GLB
-# the recipe's nodes wrote (meshes, LOD chains, LOD levels). Reports go to
+# directory (its trees are already in that cache), then the Khronos glTF-Validator on every glTF
+# file the recipe's nodes wrote (mesh GLBs; LOD chains, levels and ribbon variants as .gltf with
+# external .bin and .png files). Reports go to
 # OUT_DIR/<recipe>/lodcheck/.
 # usage: run_lodcheck.sh SYLVA RECIPE OUT_DIR [DATA_FILE]
 # Exits 77 (ctest: skipped) when DATA_FILE, third-party data the recipe reads, is missing.
@@ -17,9 +18,9 @@ if [ $rc -ne 0 ]; then
   echo "lodcheck FAILED (exit $rc) for $recipe: see the table above and the images beside lodcheck.json" >&2
   exit $rc
 fi
-# Every GLB of the recipe's outputs (one directory per node), with zero errors.
-glbs=$(find "$out" -mindepth 3 -maxdepth 3 -name '*.glb' -not -path '*/cache/*' | sort)
-[ -n "$glbs" ] || { echo "no GLB under $out" >&2; exit 1; }
+# Every glTF file of the recipe's outputs (one directory per node), with zero errors.
+glbs=$(find "$out" -mindepth 3 -maxdepth 3 \( -name '*.glb' -o -name '*.gltf' \) -not -path '*/cache/*' -not -path '*/lodcheck/*' | sort)
+[ -n "$glbs" ] || { echo "no glTF file under $out" >&2; exit 1; }
 node tools/validate_gltf.mjs --max-warnings 0 $glbs
 vrc=$?
 if [ $vrc -eq 3 ] && [ "${SYLVA_REQUIRE_GLTF_VALIDATOR:-0}" != 1 ]; then

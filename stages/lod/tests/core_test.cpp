@@ -11,6 +11,7 @@
 #include "stages/lod/internodes.h"
 #include "stages/lod/needles.h"
 #include "stages/lod/polygonize.h"
+#include "stages/lod/ribbons.h"
 #include "stages/lod/tests/test_trees.h"
 #include "stages/lod/topology.h"
 
@@ -119,6 +120,36 @@ TEST(Polygonize, ThinBranchBecomesThreeLinesPerInternode) {
   EXPECT_DOUBLE_EQ(g.level_alpha(), 0.5);      // eq. (12): 2 / 4
   const float* n = g.line_normals.data();
   EXPECT_NEAR(n[0] * n[3] + n[1] * n[4] + n[2] * n[5], -0.5, 1e-6);  // cos 120°
+}
+
+// Ribbons (ribbons.h): the 6 line segments of a thin two-internode branch (radius 1 cm along
+// +Y) become 12 triangles on the same 9 vertices, each corner k R from the axis, every triangle
+// counter-clockwise seen from outside (its geometric normal points away from the axis), and the
+// prism's mean projected width (perimeter / pi) equals the branch's diameter.
+TEST(Ribbons, LinesBecomeOutwardTriangularPrismsOfTheBranchWidth) {
+  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.01, 0.01, 0.01});
+  const auto sk = build_skeletons(t);
+  const std::uint32_t kept[] = {0, 1, 2};
+  BranchGeometry g;
+  polygonize_branch(sk[0].g, kept, 0.04, 12, g);
+  ASSERT_EQ(g.line_radii.size(), g.line_positions.size() / 3);
+  const Ribbons r = line_ribbons(g);
+  EXPECT_EQ(r.triangles, 2 * g.lines);
+  EXPECT_EQ(r.indices.size(), 3 * r.triangles);
+  ASSERT_EQ(r.positions.size(), g.line_positions.size());
+  for (std::size_t v = 0; v < r.positions.size() / 3; ++v)
+    EXPECT_NEAR(std::hypot(r.positions[3 * v], r.positions[3 * v + 2]), kRibbonCornerFactor * 0.01, 1e-6);
+  for (std::size_t k = 0; k < r.indices.size(); k += 3) {
+    Vec3 p[3];
+    for (int c = 0; c < 3; ++c)
+      p[c] = {r.positions[3 * r.indices[k + c]], r.positions[3 * r.indices[k + c] + 1],
+              r.positions[3 * r.indices[k + c] + 2]};
+    const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+    const Vec3 centre = (p[0] + p[1] + p[2]) * (1.0 / 3);
+    EXPECT_GT(n.x * centre.x + n.z * centre.z, 0) << "triangle " << k / 3 << " faces inward";
+  }
+  const double side = std::sqrt(3.0) * kRibbonCornerFactor * 0.01;
+  EXPECT_NEAR(3 * side / std::numbers::pi, 2 * 0.01, 1e-9);
 }
 
 // Zhang Figure 7: a helix cylinder (radius 0.1 m on a helix of radius 1 m, pitch 2 m, 64 nodes a

@@ -2,12 +2,14 @@
 // extras and the glTF-Validator.
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
+#include <cmath>
 #include <cstring>
+#include <iterator>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "libs/gltf/writer.h"
+#include "libs/tree/default_colors.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/lod/lod_gltf.h"
 #include "stages/lod/lod_stage.h"
@@ -58,15 +60,36 @@ class FakeContext final : public StageContext {
   fs::path out_;
 };
 
-nlohmann::json glb_json(const std::string& glb) {
-  std::uint32_t len;
-  std::memcpy(&len, glb.data() + 12, 4);
-  return nlohmann::json::parse(glb.substr(20, len));
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(sylva::test::read_file(p)); }
+
+// The float / index data of an accessor of an external .gltf in `dir` (no Draco, tight views).
+template <typename T>
+std::vector<T> accessor(const fs::path& dir, const nlohmann::json& j, int index) {
+  const auto& a = j["accessors"][index];
+  const auto& v = j["bufferViews"][a["bufferView"].get<int>()];
+  const std::string bin =
+      sylva::test::read_file(dir / j["buffers"][v["buffer"].get<int>()]["uri"].get<std::string>());
+  const std::size_t comps = a["type"] == "SCALAR" ? 1 : a["type"] == "VEC2" ? 2 : a["type"] == "VEC3" ? 3 : 4;
+  std::vector<T> out(a["count"].get<std::size_t>() * comps);
+  std::memcpy(out.data(), bin.data() + v.value("byteOffset", 0), out.size() * sizeof(T));
+  return out;
 }
 
-// The stage on a young oak (leaves) and a young Scots pine (needles): lod.glb links every level
-// with MSFT_lod, lod<i>.glb and lod.json exist, extras carry epsilon/delta/switch distance and
-// counts, lines are BLEND with the level alpha, and every file passes the glTF-Validator.
+std::vector<std::uint32_t> indices(const fs::path& dir, const nlohmann::json& j, int index) {
+  if (j["accessors"][index]["componentType"] == 5123) {
+    const auto s = accessor<std::uint16_t>(dir, j, index);
+    return {s.begin(), s.end()};
+  }
+  return accessor<std::uint32_t>(dir, j, index);
+}
+
+// The stage on a young oak (leaves) and a young Scots pine (needles). Files: lod.gltf links
+// every level with MSFT_lod and reads the levels' own lod<i>.bin (bytes stored once); lod<i>.gltf
+// and lod.json exist; levels with lines have a ribbons variant without LINES whose buffer 0 is
+// lod<i>.bin. Screen coverages are screen fractions: non-increasing, in [0, 1], last 0, and
+// coverage_distance() inverts them. No tangents, no unused material or image; every leaf
+// triangle is wound counter-clockwise around its own normal (the issue-10 defect: all of them
+// were clockwise). Every file passes the glTF-Validator.
 TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
   const auto stage = make_lod_stage();
   std::vector<fs::path> to_validate;
@@ -79,17 +102,57 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     t.materials.leaf_texture.clear();
     t.materials.bark_texture.clear();
     tree::write_sylt(in / "tree.sylt", t);
-    FakeContext ctx(*stage, in, out, {{"levels", Value(4)}});
+    FakeContext ctx(*stage, in, out, {{"levels", Value(4)}, {"ribbons", Value(true)}});
     stage->run(ctx);
-    EXPECT_EQ(ctx.declared, (std::set<std::string>{"lod.glb", "lod.json", "lod0.glb", "lod1.glb", "lod2.glb", "lod3.glb"}));
-    const nlohmann::json j = glb_json(sylva::test::read_file(out / "lod.glb"));
+    std::set<std::string> expected = {"lod.gltf", "lod.json"};
+    for (int i = 0; i < 4; ++i)
+      for (const char* ext : {".gltf", ".bin"}) expected.insert("lod" + std::to_string(i) + ext);
+    std::set<std::string> extra;
+    std::set_difference(ctx.declared.begin(), ctx.declared.end(), expected.begin(), expected.end(),
+                        std::inserter(extra, extra.end()));
+    for (const auto& e : expected) EXPECT_TRUE(ctx.declared.count(e)) << e;
+    const nlohmann::json summary = read_json(out / "lod.json");
+    ASSERT_EQ(summary["levels"].size(), 4u);
+    std::set<std::string> ribbon_files;
+    for (const auto& l : summary["levels"])
+      if (l.contains("ribbons_file")) {
+        const std::string f = l["ribbons_file"];
+        ribbon_files.insert(f);
+        ribbon_files.insert(f.substr(0, f.size() - 5) + ".bin");
+      }
+    EXPECT_EQ(extra, ribbon_files);
+    EXPECT_FALSE(ribbon_files.empty());  // the coarse levels have lines
+
+    const nlohmann::json j = read_json(out / "lod.gltf");
     EXPECT_EQ(j["nodes"][0]["extensions"]["MSFT_lod"]["ids"], nlohmann::json({1, 2, 3}));
     EXPECT_EQ(j["scene"], 0);
     EXPECT_EQ(j["scenes"][0]["nodes"], nlohmann::json({0}));
     EXPECT_NE(std::find(j["extensionsUsed"].begin(), j["extensionsUsed"].end(), "MSFT_lod"), j["extensionsUsed"].end());
+    ASSERT_EQ(j["buffers"].size(), 4u);
+    for (int i = 0; i < 4; ++i) {
+      const std::string bin = "lod" + std::to_string(i) + ".bin";
+      EXPECT_EQ(j["buffers"][i]["uri"], bin);
+      EXPECT_EQ(j["buffers"][i]["byteLength"].get<std::size_t>(), fs::file_size(out / bin));
+      EXPECT_EQ(read_json(out / ("lod" + std::to_string(i) + ".gltf"))["buffers"][0]["uri"], bin);
+    }
     const auto cov = j["nodes"][0]["extras"]["MSFT_screencoverage"];
     ASSERT_EQ(cov.size(), 4u);
-    for (std::size_t i = 0; i + 1 < cov.size(); ++i) EXPECT_GT(cov[i].get<double>(), cov[i + 1].get<double>());
+    for (std::size_t i = 0; i < cov.size(); ++i) {
+      EXPECT_LE(cov[i].get<double>(), 1.0);
+      EXPECT_GE(cov[i].get<double>(), 0.0);
+      if (i + 1 < cov.size()) EXPECT_GE(cov[i].get<double>(), cov[i + 1].get<double>());
+      EXPECT_EQ(summary["levels"][i]["screen_coverage"], cov[i]);
+    }
+    EXPECT_EQ(cov[3].get<double>(), 0.0);
+    // Unclamped coverages invert to the next level's switch distance.
+    lod::Camera cam;
+    cam.fov_y_rad = 45 * M_PI / 180;
+    cam.height_px = 1080;
+    const double radius = summary["bounding_radius_m"];
+    for (std::size_t i = 0; i + 1 < cov.size(); ++i)
+      if (cov[i].get<double>() < 1)
+        EXPECT_NEAR(lod::coverage_distance(cov[i], cam, radius),
+                    summary["levels"][i + 1]["switch_distance_m"].get<double>(), 1e-9);
     for (int i = 0; i < 4; ++i) {
       const auto& ex = j["nodes"][i]["extras"];
       EXPECT_GT(ex["epsilon_m"].get<double>(), 0);
@@ -97,27 +160,82 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
       EXPECT_GT(ex["switch_distance_m"].get<double>(), 0);
       EXPECT_TRUE(ex["counts"].contains("lines"));
     }
-    // Line primitives use a BLEND material whose alpha is the level's.
+    // Line primitives use a BLEND material whose alpha is the level's; no tangents anywhere;
+    // every material is used.
     bool saw_lines = false;
+    std::set<int> used;
     for (const auto& mesh : j["meshes"])
-      for (const auto& p : mesh["primitives"])
+      for (const auto& p : mesh["primitives"]) {
+        used.insert(p["material"].get<int>());
+        EXPECT_FALSE(p["attributes"].contains("TANGENT"));
         if (p.value("mode", 4) == 1) {
           saw_lines = true;
           EXPECT_EQ(j["materials"][p["material"].get<int>()]["alphaMode"], "BLEND");
         }
+      }
     EXPECT_TRUE(saw_lines);
-    const nlohmann::json summary = nlohmann::json::parse(sylva::test::read_file(out / "lod.json"));
-    ASSERT_EQ(summary["levels"].size(), 4u);
+    EXPECT_EQ(used.size(), j["materials"].size());
+    EXPECT_FALSE(j.contains("images"));  // no atlas in this test
     EXPECT_NEAR(summary["levels"][3]["epsilon_m"].get<double>(), 0.22, 1e-12);
     if (species == "oak") EXPECT_GT(summary["levels"][0]["counts"]["leaves"].get<int>(), 0);
     else EXPECT_GT(summary["levels"][0]["counts"]["needle_lines"].get<int>() + summary["levels"][0]["counts"]["needle_quads"].get<int>(), 0);
-    for (const char* f : {"lod.glb", "lod0.glb", "lod3.glb"}) to_validate.push_back(out / f);
+    // Leaf winding: (b - a) x (c - a) points along the vertex normal, for every leaf triangle.
+    std::size_t leaf_triangles = 0, against = 0;
+    for (int i = 0; i < 4; ++i) {
+      const nlohmann::json lj = read_json(out / ("lod" + std::to_string(i) + ".gltf"));
+      for (const auto& p : lj["meshes"][0]["primitives"]) {
+        if (lj["materials"][p["material"].get<int>()]["name"] != "leaves") continue;
+        const auto pos = accessor<float>(out, lj, p["attributes"]["POSITION"]);
+        const auto nrm = accessor<float>(out, lj, p["attributes"]["NORMAL"]);
+        const auto idx = indices(out, lj, p["indices"]);
+        for (std::size_t k = 0; k + 2 < idx.size(); k += 3) {
+          auto at = [&](std::size_t v, int c) { return double(pos[3 * idx[k + v] + c]); };
+          const double e1[3] = {at(1, 0) - at(0, 0), at(1, 1) - at(0, 1), at(1, 2) - at(0, 2)};
+          const double e2[3] = {at(2, 0) - at(0, 0), at(2, 1) - at(0, 1), at(2, 2) - at(0, 2)};
+          const double g[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                               e1[0] * e2[1] - e1[1] * e2[0]};
+          const float* n = &nrm[3 * idx[k]];
+          ++leaf_triangles;
+          if (g[0] * n[0] + g[1] * n[1] + g[2] * n[2] <= 0) ++against;
+        }
+      }
+    }
+    if (species == "oak") EXPECT_GT(leaf_triangles, 1000u);
+    EXPECT_EQ(against, 0u) << species << ": " << against << " of " << leaf_triangles << " leaf triangles";
+    // Ribbons: no LINES; buffer 0 is the level's .bin, the ribbons in their own .bin.
+    for (const auto& l : summary["levels"]) {
+      if (!l.contains("ribbons_file")) continue;
+      const nlohmann::json rj = read_json(out / l["ribbons_file"].get<std::string>());
+      const std::string level_bin = l["file"].get<std::string>().substr(0, 4) + ".bin";
+      const std::string ribbon_bin = l["ribbons_file"].get<std::string>().substr(0, 12) + ".bin";
+      EXPECT_TRUE(rj["buffers"][0]["uri"] == level_bin ||
+                  (rj["buffers"].size() == 1 && rj["buffers"][0]["uri"] == ribbon_bin))
+          << rj["buffers"];
+      for (const auto& p : rj["meshes"][0]["primitives"]) EXPECT_EQ(p.value("mode", 4), 4);
+      to_validate.push_back(out / l["ribbons_file"].get<std::string>());
+    }
+    for (const char* f : {"lod.gltf", "lod0.gltf", "lod3.gltf"}) to_validate.push_back(out / f);
   }
   const auto results = sylva::test::validate_gltf(to_validate);
   for (const auto& v : results) {
     if (v.skipped) GTEST_SKIP() << v.skip_reason;
     EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << "\n" << v.report;
+    EXPECT_EQ(v.warnings, 0) << v.file << "\n" << v.report;
   }
+}
+
+// A tree without colours (an imported TreeQSM tree): the levels' bark and leaves get the mesh
+// stage's defaults, not black (issue 10: every LOD of the QSM coffee tree had [0, 0, 0, 1] bark).
+TEST(LodStage, TreeWithoutColoursGetsTheMeshStageDefaults) {
+  const tree::Tree t = lod::test::helix(1, 2, 1, 16, 0.05);
+  ASSERT_EQ(t.materials.bark_color, tree::Color{});
+  lod::ChainOptions o;
+  o.levels = 2;
+  const std::vector<lod::Level> levels = lod::build_chain(t, o);
+  const gltf::Scene s = lod::level_scene(t, levels[0], 0, {});
+  ASSERT_FALSE(s.materials.empty());
+  EXPECT_EQ(s.materials[0].name, "bark");
+  EXPECT_EQ(s.materials[0].base_color, tree::kDefaultBarkColor);
 }
 
 // Bad input: a missing tree.sylt and a decreasing explicit ladder are StageErrors.
