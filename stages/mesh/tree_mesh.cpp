@@ -82,7 +82,7 @@ gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Textu
   gltf::Scene s;
   auto add_image = [&](const Texture& t) {
     if (t.bytes.empty()) return -1;
-    s.images.push_back({t.name, mime_type(t), t.bytes});
+    s.images.push_back({t.name, mime_type(t), t.bytes, ""});
     return static_cast<int>(s.images.size() - 1);
   };
   const int bark_image = add_image(bark);

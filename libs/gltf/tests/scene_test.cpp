@@ -88,7 +88,7 @@ TEST(GltfScene, NodeGraphProblems) {
 // Materials and images.
 TEST(GltfScene, MaterialAndImageProblems) {
   Scene s = triangle();
-  s.images.push_back({"x.bmp", "image/bmp", "BM"});
+  s.images.push_back({"x.bmp", "image/bmp", "BM", ""});
   EXPECT_EQ(first(s), "images[0]: mime type 'image/bmp' is not image/png or image/jpeg");
   s = triangle();
   Material m;

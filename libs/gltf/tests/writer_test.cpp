@@ -65,7 +65,7 @@ Primitive grid(int n) {
 
 Scene textured_scene() {
   Scene s;
-  s.images.push_back({"bark.png", "image/png", png_bytes()});
+  s.images.push_back({"bark.png", "image/png", png_bytes(), ""});
   Material m;
   m.name = "bark";
   m.base_color_texture.image = 0;
@@ -207,7 +207,7 @@ TEST(GltfWriter, GltfTextFormIsSelfContained) {
 // remapped. (The oak's LOD chain carried 12 unused materials and the pine's an unused image.)
 TEST(GltfWriter, UnusedMaterialsAndImagesAreNotWritten) {
   Scene s = textured_scene();
-  s.images.insert(s.images.begin(), {"unused.png", "image/png", png_bytes()});
+  s.images.insert(s.images.begin(), {"unused.png", "image/png", png_bytes(), ""});
   for (Material& m : s.materials) {
     m.base_color_texture.image = 1;
     m.normal_texture.image = -1;

@@ -140,7 +140,9 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     for (std::size_t i = 0; i < cov.size(); ++i) {
       EXPECT_LE(cov[i].get<double>(), 1.0);
       EXPECT_GE(cov[i].get<double>(), 0.0);
-      if (i + 1 < cov.size()) EXPECT_GE(cov[i].get<double>(), cov[i + 1].get<double>());
+      if (i + 1 < cov.size()) {
+        EXPECT_GE(cov[i].get<double>(), cov[i + 1].get<double>());
+      }
       EXPECT_EQ(summary["levels"][i]["screen_coverage"], cov[i]);
     }
     EXPECT_EQ(cov[3].get<double>(), 0.0);
@@ -150,9 +152,10 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     cam.height_px = 1080;
     const double radius = summary["bounding_radius_m"];
     for (std::size_t i = 0; i + 1 < cov.size(); ++i)
-      if (cov[i].get<double>() < 1)
+      if (cov[i].get<double>() < 1) {
         EXPECT_NEAR(lod::coverage_distance(cov[i], cam, radius),
                     summary["levels"][i + 1]["switch_distance_m"].get<double>(), 1e-9);
+      }
     for (int i = 0; i < 4; ++i) {
       const auto& ex = j["nodes"][i]["extras"];
       EXPECT_GT(ex["epsilon_m"].get<double>(), 0);
@@ -200,7 +203,9 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
         }
       }
     }
-    if (species == "oak") EXPECT_GT(leaf_triangles, 1000u);
+    if (species == "oak") {
+      EXPECT_GT(leaf_triangles, 1000u);
+    }
     EXPECT_EQ(against, 0u) << species << ": " << against << " of " << leaf_triangles << " leaf triangles";
     // Ribbons: no LINES; buffer 0 is the level's .bin, the ribbons in their own .bin.
     for (const auto& l : summary["levels"]) {
