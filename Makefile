@@ -25,7 +25,7 @@ run: build
 	@$(SYLVA) verify $(RECIPE)
 
 test: build
-	@cd $(BUILD) && SYLVA_REQUIRE_GLTF_VALIDATOR=1 ctest --output-on-failure -j $(JOBS) --timeout 600
+	@cd $(BUILD) && SYLVA_REQUIRE_GLTF_VALIDATOR=1 SYLVA_REQUIRE_CLIENTS=1 ctest --output-on-failure -j $(JOBS) --timeout 600
 
 bench: build
 	@tools/bench.sh $(BUILD)

@@ -1,0 +1,444 @@
+// sylva_client_agreement: the second renderer over every glTF file a recipe wrote.
+//
+//   sylva_client_agreement RECIPE_OUT_DIR REPORT_DIR
+//
+// RECIPE_OUT_DIR is out/<recipe name>/ (one directory per node). For every mesh (tree.glb, plain
+// or Draco), every LOD chain (lod.gltf, MSFT_lod), every LOD level (lod<i>.gltf) and every
+// ribbons variant (lod<i>_ribbons.gltf) it renders the views of agreement.h ("tree", "crown")
+// in sylva's renderer and in three.js (headless Chromium), compares them and prints one row per
+// file and view; then it checks with three.js's MSFT_lod plugin which level each chain shows at
+// the distances its lod.json names; then two negative controls made from the recipe's own files
+// (leaves wound against their normals; black bark) must be caught. Images and agreement.json go
+// to REPORT_DIR. Exit codes: 0 all agree; 1 some file, view or control disagreed (the rows say
+// which client, file and view); 2 usage or unreadable outputs; 77 three.js/Chromium/node are
+// not installed (ctest: skipped) -- unless SYLVA_REQUIRE_CLIENTS=1, then 1.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "libs/image/image_io.h"
+#include "libs/render/gltf_scene.h"
+#include "tests/clients/agreement.h"
+
+namespace fs = std::filesystem;
+using namespace sylva;
+using clients::Kind;
+
+namespace {
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw std::runtime_error(p.string() + ": cannot read");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void write_all(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+// The JSON of a .glb or .gltf.
+nlohmann::json gltf_json(const fs::path& p) {
+  const std::string b = read_all(p);
+  if (b.size() >= 20 && b.compare(0, 4, "glTF") == 0) {
+    std::uint32_t len = 0;
+    std::memcpy(&len, b.data() + 12, 4);
+    return nlohmann::json::parse(b.substr(20, len));
+  }
+  return nlohmann::json::parse(b);
+}
+
+bool uses(const nlohmann::json& j, const std::string& ext) {
+  for (const auto& e : j.value("extensionsUsed", nlohmann::json::array()))
+    if (e == ext) return true;
+  return false;
+}
+
+bool has_lines(const nlohmann::json& j) {
+  for (const auto& m : j.value("meshes", nlohmann::json::array()))
+    for (const auto& p : m["primitives"])
+      if (p.value("mode", 4) == 1) return true;
+  return false;
+}
+
+struct Subject {
+  fs::path file;
+  std::string label;  // node/file
+  Kind kind;
+};
+
+std::string slug(const std::string& label) {
+  std::string s = label;
+  std::replace(s.begin(), s.end(), '/', '_');
+  return s;
+}
+
+// The recipe's glTF files, in node order.
+std::vector<Subject> subjects(const fs::path& out_dir) {
+  std::vector<fs::path> nodes;
+  for (const auto& e : fs::directory_iterator(out_dir))
+    if (e.is_directory() && e.path().filename().string()[0] != '.') nodes.push_back(e.path());
+  std::sort(nodes.begin(), nodes.end());
+  std::vector<Subject> out;
+  for (const fs::path& n : nodes) {
+    const std::string node = n.filename().string();
+    if (fs::exists(n / "tree.glb")) {
+      const bool draco = uses(gltf_json(n / "tree.glb"), "KHR_draco_mesh_compression");
+      out.push_back({n / "tree.glb", node + "/tree.glb", draco ? Kind::kDracoMesh : Kind::kMesh});
+    }
+    if (fs::exists(n / "lod.json")) {
+      const nlohmann::json summary = nlohmann::json::parse(read_all(n / "lod.json"));
+      out.push_back({n / "lod.gltf", node + "/lod.gltf", Kind::kChain});
+      for (const auto& l : summary["levels"]) {
+        const std::string f = l["file"];
+        out.push_back({n / f, node + "/" + f, has_lines(gltf_json(n / f)) ? Kind::kLineLevel : Kind::kLevel});
+        if (l.contains("ribbons_file")) {
+          const std::string r = l["ribbons_file"];
+          out.push_back({n / r, node + "/" + r, Kind::kRibbons});
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// A copy of level file `src` in `dir` with one defect: "mis-wound" swaps two corners of every
+// leaf triangle (leaves wound against their normals, issue 10 finding 1); "black-bark" sets the
+// bark colour to black (finding 2). Returns the copy's path or empty when `src` has no such part.
+fs::path make_control(const fs::path& src, const fs::path& dir, const std::string& defect) {
+  nlohmann::json j = nlohmann::json::parse(read_all(src));
+  fs::create_directories(dir);
+  bool changed = false;
+  std::vector<std::string> bins;
+  for (const auto& b : j["buffers"])
+    bins.push_back(read_all(src.parent_path() / b["uri"].get<std::string>()));
+  for (const auto& m : j["meshes"])
+    for (const auto& p : m["primitives"]) {
+      const std::string mat = j["materials"][p["material"].get<int>()]["name"];
+      if (defect == "mis-wound" && mat == "leaves") {
+        const auto& acc = j["accessors"][p["indices"].get<int>()];
+        const auto& view = j["bufferViews"][acc["bufferView"].get<int>()];
+        std::string& bin = bins[view["buffer"].get<std::size_t>()];
+        const std::size_t size = acc["componentType"] == 5123 ? 2 : 4;
+        const std::size_t off =
+            view.value("byteOffset", std::size_t(0)) + acc.value("byteOffset", std::size_t(0));
+        for (std::size_t t = 0; t + 3 <= acc["count"].get<std::size_t>(); t += 3)
+          std::swap_ranges(bin.begin() + std::ptrdiff_t(off + (t + 1) * size),
+                           bin.begin() + std::ptrdiff_t(off + (t + 2) * size),
+                           bin.begin() + std::ptrdiff_t(off + (t + 2) * size));
+        changed = true;
+      }
+    }
+  if (defect == "black-bark")
+    for (auto& m : j["materials"])
+      if (m["name"] == "bark") {
+        m["pbrMetallicRoughness"]["baseColorFactor"] = {0, 0, 0, 1};
+        changed = true;
+      }
+  if (!changed) return {};
+  for (std::size_t b = 0; b < bins.size(); ++b)
+    write_all(dir / j["buffers"][b]["uri"].get<std::string>(), bins[b]);
+  for (const auto& im : j.value("images", nlohmann::json::array()))
+    fs::copy_file(src.parent_path() / im["uri"].get<std::string>(), dir / im["uri"].get<std::string>(),
+                  fs::copy_options::overwrite_existing);
+  const fs::path out = dir / src.filename();
+  write_all(out, j.dump(2));
+  return out;
+}
+
+struct Rendered {
+  Subject subject;
+  std::vector<render::Camera> cameras;
+  std::vector<fs::path> sylva_png, client_png;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::cerr << "usage: sylva_client_agreement RECIPE_OUT_DIR REPORT_DIR\n";
+    return 2;
+  }
+  const fs::path out_dir = argv[1], report = argv[2];
+  const char* req = std::getenv("SYLVA_REQUIRE_CLIENTS");
+  const bool require = req && std::string(req) == "1";
+  std::vector<Subject> files;
+  try {
+    files = subjects(out_dir);
+  } catch (const std::exception& e) {
+    std::cerr << "sylva_client_agreement: " << out_dir.string() << ": " << e.what() << "\n";
+    return 2;
+  }
+  if (files.empty()) {
+    std::cerr << "sylva_client_agreement: no glTF outputs under " << out_dir.string() << "\n";
+    return 2;
+  }
+  std::error_code ec;
+  fs::remove_all(report, ec);
+  fs::create_directories(report);
+  std::unique_ptr<render::Renderer> renderer;
+  try {
+    renderer = render::Renderer::create_headless();
+  } catch (const render::RenderError& e) {
+    std::cerr << "sylva_client_agreement: " << e.what() << "\n";
+    return 1;
+  }
+  const render::RenderOptions options = clients::render_options();
+
+  // 1. sylva's renders, and the three.js jobs for the same cameras.
+  std::vector<Rendered> rendered;
+  std::vector<clients::ClientRender> jobs;
+  auto render_sylva = [&](const Subject& s, const std::vector<render::Camera>* fixed) {
+    Rendered r{s, {}, {}, {}};
+    const render::Scene scene = render::load_gltf_scene(s.file);
+    r.cameras = fixed ? *fixed : clients::views(scene.bounds());
+    const std::vector<image::Image> images = renderer->render_views(scene, r.cameras, options);
+    for (std::size_t v = 0; v < r.cameras.size(); ++v) {
+      const std::string stem = slug(s.label) + "__" + r.cameras[v].name;
+      r.sylva_png.push_back(report / (stem + "_sylva.png"));
+      r.client_png.push_back(report / (stem + "_threejs.png"));
+      image::write_png(images[v], r.sylva_png.back());
+      jobs.push_back({s.file, r.client_png.back(), r.cameras[v]});
+    }
+    return r;
+  };
+  try {
+    for (const Subject& s : files) rendered.push_back(render_sylva(s, nullptr));
+  } catch (const std::exception& e) {
+    std::cerr << "sylva_client_agreement: " << e.what() << "\n";
+    return 2;
+  }
+
+  // 2. Negative controls from the recipe's own files: a level with leaves, mis-wound; a level,
+  // black bark. three.js draws the broken copy; sylva draws the original the verifier approved.
+  struct Control {
+    std::string defect;
+    std::size_t good;  // index into rendered
+    fs::path file;
+    std::vector<fs::path> client_png, sylva_bad_png;
+  };
+  std::vector<Control> controls;
+  // Level 2 of the chain with the most leaves there (mis-wound), and of the chain with the
+  // least foliage there (black bark: bark is most of its picture).
+  auto foliage_at_level2 = [&](const Subject& s) -> long {
+    const nlohmann::json j = nlohmann::json::parse(read_all(s.file.parent_path() / "lod.json"));
+    if (j["levels"].size() < 3) return -1;
+    const auto& c = j["levels"][2]["counts"];
+    return c["leaves"].get<long>() + c["needle_lines"].get<long>() + c["needle_quads"].get<long>();
+  };
+  auto leaves_at_level2 = [&](const Subject& s) -> long {
+    const nlohmann::json j = nlohmann::json::parse(read_all(s.file.parent_path() / "lod.json"));
+    return j["levels"].size() < 3 ? -1 : j["levels"][2]["counts"]["leaves"].get<long>();
+  };
+  std::size_t most = rendered.size(), least = rendered.size();
+  long most_n = -1, least_n = -1;
+  for (std::size_t i = 0; i < rendered.size(); ++i) {
+    const Subject& s = rendered[i].subject;
+    if ((s.kind != Kind::kLevel && s.kind != Kind::kLineLevel) ||
+        s.label.find("/lod2.gltf") == std::string::npos)
+      continue;
+    const long n = foliage_at_level2(s), leaves = leaves_at_level2(s);
+    if (n < 0) continue;
+    if (leaves > 0 && (most_n < 0 || leaves > most_n)) most = i, most_n = leaves;
+    if (least_n < 0 || n < least_n) least = i, least_n = n;
+  }
+  for (const std::string defect : {"mis-wound", "black-bark"})
+    for (std::size_t i = 0; i < rendered.size(); ++i) {
+      const Subject& s = rendered[i].subject;
+      if (i != (defect == "mis-wound" ? most : least)) continue;
+      const fs::path copy =
+          make_control(s.file, report / "controls" / (defect + "_" + slug(s.label)), defect);
+      if (copy.empty()) continue;
+      Control c{defect, i, copy, {}, {}};
+      const render::Scene bad = render::load_gltf_scene(copy);
+      const std::vector<image::Image> imgs = renderer->render_views(bad, rendered[i].cameras, options);
+      for (std::size_t v = 0; v < rendered[i].cameras.size(); ++v) {
+        const std::string stem =
+            "control_" + defect + "_" + slug(s.label) + "__" + rendered[i].cameras[v].name;
+        c.client_png.push_back(report / (stem + "_threejs.png"));
+        c.sylva_bad_png.push_back(report / (stem + "_sylva.png"));
+        image::write_png(imgs[v], c.sylva_bad_png.back());
+        jobs.push_back({copy, c.client_png.back(), rendered[i].cameras[v]});
+      }
+      controls.push_back(std::move(c));
+      break;
+    }
+
+  // 3. MSFT_lod plugin: the level shown just past each switch distance of lod.json, and just
+  // before and after each distance where the coverages make a loader switch.
+  struct Chain {
+    std::string node;
+    nlohmann::json summary;
+    std::vector<double> distances;
+  };
+  std::vector<Chain> chains;
+  std::vector<clients::LodCheck> lod_checks;
+  for (const Subject& s : files) {
+    if (s.kind != Kind::kChain) continue;
+    Chain c{s.label.substr(0, s.label.find('/')),
+            nlohmann::json::parse(read_all(s.file.parent_path() / "lod.json")),
+            {}};
+    for (const auto& l : c.summary["levels"]) {
+      c.distances.push_back(std::max(0.01, l["switch_distance_m"].get<double>()) * 1.001);
+      if (!l["coverage_switch_distance_m"].is_null()) {
+        c.distances.push_back(l["coverage_switch_distance_m"].get<double>() * 0.999);
+        c.distances.push_back(l["coverage_switch_distance_m"].get<double>() * 1.001);
+      }
+    }
+    lod_checks.push_back({s.file, c.summary["camera"]["fov_y_deg"].get<double>(),
+                          c.summary["bounding_radius_m"].get<double>(), c.distances});
+    chains.push_back(std::move(c));
+  }
+
+  // 4. three.js, all at once (one browser).
+  const clients::ClientResult cr = clients::run_threejs(jobs, lod_checks, report / "work");
+  if (cr.unavailable) {
+    std::cout << "three.js is not available: " << cr.message;
+    return require ? 1 : 77;
+  }
+  if (!cr.ok) {
+    std::cerr << "three.js failed: " << cr.message;
+    return 1;
+  }
+  std::cout << "sylva:    " << renderer->device_description()
+            << "\nthree.js: " << cr.result["renderer"].get<std::string>() << "\n\n";
+
+  // 5. The table.
+  bool all_ok = true;
+  nlohmann::json table = nlohmann::json::array();
+  std::printf("%-9s %-32s %-6s %-15s %-23s %-22s\n", "client", "file", "view", "kind",
+              "silhouette IoU >= bound", "mean colour <= bound");
+  for (const Rendered& r : rendered)
+    for (std::size_t v = 0; v < r.cameras.size(); ++v) {
+      clients::Row row;
+      row.file = r.subject.label;
+      row.view = r.cameras[v].name;
+      row.kind = r.subject.kind;
+      row.bound = clients::bound_for(row.kind);
+      row.a = clients::compare(image::read_image(r.sylva_png[v]), image::read_image(r.client_png[v]));
+      std::printf("%s\n", row.line().c_str());
+      all_ok &= row.passed();
+      table.push_back({{"client", row.client},
+                       {"file", row.file},
+                       {"view", row.view},
+                       {"kind", clients::kind_name(row.kind)},
+                       {"iou", row.a.iou},
+                       {"colour", row.a.colour},
+                       {"min_iou", row.bound.min_iou},
+                       {"max_colour", row.bound.max_colour},
+                       {"passed", row.passed()}});
+    }
+
+  // 6. The controls must be caught: three.js's picture of the broken file against sylva's of the
+  // approved file disagrees; sylva's own picture of the broken file shows the defect too (the
+  // verifier's reference images would flag it), and agrees with three.js's.
+  std::printf(
+      "\nnegative controls (some view must DISAGREE with the approved picture, and sylva must see it "
+      "there):\n");
+  nlohmann::json control_rows = nlohmann::json::array();
+  for (const Control& c : controls) {
+    const Rendered& good = rendered[c.good];
+    bool control_caught = false;
+    for (std::size_t v = 0; v < good.cameras.size(); ++v) {
+      clients::Row row;
+      row.file = "controls/" + c.defect + " " + good.subject.label;
+      row.view = good.cameras[v].name;
+      row.kind = good.subject.kind;
+      row.bound = clients::bound_for(row.kind);
+      const image::Image client = image::read_image(c.client_png[v]);
+      row.a = clients::compare(image::read_image(good.sylva_png[v]), client);
+      // sylva's own picture of the broken file against the approved one: the verifier's reference
+      // comparison sees the defect too (the renderer follows glTF's two-sided rule).
+      const clients::Agreement same =
+          clients::compare(image::read_image(good.sylva_png[v]), image::read_image(c.sylva_bad_png[v]));
+      const bool caught = !row.passed();
+      const bool sylva_sees_it = !(same.iou >= row.bound.min_iou && same.colour <= row.bound.max_colour);
+      std::printf("%s  -> %s; sylva broken vs approved: IoU %.3f colour %.2f (%s)\n", row.line().c_str(),
+                  caught ? "caught" : "NOT CAUGHT", same.iou, same.colour,
+                  sylva_sees_it ? "sylva's verifier sees it too" : "SYLVA DOES NOT SEE IT");
+      control_caught |= caught && sylva_sees_it;
+      control_rows.push_back({{"defect", c.defect},
+                              {"file", good.subject.label},
+                              {"view", row.view},
+                              {"iou", row.a.iou},
+                              {"colour", row.a.colour},
+                              {"caught", caught},
+                              {"sylva_iou", same.iou},
+                              {"sylva_colour", same.colour}});
+    }
+    std::printf("  %s control on %s: %s\n", c.defect.c_str(), good.subject.label.c_str(),
+                control_caught ? "caught (three.js disagrees with the approved picture)" : "NOT CAUGHT");
+    all_ok &= control_caught;
+  }
+  if (controls.size() < 2) {
+    std::printf("NOT CHECKED: the recipe has no lod2 level with leaves and with bark for both controls\n");
+    all_ok = false;
+  }
+
+  // 7. MSFT_lod in three.js (plugin three-gltf-extensions, calculateDistance = the inverse of
+  // lod_gltf.h's coverage). At each level's switch distance (+0.1 %) the plugin must show that
+  // level, or -- where the coverage was clamped at 1 -- a finer one; never a coarser level than
+  // lod.json allows at that distance; and exactly the level the coverages predict.
+  std::printf("\nMSFT_lod in three.js (three-gltf-extensions), level shown at a distance:\n");
+  nlohmann::json lod_rows = nlohmann::json::array();
+  for (std::size_t k = 0; k < chains.size(); ++k) {
+    const Chain& c = chains[k];
+    const nlohmann::json& got = cr.result["lod_checks"][k];
+    const auto& levels = c.summary["levels"];
+    std::printf("%s: %zu levels in the plugin\n", c.node.c_str(), got["levels"].get<std::size_t>());
+    for (std::size_t t = 0; t < c.distances.size(); ++t) {
+      const double d = c.distances[t];
+      const int shown = got["shown"][t];
+      // Predicted by the coverages: the finest level whose coverage distance is beyond d.
+      int predicted = 0;
+      for (std::size_t i = 0; i + 1 < levels.size(); ++i)
+        if (!levels[i]["coverage_switch_distance_m"].is_null() &&
+            d >= levels[i]["coverage_switch_distance_m"].get<double>())
+          predicted = int(i) + 1;
+      // The coarsest level lod.json allows at d.
+      int allowed = 0;
+      for (std::size_t i = 0; i < levels.size(); ++i)
+        if (levels[i]["switch_distance_m"].get<double>() <= d) allowed = int(i);
+      const bool ok = shown == predicted && shown <= allowed;
+      std::printf("  d %9.3f m  shows level %d (coverages predict %d; lod.json allows up to %d)  %s\n", d,
+                  shown, predicted, allowed, ok ? "ok" : "WRONG");
+      all_ok &= ok;
+      lod_rows.push_back({{"node", c.node},
+                          {"distance_m", d},
+                          {"shown", shown},
+                          {"predicted", predicted},
+                          {"allowed", allowed}});
+    }
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+      const double d = levels[i]["switch_distance_m"].get<double>();
+      int shown = -1;
+      for (std::size_t t = 0; t < c.distances.size(); ++t)
+        if (std::abs(c.distances[t] - std::max(0.01, d) * 1.001) < 1e-12) shown = got["shown"][t];
+      const bool clamped = i > 0 && levels[i - 1]["screen_coverage"].get<double>() >= 1.0;
+      std::printf(
+          "  level %zu: lod.json switch distance %.3f m, coverage %.5f: three.js shows level %d there%s\n", i,
+          d, levels[i]["screen_coverage"].get<double>(), shown,
+          shown == int(i) ? ""
+          : clamped       ? " (finer: the coverage before it is clamped at 1)"
+                          : "  WRONG");
+      if (shown != int(i) && !clamped) all_ok = false;
+    }
+  }
+  std::ofstream(report / "agreement.json")
+      << nlohmann::json{{"rows", table}, {"controls", control_rows}, {"lod", lod_rows}}.dump(2) << "\n";
+  std::printf("\n%s; images in %s\n", all_ok ? "every client agrees" : "DISAGREEMENT (rows above)",
+              report.string().c_str());
+  return all_ok ? 0 : 1;
+}

@@ -1,0 +1,220 @@
+#!/usr/bin/env node
+// The second, independent renderer of the test suite: three.js (npm `three`, its stock
+// GLTFLoader + DRACOLoader) in Debian's headless Chromium, driven by npm `playwright-core`.
+// It renders glTF files exactly as a three.js user would load them, from cameras that sylva's
+// renderer uses too (tests/clients/client_agreement.cpp compares the two), and checks with the
+// MSFT_lod plugin of npm `three-gltf-extensions` which level a chain shows at given distances.
+//
+//   node tests/clients/threejs_render.mjs JOBS.json RESULT.json
+//
+// JOBS.json:
+//   { "width": 512, "height": 512, "antialias": true,
+//     "lighting": { "ambient": [r,g,b], "light_color": [r,g,b], "direction_to_light": [x,y,z] },
+//     "renders": [ { "file": "/abs/x.gltf", "out": "/abs/x.png",
+//                    "camera": { "eye": [..], "target": [..], "up": [..], "fov_y_deg": 45,
+//                                "near": 0.1, "far": 100 } }, ... ],
+//     "lod_checks": [ { "file": "/abs/lod.gltf", "fov_y_deg": 45, "radius": 24.0,
+//                       "distances": [d, ...] }, ... ] }
+// RESULT.json: { "renders": [{ "out", "ms" }], "lod_checks": [{ "file", "levels", "shown": [level per
+//   distance] }], "renderer": "<WebGL renderer string>" }
+//
+// The page gets every file through Playwright request interception on a made-up origin
+// (http://sylva.invalid/): no server, no network. Lighting matches libs/render's Lighting:
+// three.js's physically based diffuse is albedo * irradiance / pi, so the lights get intensity
+// pi * (sylva's value) (docs/clients.md, "The second renderer").
+//
+// Chromium: /usr/bin/chromium (or $SYLVA_CHROMIUM), started headless with a fresh profile and
+// everything that could reach the network off; WebGL runs on SwiftShader (no GPU).
+// Exit codes: 0 done; 1 a render or check failed (message on stderr); 2 usage; 3 a tool is
+// missing (playwright-core, three, or chromium) -- the C++ test turns 3 into a skip unless
+// SYLVA_REQUIRE_CLIENTS=1.
+import { createRequire } from 'node:module';
+import { readFile, writeFile, mkdtemp, rm } from 'node:fs/promises';
+import { existsSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const scriptDir = path.dirname(fileURLToPath(import.meta.url));
+const repo = path.resolve(scriptDir, '..', '..');
+const npmDir = process.env.SYLVA_NPM_DIR ?? path.join(repo, 'out', 'npm');
+const modules = path.join(npmDir, 'node_modules');
+const chromiumPath = process.env.SYLVA_CHROMIUM ?? '/usr/bin/chromium';
+const ORIGIN = 'http://sylva.invalid';
+
+function missing(what) {
+  process.stderr.write(`threejs_render: ${what} (run tools/setup.sh)\n`);
+  process.exit(3);
+}
+
+const args = process.argv.slice(2);
+if (args.length !== 2) {
+  process.stderr.write('usage: node tests/clients/threejs_render.mjs JOBS.json RESULT.json\n');
+  process.exit(2);
+}
+for (const m of ['playwright-core', 'three', 'three-gltf-extensions'])
+  if (!existsSync(path.join(modules, m))) missing(`the npm package ${m} is not installed in ${modules}`);
+if (!existsSync(chromiumPath)) missing(`chromium is not installed (${chromiumPath}; Debian package chromium)`);
+
+const jobs = JSON.parse(await readFile(args[0], 'utf8'));
+const require = createRequire(import.meta.url);
+const { chromium } = require(path.join(modules, 'playwright-core'));
+
+const PAGE = `<!doctype html><html><head><meta charset="utf-8">
+<script type="importmap">{ "imports": {
+  "three": "${ORIGIN}/npm/three/build/three.module.js",
+  "three/addons/": "${ORIGIN}/npm/three/examples/jsm/",
+  "three-gltf-extensions/": "${ORIGIN}/npm/three-gltf-extensions/" } }</script>
+</head><body style="margin:0">
+<script type="module">
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import GLTFLodExtension from 'three-gltf-extensions/loaders/MSFT_lod/MSFT_lod.js';
+
+let renderer = null;
+function setup(o) {
+  const canvas = document.createElement('canvas');
+  canvas.width = o.width; canvas.height = o.height;
+  document.body.appendChild(canvas);
+  renderer = new THREE.WebGLRenderer({ canvas, antialias: o.antialias, alpha: true, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(1);
+  renderer.setSize(o.width, o.height, false);
+  renderer.setClearColor(0x000000, 0);  // transparent: alpha is the coverage
+  const gl = renderer.getContext();
+  const dbg = gl.getExtension('WEBGL_debug_renderer_info');
+  return dbg ? gl.getParameter(dbg.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+}
+
+function loader(plugins) {
+  const l = new GLTFLoader();
+  const draco = new DRACOLoader();
+  draco.setDecoderPath('${ORIGIN}/npm/three/examples/jsm/libs/draco/');
+  l.setDRACOLoader(draco);
+  for (const p of plugins) l.register(p);
+  return l;
+}
+
+function lights(scene, li) {
+  scene.add(new THREE.AmbientLight(new THREE.Color(...li.ambient), Math.PI));
+  const sun = new THREE.DirectionalLight(new THREE.Color(...li.light_color), Math.PI);
+  sun.position.set(...li.direction_to_light);
+  scene.add(sun);  // target at the origin: light travels along -direction_to_light
+}
+
+window.renderJob = async (o, job) => {
+  const gltf = await loader([]).loadAsync('${ORIGIN}/fs' + job.file);
+  const scene = new THREE.Scene();
+  scene.add(gltf.scene);
+  lights(scene, o.lighting);
+  const c = job.camera;
+  const cam = new THREE.PerspectiveCamera(c.fov_y_deg, o.width / o.height, c.near, c.far);
+  cam.position.set(...c.eye);
+  cam.up.set(...c.up);
+  cam.lookAt(new THREE.Vector3(...c.target));
+  renderer.render(scene, cam);
+  const url = renderer.domElement.toDataURL('image/png');
+  scene.traverse((x) => { if (x.geometry) x.geometry.dispose(); if (x.material) x.material.dispose(); });
+  renderer.renderLists.dispose();
+  return url.slice(url.indexOf(',') + 1);
+};
+
+// MSFT_lod with the plugin's calculateDistance hook inverting sylva's documented coverage:
+// level L >= 1 is shown from d = R sqrt(pi) / (2 tan(fov/2) sqrt(c[L-1])).
+window.lodJob = async (o, job) => {
+  const t = Math.tan(job.fov_y_deg * Math.PI / 360);
+  const distance = (level, lowest, coverages) =>
+    level === 0 ? 0 : job.radius * Math.sqrt(Math.PI) / (2 * t * Math.sqrt(coverages[level - 1]));
+  const gltf = await loader([(p) => new GLTFLodExtension(p, { calculateDistance: distance })])
+      .loadAsync('${ORIGIN}/fs' + job.file);
+  let lod = null;
+  gltf.scene.traverse((x) => { if (x.isLOD && !lod) lod = x; });
+  if (!lod) throw new Error(job.file + ': the MSFT_lod plugin made no LOD object');
+  gltf.scene.updateMatrixWorld(true);
+  const cam = new THREE.PerspectiveCamera(job.fov_y_deg, 1, 0.1, 1e6);
+  const shown = job.distances.map((d) => {
+    cam.position.set(0, 0, d);  // three.js measures from the LOD object's origin
+    cam.updateMatrixWorld(true);
+    lod.update(cam);
+    return lod.getCurrentLevel();
+  });
+  return { levels: lod.levels.length, level_distances: lod.levels.map((l) => l.distance), shown };
+};
+window.setupRenderer = setup;
+window.ready = true;
+</script></body></html>`;
+
+const roots = [modules];
+for (const j of [...(jobs.renders ?? []), ...(jobs.lod_checks ?? [])]) roots.push(path.dirname(path.resolve(j.file)));
+
+function contentType(p) {
+  if (p.endsWith('.js') || p.endsWith('.mjs')) return 'text/javascript';
+  if (p.endsWith('.wasm')) return 'application/wasm';
+  if (p.endsWith('.png')) return 'image/png';
+  if (p.endsWith('.json') || p.endsWith('.gltf')) return 'application/json';
+  return 'application/octet-stream';
+}
+
+const profile = await mkdtemp(path.join(os.tmpdir(), 'sylva-chromium-'));
+let browser = null;
+let failed = false;
+try {
+  // A persistent context is Playwright's way to pass a fresh --user-data-dir (the profile).
+  browser = await chromium.launchPersistentContext(profile, {
+    executablePath: chromiumPath,
+    headless: true,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync',
+           '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+  });
+  const page = browser.pages()[0] ?? await browser.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  await page.route('**/*', async (route) => {
+    const url = new URL(route.request().url());
+    if (url.origin !== ORIGIN) return route.abort();
+    if (url.pathname === '/') return route.fulfill({ body: PAGE, contentType: 'text/html' });
+    let file = null;
+    if (url.pathname.startsWith('/npm/')) file = path.join(modules, decodeURIComponent(url.pathname.slice(5)));
+    else if (url.pathname.startsWith('/fs/')) file = path.resolve('/' + decodeURIComponent(url.pathname.slice(4)));
+    if (!file || !roots.some((r) => file.startsWith(r + path.sep)) || !existsSync(file))
+      return route.fulfill({ status: 404, body: 'not found' });
+    return route.fulfill({ body: await readFile(file), contentType: contentType(file) });
+  });
+  await page.goto(ORIGIN + '/');
+  await page.waitForFunction(() => window.ready === true, null, { timeout: 60000 });
+  const o = { width: jobs.width, height: jobs.height, antialias: jobs.antialias ?? true, lighting: jobs.lighting };
+  const result = { renderer: await page.evaluate((o) => window.setupRenderer(o), o), renders: [], lod_checks: [] };
+  for (const job of jobs.renders ?? []) {
+    const t0 = Date.now();
+    try {
+      const b64 = await page.evaluate(([o, job]) => window.renderJob(o, job), [o, job]);
+      await writeFile(job.out, Buffer.from(b64, 'base64'));
+      result.renders.push({ out: job.out, ms: Date.now() - t0 });
+    } catch (e) {
+      process.stderr.write(`threejs_render: ${job.file}: ${String(e).split('\n')[0]}\n`);
+      result.renders.push({ out: job.out, error: String(e).split('\n')[0] });
+      failed = true;
+    }
+  }
+  for (const job of jobs.lod_checks ?? []) {
+    try {
+      const r = await page.evaluate(([o, job]) => window.lodJob(o, job), [o, job]);
+      result.lod_checks.push({ file: job.file, ...r });
+    } catch (e) {
+      process.stderr.write(`threejs_render: ${job.file}: ${String(e).split('\n')[0]}\n`);
+      result.lod_checks.push({ file: job.file, error: String(e).split('\n')[0] });
+      failed = true;
+    }
+  }
+  if (errors.length) process.stderr.write(`threejs_render: page errors: ${errors.join(' | ')}\n`);
+  await writeFile(args[1], JSON.stringify(result, null, 2) + '\n');
+} catch (e) {
+  process.stderr.write(`threejs_render: ${String(e).split('\n')[0]}\n`);
+  failed = true;
+} finally {
+  if (browser) await browser.close();
+  await rm(profile, { recursive: true, force: true });
+}
+process.exit(failed ? 1 : 0);
