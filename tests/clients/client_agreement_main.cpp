@@ -79,9 +79,12 @@ struct Subject {
   Kind kind;
 };
 
+// A file-name-safe form of "node/file.gltf": "node_file-gltf" (no '.', so no directory named
+// like a glTF file).
 std::string slug(const std::string& label) {
   std::string s = label;
   std::replace(s.begin(), s.end(), '/', '_');
+  std::replace(s.begin(), s.end(), '.', '-');
   return s;
 }
 

@@ -19,7 +19,7 @@ if [ $rc -ne 0 ]; then
   exit $rc
 fi
 # Every glTF file of the recipe's outputs (one directory per node), with zero errors.
-glbs=$(find "$out" -mindepth 3 -maxdepth 3 \( -name '*.glb' -o -name '*.gltf' \) -not -path '*/cache/*' -not -path '*/lodcheck/*' | sort)
+glbs=$(find "$out" -mindepth 3 -maxdepth 3 -type f \( -name '*.glb' -o -name '*.gltf' \) -not -path '*/cache/*' -not -path '*/lodcheck/*' | sort)
 [ -n "$glbs" ] || { echo "no glTF file under $out" >&2; exit 1; }
 node tools/validate_gltf.mjs --max-warnings 0 $glbs
 vrc=$?
