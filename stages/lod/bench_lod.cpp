@@ -4,10 +4,14 @@
 //   - BM_Chain/<preset>: the whole chain (precompute incl. FSA/E5 forests + every level) of every
 //     adult preset with the default options (6 levels, 1 mm .. 0.22 m);
 //   - BM_LeafForest/<preset>, BM_NeedleForest/<preset>: the one-off agglomeration alone (FSA leaf
-//     collapse, E5 needle merging; pair_merge.h), the part of the chain that dominated it.
+//     collapse, E5 needle merging; pair_merge.h), the part of the chain that dominated it;
+//   - BM_MergeStraightChain/<nodes>: merging one straight, gently wavy branch of 5k-80k nodes at
+//     E1 = E2 = 5 mm (everything merges into long groups: the case that was quadratic);
+//   - BM_ChainLongBranch/30000: the whole default chain of a tree that is one such branch.
 // Seeds: Zhang et al. 2017 §4–§6; Remolar et al. FSA/VDF.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 
@@ -83,8 +87,50 @@ void BM_NeedleForest(benchmark::State& state, const std::string& species) {
   state.counters["needles"] = static_cast<double>(t.needles.size());
 }
 
+// One branch of `n` nodes 5 cm apart along +Y with a 1 mm sine wobble (period 10 m), radius 5 cm.
+void BM_MergeStraightChain(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  tree::Tree t;
+  tree::Branch b;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y = 0.05 * static_cast<double>(i);
+    b.nodes.push_back({{0.001 * std::sin(y * 0.628), y, 0}, 0.05});
+  }
+  t.branches.push_back(b);
+  const auto sk = lod::build_skeletons(t);
+  const lod::MergeLimits limits{0.005, 0.005, 1.047};
+  std::vector<std::uint32_t> kept;
+  for (auto _ : state) {
+    kept.clear();
+    lod::merge_internodes(sk[0].g, limits, kept);
+    benchmark::DoNotOptimize(kept.data());
+  }
+  state.counters["kept"] = static_cast<double>(kept.size());
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n));
+}
+
+// The whole chain (6 levels, default options) of a tree that is one such branch: merging,
+// topology, polygonisation; the issue-15 case (a 30k-node chain took ~215 s before).
+void BM_ChainLongBranch(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  tree::Tree t;
+  tree::Branch b;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y = 0.05 * static_cast<double>(i);
+    b.nodes.push_back({{0.001 * std::sin(y * 0.628), y, 0}, 0.05});
+  }
+  t.branches.push_back(b);
+  lod::ChainOptions o;
+  for (auto _ : state) {
+    auto levels = lod::build_chain(t, o);
+    benchmark::DoNotOptimize(levels.data());
+  }
+}
+
 }  // namespace
 
+BENCHMARK(BM_ChainLongBranch)->Arg(30000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MergeStraightChain)->Arg(5000)->Arg(10000)->Arg(20000)->Arg(40000)->Arg(80000)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_1mm, std::string("oak"), 0.001)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_22cm, std::string("oak"), 0.22)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Chain, birch, std::string("birch"))->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -104,7 +104,8 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
   for (std::size_t i = 0; i < nb; ++i) {
     if (!kept_branch[i]) continue;
     const auto& g = pre.skeletons[i].g;
-    merge_internodes(g, limits, level.kept_nodes[i]);
+    if (options.check_cancelled && (i & 255) == 0) options.check_cancelled();
+    merge_internodes(g, limits, level.kept_nodes[i], options.check_cancelled);
     polygonize_branch(g, level.kept_nodes[i], spec.e3, options.max_edges, level.branches);
     level.counts.internodes += level.kept_nodes[i].size() - 1;
     ++level.counts.branches;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "libs/tree/tree.h"
@@ -46,6 +47,9 @@ struct ChainOptions {
   int max_edges = 12;                // H, >= 3
   bool topology = true;              // E4 branch decimation
   bool foliage = true;               // leaf collapse (FSA) and needle merging (E5)
+  // Called between branches and inside long merges (may be empty); may throw to stop the chain
+  // (the stage passes StageContext::check_cancelled). Called from several threads at once.
+  std::function<void()> check_cancelled;
 };
 
 struct LevelSpec {

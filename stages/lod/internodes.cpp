@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "libs/tree/frames.h"
 
@@ -78,23 +79,71 @@ MergeError merge_error(std::span<const SkeletalVector> g, std::size_t k, std::si
   return e;
 }
 
+namespace {
+
+// Whether the group k .. m satisfies eq. (3) under E1/E2 -- merge_error() with an early exit at
+// the first inner node that breaks a bound (the torsion is checked by the caller).
+bool group_within(std::span<const SkeletalVector> g, std::size_t k, std::size_t m, const MergeLimits& limits) {
+  const SkeletalVector& a = g[k];
+  const SkeletalVector& z = g[m];
+  const double span_len = z.arc - a.arc;
+  for (std::size_t i = k + 1; i < m; ++i) {
+    const SkeletalVector& s = g[i];
+    const double tau = span_len > 0 ? (s.arc - a.arc) / span_len : 0.5;
+    const Vec3 x = (1 - tau) * a.p + tau * z.p - s.p;
+    if (length(x) > limits.e1) return false;
+    const Vec3 y = (1 - tau) * a.r * a.n + tau * z.r * z.n - s.r * s.n;
+    const Vec3 zz = (1 - tau) * a.r * a.b + tau * z.r * z.b - s.r * s.b;
+    if (std::sqrt(2.0) * std::max(length(y), length(zz)) > limits.e2) return false;  // as merge_error()
+  }
+  return true;
+}
+
+}  // namespace
+
 std::size_t merge_internodes(std::span<const SkeletalVector> g, const MergeLimits& limits,
-                             std::vector<std::uint32_t>& kept) {
+                             std::vector<std::uint32_t>& kept, const std::function<void()>& check_cancelled) {
   const std::size_t before = kept.size();
   const std::size_t last = g.size() - 1;
-  std::size_t k = 0;
+  // Torsion of a group k..m = sum of 2 beta over its inner nodes: prefix sums make it O(1), and
+  // since it only grows with m, it caps every search below.
+  std::vector<double> twice_beta(g.size() + 1, 0.0);
+  for (std::size_t i = 0; i < g.size(); ++i) twice_beta[i + 1] = twice_beta[i] + 2 * g[i].beta;
+  auto torsion = [&](std::size_t k, std::size_t m) { return twice_beta[m] - twice_beta[k + 1]; };
+  auto valid = [&](std::size_t k, std::size_t m) {
+    return torsion(k, m) <= limits.gamma && group_within(g, k, m, limits);
+  };
+  std::size_t k = 0, steps = 0;
   kept.push_back(0);
   while (k < last) {
-    // Extend the group while eq. (3) stays under E1/E2 and the torsion under Γ. The errors are
-    // evaluated directly for each candidate end (no intermediate internodes are built).
-    std::size_t m = k + 1;
-    while (m < last) {
-      const MergeError e = merge_error(g, k, m + 1);
-      if (e.phi > limits.e1 || e.varphi > limits.e2 || e.torsion > limits.gamma) break;
-      ++m;
+    // 1. Exponential search: ends k + 2, k + 4, k + 8, ... while the group is valid (each check
+    //    O(group length)). 2. Binary search between the last valid end and the first invalid one,
+    //    keeping a valid end. The group taken is always checked in full by eq. (3) and the torsion
+    //    bound; unlike extending one node at a time it may pass over an invalid intermediate end
+    //    (the errors are not monotone in m), and it costs O(L log L) for a group of L internodes
+    //    instead of O(L^2).
+    std::size_t good = k + 1;  // one internode: always valid (nothing merged)
+    std::size_t step = 1, bad = last + 1;
+    while (good < last) {
+      const std::size_t m = std::min(last, k + 2 * step);
+      if (!valid(k, m)) {
+        bad = m;
+        break;
+      }
+      good = m;
+      step *= 2;
     }
-    kept.push_back(static_cast<std::uint32_t>(m));
-    k = m;
+    while (bad - good > 1 && good < last) {
+      const std::size_t mid = good + (bad - good) / 2;
+      if (valid(k, mid)) {
+        good = mid;
+      } else {
+        bad = mid;
+      }
+    }
+    kept.push_back(static_cast<std::uint32_t>(good));
+    k = good;
+    if (check_cancelled && (++steps & 63) == 0) check_cancelled();
   }
   return kept.size() - before;
 }

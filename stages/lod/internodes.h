@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -57,13 +58,15 @@ struct MergeLimits {
   double gamma = 1.0;   // Γ, rad: bound on the torsion of one merged internode
 };
 
-// Greedy internode merging along one branch (§4.4): from node k, the merged internode reaches
-// the farthest node m whose group satisfies phi <= E1, varphi <= E2, torsion <= Γ, checked for
-// every m in turn (stops at the first failure). Appends the indices of the kept nodes (always
-// the first and the last) to `kept`; returns how many were appended. Worst case O(K^2) per
-// branch for K internodes, O(K) when nothing merges.
+// Greedy internode merging along one branch (§4.4): from node k, the merged internode reaches a
+// far node m whose group satisfies phi <= E1, varphi <= E2 and torsion <= Γ (eq. 3, A2; every
+// taken group is checked in full). The end is found by an exponential then a binary search
+// (internodes.cpp), O(L log L) for a group of L internodes, O(K log K) per branch of K
+// internodes. Appends the indices of the kept nodes (always the first and the last) to `kept`;
+// returns how many were appended. `check_cancelled` (may be empty) is called every 64 groups and
+// may throw to stop.
 std::size_t merge_internodes(std::span<const SkeletalVector> g, const MergeLimits& limits,
-                             std::vector<std::uint32_t>& kept);
+                             std::vector<std::uint32_t>& kept, const std::function<void()>& check_cancelled = {});
 
 // Value of the merged surface I_{k,m-k} (eq. 1 over the group, normals A3) at its parameter
 // tau in [0, 1] and angle theta: the point the error bound (A6) compares with V(t, theta).

@@ -91,7 +91,8 @@ class LodStage : public Stage {
       if (const ArtifactFile* f = in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
     }
     // 2. Options.
-    const lod::ChainOptions o = chain_options_from_params(ctx.params());
+    lod::ChainOptions o = chain_options_from_params(ctx.params());
+    o.check_cancelled = [&ctx] { ctx.check_cancelled(); };  // inside the long loops, not only after
     // 3. The chain (pure core).
     std::vector<lod::Level> levels;
     try {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <stdexcept>
 
 #include "libs/tree/tree.h"
 #include "stages/lod/chain.h"
@@ -87,6 +88,41 @@ TEST(InternodeMerging, PositionalErrorIsEquation4) {
   kept.clear();
   merge_internodes(sk[0].g, {1, 1, 2 * sk[0].g[1].beta * 0.99}, kept);
   EXPECT_EQ(kept.size(), 3u);
+}
+
+// Merging on long chains (issue 15, item 13): a 40,000-node gently wavy branch merges into
+// groups that each meet eq. (3) and the torsion bound (checked with merge_error), the search
+// stays near-linear (bench_lod BM_MergeStraightChain: 80k nodes in ~2 ms; it was quadratic,
+// 20k nodes 1.6 s), and a cancellation callback stops it from inside the loop.
+TEST(InternodeMerging, LongChainGroupsMeetTheBoundsAndCancellationStops) {
+  std::vector<Vec3> ps;
+  std::vector<double> rs;
+  for (int i = 0; i < 40000; ++i) {
+    const double y = 0.05 * i;
+    ps.push_back({0.004 * std::sin(y * 0.9), y, 0.003 * std::cos(y * 0.37)});
+    rs.push_back(0.05);
+  }
+  const auto sk = build_skeletons(one_branch(ps, rs));
+  const MergeLimits limits{0.002, 0.002, 1.0};
+  std::vector<std::uint32_t> kept;
+  merge_internodes(sk[0].g, limits, kept);
+  ASSERT_GE(kept.size(), 3u);
+  EXPECT_LT(kept.size(), 40000u / 4);  // it does merge
+  EXPECT_EQ(kept.front(), 0u);
+  EXPECT_EQ(kept.back(), 39999u);
+  for (std::size_t i = 0; i + 1 < kept.size(); ++i) {
+    const MergeError e = merge_error(sk[0].g, kept[i], kept[i + 1]);
+    ASSERT_LE(e.phi, limits.e1) << "group " << i;
+    ASSERT_LE(e.varphi, limits.e2) << "group " << i;
+    ASSERT_LE(e.torsion, limits.gamma) << "group " << i;
+  }
+  int calls = 0;
+  kept.clear();
+  EXPECT_THROW(merge_internodes(sk[0].g, limits, kept, [&] {
+                 if (++calls == 3) throw std::runtime_error("cancelled");
+               }),
+               std::runtime_error);
+  EXPECT_EQ(calls, 3);
 }
 
 // Vertex connection cases (ii), (iii) and (i) of §5.1.
