@@ -87,9 +87,9 @@ void BM_NeedleForest(benchmark::State& state, const std::string& species) {
   state.counters["needles"] = static_cast<double>(t.needles.size());
 }
 
-// One branch of `n` nodes 5 cm apart along +Y with a 1 mm sine wobble (period 10 m), radius 5 cm.
-void BM_MergeStraightChain(benchmark::State& state) {
-  const std::size_t n = static_cast<std::size_t>(state.range(0));
+// A tree of one branch: `n` nodes 5 cm apart along +Y with a 1 mm sine wobble (period 10 m),
+// radius 5 cm.
+tree::Tree wavy_branch(std::size_t n) {
   tree::Tree t;
   tree::Branch b;
   for (std::size_t i = 0; i < n; ++i) {
@@ -97,6 +97,12 @@ void BM_MergeStraightChain(benchmark::State& state) {
     b.nodes.push_back({{0.001 * std::sin(y * 0.628), y, 0}, 0.05});
   }
   t.branches.push_back(b);
+  return t;
+}
+
+void BM_MergeStraightChain(benchmark::State& state) {
+  const tree::Tree t = wavy_branch(static_cast<std::size_t>(state.range(0)));
+  const std::size_t n = t.branches[0].nodes.size();
   const auto sk = lod::build_skeletons(t);
   const lod::MergeLimits limits{0.005, 0.005, 1.047};
   std::vector<std::uint32_t> kept;
@@ -112,14 +118,7 @@ void BM_MergeStraightChain(benchmark::State& state) {
 // The whole chain (6 levels, default options) of a tree that is one such branch: merging,
 // topology, polygonisation; the issue-15 case (a 30k-node chain took ~215 s before).
 void BM_ChainLongBranch(benchmark::State& state) {
-  const std::size_t n = static_cast<std::size_t>(state.range(0));
-  tree::Tree t;
-  tree::Branch b;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double y = 0.05 * static_cast<double>(i);
-    b.nodes.push_back({{0.001 * std::sin(y * 0.628), y, 0}, 0.05});
-  }
-  t.branches.push_back(b);
+  const tree::Tree t = wavy_branch(static_cast<std::size_t>(state.range(0)));
   lod::ChainOptions o;
   for (auto _ : state) {
     auto levels = lod::build_chain(t, o);

@@ -31,7 +31,8 @@ class LodStage : public Stage {
     info_.name = "lod";
     // 2: MSFT_lod written by libs/gltf (JSON bytes changed). 3: leaves wound with their normals,
     // mesh-stage colours, screen coverage as a screen fraction, .gltf + shared .bin files, ribbons.
-    info_.version = 3;
+    // 4: merging by exponential + binary search (groups may differ).
+    info_.version = 4;
     info_.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
     info_.output_type = "lod";
     info_.inputs = {{"tree"}, 1, 1, "one tree artifact (tree.sylt, optional leaves.png)"};
