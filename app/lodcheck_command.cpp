@@ -80,7 +80,7 @@ class LodcheckCommand final : public CliCommand {
         ->check(CLI::Range(-360.0, 360.0));
     sub->add_flag("--branches-only", branches_only_, "draw bark and branch lines only (no leaves or needles)");
     sub->add_option("--candidates", candidates_dir_,
-                    "also measure another simplifier's models DIR/lod<i>.glb (reported, not judged)");
+                    "also measure another simplifier's models DIR/lod<i>.glb or .gltf (reported, not judged)");
     sub->add_option("--candidate-label", candidate_label_, "name of the candidates in the report (default: DIR's name)");
     sub->add_option("--write-full", write_full_, "write the full-detail model as a GLB (with exactly one node)");
     sub->add_flag("--no-images", no_images_, "do not write the renders and heat maps (lodcheck.json only)");
@@ -194,7 +194,8 @@ class LodcheckCommand final : public CliCommand {
       if (!candidates_dir_.empty()) {
         const std::size_t n = subjects.size();
         for (std::size_t i = 0; i < n; ++i) {
-          const fs::path f = fs::path(candidates_dir_) / ("lod" + std::to_string(i) + ".glb");
+          fs::path f = fs::path(candidates_dir_) / ("lod" + std::to_string(i) + ".glb");
+          if (!fs::exists(f)) f.replace_extension(".gltf");
           if (!fs::exists(f)) continue;
           lod::CheckSubject s{cand_label, i, subjects[i].epsilon, subjects[i].distance, render::load_gltf_scene(f)};
           if (branches_only_) s.scene = lod::branches_only(s.scene);
