@@ -23,10 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Common {
-  std::string out_dir = "out";
-  std::string cache_dir;  // default: $SYLVA_CACHE or <out>/cache
-
+struct Common : GlobalOptions {
   fs::path cache_root() const { return cache_root_for(out_dir, cache_dir); }
 };
 
@@ -94,15 +91,38 @@ int cmd_graph(const std::string& file, bool dot, const StageRegistry& reg, FileS
   return kExitOk;
 }
 
+// "10G", "512M", "2048K", "1000" (bytes), "0" (never evict); nullopt if malformed.
+std::optional<std::uint64_t> parse_size(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  const std::string unit = text.substr(used);
+  double scale = 1;
+  if (unit == "K" || unit == "KiB") scale = 1024.0;
+  else if (unit == "M" || unit == "MiB") scale = 1024.0 * 1024;
+  else if (unit == "G" || unit == "GiB") scale = 1024.0 * 1024 * 1024;
+  else if (!unit.empty() && unit != "B") return std::nullopt;
+  if (v < 0) return std::nullopt;
+  return static_cast<std::uint64_t>(v * scale);
+}
+
 struct BuildArgs {
   std::string recipe = "configs/default.yaml";
+  std::string cache_max;  // --cache-max-size, else $SYLVA_CACHE_MAX_SIZE, else the default share
   int jobs = 0;
   std::vector<std::string> targets;
   bool keep_going = false, dry_run = false, json = false;
 };
 
+std::string human_bytes(std::uint64_t b);
+
 int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
-  auto recipe = load_recipe_or_report(a.recipe, reg, fsys, io);
+  auto recipe = load_recipe_or_report(a.recipe, reg, fsys, io, c.out_dir);
   if (!recipe) return kExitUsage;
   Cache cache(fsys, c.cache_root());
   SteadyClock clock;
@@ -114,6 +134,15 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
   opt.keep_going = a.keep_going;
   opt.dry_run = a.dry_run;
   opt.targets = a.targets;
+  std::string limit = a.cache_max;
+  if (const char* env_limit = std::getenv("SYLVA_CACHE_MAX_SIZE"); limit.empty() && env_limit) limit = env_limit;
+  if (!limit.empty()) {
+    opt.cache_max_bytes = parse_size(limit);
+    if (!opt.cache_max_bytes) {
+      std::fprintf(io.err, "error: cache size '%s' is not a size like 20G, 512M or 0\n", limit.c_str());
+      return kExitUsage;
+    }
+  }
   std::string error;
   BuildSummary s = run_build(*recipe, env, opt, &error);
   progress.stop();
@@ -122,6 +151,10 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
     return kExitUsage;
   }
   if (a.json) std::fputs(summary_json(recipe->name, s).c_str(), io.out);
+  if (!s.warning.empty()) std::fprintf(io.err, "warning: %s\n", s.warning.c_str());
+  if (s.evicted.actions_removed > 0)
+    std::fprintf(io.err, "sylva: cache above its limit: evicted %llu least recently used results (%s)\n",
+                 static_cast<unsigned long long>(s.evicted.actions_removed), human_bytes(s.evicted.bytes_freed).c_str());
   std::fprintf(io.err, "sylva: %s; outputs in %s/\n", summary_line(s).c_str(), out_dir.c_str());
   if (s.interrupted()) return kExitInterrupted;
   return s.ok() ? kExitOk : kExitBuildFailed;
@@ -129,7 +162,7 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
 
 int cmd_explain(const std::string& file, const std::string& node, const Common& c, const StageRegistry& reg,
                 FileSystem& fsys, const CliIo& io) {
-  auto recipe = load_recipe_or_report(file, reg, fsys, io);
+  auto recipe = load_recipe_or_report(file, reg, fsys, io, c.out_dir);
   if (!recipe) return kExitUsage;
   if (!recipe->find(node)) {
     std::vector<std::string> names;
@@ -157,9 +190,9 @@ std::string human_bytes(std::uint64_t b) {
 }  // namespace
 
 std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
-                                            const CliIo& io) {
+                                            const CliIo& io, const std::string& out_dir) {
   Diagnostics diags;
-  auto recipe = load_recipe(file, registry, fsys, diags);
+  auto recipe = load_recipe(file, registry, fsys, diags, out_dir.empty() ? fs::path() : fs::path(out_dir) / ".sylva-parse");
   if (!recipe) {
     std::fputs(diags.pretty().c_str(), io.err);
     std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", file.c_str());
@@ -173,6 +206,29 @@ fs::path cache_root_for(const std::string& out_dir, const std::string& cache_dir
   return fs::path(out_dir) / "cache";
 }
 
+void add_global_options(CLI::App& app, GlobalOptions& g) {
+  app.add_option("--out", g.out_dir, "output root (default: out)");
+  app.add_option("--cache", g.cache_dir, "cache directory (default: $SYLVA_CACHE or <out>/cache)");
+}
+
+std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv, const CliIo& io) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help("", CLI::AppFormatMode::Normal).c_str(), io.out);
+    return kExitOk;
+  } catch (const CLI::ParseError& err) {
+    if (err.get_exit_code() == 0) {
+      std::ostringstream out, errs;
+      app.exit(err, out, errs);
+      std::fputs(out.str().c_str(), io.out);
+      return kExitOk;
+    }
+    std::fprintf(io.err, "error: %s\nrun 'sylva --help' for usage\n", err.what());
+    return kExitUsage;
+  }
+  return std::nullopt;
+}
 
 int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io,
             const std::vector<CliCommand*>& extra) {
@@ -180,8 +236,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   Common common;
   CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
   app.require_subcommand(1);
-  app.add_option("--out", common.out_dir, "output root (default: out)");
-  app.add_option("--cache", common.cache_dir, "cache directory (default: $SYLVA_CACHE or <out>/cache)");
+  add_global_options(app, common);
 
   BuildArgs build;
   auto* b = app.add_subcommand("build", "build a recipe (default: configs/default.yaml)");
@@ -191,6 +246,9 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   b->add_flag("-k,--keep-going", build.keep_going, "build everything that does not depend on a failure");
   b->add_flag("-n,--dry-run", build.dry_run, "show what would build; run nothing");
   b->add_flag("--json", build.json, "print a machine-readable summary on stdout");
+  b->add_option("--cache-max-size", build.cache_max,
+                "evict least recently used results above this size after the build (e.g. 20G; 0: never; "
+                "default: $SYLVA_CACHE_MAX_SIZE, else a quarter of free disk plus the cache)");
 
   std::string graph_recipe;
   bool dot = false;
@@ -222,21 +280,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   std::vector<std::pair<CLI::App*, CliCommand*>> extra_apps;
   for (CliCommand* c : extra) extra_apps.emplace_back(c->add_to(app), c);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& h) {
-    std::fputs(app.help(app.get_subcommands().empty() ? "" : "", CLI::AppFormatMode::Normal).c_str(), io.out);
-    return kExitOk;
-  } catch (const CLI::ParseError& err) {
-    if (err.get_exit_code() == 0) {
-      std::ostringstream out, errs;
-      app.exit(err, out, errs);
-      std::fputs(out.str().c_str(), io.out);
-      return kExitOk;
-    }
-    std::fprintf(io.err, "error: %s\nrun 'sylva --help' for usage\n", err.what());
-    return kExitUsage;
-  }
+  if (auto code = parse_command_line(app, argc, argv, io)) return *code;
 
   try {
     if (b->parsed()) return cmd_build(build, common, reg, fsys, io);
@@ -255,6 +299,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
     }
     if (cg->parsed()) {
       Cache cache(fsys, common.cache_root());
+      auto gc_lock = cache.lock_for_gc();  // waits for running builds; they wait for it
       const GcResult r = cache.gc(static_cast<std::uint64_t>(max_gib * (1ull << 30)));
       std::fprintf(io.out, "removed %llu action results, %llu blobs (%s), %llu temp entries\n",
                    static_cast<unsigned long long>(r.actions_removed), static_cast<unsigned long long>(r.blobs_removed),
@@ -263,6 +308,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
     }
     if (cv->parsed()) {
       Cache cache(fsys, common.cache_root());
+      auto gc_lock = cache.lock_for_gc();
       const auto removed = cache.verify_all();
       std::fprintf(io.out, "%llu corrupt blob%s removed\n", static_cast<unsigned long long>(removed), removed == 1 ? "" : "s");
       return removed ? kExitBuildFailed : kExitOk;

@@ -44,12 +44,26 @@ class CliCommand {
 };
 
 // Loads and checks a recipe. On failure prints every diagnostic (file:line:col) and the error
-// count to io.err and returns nullopt; the caller exits with kExitUsage.
+// count to io.err and returns nullopt; the caller exits with kExitUsage. `out_dir` (optional):
+// the output root, whose .sylva-parse/ keeps parsed YAML between runs (pipeline/yaml_tree.h).
 std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
-                                            const CliIo& io);
+                                            const CliIo& io, const std::string& out_dir = "");
 
 // The cache directory: `cache_dir` when given (--cache), else $SYLVA_CACHE, else <out_dir>/cache.
 std::filesystem::path cache_root_for(const std::string& out_dir, const std::string& cache_dir);
+
+// The options every subcommand inherits (`sylva --out DIR --cache DIR <command> ...`).
+struct GlobalOptions {
+  std::string out_dir = "out";
+  std::string cache_dir;  // default: $SYLVA_CACHE or <out>/cache
+};
+// Adds --out and --cache to the top-level `app`, bound to `g`. The binary and the graphics
+// module (app/gfx_module.h) both build their command line with it, so they agree.
+void add_global_options(CLI::App& app, GlobalOptions& g);
+
+// Parses argv into `app`. Returns the exit code when parsing already decided the outcome
+// (--help printed: 0; a usage error printed to io.err: 2), nullopt when the command should run.
+std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv, const CliIo& io);
 
 int run_cli(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io,
             const std::vector<CliCommand*>& extra = {});

@@ -4,6 +4,8 @@
 // the full-detail model is the one the stage's levels were simplified from.
 #include "app/lodcheck_command.h"
 
+#include "app/gfx_module.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -53,8 +55,7 @@ class LodcheckCommand final : public CliCommand {
 
   CLI::App* add_to(CLI::App& app) override {
     parent_ = &app;
-    auto* sub = app.add_subcommand(
-        "lodcheck", "render each LOD level at its switch distance against the full-detail tree and report the image error");
+    auto* sub = app.add_subcommand("lodcheck", gfx_command_summary("lodcheck"));
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
     sub->add_option("--node", nodes_, "check only this lod node (repeatable; default: every node of stage lod)")
         ->allow_extra_args(false);

@@ -5,10 +5,8 @@
 #include <unistd.h>
 
 #include "app/cli.h"
+#include "app/gfx_loader.h"
 #include "app/inspect_command.h"
-#include "app/lodcheck_command.h"
-#include "app/render_command.h"
-#include "app/verify_command.h"
 #include "stages/register_stages.h"
 
 namespace {
@@ -26,17 +24,18 @@ extern "C" void on_signal(int sig) {
 int main(int argc, char** argv) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  // Heavy stages and commands live in libsylva_gfx.so, opened only when one of them runs.
+  sylva::GfxLoader gfx;
   sylva::StageRegistry registry;
-  sylva::register_builtin_stages(registry);
+  sylva::register_builtin_stages(registry, gfx);
   sylva::CliIo io;
   io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
   io.cancel = &g_cancel;
   auto inspect = sylva::make_inspect_command();
-  auto render = sylva::make_render_command();
-  auto verify = sylva::make_verify_command(registry);
-  auto lodcheck = sylva::make_lodcheck_command(registry);
-  const int code =
-      sylva::run_cli(argc, argv, registry, io, {inspect.get(), render.get(), verify.get(), lodcheck.get()});
+  auto gfx_commands = sylva::make_gfx_commands(gfx, argc, argv, registry);
+  std::vector<sylva::CliCommand*> commands{inspect.get()};
+  for (auto& c : gfx_commands) commands.push_back(c.get());
+  const int code = sylva::run_cli(argc, argv, registry, io, commands);
   // Leave without running static destructors. The shared EGL renderer (stages/verify) lives on a
   // worker thread's context, and Mesa's llvmpipe threads and LLVM's static destructors racing at
   // exit() corrupted the heap now and then ("corrupted size vs. prev_size", exit 134) after

@@ -3,6 +3,8 @@
 // checks (options, camera set, the asset) come before creating the EGL context.
 #include "app/render_command.h"
 
+#include "app/gfx_module.h"
+
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -35,7 +37,7 @@ bool has_png_extension(const std::string& path) {
 class RenderCommand final : public CliCommand {
  public:
   CLI::App* add_to(CLI::App& app) override {
-    auto* sub = app.add_subcommand("render", "render a .glb/.gltf file from the views of a camera set to PNG");
+    auto* sub = app.add_subcommand("render", gfx_command_summary("render"));
     sub->add_option("file", file_, "the .glb or .gltf file")->required();
     sub->add_option("--camera", camera_, "camera set (default: configs/cameras/default.yaml)");
     sub->add_option("--view", views_, "render only this view (repeatable; default: every view, or the first for -o FILE.png)")

@@ -3,6 +3,8 @@
 // reading as stage `verify` (stages/verify/verify_stage.h), so the command and the stage agree.
 #include "app/verify_command.h"
 
+#include "app/gfx_module.h"
+
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -28,7 +30,7 @@ class VerifyCommand final : public CliCommand {
 
   CLI::App* add_to(CLI::App& app) override {
     parent_ = &app;
-    auto* sub = app.add_subcommand("verify", "build a recipe's verify nodes' inputs, compare renderings with references, report");
+    auto* sub = app.add_subcommand("verify", gfx_command_summary("verify"));
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
     sub->add_option("--node", nodes_, "verify only this node (repeatable; default: every node of stage verify)")
         ->allow_extra_args(false);

@@ -66,24 +66,6 @@ std::optional<ActionRecord> ActionRecord::from_json(const std::string& text) {
   }
 }
 
-std::optional<Digest> digest_path(const std::filesystem::path& p, bool is_dir) {
-  if (!is_dir) return digest_file(p);
-  namespace fs = std::filesystem;
-  std::vector<std::pair<std::string, Digest>> entries;
-  std::error_code ec;
-  for (fs::recursive_directory_iterator it(p, ec), end; !ec && it != end; it.increment(ec)) {
-    if (!it->is_regular_file()) continue;
-    auto d = digest_file(it->path());
-    if (!d) return std::nullopt;
-    entries.emplace_back(fs::relative(it->path(), p).generic_string(), *d);
-  }
-  if (ec) return std::nullopt;
-  std::sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::string listing;
-  for (const auto& [rel, d] : entries) listing += rel + '\0' + d.hash + '\n';
-  return digest_bytes(listing);
-}
-
 namespace {
 std::string short_hash(const std::string& h) { return h.substr(0, 12); }
 }  // namespace

@@ -45,9 +45,6 @@ struct ActionRecord {
   static std::optional<ActionRecord> from_json(const std::string& text);
 };
 
-// Digest of a file or (recursively, sorted relative paths) a directory. nullopt if unreadable.
-std::optional<Digest> digest_path(const std::filesystem::path& p, bool is_dir);
-
 // Why `now` differs from `before`, one human sentence per difference, in a fixed order:
 // stage/version, parameters, inputs, files. Empty if the keys are equal.
 std::vector<std::string> explain_difference(const ActionRecord& before, const ActionRecord& now);

@@ -45,6 +45,8 @@ fs::path Cache::action_path(const std::string& key) const {
 
 std::optional<ActionResult> Cache::lookup(const std::string& key) {
   const fs::path p = action_path(key);
+  auto info = fs_.stat(p);
+  if (!info) return std::nullopt;
   auto text = fs_.read(p);
   if (!text) return std::nullopt;
   auto result = ActionResult::from_json(*text);
@@ -53,7 +55,9 @@ std::optional<ActionResult> Cache::lookup(const std::string& key) {
     auto st = fs_.stat(blob_path(o.digest.hash));
     if (!st || st->is_dir || st->size != o.digest.size) return std::nullopt;
   }
-  fs_.touch(p);  // LRU for gc
+  // LRU for gc, with relatime's coarseness: a no-op build does not rewrite every entry's inode.
+  constexpr std::int64_t kHour = 3600ll * 1000000000;
+  if (fs_.now_ns() - info->mtime_ns > kHour) fs_.touch(p);
   return result;
 }
 
@@ -61,30 +65,52 @@ void Cache::store_action(const std::string& key, const ActionResult& result) {
   fs_.write_atomic(action_path(key), result.to_json());
 }
 
-std::optional<Digest> Cache::put_file(const fs::path& file) {
-  auto bytes = fs_.read(file);
-  if (!bytes) return std::nullopt;
-  Digest d = digest_bytes(*bytes);
-  const fs::path dest = blob_path(d.hash);
-  if (auto existing = fs_.read(dest); existing && digest_bytes(*existing) == d) return d;
-  if (!fs_.write_atomic(dest, *bytes)) return std::nullopt;
-  fs_.make_read_only(dest);
+std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at) {
+  const std::int64_t now = fs_.now_ns();
+  auto d = fs_.digest(file);
+  if (!d) return std::nullopt;
+  const fs::path dest = blob_path(d->hash);
+  // Replacing an existing blob (rather than trusting it) costs nothing and heals a damaged one.
+  fs_.set_mtime(file, now - 1);
+  fs_.make_read_only(file);
+  fs_.make_dirs(dest.parent_path());
+  if (!fs_.sync(file) || !fs_.rename(file, dest)) return std::nullopt;
+  if (known_at) *known_at = now;
   return d;
 }
 
-bool Cache::materialize(const Digest& d, const fs::path& dest) {
+bool Cache::materialize(const Digest& d, const fs::path& dest, bool verify, std::int64_t* known_at) {
   const fs::path src = blob_path(d.hash);
-  auto bytes = fs_.read(src);
-  if (!bytes) return false;
-  if (!(digest_bytes(*bytes) == d)) {
-    fs_.remove(src);  // corrupt: never used, rebuilt by the caller
-    return false;
+  const std::int64_t now = fs_.now_ns();
+  if (verify) {
+    auto actual = fs_.digest(src);
+    if (!actual) return false;
+    if (!(*actual == d)) {
+      fs_.remove(src);  // corrupt: never used, rebuilt by the caller
+      return false;
+    }
   }
-  return fs_.write_atomic(dest, *bytes);
+  bool linked = false;
+  if (!fs_.link_or_copy(src, dest, &linked)) return false;
+  if (!linked) fs_.set_mtime(dest, now - 1);  // a copy is as settled as the blob it copies
+  if (known_at) *known_at = now;
+  return true;
 }
 
 std::unique_ptr<FileLock> Cache::lock_action(const std::string& key) {
   return fs_.lock(root_ / "locks" / key.substr(0, 2) / key);
+}
+
+std::unique_ptr<FileLock> Cache::lock_for_build() { return fs_.lock_shared(root_ / "locks" / "gc"); }
+std::unique_ptr<FileLock> Cache::lock_for_gc() { return fs_.lock(root_ / "locks" / "gc"); }
+std::unique_ptr<FileLock> Cache::try_lock_for_gc() { return fs_.try_lock(root_ / "locks" / "gc"); }
+
+std::uint64_t Cache::blob_bytes() {
+  std::uint64_t total = 0;
+  for (const auto& fan : fs_.list(root_ / "cas"))
+    for (const auto& b : fs_.list(root_ / "cas" / fan))
+      if (auto st = fs_.stat(root_ / "cas" / fan / b)) total += st->size;
+  return total;
 }
 
 fs::path Cache::make_scratch_dir() {
@@ -165,8 +191,8 @@ std::uint64_t Cache::verify_all() {
   for (const auto& fan : fs_.list(root_ / "cas"))
     for (const auto& b : fs_.list(root_ / "cas" / fan)) {
       const fs::path p = root_ / "cas" / fan / b;
-      auto bytes = fs_.read(p);
-      if (!bytes || sha256_hex(*bytes) != b) {
+      auto d = fs_.digest(p);
+      if (!d || d->hash != b) {
         if (fs_.remove(p)) ++removed;
       }
     }

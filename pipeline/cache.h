@@ -51,19 +51,32 @@ class Cache {
   std::optional<ActionResult> lookup(const std::string& key);
   void store_action(const std::string& key, const ActionResult& result);
 
-  // Hashes `file` and stores it in the CAS (no copy if an intact blob already exists).
-  std::optional<Digest> put_file(const std::filesystem::path& file);
+  // Hashes `file` and moves it into the CAS (a rename: the bytes are not copied), read-only,
+  // replacing any blob of that name. Its mtime is set just below the clock read before hashing,
+  // so every later write to it (or to a hard link of it) is visible to DigestCache.
+  // `known_at` (if given) receives that clock value. The file is gone afterwards.
+  std::optional<Digest> put_file(const std::filesystem::path& file, std::int64_t* known_at = nullptr);
 
-  // Copies blob `d` to `dest` atomically, verifying its content on the way. A blob that does
-  // not match its digest is deleted and false returned (the caller rebuilds).
-  bool materialize(const Digest& d, const std::filesystem::path& dest);
+  // Makes `dest` hold blob `d`: a hard link where possible (bytes stored once), else a copy;
+  // atomically. With `verify`, the blob is hashed first, and one that does not match its
+  // digest is deleted and false returned (the caller rebuilds). `known_at` receives the clock
+  // read before the content was verified (for DigestCache::record).
+  bool materialize(const Digest& d, const std::filesystem::path& dest, bool verify = true,
+                   std::int64_t* known_at = nullptr);
 
   // Exclusive lock for running action `key` (other processes wait, then hit the cache).
   std::unique_ptr<FileLock> lock_action(const std::string& key);
+  // Held (shared) by every build for its whole run, and exclusively by gc: eviction never
+  // deletes a blob a running build is storing or publishing.
+  std::unique_ptr<FileLock> lock_for_build();
+  std::unique_ptr<FileLock> lock_for_gc();
+  std::unique_ptr<FileLock> try_lock_for_gc();  // nullptr if a build is running
   // A fresh, empty scratch directory under tmp/.
   std::filesystem::path make_scratch_dir();
 
   CacheStats stats();
+  // Bytes held by blobs (one stat per blob; no content is read).
+  std::uint64_t blob_bytes();
   // Removes stale tmp/ entries (older than an hour), then evicts least recently used action
   // results until blobs referenced take at most `max_bytes` (0: keep all results), then deletes
   // every blob no remaining action result references.

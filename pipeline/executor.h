@@ -1,8 +1,10 @@
 // Runs a checked recipe: computes each node's action key, reuses cached results, runs stages
 // for the rest in parallel (oneTBB, at most `jobs` at a time), stores and publishes outputs.
 //
-// Outputs of node N land in <out_dir>/N/ (out_dir is out/<recipe>/); the action record of the
-// last completed run of N goes to <out_dir>/.sylva/N.json for `sylva explain`.
+// Outputs of node N land in <out_dir>/N/ (out_dir is out/<recipe>/), hard-linked from the CAS
+// where the file system allows (else copied); the action record of the last completed run of N
+// goes to <out_dir>/.sylva/N.json for `sylva explain`. <out_dir>/.sylva/digests (DigestCache)
+// remembers the stat of every published and hashed file, so a no-op build reads no content.
 // A failed node stops the build (dependents and not-yet-started nodes are "skipped") unless
 // keep_going, which builds everything that does not depend on a failure. Cancellation (Ctrl-C)
 // starts nothing new and interrupts stages at their next check_cancelled().
@@ -17,6 +19,7 @@
 #include "pipeline/action.h"
 #include "pipeline/cache.h"
 #include "pipeline/clock.h"
+#include "pipeline/digest_cache.h"
 #include "pipeline/filesystem.h"
 #include "pipeline/recipe.h"
 
@@ -55,7 +58,14 @@ struct BuildOptions {
   bool keep_going = false;
   bool dry_run = false;
   std::vector<std::string> targets;  // node names or glob patterns; empty = all nodes
+  // After a build that stored new blobs, least recently used results are evicted while the
+  // cache's blobs exceed this many bytes. nullopt: kDefaultCacheShare of (free disk + cache);
+  // 0: never evict.
+  std::optional<std::uint64_t> cache_max_bytes;
 };
+
+// The default cache limit: this share of the free space plus what the cache already holds.
+inline constexpr double kDefaultCacheShare = 0.25;
 
 struct BuildEnv {
   FileSystem& fs;
@@ -69,6 +79,8 @@ struct BuildEnv {
 struct BuildSummary {
   std::vector<NodeReport> nodes;  // topological order; only nodes in the target closure
   double seconds = 0;
+  GcResult evicted;  // what automatic eviction removed after the build (usually nothing)
+  std::string warning;  // non-empty: a bookkeeping write failed (the build result still holds)
   std::size_t count(NodeStatus s) const;
   bool interrupted() const { return count(NodeStatus::kInterrupted) > 0; }
   bool ok() const { return count(NodeStatus::kFailed) == 0 && count(NodeStatus::kSkipped) == 0 && !interrupted(); }
@@ -79,10 +91,11 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
                        std::string* error);
 
 // The action node `index` would run now, given the outputs of its inputs; nullopt (and
-// `error`) if a declared file cannot be read.
+// `error`) if a declared file cannot be read. File parameters are hashed through `digests`
+// (unchanged files are not read).
 std::optional<ActionRecord> describe_action(const Recipe& recipe, std::size_t index,
                                             const std::vector<std::vector<OutputEntry>>& upstream,
-                                            std::string* error);
+                                            DigestCache& digests, std::string* error);
 
 // `sylva explain`: why `node` will rebuild (or that it will not), one line per reason.
 std::vector<std::string> explain_node(const Recipe& recipe, const BuildEnv& env, const std::string& node);

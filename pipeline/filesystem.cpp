@@ -6,6 +6,8 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -34,13 +36,13 @@ bool write_all(int fd, const char* data, std::size_t n) {
 
 // Writes through `fill` into a temp sibling of `p`, then renames it into place.
 template <class Fill>
-bool atomic_replace(const fs::path& p, Fill fill) {
+bool atomic_replace(const fs::path& p, Fill fill, bool durable = true) {
   std::error_code ec;
   if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
   const fs::path tmp = unique_temp_path(p);
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return false;
-  bool ok = fill(fd) && ::fsync(fd) == 0;
+  bool ok = fill(fd) && (!durable || ::fsync(fd) == 0);
   ok = (::close(fd) == 0) && ok;
   if (ok && ::rename(tmp.c_str(), p.c_str()) == 0) return true;
   ::unlink(tmp.c_str());
@@ -96,8 +98,8 @@ std::optional<std::string> RealFileSystem::read(const fs::path& p, std::string* 
   return out;
 }
 
-bool RealFileSystem::write_atomic(const fs::path& p, std::string_view bytes) {
-  return atomic_replace(p, [&](int fd) { return write_all(fd, bytes.data(), bytes.size()); });
+bool RealFileSystem::write_atomic(const fs::path& p, std::string_view bytes, bool durable) {
+  return atomic_replace(p, [&](int fd) { return write_all(fd, bytes.data(), bytes.size()); }, durable);
 }
 
 bool RealFileSystem::copy_atomic(const fs::path& from, const fs::path& to) {
@@ -122,7 +124,14 @@ bool RealFileSystem::copy_atomic(const fs::path& from, const fs::path& to) {
 std::optional<FileInfo> RealFileSystem::stat(const fs::path& p) {
   struct stat st {};
   if (::stat(p.c_str(), &st) != 0) return std::nullopt;
-  return FileInfo{S_ISDIR(st.st_mode), static_cast<std::uint64_t>(st.st_size)};
+  FileInfo info;
+  info.is_dir = S_ISDIR(st.st_mode);
+  info.size = static_cast<std::uint64_t>(st.st_size);
+  info.mtime_ns = std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+  info.ctime_ns = std::int64_t(st.st_ctim.tv_sec) * 1000000000 + st.st_ctim.tv_nsec;
+  info.ino = static_cast<std::uint64_t>(st.st_ino);
+  info.dev = static_cast<std::uint64_t>(st.st_dev);
+  return info;
 }
 
 bool RealFileSystem::remove(const fs::path& p) {
@@ -153,12 +162,13 @@ std::vector<std::string> RealFileSystem::list(const fs::path& dir) {
   return out;
 }
 
-std::unique_ptr<FileLock> RealFileSystem::lock(const fs::path& p) {
+namespace {
+std::unique_ptr<FileLock> flock_path(const fs::path& p, int how) {
   std::error_code ec;
   if (p.has_parent_path()) fs::create_directories(p.parent_path(), ec);
   int fd = ::open(p.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) return nullptr;
-  while (::flock(fd, LOCK_EX) != 0) {
+  while (::flock(fd, how) != 0) {
     if (errno != EINTR) {
       ::close(fd);
       return nullptr;
@@ -166,6 +176,11 @@ std::unique_ptr<FileLock> RealFileSystem::lock(const fs::path& p) {
   }
   return std::make_unique<FlockLock>(fd);
 }
+}  // namespace
+
+std::unique_ptr<FileLock> RealFileSystem::lock(const fs::path& p) { return flock_path(p, LOCK_EX); }
+std::unique_ptr<FileLock> RealFileSystem::lock_shared(const fs::path& p) { return flock_path(p, LOCK_SH); }
+std::unique_ptr<FileLock> RealFileSystem::try_lock(const fs::path& p) { return flock_path(p, LOCK_EX | LOCK_NB); }
 
 void RealFileSystem::make_read_only(const fs::path& p) { ::chmod(p.c_str(), 0444); }
 
@@ -178,6 +193,86 @@ std::optional<double> RealFileSystem::age_seconds(const fs::path& p) {
   ::clock_gettime(CLOCK_REALTIME, &now);
   return static_cast<double>(now.tv_sec - st.st_mtim.tv_sec) +
          1e-9 * static_cast<double>(now.tv_nsec - st.st_mtim.tv_nsec);
+}
+
+std::optional<Digest> RealFileSystem::digest(const fs::path& p, std::string* error) {
+  int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    if (error) *error = std::strerror(errno);
+    return std::nullopt;
+  }
+  // One buffer per thread, allocated once and never cleared: hashing a 60-byte file costs a
+  // 60-byte read, not a fresh zeroed megabyte.
+  constexpr std::size_t kChunk = 1 << 18;
+  thread_local std::unique_ptr<char[]> buf(new char[kChunk]);
+  Sha256 h;
+  std::uint64_t total = 0;
+  for (;;) {
+    ssize_t n = ::read(fd, buf.get(), kChunk);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      if (error) *error = std::strerror(errno);
+      ::close(fd);
+      return std::nullopt;
+    }
+    if (n == 0) break;
+    h.update(buf.get(), static_cast<std::size_t>(n));
+    total += static_cast<std::uint64_t>(n);
+  }
+  ::close(fd);
+  return Digest{h.finish_hex(), total};
+}
+
+bool RealFileSystem::link_or_copy(const fs::path& from, const fs::path& to, bool* linked) {
+  std::error_code ec;
+  if (to.has_parent_path()) fs::create_directories(to.parent_path(), ec);
+  const fs::path tmp = unique_temp_path(to);
+  if (::link(from.c_str(), tmp.c_str()) == 0) {
+    if (::rename(tmp.c_str(), to.c_str()) == 0) {
+      if (linked) *linked = true;
+      return true;
+    }
+    ::unlink(tmp.c_str());
+    return false;
+  }
+  // EXDEV (another file system), EPERM/EMLINK (no hard links here): store a copy instead.
+  if (linked) *linked = false;
+  return copy_atomic(from, to);
+}
+
+bool RealFileSystem::sync(const fs::path& p) {
+  int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = ::fsync(fd) == 0;
+  return (::close(fd) == 0) && ok;
+}
+
+bool RealFileSystem::rename(const fs::path& from, const fs::path& to) {
+  return ::rename(from.c_str(), to.c_str()) == 0;
+}
+
+void RealFileSystem::set_mtime(const fs::path& p, std::int64_t mtime_ns) {
+  struct timespec times[2];
+  times[0].tv_sec = 0;
+  times[0].tv_nsec = UTIME_OMIT;
+  times[1].tv_sec = static_cast<time_t>(mtime_ns / 1000000000);
+  times[1].tv_nsec = static_cast<long>(mtime_ns % 1000000000);
+  ::utimensat(AT_FDCWD, p.c_str(), times, 0);
+}
+
+std::int64_t RealFileSystem::now_ns() {
+  struct timespec now {};
+  ::clock_gettime(CLOCK_REALTIME_COARSE, &now);
+  return std::int64_t(now.tv_sec) * 1000000000 + now.tv_nsec;
+}
+
+std::optional<std::uint64_t> RealFileSystem::free_bytes(const fs::path& p) {
+  struct statvfs v {};
+  fs::path at = p;
+  std::error_code ec;
+  while (!at.empty() && !fs::exists(at, ec)) at = at.parent_path();
+  if (::statvfs(at.empty() ? "." : at.c_str(), &v) != 0) return std::nullopt;
+  return static_cast<std::uint64_t>(v.f_bavail) * static_cast<std::uint64_t>(v.f_frsize);
 }
 
 }  // namespace sylva

@@ -7,15 +7,24 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "pipeline/digest.h"
 
 namespace sylva {
 
 namespace fs = std::filesystem;
 
+// What stat(2) says about a file: enough to tell, without reading it, that it has not changed
+// since it was last hashed (ninja's build log and Bazel's digest cache keep the same facts).
 struct FileInfo {
   bool is_dir = false;
   std::uint64_t size = 0;
+  std::int64_t mtime_ns = 0;  // content modification time, ns since the epoch
+  std::int64_t ctime_ns = 0;  // inode change time (any write, chmod, link, rename of the inode)
+  std::uint64_t ino = 0, dev = 0;
+  friend bool operator==(const FileInfo&, const FileInfo&) = default;
 };
 
 // Held while a cross-process lock is owned; released on destruction.
@@ -33,7 +42,9 @@ class FileSystem {
   virtual std::optional<std::string> read(const fs::path& p, std::string* error = nullptr) = 0;
   // Writes `bytes` to a temporary sibling, fsyncs, and renames it over `p`: readers see the old
   // file or the new one, never a partial one. Creates parent directories. False on failure.
-  virtual bool write_atomic(const fs::path& p, std::string_view bytes) = 0;
+  // `durable` false skips the fsync (files that are only caches or reports: after a power loss
+  // they may be empty or old, never partial under their name while the system runs).
+  virtual bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true) = 0;
   // Copies `from` to `to` atomically (temp + fsync + rename). False on failure.
   virtual bool copy_atomic(const fs::path& from, const fs::path& to) = 0;
   virtual std::optional<FileInfo> stat(const fs::path& p) = 0;
@@ -49,12 +60,34 @@ class FileSystem {
   virtual void touch(const fs::path& p) = 0;
   // Seconds since the file was last modified (nullopt if absent).
   virtual std::optional<double> age_seconds(const fs::path& p) = 0;
+
+  // SHA-256 and size of the file's content, streamed (never the whole file in memory); nullopt
+  // (and `error` set to the reason) if it cannot be read.
+  virtual std::optional<Digest> digest(const fs::path& p, std::string* error = nullptr) = 0;
+  // Makes `to` name the same bytes as `from`: a hard link where the file system allows it
+  // (store once), else a copy; atomically (temporary sibling, then rename). `linked` says which.
+  virtual bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr) = 0;
+  // fsync(2) of an existing file (before a rename makes it durable under a trusted name).
+  virtual bool sync(const fs::path& p) = 0;
+  // rename(2): atomically replaces `to`. False on failure.
+  virtual bool rename(const fs::path& from, const fs::path& to) = 0;
+  // Sets the modification time (ns since the epoch), best effort.
+  virtual void set_mtime(const fs::path& p, std::int64_t mtime_ns) = 0;
+  // A shared advisory lock (many holders; excludes lock()/try_lock()). Blocks; nullptr on error.
+  virtual std::unique_ptr<FileLock> lock_shared(const fs::path& p) = 0;
+  // The exclusive lock if it is free now, else nullptr (never blocks).
+  virtual std::unique_ptr<FileLock> try_lock(const fs::path& p) = 0;
+  // The clock file timestamps are taken from (CLOCK_REALTIME_COARSE), ns since the epoch: a
+  // file written after now_ns() returned has a timestamp >= its value (the racy-git rule).
+  virtual std::int64_t now_ns() = 0;
+  // Free bytes for unprivileged users on the file system holding `p` (nullopt if unknown).
+  virtual std::optional<std::uint64_t> free_bytes(const fs::path& p) = 0;
 };
 
 class RealFileSystem final : public FileSystem {
  public:
   std::optional<std::string> read(const fs::path& p, std::string* error) override;
-  bool write_atomic(const fs::path& p, std::string_view bytes) override;
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true) override;
   bool copy_atomic(const fs::path& from, const fs::path& to) override;
   std::optional<FileInfo> stat(const fs::path& p) override;
   bool remove(const fs::path& p) override;
@@ -65,6 +98,15 @@ class RealFileSystem final : public FileSystem {
   void make_read_only(const fs::path& p) override;
   void touch(const fs::path& p) override;
   std::optional<double> age_seconds(const fs::path& p) override;
+  std::optional<Digest> digest(const fs::path& p, std::string* error) override;
+  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked) override;
+  bool sync(const fs::path& p) override;
+  bool rename(const fs::path& from, const fs::path& to) override;
+  void set_mtime(const fs::path& p, std::int64_t mtime_ns) override;
+  std::unique_ptr<FileLock> lock_shared(const fs::path& p) override;
+  std::unique_ptr<FileLock> try_lock(const fs::path& p) override;
+  std::int64_t now_ns() override;
+  std::optional<std::uint64_t> free_bytes(const fs::path& p) override;
 };
 
 // A name for a temporary sibling of `p` that no other thread or process uses.

@@ -353,8 +353,8 @@ struct MatrixVar {
 
 class Loader {
  public:
-  Loader(const StageRegistry& reg, FileSystem& fs, Diagnostics& diags)
-      : reg_(reg), fs_(fs), diags_(diags), yaml_(fs, src_, diags), params_(fs, src_, diags) {}
+  Loader(const StageRegistry& reg, FileSystem& fs, Diagnostics& diags, const fs::path& parse_cache_dir)
+      : reg_(reg), fs_(fs), diags_(diags), yaml_(fs, src_, diags, parse_cache_dir), params_(fs, src_, diags) {}
 
   std::optional<Recipe> load(const fs::path& file) {
     recipe_.file = file;
@@ -757,8 +757,8 @@ class Loader {
 }  // namespace
 
 std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& registry,
-                                  FileSystem& fs, Diagnostics& diags) {
-  Loader loader(registry, fs, diags);
+                                  FileSystem& fs, Diagnostics& diags, const fs::path& parse_cache_dir) {
+  Loader loader(registry, fs, diags, parse_cache_dir);
   return loader.load(file);
 }
 

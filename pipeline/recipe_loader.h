@@ -13,7 +13,9 @@ namespace sylva {
 
 // Loads and validates `file`. On any problem, returns nullopt with every problem found in
 // `diags` (each at its file:line:col, with the source line for a caret display).
+// `parse_cache_dir` (optional) keeps parsed YAML trees between runs (yaml_tree.h, YamlReader).
 std::optional<Recipe> load_recipe(const std::filesystem::path& file, const StageRegistry& registry,
-                                  FileSystem& fs, Diagnostics& diags);
+                                  FileSystem& fs, Diagnostics& diags,
+                                  const std::filesystem::path& parse_cache_dir = {});
 
 }  // namespace sylva

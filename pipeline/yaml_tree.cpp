@@ -1,9 +1,12 @@
 #include "pipeline/yaml_tree.h"
+#include "pipeline/digest.h"
+
+#include <cstring>
+#include <string_view>
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <sstream>
 
 namespace sylva {
 
@@ -17,20 +20,24 @@ const char* RawNode::kind_name() const {
   return "?";
 }
 
-void SourceFiles::add(const std::string& file, std::string text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) {
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    lines.push_back(std::move(l));
-  }
-  lines_[file] = std::move(lines);
-}
+void SourceFiles::add(const std::string& file, std::string text) { texts_[file] = std::move(text); }
 
 std::string SourceFiles::line(const std::string& file, int line) const {
-  auto it = lines_.find(file);
-  if (it == lines_.end() || line < 1 || line > static_cast<int>(it->second.size())) return {};
-  return it->second[line - 1];
+  // Split on demand: a 10,000-node recipe is read on every build, and only errors show lines.
+  auto it = texts_.find(file);
+  if (it == texts_.end() || line < 1) return {};
+  const std::string& t = it->second;
+  std::size_t at = 0;
+  for (int i = 1; i < line; ++i) {
+    at = t.find('\n', at);
+    if (at == std::string::npos) return {};
+    ++at;
+  }
+  if (at >= t.size()) return {};
+  std::size_t end = t.find('\n', at);
+  std::string l = t.substr(at, end == std::string::npos ? std::string::npos : end - at);
+  if (!l.empty() && l.back() == '\r') l.pop_back();
+  return l;
 }
 
 void SourceFiles::error(Diagnostics& diags, const SourceLoc& loc, std::string message) const {
@@ -50,27 +57,81 @@ std::optional<RawNode> YamlReader::read(const std::filesystem::path& file, const
   return read_impl(file, from);
 }
 
-std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
-                                             const SourceLoc& from) {
-  const std::string name = file.lexically_normal().string();
-  if (std::find(stack_.begin(), stack_.end(), name) != stack_.end()) {
-    std::string chain;
-    for (const auto& s : stack_) chain += s + " -> ";
-    sources_.error(diags_, from, "include cycle: " + chain + name);
-    return std::nullopt;
-  }
-  std::string why;
-  auto text = fs_.read(file, &why);
-  if (!text) {
-    sources_.error(diags_, from,
-                   "cannot read '" + name + "': " + why);
-    return std::nullopt;
-  }
-  sources_.add(name, *text);
+namespace {
 
+// The parse cache's entry format: magic, SHA-256 of the source text, then the tree, each node
+// as kind, include flag, line, column, text and children (a map's entries as key, value pairs).
+constexpr std::string_view kParseMagic = "sylva-parse-v1\n";
+
+void put_u32(std::string& out, std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+
+void put_tree(std::string& out, const RawNode& n) {
+  out += static_cast<char>(n.kind);
+  out += static_cast<char>(n.include ? 1 : 0);
+  put_u32(out, static_cast<std::uint32_t>(n.loc.line));
+  put_u32(out, static_cast<std::uint32_t>(n.loc.col));
+  put_u32(out, static_cast<std::uint32_t>(n.text.size()));
+  out += n.text;
+  const std::size_t count = n.is_map() ? n.entries.size() : n.items.size();
+  put_u32(out, static_cast<std::uint32_t>(count));
+  if (n.is_map()) {
+    for (const auto& [k, v] : n.entries) {
+      put_tree(out, k);
+      put_tree(out, v);
+    }
+  } else {
+    for (const auto& i : n.items) put_tree(out, i);
+  }
+}
+
+struct TreeReader {
+  std::string_view s;
+  const std::string& file;
+  std::size_t at = 0;
+  bool ok = true;
+  std::uint32_t u32() {
+    if (s.size() - at < 4) {
+      ok = false;
+      return 0;
+    }
+    std::uint32_t v;
+    std::memcpy(&v, s.data() + at, 4);
+    at += 4;
+    return v;
+  }
+  bool node(RawNode& n, int depth) {
+    if (depth > 10000 || s.size() - at < 2) return ok = false;
+    const int kind = static_cast<unsigned char>(s[at]);
+    n.include = s[at + 1] != 0;
+    at += 2;
+    if (kind > static_cast<int>(RawNode::Kind::kMap)) return ok = false;
+    n.kind = static_cast<RawNode::Kind>(kind);
+    n.loc = {file, static_cast<int>(u32()), static_cast<int>(u32())};
+    const std::uint32_t len = u32();
+    if (!ok || s.size() - at < len) return ok = false;
+    n.text.assign(s.data() + at, len);
+    at += len;
+    const std::uint32_t count = u32();
+    if (!ok || count > s.size() - at) return ok = false;
+    if (n.is_map()) {
+      n.entries.resize(count);
+      for (auto& [k, v] : n.entries)
+        if (!node(k, depth + 1) || !node(v, depth + 1)) return false;
+    } else {
+      n.items.resize(count);
+      for (auto& i : n.items)
+        if (!node(i, depth + 1)) return false;
+    }
+    return ok;
+  }
+};
+
+}  // namespace
+
+std::optional<RawNode> YamlReader::parse(const std::string& name, const std::string& text) {
   YAML::Node root;
   try {
-    root = YAML::Load(*text);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     const SourceLoc at = loc_of(name, e.mark);
     std::string hint;
@@ -80,10 +141,8 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
     sources_.error(diags_, at, "malformed YAML: " + e.msg + hint);
     return std::nullopt;
   }
-
-  stack_.push_back(name);
   bool ok = true;
-  // Converts recursively; `!include` values are replaced by the included file's root.
+  // Converts recursively; `!include` values are marked, and replaced by resolve_includes().
   auto convert = [&](auto&& self, const YAML::Node& n, const SourceLoc& fallback) -> RawNode {
     RawNode r;
     r.loc = n.Mark().line >= 0 ? loc_of(name, n.Mark()) : fallback;
@@ -93,13 +152,10 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
         ok = false;
         return r;
       }
-      const auto target = file.parent_path() / n.Scalar();
-      auto inc = read_impl(target, r.loc);
-      if (!inc) {
-        ok = false;
-        return r;
-      }
-      return *inc;
+      r.kind = RawNode::Kind::kScalar;
+      r.text = n.Scalar();
+      r.include = true;
+      return r;
     }
     switch (n.Type()) {
       case YAML::NodeType::Scalar:
@@ -126,9 +182,71 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
     return r;
   };
   RawNode out = convert(convert, root, SourceLoc{name, 1, 1});
-  stack_.pop_back();
   if (!ok) return std::nullopt;
   return out;
+}
+
+bool YamlReader::resolve_includes(RawNode& n, const std::filesystem::path& file) {
+  if (n.include) {
+    auto inc = read_impl(file.parent_path() / n.text, n.loc);
+    if (!inc) return false;
+    n = std::move(*inc);
+    return true;
+  }
+  bool ok = true;
+  for (auto& i : n.items) ok = resolve_includes(i, file) && ok;
+  for (auto& [k, v] : n.entries) ok = resolve_includes(k, file) && resolve_includes(v, file) && ok;
+  return ok;
+}
+
+std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
+                                             const SourceLoc& from) {
+  const std::string name = file.lexically_normal().string();
+  if (std::find(stack_.begin(), stack_.end(), name) != stack_.end()) {
+    std::string chain;
+    for (const auto& s : stack_) chain += s + " -> ";
+    sources_.error(diags_, from, "include cycle: " + chain + name);
+    return std::nullopt;
+  }
+  std::string why;
+  auto text = fs_.read(file, &why);
+  if (!text) {
+    sources_.error(diags_, from,
+                   "cannot read '" + name + "': " + why);
+    return std::nullopt;
+  }
+  sources_.add(name, *text);
+
+  std::optional<RawNode> tree;
+  fs::path entry;
+  std::string text_hash;
+  if (!parse_cache_dir_.empty()) {
+    entry = parse_cache_dir_ / sha256_hex(name);
+    text_hash = sha256_hex(*text);
+    if (auto cached = fs_.read(entry); cached && cached->size() > kParseMagic.size() + 64 &&
+                                       cached->compare(0, kParseMagic.size(), kParseMagic) == 0 &&
+                                       cached->compare(kParseMagic.size(), 64, text_hash) == 0) {
+      TreeReader r{*cached, name, kParseMagic.size() + 64};
+      RawNode n;
+      if (r.node(n, 0) && r.at == cached->size()) tree = std::move(n);
+    }
+  }
+  if (!tree) {
+    tree = parse(name, *text);
+    if (!tree) return std::nullopt;
+    if (!entry.empty()) {
+      std::string out(kParseMagic);
+      out += text_hash;
+      put_tree(out, *tree);
+      fs_.write_atomic(entry, out, /*durable=*/false);  // best effort: a cache
+    }
+  }
+
+  stack_.push_back(name);
+  const bool ok = resolve_includes(*tree, file);
+  stack_.pop_back();
+  if (!ok) return std::nullopt;
+  return tree;
 }
 
 }  // namespace sylva

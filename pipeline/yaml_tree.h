@@ -25,6 +25,7 @@ struct RawNode {
   std::vector<RawNode> items;                       // kSeq
   std::vector<std::pair<RawNode, RawNode>> entries;  // kMap, in file order (duplicates kept)
   SourceLoc loc;
+  bool include = false;  // a `!include` scalar not yet replaced (only inside YamlReader)
 
   bool is_scalar() const { return kind == Kind::kScalar; }
   bool is_seq() const { return kind == Kind::kSeq; }
@@ -42,13 +43,17 @@ class SourceFiles {
   void error(Diagnostics& diags, const SourceLoc& loc, std::string message) const;
 
  private:
-  std::map<std::string, std::vector<std::string>> lines_;
+  std::map<std::string, std::string> texts_;
 };
 
+// Parsing a 10,000-node recipe with yaml-cpp costs more than the no-op build it precedes, so
+// the reader can keep each file's parsed tree (before `!include` is resolved) in
+// `parse_cache_dir`, one entry per file path, used only while the file's bytes are the same
+// (their SHA-256 is in the entry). A missing, stale or damaged entry just means parsing again.
 class YamlReader {
  public:
-  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags)
-      : fs_(fs), sources_(sources), diags_(diags) {}
+  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags, std::filesystem::path parse_cache_dir = {})
+      : fs_(fs), sources_(sources), diags_(diags), parse_cache_dir_(std::move(parse_cache_dir)) {}
 
   // Parses `file` (a path as the user wrote it). On failure adds a diagnostic located at
   // `from` (the place that named the file; empty for the top-level recipe) and returns nullopt.
@@ -56,10 +61,13 @@ class YamlReader {
 
  private:
   std::optional<RawNode> read_impl(const std::filesystem::path& file, const SourceLoc& from);
+  std::optional<RawNode> parse(const std::string& name, const std::string& text);
+  bool resolve_includes(RawNode& n, const std::filesystem::path& file);
 
   FileSystem& fs_;
   SourceFiles& sources_;
   Diagnostics& diags_;
+  std::filesystem::path parse_cache_dir_;
   std::vector<std::string> stack_;  // files being read (include cycle detection)
 };
 

@@ -4,18 +4,19 @@
 #include "stages/import/import_stage.h"
 #include "stages/lod/lod_stage.h"
 #include "stages/mesh/mesh_stage.h"
-#include "stages/verify/verify_stage.h"
+#include "stages/verify/verify_info.h"
 
-// Each stage folder exposes one factory in its adapter header; list them here, sorted.
+// Each light stage folder exposes one factory in its adapter header; each heavy one its
+// StageInfo in <name>_info.h (and its factory in register_gfx_stages.cpp). List them, sorted.
 
 namespace sylva {
 
-void register_builtin_stages(StageRegistry& registry) {
+void register_builtin_stages(StageRegistry& registry, StageResolver& gfx) {
   registry.add(make_generate_stage());
   registry.add(make_import_stage());
   registry.add(make_lod_stage());
   registry.add(make_mesh_stage());
-  registry.add(make_verify_stage());
+  registry.add(make_lazy_stage(verify_stage_info(), gfx));
 }
 
 }  // namespace sylva

@@ -1,13 +1,9 @@
-// OpenImageIO is used through its in-memory I/O proxies: encoding into a byte vector first lets
-// write_png() write atomically and lets callers hash or cache PNG bytes without touching disk.
+// OpenImageIO reads every format it knows; PNG writing is libpng's (png.cpp).
 #include "libs/image/image_io.h"
 
-#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
-#include <fstream>
 #include <system_error>
-#include <unistd.h>
 
 namespace sylva::image {
 namespace {
@@ -59,57 +55,6 @@ Image read_image(const std::filesystem::path& path) {
     q[3] = alpha >= 0 ? p[alpha] : 255;
   }
   return img;
-}
-
-std::vector<std::uint8_t> encode_png(const Image& img) {
-  if (img.empty()) throw ImageError("<png>: error: cannot encode an empty image");
-  std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput proxy(bytes);
-  auto out = OIIO::ImageOutput::create("png");
-  if (!out) throw ImageError("<png>: error: OpenImageIO has no PNG writer");
-  // A fresh spec carries no metadata; only the format's own settings are fixed explicitly so
-  // that the bytes do not depend on a library default.
-  OIIO::ImageSpec spec(img.width(), img.height(), 4, OIIO::TypeDesc::UINT8);
-  spec.attribute("png:compressionLevel", 6);
-  // Our pixels are straight alpha, which is what PNG stores; without this OIIO would treat them
-  // as premultiplied and divide colour by alpha on the way out.
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  if (!out->set_ioproxy(&proxy)) throw ImageError("<png>: error: PNG writer cannot write to memory");
-  if (!out->open("memory.png", spec))
-    throw ImageError("<png>: error: cannot encode PNG: " + oiio_message(out->geterror()));
-  if (!out->write_image(OIIO::TypeDesc::UINT8, img.bytes().data()))
-    throw ImageError("<png>: error: cannot encode PNG: " + oiio_message(out->geterror()));
-  out->close();
-  return {bytes.begin(), bytes.end()};
-}
-
-void write_png(const Image& img, const std::filesystem::path& path) {
-  std::vector<std::uint8_t> bytes;
-  try {
-    bytes = encode_png(img);
-  } catch (const ImageError& e) {
-    std::string msg = e.what();
-    fail(path, msg.substr(msg.find("error: ") + 7));
-  }
-  std::filesystem::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) fail(path, "cannot open for writing");
-    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    f.close();
-    if (!f) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      fail(path, "write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    fail(path, "cannot rename temporary file into place");
-  }
 }
 
 }  // namespace sylva::image

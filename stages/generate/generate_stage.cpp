@@ -3,7 +3,7 @@
 // Seed: Nystad 2010, Appendix A (the preset's parameters) and §5.2.2 (one seeded PRNG).
 #include "stages/generate/generate_stage.h"
 
-#include "libs/image/image_io.h"
+#include "libs/image/png.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"

@@ -8,13 +8,11 @@
 
 #include "libs/render/camera.h"
 #include "stages/verify/report.h"
+#include "stages/verify/verify_info.h"
 
 namespace sylva {
 
 namespace {
-
-// Bump whenever the bytes of any output can change (report formats, file naming, verdicts).
-constexpr int kVersion = 1;
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -23,23 +21,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 class VerifyStage final : public Stage {
  public:
   explicit VerifyStage(std::function<render::Renderer&()> renderer) : renderer_(std::move(renderer)) {
-    info_.name = "verify";
-    info_.version = kVersion;
-    info_.summary = "render fixed views of every glTF input, compare with reference images, report (JSON, JUnit, HTML)";
-    info_.inputs = InputSpec{{"mesh", "lod", "impostor", "forest", "pack"}, 1, -1,
-                             "artifacts with .glb/.gltf files; each file is one asset, named after its node"};
-    info_.output_type = "report";
-    info_.params = {
-        Param::path("cameras").describe("camera set (configs/cameras/verify.yaml: 384 px, 4x MSAA, 4 views)"),
-        Param::dir("references").describe("directory of reference images <asset>__<view>.png"),
-        Param::real("pixel_threshold", 0.016).range(0, 1)
-            .describe("a pixel fails when any channel differs by more than this (full scale 1; 0.016 = 4/255)"),
-        Param::real("max_failing_fraction", 0.01).range(0, 1)
-            .describe("a view fails when more than this fraction of its pixels fail"),
-        Param::real("min_psnr_db", 0.0).range(0, 200)
-            .describe("a view also fails when its PSNR is below this (dB); 0 = not checked"),
-        Param::boolean("compare_alpha", true).describe("compare the alpha channel too"),
-    };
+    info_ = verify_stage_info();
   }
 
   const StageInfo& info() const override { return info_; }

@@ -152,8 +152,11 @@ TEST_F(BuildTest, TruncatedBlobIsAMissAndEditedOutputIsRepaired) {
   auto s1 = build(r);
   Cache cache(fs_, dir_ / "cache");
   const fs::path blob = cache.blob_path(report(s1, "b").outputs.at(0).digest.hash);
-  fs::permissions(blob, fs::perms::owner_write, fs::perm_options::add);
+  // Replace the blob by a truncated file (a new inode: out/r/b/out.txt keeps the old bytes).
+  fs::remove(blob);
   test::write_file(blob, "");
+  // An editor's save: a new file under the output's name, not a write through the hard link.
+  fs::remove(dir_ / "out/r/top/out.txt");
   test::write_file(dir_ / "out/r/top/out.txt", "tampered");
   test::write_file(dir_ / "out/r/top/stray.txt", "junk");
   log_.clear();
@@ -162,6 +165,33 @@ TEST_F(BuildTest, TruncatedBlobIsAMissAndEditedOutputIsRepaired) {
   EXPECT_EQ(report(s2, "top").status, NodeStatus::kCached);
   EXPECT_EQ(out("top"), out("a") + "B\n!");
   EXPECT_FALSE(fs::exists(dir_ / "out/r/top/stray.txt"));
+}
+
+// Outputs are hard links to their read-only CAS blobs (stored once). A write through the link
+// (only root, or after chmod, can make one) changes the blob too: the next build sees the
+// changed stat, hashes, finds the blob corrupt, deletes it and rebuilds; nothing corrupt is used.
+TEST_F(BuildTest, OutputsAreReadOnlyHardLinksAndAWriteThroughOneIsRepaired) {
+  Recipe r = load(chain(1));
+  auto s1 = build(r);
+  Cache cache(fs_, dir_ / "cache");
+  const fs::path blob = cache.blob_path(report(s1, "top").outputs.at(0).digest.hash);
+  const fs::path published = dir_ / "out/r/top/out.txt";
+  EXPECT_TRUE(fs::equivalent(blob, published));
+  EXPECT_EQ(fs::status(published).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  const std::string good = out("top");
+  fs::permissions(published, fs::perms::owner_write, fs::perm_options::add);
+  std::string bad = good;
+  bad[0] = bad[0] == 'Z' ? 'Y' : 'Z';
+  test::write_file(published, bad);  // in place: the blob changes with it
+  EXPECT_EQ(test::read_file(blob), bad);
+  log_.clear();
+  auto s2 = build(r);
+  EXPECT_TRUE(s2.ok());
+  EXPECT_EQ(report(s2, "top").status, NodeStatus::kBuilt);
+  EXPECT_EQ(log_.count("top"), 1);
+  EXPECT_EQ(out("top"), good);
+  EXPECT_EQ(test::read_file(blob), good);
 }
 
 TEST_F(BuildTest, CacheVerifyAndGc) {
@@ -335,6 +365,42 @@ TEST_F(BuildTest, ConcurrentBuildsShareOneCacheSafely) {
   EXPECT_EQ(s1.count(NodeStatus::kBuilt) + s2.count(NodeStatus::kBuilt), r.nodes.size());
   EXPECT_EQ(log_.total(), static_cast<int>(r.nodes.size()));
   EXPECT_EQ(test::read_file(dir_ / "out1/r/all/out.txt"), test::read_file(dir_ / "out2/r/all/out.txt"));
+}
+
+}  // namespace
+}  // namespace sylva
+
+namespace sylva {
+namespace {
+
+// After a build that stored blobs, least recently used results are evicted while the cache is
+// above its limit; this build's own results (just used) stay.
+TEST_F(BuildTest, CacheAboveItsLimitEvictsLeastRecentlyUsedResultsAfterABuild) {
+  build(load("version: 1\nname: r\nnodes:\n  old:\n    stage: text\n    with: { text: OLD, count: 200 }\n"));
+  Cache cache(fs_, dir_ / "cache");
+  fs::last_write_time(cache.action_path(build(load("version: 1\nname: r\nnodes:\n  old:\n    stage: text\n    with: { text: OLD, count: 200 }\n")).nodes[0].key),
+                      fs::file_time_type::clock::now() - std::chrono::hours(48));
+  const std::uint64_t old_bytes = cache.blob_bytes();
+  BuildOptions opt;
+  opt.cache_max_bytes = old_bytes;  // room for one of the two results
+  auto s = build(load("version: 1\nname: r\nnodes:\n  new:\n    stage: text\n    with: { text: NEW, count: 200 }\n"), opt);
+  EXPECT_EQ(s.evicted.actions_removed, 1u);
+  EXPECT_EQ(s.evicted.blobs_removed, 1u);
+  EXPECT_EQ(cache.stats().actions, 1u);
+  EXPECT_TRUE(cache.lookup(s.nodes[0].key));
+  EXPECT_LE(cache.blob_bytes(), old_bytes);
+}
+
+// gc and builds exclude each other through one lock: builds share it, gc needs it alone.
+TEST_F(BuildTest, GcWaitsForRunningBuilds) {
+  Cache cache(fs_, dir_ / "cache");
+  {
+    auto building = cache.lock_for_build();
+    auto other_build = Cache(fs_, dir_ / "cache").lock_for_build();  // builds run side by side
+    ASSERT_TRUE(building && other_build);
+    EXPECT_FALSE(cache.try_lock_for_gc());
+  }
+  EXPECT_TRUE(cache.try_lock_for_gc());
 }
 
 }  // namespace

@@ -10,24 +10,27 @@ namespace {
 
 const std::string kKey(64, 'a');
 
-TEST(CacheTest, PutFileStoresBlobUnderItsDigest) {
+TEST(CacheTest, PutFileMovesTheFileIntoTheCasUnderItsDigest) {
   test::FakeFileSystem fs;
-  fs.files["/s/out.txt"] = "hello";
+  fs.put("/s/out.txt", "hello");
   Cache cache(fs, "/c");
-  auto d = cache.put_file("/s/out.txt");
+  std::int64_t known_at = 0;
+  auto d = cache.put_file("/s/out.txt", &known_at);
   ASSERT_TRUE(d);
   EXPECT_EQ(d->hash, sha256_hex("hello"));
   EXPECT_EQ(d->size, 5u);
-  EXPECT_EQ(fs.files.at("/c/cas/" + d->hash.substr(0, 2) + "/" + d->hash), "hello");
-  // Storing the same content again writes nothing.
-  fs.writes.clear();
-  cache.put_file("/s/out.txt");
-  EXPECT_TRUE(fs.writes.empty());
+  const std::string blob = "/c/cas/" + d->hash.substr(0, 2) + "/" + d->hash;
+  EXPECT_EQ(fs.files.at(blob), "hello");
+  EXPECT_FALSE(fs.files.count("/s/out.txt"));  // moved, not copied
+  EXPECT_EQ(fs.writes, std::vector<std::string>{blob});
+  // Its mtime sits just below the clock read before hashing: any later write is newer.
+  EXPECT_EQ(known_at, fs.now);
+  EXPECT_EQ(fs.stat(blob)->mtime_ns, fs.now - 1);
 }
 
 TEST(CacheTest, HitRequiresEveryBlobPresentWithItsSize) {
   test::FakeFileSystem fs;
-  fs.files["/s/a"] = "aaa";
+  fs.put("/s/a", "aaa");
   Cache cache(fs, "/c");
   auto d = *cache.put_file("/s/a");
   cache.store_action(kKey, ActionResult{{{"a", d}}});
@@ -50,7 +53,7 @@ TEST(CacheTest, DamagedActionResultIsAMissNotAnError) {
 
 TEST(CacheTest, MaterializeRefusesAndDeletesCorruptBlob) {
   test::FakeFileSystem fs;
-  fs.files["/s/a"] = "good";
+  fs.put("/s/a", "good");
   Cache cache(fs, "/c");
   auto d = *cache.put_file("/s/a");
   fs.files[cache.blob_path(d.hash).string()] = "bad!";  // same size, other bytes
@@ -61,7 +64,7 @@ TEST(CacheTest, MaterializeRefusesAndDeletesCorruptBlob) {
 
 TEST(CacheTest, FailedBlobWriteStoresNothing) {
   test::FakeFileSystem fs;
-  fs.files["/s/a"] = "data";
+  fs.put("/s/a", "data");
   fs.fail_writes_containing = "/cas/";
   Cache cache(fs, "/c");
   EXPECT_FALSE(cache.put_file("/s/a"));
@@ -72,8 +75,8 @@ TEST(CacheTest, GcEvictsLeastRecentlyUsedAboveBudget) {
   test::FakeFileSystem fs;
   Cache cache(fs, "/c");
   const std::string k1(64, '1'), k2(64, '2');
-  fs.files["/s/old"] = std::string(100, 'o');
-  fs.files["/s/new"] = std::string(100, 'n');
+  fs.put("/s/old", std::string(100, 'o'));
+  fs.put("/s/new", std::string(100, 'n'));
   cache.store_action(k1, ActionResult{{{"o", *cache.put_file("/s/old")}}});
   cache.store_action(k2, ActionResult{{{"n", *cache.put_file("/s/new")}}});
   fs.ages[cache.action_path(k1).string()] = 500;  // k1 used long ago

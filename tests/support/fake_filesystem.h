@@ -1,5 +1,7 @@
-// An in-memory FileSystem for tests: records every write and can be told to fail writes whose
-// path contains a given substring (to prove that failures leave nothing half-written).
+// An in-memory FileSystem for tests: records every write and every content read, keeps a stat
+// (inode, mtime, ctime) per file stamped from a clock the test controls, and can be told to fail
+// writes whose path contains a given substring (to prove that failures leave nothing
+// half-written).
 #pragma once
 
 #include <map>
@@ -16,75 +18,174 @@ class FakeFileSystem final : public FileSystem {
  public:
   std::map<std::string, std::string> files;    // path -> content
   std::map<std::string, double> ages;          // path -> seconds since modified (default 0)
-  std::vector<std::string> writes;             // every successful write_atomic/copy target
+  std::vector<std::string> writes;             // every successful write_atomic/copy/link/rename target
+  std::vector<std::string> reads;              // every read() and digest() of a file's content
   std::string fail_writes_containing;          // non-empty: such writes fail
+  std::int64_t now = 1'700'000'000'123'456'789;  // the file-system clock (ns); tests advance it
+  std::uint64_t free = 1ull << 40;             // free_bytes()
+
+  // Content written behind the fake's back keeps a stat from the current clock.
+  void put(const std::string& path, const std::string& content) {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    files[key(path)] = content;
+    stamp(key(path), true);
+  }
 
   std::optional<std::string> read(const fs::path& p, std::string* error) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    auto it = files.find(p.lexically_normal().string());
+    auto it = files.find(key(p));
     if (it == files.end()) {
       if (error) *error = "No such file or directory";
       return std::nullopt;
     }
+    reads.push_back(it->first);
     return it->second;
   }
-  bool write_atomic(const fs::path& p, std::string_view bytes) override {
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool = true) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    const std::string k = p.lexically_normal().string();
-    if (!fail_writes_containing.empty() && k.find(fail_writes_containing) != std::string::npos) return false;
+    const std::string k = key(p);
+    if (failing(k)) return false;
     files[k] = std::string(bytes);
     ages[k] = 0;
+    stamp(k, true);
     writes.push_back(k);
     return true;
   }
   bool copy_atomic(const fs::path& from, const fs::path& to) override {
-    auto b = read(from, nullptr);
-    return b && write_atomic(to, *b);
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    auto it = files.find(key(from));
+    return it != files.end() && write_atomic(to, std::string(it->second));
   }
   std::optional<FileInfo> stat(const fs::path& p) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    const std::string k = p.lexically_normal().string();
-    if (auto it = files.find(k); it != files.end()) return FileInfo{false, it->second.size()};
+    const std::string k = key(p);
+    if (auto it = files.find(k); it != files.end()) {
+      FileInfo info = meta_[k];
+      info.is_dir = false;
+      info.size = it->second.size();
+      return info;
+    }
     for (const auto& [f, c] : files)
-      if (f.size() > k.size() && f.compare(0, k.size(), k) == 0 && f[k.size()] == '/') return FileInfo{true, 0};
+      if (f.size() > k.size() && f.compare(0, k.size(), k) == 0 && f[k.size()] == '/') {
+        FileInfo info = dir_meta_[k];
+        info.is_dir = true;
+        return info;
+      }
     return std::nullopt;
   }
   bool remove(const fs::path& p) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    files.erase(p.lexically_normal().string());
+    const std::string k = key(p);
+    if (files.erase(k)) touch_parent(k);
     return true;
   }
   bool remove_all(const fs::path& p) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    const std::string k = p.lexically_normal().string();
+    const std::string k = key(p);
     for (auto it = files.begin(); it != files.end();)
-      it = (it->first == k || it->first.rfind(k + "/", 0) == 0) ? files.erase(it) : std::next(it);
+      if (it->first == k || it->first.rfind(k + "/", 0) == 0) {
+        touch_parent(it->first);
+        it = files.erase(it);
+      } else {
+        ++it;
+      }
     return true;
   }
   bool make_dirs(const fs::path&) override { return true; }
   std::vector<std::string> list(const fs::path& dir) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    const std::string k = dir.lexically_normal().string() + "/";
+    const std::string k = key(dir) + "/";
     std::set<std::string> names;
     for (const auto& [f, c] : files)
       if (f.rfind(k, 0) == 0) names.insert(f.substr(k.size(), f.find('/', k.size()) - k.size()));
     return {names.begin(), names.end()};
   }
   std::unique_ptr<FileLock> lock(const fs::path&) override { return std::make_unique<FileLock>(); }
-  void make_read_only(const fs::path&) override {}
+  std::unique_ptr<FileLock> lock_shared(const fs::path&) override { return std::make_unique<FileLock>(); }
+  std::unique_ptr<FileLock> try_lock(const fs::path&) override { return std::make_unique<FileLock>(); }
+  void make_read_only(const fs::path& p) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    meta_[key(p)].ctime_ns = now;
+  }
   void touch(const fs::path& p) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    ages[p.lexically_normal().string()] = 0;
+    ages[key(p)] = 0;
+    meta_[key(p)].mtime_ns = meta_[key(p)].ctime_ns = now;
   }
   std::optional<double> age_seconds(const fs::path& p) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
-    const std::string k = p.lexically_normal().string();
+    const std::string k = key(p);
     if (auto it = ages.find(k); it != ages.end()) return it->second;
     return stat(p) ? std::optional<double>(0.0) : std::nullopt;
   }
+  std::optional<Digest> digest(const fs::path& p, std::string* error) override {
+    auto bytes = read(p, error);
+    if (!bytes) return std::nullopt;
+    return digest_bytes(*bytes);
+  }
+  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    const std::string f = key(from), t = key(to);
+    auto it = files.find(f);
+    if (it == files.end() || failing(t)) return false;
+    files[t] = it->second;
+    meta_[f].ctime_ns = now;  // a new link changes the inode's ctime
+    meta_[t] = meta_[f];
+    touch_parent(t);
+    writes.push_back(t);
+    if (linked) *linked = true;
+    return true;
+  }
+  bool sync(const fs::path& p) override { return stat(p).has_value(); }
+  bool rename(const fs::path& from, const fs::path& to) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    const std::string f = key(from), t = key(to);
+    auto it = files.find(f);
+    if (it == files.end() || failing(t)) return false;
+    files[t] = std::move(it->second);
+    files.erase(it);
+    meta_[t] = meta_[f];
+    meta_[t].ctime_ns = now;
+    touch_parent(f);
+    touch_parent(t);
+    writes.push_back(t);
+    return true;
+  }
+  void set_mtime(const fs::path& p, std::int64_t mtime_ns) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    const std::string k = key(p);
+    FileInfo& m = files.count(k) ? meta_[k] : dir_meta_[k];
+    m.mtime_ns = mtime_ns;
+    m.ctime_ns = now;
+  }
+  std::int64_t now_ns() override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    return now;
+  }
+  std::optional<std::uint64_t> free_bytes(const fs::path&) override { return free; }
 
  private:
+  static std::string key(const fs::path& p) { return p.lexically_normal().string(); }
+  bool failing(const std::string& k) const {
+    return !fail_writes_containing.empty() && k.find(fail_writes_containing) != std::string::npos;
+  }
+  // A write makes a new inode (temp + rename) stamped now, and changes its directory.
+  void stamp(const std::string& k, bool new_inode) {
+    FileInfo& m = meta_[k];
+    if (new_inode) m.ino = ++next_ino_;
+    m.mtime_ns = m.ctime_ns = now;
+    touch_parent(k);
+  }
+  void touch_parent(const std::string& k) {
+    const std::string dir = fs::path(k).parent_path().string();
+    FileInfo& d = dir_meta_[dir];
+    if (d.ino == 0) d.ino = ++next_ino_;
+    d.mtime_ns = d.ctime_ns = now;
+  }
+
   std::recursive_mutex mu_;
+  std::map<std::string, FileInfo> meta_, dir_meta_;
+  std::uint64_t next_ino_ = 0;
 };
 
 }  // namespace sylva::test

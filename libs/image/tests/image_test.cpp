@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include "libs/image/image.h"
 #include "libs/image/image_io.h"
+#include "libs/image/png.h"
 #include "libs/image/resample.h"
 
 #include <stdexcept>
@@ -92,6 +94,53 @@ TEST(ImageIo, PngHasNoMetadataChunks) {
   }
   EXPECT_EQ(chunks.front(), "IHDR");
   EXPECT_EQ(chunks.back(), "IEND");
+}
+
+// libpng writes exactly the bytes OpenImageIO's PNG writer wrote with the settings sylva used
+// (level 6, straight alpha, its oFFs chunk): moving PNG output off OpenImageIO changed no file.
+TEST(ImageIo, LibpngBytesEqualOpenImageIoBytes) {
+  for (const Image& img : {gradient(64, 16), gradient(1, 1), gradient(300, 7), Image(33, 33, {9, 9, 9, 0})}) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    auto out = OIIO::ImageOutput::create("png");
+    OIIO::ImageSpec spec(img.width(), img.height(), 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("png:compressionLevel", 6);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    ASSERT_TRUE(out->set_ioproxy(&proxy));
+    ASSERT_TRUE(out->open("memory.png", spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, img.bytes().data()));
+    out->close();
+    const auto ours = encode_png(img);
+    EXPECT_EQ(std::vector<unsigned char>(ours.begin(), ours.end()), bytes) << img.width() << "x" << img.height();
+  }
+}
+
+// read_png (libpng) decodes what OpenImageIO reads: RGBA exactly, RGB opaque, grey replicated.
+TEST(ImageIo, ReadPngDecodesRgbaRgbAndGrey) {
+  test::TempDir dir;
+  const Image img = gradient(37, 23);
+  write_png(img, dir / "a.png");
+  EXPECT_EQ(read_png(dir / "a.png"), img);
+  const unsigned char rgb[2 * 3] = {10, 20, 30, 40, 50, 60};
+  auto out = OIIO::ImageOutput::create("png");
+  ASSERT_TRUE(out->open((dir / "rgb.png").string(), OIIO::ImageSpec(2, 1, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb));
+  out->close();
+  EXPECT_EQ(read_png(dir / "rgb.png"), read_image(dir / "rgb.png"));
+  EXPECT_EQ(read_png(dir / "rgb.png").at(1, 0), (Rgba8{40, 50, 60, 255}));
+  const unsigned char grey[2] = {7, 250};
+  out = OIIO::ImageOutput::create("png");
+  ASSERT_TRUE(out->open((dir / "grey.png").string(), OIIO::ImageSpec(2, 1, 1, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey));
+  out->close();
+  EXPECT_EQ(read_png(dir / "grey.png").at(1, 0), (Rgba8{250, 250, 250, 255}));
+  test::write_file(dir / "cut.png", test::read_file(dir / "a.png").substr(0, 60));
+  try {
+    read_png(dir / "cut.png");
+    FAIL() << "expected ImageError";
+  } catch (const ImageError& e) {
+    EXPECT_EQ(std::string(e.what()), (dir / "cut.png").string() + ": error: cannot decode image: file is truncated");
+  }
 }
 
 // Errors name the file and say what went wrong, in one line.

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <string>
 
-#include "libs/image/image_io.h"
+#include "libs/image/png.h"
 #include "libs/tree/stats.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"

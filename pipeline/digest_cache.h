@@ -1,0 +1,72 @@
+// What sylva remembers between builds so that a no-op reads no file's content: per path, the
+// stat (size, mtime, ctime, inode, device) the file had when its content was known to have a
+// digest, as ninja's build log keeps output mtimes and Bazel's digest cache keeps
+// (inode, mtime, ctime, size) -> digest. A file whose stat still matches is not read again.
+//
+// The racy-git rule: a record is kept only if the file's mtime is strictly older than the
+// file-system clock (FileSystem::now_ns) read *before* its content was established. Any later
+// write then gives the file a newer mtime, so a same-tick (same-second) edit can never hide
+// behind an identical stat. Whole-second timestamps (nanoseconds 0) need two seconds of age.
+// A write that also forges the old mtime changes ctime, which must match too. A record that
+// fails the rule is not kept: the file is simply hashed again next time.
+//
+// Stored in <out>/<recipe>/.sylva/digests (binary, rewritten atomically when it changed); a
+// missing or damaged file is an empty cache, never an error. Thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include "pipeline/digest.h"
+#include "pipeline/filesystem.h"
+
+namespace sylva {
+
+class DigestCache {
+ public:
+  // `file` is where the records live; nothing is read until load().
+  DigestCache(FileSystem& fs, std::filesystem::path file);
+
+  void load();
+  // Writes the records back if any changed. False if they could not be written.
+  bool save();
+
+  // The digest of file `p`: the recorded one if its stat is unchanged, else hashed now (and
+  // recorded). nullopt (and `error`) if it cannot be read.
+  std::optional<Digest> digest(const std::filesystem::path& p, std::string* error = nullptr);
+  // Directory digest: SHA-256 of the sorted "relative path \0 file hash \n" lines of every
+  // regular file below `p`, each file through digest(). nullopt if unreadable.
+  std::optional<Digest> digest_dir(const std::filesystem::path& p, std::string* error = nullptr);
+
+  // True if `p` is recorded with digest `d` and its stat is unchanged: it holds `d`, unread.
+  bool holds(const std::filesystem::path& p, const Digest& d);
+  // Records that `p` holds `d`, known since file-system time `known_at` (now_ns() taken before
+  // the content was written or verified). Stats `p`; keeps nothing if the racy rule fails.
+  void record(const std::filesystem::path& p, const Digest& d, std::int64_t known_at);
+  void forget(const std::filesystem::path& p);
+
+  // Small named values kept with the records (e.g. the key whose explain record was written).
+  std::optional<std::string> note(const std::string& name);
+  void set_note(const std::string& name, const std::string& value);
+
+  // The racy-git rule for one timestamp.
+  static bool settled(std::int64_t mtime_ns, std::int64_t known_at);
+
+ private:
+  struct Entry {
+    FileInfo stat;
+    Digest digest;
+  };
+  FileSystem& fs_;
+  std::filesystem::path file_;
+  std::mutex mu_;
+  std::unordered_map<std::string, Entry> entries_;
+  std::unordered_map<std::string, std::string> notes_;
+  bool dirty_ = false;
+};
+
+}  // namespace sylva

@@ -1,0 +1,12 @@
+#include "stages/register_gfx_stages.h"
+
+#include "stages/verify/verify_stage.h"
+
+// Each heavy stage folder exposes its factory in its adapter header and its StageInfo in
+// <name>_info.h (registered lazily by register_stages.cpp); list them here, sorted.
+
+namespace sylva {
+
+void register_gfx_stages(StageRegistry& registry) { registry.add(make_verify_stage()); }
+
+}  // namespace sylva

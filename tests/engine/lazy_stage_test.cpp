@@ -1,0 +1,95 @@
+// Lazy stages (pipeline/lazy_stage.h): known by their StageInfo alone until a node of theirs
+// runs; then resolved once per run, checked, and forwarded to. A resolver that cannot load the
+// implementation fails the node with its message; a no-op never resolves.
+#include <gtest/gtest.h>
+
+#include "pipeline/cache.h"
+#include "pipeline/executor.h"
+#include "pipeline/lazy_stage.h"
+#include "pipeline/recipe_loader.h"
+#include "tests/engine/test_stages.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+class FakeModule final : public StageResolver {
+ public:
+  explicit FakeModule(test::RunLog* log) : real_(log) {}
+  const Stage& resolve(std::string_view name) override {
+    ++resolves;
+    if (!error.empty()) throw StageError(error);
+    EXPECT_EQ(name, "text");
+    return real_;
+  }
+  int resolves = 0;
+  std::string error;
+
+ private:
+  test::TextStage real_;
+};
+
+TEST(LazyStageTest, ResolvesOnlyWhenANodeRunsAndReportsLoadErrors) {
+  test::RunLog log;
+  FakeModule module(&log);
+  StageRegistry reg;
+  reg.add(make_lazy_stage(test::TextStage(nullptr).info(), module));
+  test::TempDir dir;
+  test::write_file(dir / "r.yaml", "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: hi }\n");
+  RealFileSystem fs;
+  Diagnostics d;
+  auto recipe = load_recipe(dir / "r.yaml", reg, fs, d);
+  ASSERT_TRUE(recipe) << d.str();
+  EXPECT_EQ(module.resolves, 0);  // loading and checking need only the info
+
+  SteadyClock clock;
+  auto build = [&](const char* cache) {
+    Cache c(fs, dir / cache);
+    BuildEnv env{fs, c, dir / "out/r", clock, nullptr, nullptr};
+    std::string err;
+    return run_build(*recipe, env, {}, &err);
+  };
+  module.error = "cannot load the graphics module /x/libsylva_gfx.so: no such file";
+  auto failed = build("cache");
+  EXPECT_EQ(failed.nodes.at(0).status, NodeStatus::kFailed);
+  EXPECT_EQ(failed.nodes.at(0).error, module.error);
+  module.error.clear();
+  auto built = build("cache");
+  EXPECT_EQ(built.nodes.at(0).status, NodeStatus::kBuilt);
+  EXPECT_EQ(log.count("a"), 1);
+  EXPECT_EQ(test::read_file(dir / "out/r/a/out.txt"), "hi\n");
+  const int after_build = module.resolves;
+  EXPECT_EQ(build("cache").nodes.at(0).status, NodeStatus::kCached);
+  EXPECT_EQ(module.resolves, after_build);  // a no-op never loads the module
+}
+
+TEST(LazyStageTest, AnImplementationOfAnotherVersionIsRefused) {
+  FakeModule module(nullptr);
+  StageInfo info = test::TextStage(nullptr).info();
+  info.version = 2;
+  auto lazy = make_lazy_stage(info, module);
+  struct NoContext : StageContext {
+    std::string n = "a";
+    Value::Object p;
+    std::vector<InputArtifact> in;
+    std::filesystem::path s;
+    const std::string& node_name() const override { return n; }
+    const Value::Object& params() const override { return p; }
+    const std::vector<InputArtifact>& inputs() const override { return in; }
+    std::filesystem::path param_file(std::string_view) const override { return {}; }
+    Rng rng(std::string_view stream) const override { return Rng(0, stream); }
+    const std::filesystem::path& scratch_dir() const override { return s; }
+    std::filesystem::path output_path(std::string_view) override { return {}; }
+    void write_output(std::string_view, std::string_view) override {}
+    void check_cancelled() const override {}
+  } ctx;
+  try {
+    lazy->run(ctx);
+    FAIL() << "expected logic_error";
+  } catch (const std::logic_error& e) {
+    EXPECT_EQ(std::string(e.what()), "stage 'text' v2 resolved to 'text' v1 (the module comes from another build)");
+  }
+}
+
+}  // namespace
+}  // namespace sylva

@@ -1,0 +1,146 @@
+// No-op builds decide everything from stats (pipeline/digest_cache.h), on the in-memory file
+// system, which records every content read: a no-op reads no output, no blob and no unchanged
+// input, and writes nothing; the racy-git rule keeps a same-tick edit from hiding.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "pipeline/cache.h"
+#include "pipeline/digest_cache.h"
+#include "pipeline/executor.h"
+#include "pipeline/recipe_loader.h"
+#include "tests/engine/test_stages.h"
+#include "tests/support/fake_filesystem.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr std::int64_t kMs = 1000000;
+
+class NoOpTest : public ::testing::Test {
+ protected:
+  NoOpTest() { test::register_test_stages(reg_, &log_); }
+
+  // The readfile stage reads its file from the real disk when it runs; the engine hashes it
+  // through the fake. Both hold the same bytes.
+  void put_input(const std::string& bytes) {
+    test::write_file(input_, bytes);
+    fs_.put(input_.string(), bytes);
+  }
+
+  Recipe load() {
+    fs_.put("/p/r.yaml", "version: 1\nname: r\nnodes:\n"
+                         "  a:\n    stage: text\n    with: { text: A, count: 3 }\n"
+                         "  b:\n    stage: text\n    with: { text: B }\n"
+                         "  f:\n    stage: readfile\n    with: { file: " + input_.string() + " }\n");
+    Diagnostics d;
+    auto r = load_recipe("/p/r.yaml", reg_, fs_, d);
+    EXPECT_TRUE(r) << d.str();
+    return *r;
+  }
+
+  BuildSummary build(const Recipe& r) {
+    Cache cache(fs_, "/c");
+    BuildEnv env{fs_, cache, "/o/r", clock_, nullptr, nullptr};
+    std::string err;
+    auto s = run_build(r, env, {}, &err);
+    EXPECT_EQ(err, "");
+    return s;
+  }
+
+  test::TempDir dir_;
+  fs::path input_ = dir_ / "in.txt";
+  StageRegistry reg_;
+  test::RunLog log_;
+  test::FakeFileSystem fs_;
+  SteadyClock clock_;
+};
+
+TEST_F(NoOpTest, NoOpBuildReadsNoOutputNoBlobNoInputAndWritesNothing) {
+  put_input("input bytes");
+  fs_.now += kMs;  // the input is older than the build's clock: settled
+  Recipe r = load();
+  auto s1 = build(r);
+  ASSERT_EQ(s1.count(NodeStatus::kBuilt), 3u);
+  ASSERT_TRUE(fs_.files.count("/o/r/f/out.txt"));
+  EXPECT_EQ(fs_.files.at("/o/r/f/out.txt"), "input bytes");
+
+  fs_.reads.clear();
+  fs_.writes.clear();
+  log_.clear();
+  auto s2 = build(r);
+  EXPECT_EQ(s2.count(NodeStatus::kCached), 3u);
+  EXPECT_EQ(log_.total(), 0);
+  // What a no-op reads: its digest records. Not an output, not a blob, not the unchanged
+  // input, not even the action cache (the records say what this out dir holds).
+  EXPECT_EQ(fs_.reads, std::vector<std::string>{"/o/r/.sylva/digests"});
+  EXPECT_TRUE(fs_.writes.empty()) << ::testing::PrintToString(fs_.writes);
+}
+
+// An input edited within the same clock tick as the build that hashed it, keeping its size,
+// has the same size and the same mtime as before: only the racy rule (its mtime was not older
+// than the clock when it was hashed, so it was never trusted) makes the next build look again.
+TEST_F(NoOpTest, SameTickEditOfAnInputIsNotMissed) {
+  put_input("one");
+  Recipe r = load();
+  build(r);  // same tick as the write
+  EXPECT_EQ(fs_.files.at("/o/r/f/out.txt"), "one");
+  put_input("two");  // same size, same tick: an identical stat, but for the inode
+  fs_.set_mtime(input_, fs_.stat(input_)->mtime_ns);
+  auto s2 = build(r);
+  EXPECT_EQ(s2.nodes.back().status, NodeStatus::kBuilt);
+  EXPECT_EQ(fs_.files.at("/o/r/f/out.txt"), "two");
+}
+
+// An output edited in out/ keeping its size is noticed by its stat, hashed, and replaced from
+// the CAS: the edit does not survive a build.
+TEST_F(NoOpTest, EditedOutputIsNoticedByStatAndRepublished) {
+  put_input("input bytes");
+  fs_.now += kMs;
+  Recipe r = load();
+  build(r);
+  const std::string good = fs_.files.at("/o/r/a/out.txt");
+  fs_.now += kMs;
+  fs_.put("/o/r/a/out.txt", std::string(good.size(), 'x'));
+  auto s2 = build(r);
+  EXPECT_EQ(s2.count(NodeStatus::kCached), 3u);
+  EXPECT_EQ(fs_.files.at("/o/r/a/out.txt"), good);
+}
+
+// The racy rule itself: a timestamp must be strictly older than the clock read before the
+// content was known; whole-second timestamps need two seconds.
+TEST(DigestCacheTest, SettledOnlyWhenStrictlyOlderThanTheClock) {
+  constexpr std::int64_t kS = 1000000000;
+  EXPECT_TRUE(DigestCache::settled(100 * kS + 5, 100 * kS + 6));
+  EXPECT_FALSE(DigestCache::settled(100 * kS + 6, 100 * kS + 6));
+  EXPECT_FALSE(DigestCache::settled(100 * kS, 101 * kS + 999));
+  EXPECT_TRUE(DigestCache::settled(100 * kS, 102 * kS));
+}
+
+// Records survive a save and a load; a damaged file is an empty cache, not an error.
+TEST(DigestCacheTest, RecordsRoundTripAndDamageIsForgotten) {
+  test::FakeFileSystem fs;
+  fs.put("/d/x", "xyz");
+  fs.now += kMs;
+  DigestCache c(fs, "/o/.sylva/digests");
+  auto d = c.digest("/d/x");
+  ASSERT_TRUE(d);
+  c.set_note("k", "v");
+  ASSERT_TRUE(c.save());
+  DigestCache c2(fs, "/o/.sylva/digests");
+  c2.load();
+  fs.reads.clear();
+  EXPECT_EQ(c2.digest("/d/x"), d);
+  EXPECT_TRUE(fs.reads.empty());
+  EXPECT_EQ(c2.note("k"), "v");
+  fs.files["/o/.sylva/digests"].resize(20);
+  DigestCache c3(fs, "/o/.sylva/digests");
+  c3.load();
+  EXPECT_FALSE(c3.note("k"));
+  EXPECT_EQ(c3.digest("/d/x"), d);  // hashed again
+}
+
+}  // namespace
+}  // namespace sylva
