@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "libs/tree/foliage.h"
+
 namespace sylva::tree {
 
 namespace {
@@ -79,6 +81,10 @@ TreeStats compute_stats(const Tree& tree) {
     box.add(to_double(n.base));
     box.add(to_double(n.tip));
   }
+  const CrownFoliage crown = crown_foliage(tree);
+  s.leaf_area = crown.leaf_area;
+  s.crown_area = crown.crown_area;
+  s.lai = crown.lai();
   if (!box.empty) {
     s.bounds_min = box.lo;
     s.bounds_max = box.hi;
@@ -115,6 +121,9 @@ std::string format_stats(const TreeStats& s) {
   out += "dbh: " + (s.has_dbh ? fmt(s.dbh) + " m" : std::string("n/a (trunk shorter than 1.3 m)")) + "\n";
   out += "total branch length: " + fmt(s.total_branch_length) + " m\n";
   out += "bounds: " + fmt_vec(s.bounds_min) + " .. " + fmt_vec(s.bounds_max) + " m\n";
+  out += "leaf area: " + fmt(s.leaf_area) + " m2 (one-sided)\n";
+  out += "crown projected area: " + fmt(s.crown_area) + " m2\n";
+  out += "leaf area index: " + fmt(s.lai) + "\n";
   return out;
 }
 
@@ -134,7 +143,10 @@ std::string format_stats_json(const TreeStats& s) {
   out.append(",\"dbh_m\":").append(s.has_dbh ? fmt(s.dbh, 6) : std::string("null"));
   out.append(",\"total_branch_length_m\":").append(fmt(s.total_branch_length, 6));
   out.append(",\"bounds_min_m\":").append(fmt_vec(s.bounds_min, 6, ","));
-  out.append(",\"bounds_max_m\":").append(fmt_vec(s.bounds_max, 6, ",")).append("}");
+  out.append(",\"bounds_max_m\":").append(fmt_vec(s.bounds_max, 6, ","));
+  out.append(",\"leaf_area_m2\":").append(fmt(s.leaf_area, 6));
+  out.append(",\"crown_area_m2\":").append(fmt(s.crown_area, 6));
+  out.append(",\"lai\":").append(fmt(s.lai, 6)).append("}");
   return out;
 }
 

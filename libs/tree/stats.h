@@ -9,7 +9,11 @@
 //                 absent (has_dbh false) if the trunk never reaches 1.3 m;
 //   branch length sum over branches of their polyline length (node 0 to the last node; the
 //                 implicit attachment segment is not counted);
-//   bounds        axis-aligned box of node positions and foliage end points (radii excluded).
+//   bounds        axis-aligned box of node positions and foliage end points (radii excluded);
+//   leaf area     one-sided: leaf quads weighted by their atlas cell's coverage, plus needle
+//                 silhouettes 2 r l (foliage.h);
+//   crown area    projected crown area: convex hull of the foliage seen from above (foliage.h);
+//   lai           leaf area / crown area (the crown's leaf area index; 0 without foliage).
 #pragma once
 
 #include <cstddef>
@@ -34,6 +38,9 @@ struct TreeStats {
   double dbh = 0;
   double total_branch_length = 0;
   Vec3 bounds_min, bounds_max;  // both zero for an empty tree
+  double leaf_area = 0;         // m^2, one-sided
+  double crown_area = 0;        // m^2
+  double lai = 0;
 };
 
 TreeStats compute_stats(const Tree& tree);
@@ -46,7 +53,8 @@ TreeStats compute_stats(const Tree& tree);
 std::string format_stats(const TreeStats& stats);
 
 // The same as one JSON object (keys: name, branches, branches_per_level, nodes, leaves,
-// needles, height_m, dbh_m (null if absent), total_branch_length_m, bounds_min_m, bounds_max_m).
+// needles, height_m, dbh_m (null if absent), total_branch_length_m, bounds_min_m, bounds_max_m,
+// leaf_area_m2, crown_area_m2, lai).
 std::string format_stats_json(const TreeStats& stats);
 
 }  // namespace sylva::tree

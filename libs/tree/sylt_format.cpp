@@ -155,6 +155,14 @@ std::string encode_sylt(const Tree& tree) {
   w.put(tree.materials.leaf_texture);
   w.put(tree.materials.bark_color);
   w.put(tree.materials.leaf_color);
+  w.put(static_cast<std::uint8_t>(tree.materials.leaf_kind));
+  w.put(tree.materials.atlas_columns);
+  w.put(tree.materials.atlas_rows);
+  w.put(static_cast<std::uint32_t>(tree.materials.cell_coverage.size()));
+  for (float c : tree.materials.cell_coverage) w.put(c);
+  w.put(tree.materials.bark_tint);
+  w.put(tree.materials.bark_tint_from_m);
+  w.put(tree.materials.bark_tint_to_m);
   // Skeleton.
   w.put(static_cast<std::uint32_t>(tree.branches.size()));
   for (const Branch& b : tree.branches) {
@@ -221,6 +229,18 @@ Tree decode_sylt(std::string_view bytes, std::string_view source) {
   t.materials.leaf_texture = r.string("leaf texture");
   t.materials.bark_color = r.color("bark colour");
   t.materials.leaf_color = r.color("leaf colour");
+  const auto kind = r.get<std::uint8_t>("leaf kind");
+  if (kind > 2) r.fail("unknown leaf kind " + std::to_string(kind));
+  t.materials.leaf_kind = static_cast<LeafKind>(kind);
+  t.materials.atlas_columns = r.get<std::uint8_t>("atlas columns");
+  t.materials.atlas_rows = r.get<std::uint8_t>("atlas rows");
+  const auto nc = r.count(4, "cell coverage count");
+  if (nc > 256) r.fail("cell coverage count " + std::to_string(nc) + " exceeds 256");
+  t.materials.cell_coverage.resize(nc);
+  for (float& c : t.materials.cell_coverage) c = r.get<float>("cell coverage");
+  t.materials.bark_tint = r.color("bark tint");
+  t.materials.bark_tint_from_m = r.get<float>("bark tint from");
+  t.materials.bark_tint_to_m = r.get<float>("bark tint to");
   const auto nb = r.count(kBranchHeader, "branch count");
   t.branches.resize(nb);
   for (auto& b : t.branches) {

@@ -19,7 +19,7 @@
 namespace sylva::tree {
 
 inline constexpr char kSyltMagic[8] = {'S', 'Y', 'L', 'T', '\r', '\n', '\x1a', '\n'};
-inline constexpr std::uint32_t kSyltVersion = 1;
+inline constexpr std::uint32_t kSyltVersion = 2;  // 2: leaf kind, atlas grid and coverage, bark tint
 
 class TreeFormatError : public std::runtime_error {
  public:

@@ -17,6 +17,22 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
   auto fail = [&](std::string msg) {
     if (errors.size() < max_errors) errors.push_back(std::move(msg));
   };
+  const Materials& m = tree.materials;
+  if (m.atlas_columns < 1 || m.atlas_columns > 16 || m.atlas_rows < 1 || m.atlas_rows > 16)
+    fail("materials: the leaf atlas must have 1..16 columns and rows, has " + std::to_string(m.atlas_columns) + "x" +
+         std::to_string(m.atlas_rows));
+  if (!m.cell_coverage.empty() && m.cell_coverage.size() != m.atlas_cells())
+    fail("materials: " + std::to_string(m.cell_coverage.size()) + " cell coverages for " +
+         std::to_string(m.atlas_cells()) + " atlas cells");
+  for (std::size_t i = 0; i < m.cell_coverage.size(); ++i)
+    if (!(m.cell_coverage[i] >= 0 && m.cell_coverage[i] <= 1))
+      fail("materials: cell coverage " + std::to_string(i) + " must be in [0, 1]");
+  if (static_cast<unsigned>(m.leaf_kind) > 2) fail("materials: unknown leaf kind");
+  auto in01 = [](float v) { return v >= 0 && v <= 1; };
+  if (!in01(m.bark_tint.r) || !in01(m.bark_tint.g) || !in01(m.bark_tint.b))
+    fail("materials: bark tint components must be in [0, 1]");
+  if (!std::isfinite(m.bark_tint_from_m) || !std::isfinite(m.bark_tint_to_m) || m.bark_tint_from_m > m.bark_tint_to_m)
+    fail("materials: bark tint heights must be finite with from <= to");
   for (std::size_t i = 0; i < tree.branches.size() && errors.size() < max_errors; ++i) {
     const Branch& b = tree.branches[i];
     const std::string where = "branch " + std::to_string(i) + ": ";
@@ -60,7 +76,10 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
       fail(where + "direction and normal must be orthogonal unit vectors");
     if (!(l.length > 0) || !(l.width > 0) || !std::isfinite(l.length) || !std::isfinite(l.width))
       fail(where + "length and width must be finite and > 0");
-    if (l.variant > 3) fail(where + "variant " + std::to_string(l.variant) + " is not 0..3");
+    if (l.variant >= tree.materials.atlas_cells())
+      fail(where + "variant " + std::to_string(l.variant) + " is not a cell of the " +
+           std::to_string(tree.materials.atlas_columns) + "x" + std::to_string(tree.materials.atlas_rows) +
+           " leaf atlas");
   }
   for (std::size_t i = 0; i < tree.needles.size() && errors.size() < max_errors; ++i) {
     const Needle& n = tree.needles[i];

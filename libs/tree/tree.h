@@ -17,7 +17,10 @@
 //   - level: roots 0; otherwise the parent's level (a *clone*, made by a split: it continues the
 //     same axis order) or the parent's level + 1 (a *lateral* child);
 //   - leaves and needles name an existing branch; leaf length/width > 0, direction and normal
-//     unit length (1e-3) and orthogonal (1e-3), variant 0..3; needle radius > 0.
+//     unit length (1e-3) and orthogonal (1e-3), variant < the leaf atlas's cell count; needle
+//     radius > 0;
+//   - materials: the leaf atlas has 1..16 columns and rows, its cell coverage list is empty or
+//     holds one value in [0, 1] per cell, the bark tint is in [0, 1] with from <= to.
 // A child's first node is its first cross-section, *not* the attachment point: the segment from
 // the attachment point to nodes[0] is implicit (Nystad's DAG edge from the prepended node to the
 // child's root segment). For generated trees parent_t is 0 and the attachment node is a
@@ -47,8 +50,10 @@ struct Branch {
   friend bool operator==(const Branch&, const Branch&) = default;
 };
 
-// A flat leaf card. The blade spans `length` along `direction` from `position` (the petiole
-// end) and `width` across cross(normal, direction); texture v runs from petiole (v low) to tip.
+// A flat leaf quad: one leaf, or a card showing a twig or a shoot (Materials::leaf_kind). It
+// spans `length` along `direction` from `position` (the petiole end, or the twig's base) and
+// `width` across cross(normal, direction); texture v runs from that end (v low) to the tip, in
+// the atlas cell of `variant` (libs/tree/foliage.h: atlas_cell()).
 struct Leaf {
   std::uint32_t branch = 0;  // branch it grows on
   Vec3f position;            // m, petiole end of the blade
@@ -56,7 +61,7 @@ struct Leaf {
   Vec3f normal;              // unit, front face, orthogonal to direction
   float length = 0;          // m, > 0
   float width = 0;           // m, > 0
-  std::uint8_t variant = 0;  // 0..3: quadrant of the leaf atlas (docs/tree-format.md)
+  std::uint8_t variant = 0;  // cell of the leaf atlas, < Materials::atlas_cells()
   friend bool operator==(const Leaf&, const Leaf&) = default;
 };
 
@@ -75,13 +80,36 @@ struct Color {
   friend bool operator==(const Color&, const Color&) = default;
 };
 
+// What a leaf quad shows (all leaves of a tree are of one kind).
+//   kLeaves      one leaf per quad (the atlas holds single leaves);
+//   kTwigCards   a card: a twig with several leaves, petioles and its stem (broadleaves);
+//   kShootCards  a card: a conifer shoot with its needles.
+// With cards, a branch that carries cards and has no children is drawn by its cards (each card
+// shows its piece of the twig): twigs_drawn_by_cards() in foliage.h, used by mesh and lod.
+enum class LeafKind : std::uint8_t { kLeaves = 0, kTwigCards = 1, kShootCards = 2 };
+
 // Texture references are file names inside the same artifact (e.g. "bark.png"); empty = none.
-// The leaf atlas is 2x2: variant i occupies column i % 2, row i / 2 (row 0 at the image top).
+// The leaf atlas is a grid of atlas_columns x atlas_rows cells; variant i occupies column
+// i % atlas_columns, row i / atlas_columns (row 0 at the image top); foliage.h's atlas_cell()
+// is the one definition of that layout. cell_coverage[i] is the fraction of cell i's rectangle
+// covered by leaf blades (or needles) — not stems or petioles — so that a quad of area A carries
+// A * cell_coverage[variant] m^2 of one-sided leaf area; empty = 1 for every cell.
+// Bark tint: the bark is multiplied by bark_tint below bark_tint_from_m (height above the tree's
+// base, m), by white above bark_tint_to_m, smoothly between (e.g. a Scots pine's grey-brown
+// lower trunk under its orange upper bark); bark_tint white = no tint.
 struct Materials {
   std::string bark_texture;
   std::string leaf_texture;
   Color bark_color;
   Color leaf_color;
+  LeafKind leaf_kind = LeafKind::kLeaves;
+  std::uint8_t atlas_columns = 2;
+  std::uint8_t atlas_rows = 2;
+  std::vector<float> cell_coverage;  // empty or atlas_columns * atlas_rows values in [0, 1]
+  Color bark_tint{1, 1, 1};
+  float bark_tint_from_m = 0;
+  float bark_tint_to_m = 0;
+  std::size_t atlas_cells() const { return std::size_t(atlas_columns) * atlas_rows; }
   friend bool operator==(const Materials&, const Materials&) = default;
 };
 

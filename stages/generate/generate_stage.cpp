@@ -3,8 +3,12 @@
 // Seed: Nystad 2010, Appendix A (the preset's parameters) and §5.2.2 (one seeded PRNG).
 #include "stages/generate/generate_stage.h"
 
+#include <nlohmann/json.hpp>
+
 #include "libs/image/png.h"
+#include "libs/tree/stats.h"
 #include "libs/tree/sylt_format.h"
+#include "stages/generate/card_atlas.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
@@ -23,7 +27,7 @@ class GenerateStage : public Stage {
  public:
   GenerateStage() {
     info_.name = "generate";
-    info_.version = 1;
+    info_.version = 2;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json
     info_.summary = "parametric tree from a species preset (Weber-Penn with da Vinci/Murray rules)";
     info_.output_type = "tree";
     info_.inputs = {{}, 0, 0, "none: the species preset is a file parameter"};
@@ -37,6 +41,9 @@ class GenerateStage : public Stage {
             .describe("longest segment between skeleton nodes (m); 0 = no extra nodes (Nystad 4.3.2)"),
         Param::real("leaf_density", 1.0).range(0, 4).describe("multiplies the preset's Leaves (leaf or needle count)"),
         Param::integer("texture_size", 512).range(16, 4096).describe("bark and leaf atlas size in pixels (power of two)"),
+        Param::choice("foliage", {"cards", "leaves", "needles"}, "cards")
+            .describe("cards: twig cards (broadleaves) or shoot cards (conifers), the games default; "
+                      "leaves / needles: one quad per leaf or one needle each (hero close-ups)"),
     };
   }
 
@@ -56,13 +63,38 @@ class GenerateStage : public Stage {
     if ((texture_size & (texture_size - 1)) != 0)
       throw StageError("texture_size " + std::to_string(texture_size) + " is not a power of two");
     // 2. Generate the tree (pure core).
+    const std::string foliage = ctx.string("foliage");
+    const bool conifer = variant.params.foliage == generate::Foliage::kNeedles;
+    if (foliage == "leaves" && conifer)
+      throw StageError(preset_path.string() + ": foliage 'leaves' needs a broadleaf preset; " + species.species +
+                       " has needles (use 'needles' or 'cards')");
+    if (foliage == "needles" && !conifer)
+      throw StageError(preset_path.string() + ": foliage 'needles' needs a conifer preset; " + species.species +
+                       " has leaves (use 'leaves' or 'cards')");
+    const bool cards = foliage == "cards";
+    // The atlas first: its cells' leaf coverage sets how much leaf area each quad carries.
+    Rng leaf_rng = ctx.rng("leaves");
+    generate::Rgba8 leaves;
     generate::GenerateOptions options;
+    if (cards) {
+      generate::CardAtlas atlas = generate::make_card_atlas(species.card, species.leaf, species.bark, texture_size, leaf_rng);
+      leaves = std::move(atlas.image);
+      options.atlas = {atlas.columns, atlas.rows, atlas.coverage};
+      options.foliage = generate::FoliageMode::kCards;
+    } else {
+      std::vector<float> coverage;
+      leaves = generate::make_leaf_atlas(species.leaf, texture_size, leaf_rng, conifer ? nullptr : &coverage);
+      options.atlas = {2, 2, coverage};
+      options.foliage = generate::FoliageMode::kSingle;
+    }
     options.levels = static_cast<int>(ctx.integer("levels"));
     options.max_node_spacing = ctx.real("max_node_spacing_m");
     options.leaf_density = ctx.real("leaf_density");
     options.name = species.species + "/" + variant.age + " seed " + std::to_string(ctx.integer("seed"));
     Rng rng = ctx.rng("tree");
     tree::Tree tree;
+    generate::FoliageResult fit;
+    options.foliage_result = &fit;
     try {
       tree = generate::generate_tree(variant.params, options, rng);
     } catch (const std::length_error& e) {
@@ -71,14 +103,22 @@ class GenerateStage : public Stage {
       throw StageError(preset_path.string() + ": " + e.what());
     }
     ctx.check_cancelled();
-    // 3. Textures, each from its own stream so they do not depend on the tree's parameters.
+    // 3. The bark texture, from its own stream so it does not depend on the tree's parameters.
     Rng bark_rng = ctx.rng("bark");
-    Rng leaf_rng = ctx.rng("leaves");
     const generate::Rgba8 bark = generate::make_bark_texture(species.bark, texture_size, bark_rng);
-    generate::LeafLook leaf_look = species.leaf;
-    const generate::Rgba8 leaves = generate::make_leaf_atlas(leaf_look, texture_size, leaf_rng);
-    // 4. Write.
+    // 4. Write: the tree, the textures, and the statistics (docs/stages/generate.md).
     tree::write_sylt(ctx.output_path("tree.sylt"), tree);
+    const tree::TreeStats st = tree::compute_stats(tree);
+    nlohmann::json stats = nlohmann::json::parse(tree::format_stats_json(st));
+    stats["foliage"] = {{"mode", foliage},
+                        {"kind", cards ? (conifer ? "shoot_cards" : "twig_cards") : (conifer ? "needles" : "leaves")},
+                        {"target_lai", variant.params.leaf_area_index * options.leaf_density},
+                        {"published_lai_range", {species.lai_min, species.lai_max}},
+                        {"lai_source", species.lai_source},
+                        {"card_scale", fit.card_scale},
+                        {"card_layers", fit.layers},
+                        {"elements", fit.elements}};
+    ctx.write_output("stats.json", stats.dump(2) + "\n");
     try {
       image::write_png(to_image(bark), ctx.output_path("bark.png"));
       image::write_png(to_image(leaves), ctx.output_path("leaves.png"));

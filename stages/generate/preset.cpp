@@ -96,7 +96,7 @@ class Reader {
   void apply_params(const YAML::Node& node, Preset& p, Marks& marks, const std::string& what) const {
     static const std::set<std::string> keys = {
         "Shape", "Levels", "Scale", "ScaleV", "BaseSize", "Ratio", "Flare", "BaseSplits", "AttractionUp",
-        "TreeShapeExponent", "Leaves", "LeafScale", "LeafScaleX", "levels", "leaf"};
+        "TreeShapeExponent", "Leaves", "LeafScale", "LeafScaleX", "LeafAreaIndex", "FoliageZone", "levels", "leaf"};
     for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
       marks[k] = v.Mark();
       if (k == "Shape") p.shape = integer(v, k);
@@ -112,6 +112,8 @@ class Reader {
       else if (k == "Leaves") p.leaves = real(v, k);
       else if (k == "LeafScale") p.leaf_scale = real(v, k);
       else if (k == "LeafScaleX") p.leaf_scale_x = real(v, k);
+      else if (k == "LeafAreaIndex") p.leaf_area_index = real(v, k);
+      else if (k == "FoliageZone") p.foliage_zone = real(v, k);
       else if (k == "leaf") apply_leaf(v, p.leaf, marks, what + ".leaf");
       else if (k == "levels") {
         if (!v.IsSequence()) fail(v.Mark(), what + ".levels: expected a list (index 0 = trunk)");
@@ -161,8 +163,22 @@ class Reader {
   void textures(const YAML::Node& node, SpeciesPreset& s) const {
     for_each_key(node, "textures", {"bark", "leaf"}, [&](const std::string& k, const YAML::Node& v) {
       if (k == "bark") {
-        for_each_key(v, "textures.bark", {"style", "color", "dark"}, [&](const std::string& bk, const YAML::Node& bv) {
-          if (bk == "style")
+        for_each_key(v, "textures.bark", {"style", "color", "dark", "lower_tint"}, [&](const std::string& bk,
+                                                                                   const YAML::Node& bv) {
+          if (bk == "lower_tint") {
+            for_each_key(bv, "textures.bark.lower_tint", {"color", "below", "above"},
+                         [&](const std::string& tk, const YAML::Node& tv) {
+                           if (tk == "color") tint_.color = color(tv, tk);
+                           else if (tk == "below") tint_.below = real(tv, tk);
+                           else tint_.above = real(tv, tk);
+                           tint_.mark = bv.Mark();
+                         });
+            required(bv, "color", "textures.bark.lower_tint");
+            required(bv, "below", "textures.bark.lower_tint");
+            required(bv, "above", "textures.bark.lower_tint");
+            if (!(tint_.below >= 0 && tint_.below <= tint_.above && tint_.above <= 1))
+              fail(bv.Mark(), "textures.bark.lower_tint: expected 0 <= below <= above <= 1 (fractions of the height)");
+          } else if (bk == "style")
             s.bark.style = choice<BarkStyle>(bv, "style", {{"fissured", BarkStyle::kFissured},
                                                           {"smooth", BarkStyle::kSmooth},
                                                           {"birch", BarkStyle::kBirch},
@@ -186,6 +202,60 @@ class Reader {
     });
   }
 
+  // `card:` — the twig or shoot a card shows (atlas) and how cards are placed (Preset::card).
+  void card(const YAML::Node& node, SpeciesPreset& s, CardShape& shape) const {
+    static const std::set<std::string> keys = {"style", "length_m", "aspect", "elements", "shoots", "petiole",
+                                               "leaf_angle_deg", "cluster", "layers", "light_bias"};
+    for_each_key(node, "card", keys, [&](const std::string& k, const YAML::Node& v) {
+      auto in = [&](double x, double lo, double hi, const char* rule) {
+        if (!(x >= lo && x <= hi)) fail(v.Mark(), "card." + k + ": must be " + rule);
+        return x;
+      };
+      if (k == "style") {
+        s.card.style = choice<CardStyle>(v, k, {{"twig", CardStyle::kTwig}, {"tuft", CardStyle::kTuft},
+                                               {"spray", CardStyle::kSpray}});
+      } else if (k == "length_m") {
+        shape.length = s.card.length_m = in(real(v, k), 0.01, 5, "in [0.01, 5]");
+      } else if (k == "aspect") {
+        shape.aspect = s.card.aspect = in(real(v, k), 0.1, 4, "in [0.1, 4]");
+      } else if (k == "elements") {
+        s.card.elements = static_cast<int>(in(integer(v, k), 1, 20000, "1..20000"));
+      } else if (k == "shoots") {
+        s.card.shoots = static_cast<int>(in(integer(v, k), 0, 12, "0..12"));
+      } else if (k == "petiole") {
+        s.card.petiole = in(real(v, k), 0, 1, "in [0, 1]");
+      } else if (k == "leaf_angle_deg") {
+        s.card.leaf_angle_deg = in(real(v, k), 0, 90, "in [0, 90]");
+      } else if (k == "cluster") {
+        s.card.cluster = in(real(v, k), 0, 1, "in [0, 1]");
+      } else if (k == "light_bias") {
+        shape.light_bias = in(real(v, k), 0, 1, "in [0, 1]");
+      } else {
+        if (!v.IsSequence() || v.size() != 2) fail(v.Mark(), "card.layers: expected [min, max]");
+        shape.min_layers = integer(v[0], k);
+        shape.max_layers = integer(v[1], k);
+        if (!(shape.min_layers >= 1 && shape.min_layers <= shape.max_layers && shape.max_layers <= 4))
+          fail(v.Mark(), "card.layers: expected 1 <= min <= max <= 4");
+      }
+    });
+  }
+
+  void lai(const YAML::Node& node, SpeciesPreset& s) const {
+    for_each_key(node, "leaf_area_index", {"range", "source"}, [&](const std::string& k, const YAML::Node& v) {
+      if (k == "source") {
+        s.lai_source = string(v, k);
+      } else {
+        if (!v.IsSequence() || v.size() != 2) fail(v.Mark(), "leaf_area_index.range: expected [min, max]");
+        s.lai_min = real(v[0], k);
+        s.lai_max = real(v[1], k);
+        if (!(s.lai_min > 0 && s.lai_min < s.lai_max && s.lai_max <= 20))
+          fail(v.Mark(), "leaf_area_index.range: expected 0 < min < max <= 20");
+      }
+    });
+    required(node, "range", "leaf_area_index");
+    required(node, "source", "leaf_area_index");
+  }
+
   SpeciesPreset parse(const YAML::Node& root) const {
     if (!root.IsMap()) fail(root.Mark(), "a species preset must be a mapping");
     SpeciesPreset s;
@@ -193,7 +263,10 @@ class Reader {
     base.level.assign(1, LevelParams{});
     Marks base_marks;
     YAML::Node ages_node;
-    for_each_key(root, "the preset", {"species", "name", "foliage", "sources", "textures", "params", "ages"},
+    CardShape shape;
+    YAML::Node lai_node;
+    for_each_key(root, "the preset",
+                 {"species", "name", "foliage", "sources", "textures", "card", "leaf_area_index", "params", "ages"},
                  [&](const std::string& k, const YAML::Node& v) {
                    if (k == "species") {
                      s.species = string(v, k);
@@ -208,6 +281,10 @@ class Reader {
                      for (const auto& e : v) s.sources.push_back(string(e, k));
                    } else if (k == "textures") {
                      textures(v, s);
+                   } else if (k == "card") {
+                     card(v, s, shape);
+                   } else if (k == "leaf_area_index") {
+                     lai(v, s);
                    } else if (k == "params") {
                      apply_params(v, base, base_marks, "params");
                    } else {
@@ -218,6 +295,14 @@ class Reader {
     required(root, "foliage", "the preset");
     required(root, "params", "the preset");
     required(root, "ages", "the preset");
+    required(root, "card", "the preset");
+    required(root, "leaf_area_index", "the preset");
+    base.card = shape;
+    base.bark_tint = srgb_to_linear(tint_.color);
+    base.bark_tint_from = tint_.below;
+    base.bark_tint_to = tint_.above;
+    s.card.leaf_length_m = base.leaf_scale;
+    s.card.leaf_width = base.leaf_scale_x;
     for_each_key(ages_node, "ages", {"young", "middle", "adult"}, [](const std::string&, const YAML::Node&) {});
     for (const char* age : kAgeNames) {
       const YAML::Node a = required(ages_node, age, "ages");
@@ -249,8 +334,10 @@ class Reader {
         auto it = marks.find(e.key());
         fail(it != marks.end() ? it->second : a.Mark(), what + ": " + e.what());
       }
-      const tree::Color bark = srgb_to_linear(s.bark.color), leaf = srgb_to_linear(s.leaf.color);
-      v.params.materials = {"bark.png", "leaves.png", bark, leaf};
+      v.params.materials.bark_texture = "bark.png";
+      v.params.materials.leaf_texture = "leaves.png";
+      v.params.materials.bark_color = srgb_to_linear(s.bark.color);
+      v.params.materials.leaf_color = srgb_to_linear(s.leaf.color);
       s.ages.push_back(std::move(v));
     }
     return s;
@@ -258,6 +345,12 @@ class Reader {
 
  private:
   std::string file_;
+  struct Tint {
+    tree::Color color{1, 1, 1};
+    double below = 0, above = 0;
+    YAML::Mark mark;
+  };
+  mutable Tint tint_;
 };
 
 }  // namespace

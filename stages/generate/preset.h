@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "stages/generate/card_atlas.h"
 #include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
 
@@ -36,6 +37,9 @@ struct SpeciesPreset {
   std::vector<std::string> sources;
   BarkLook bark;
   LeafLook leaf;
+  CardLook card;                 // the `card:` block (the atlas drawing; placement in Preset::card)
+  double lai_min = 0, lai_max = 0;  // leaf_area_index.range: the published range
+  std::string lai_source;           // leaf_area_index.source
   std::vector<AgeVariant> ages;  // in kAgeNames order
 
   const AgeVariant& age(std::string_view name) const;  // throws std::out_of_range

@@ -130,18 +130,10 @@ void check_size(int size) {
     throw std::invalid_argument("texture size must be a power of two in [16, 8192]");
 }
 
-// ---------------------------------------------------------------------------------------------
+}  // namespace
+
 // Leaf silhouettes: half-width of the blade (in [0, 1] of the half-quadrant) at position tau in
 // [0, 1] from the blade's base to its tip.
-
-struct LeafVariant {
-  double width = 0.9;   // overall half-width scale
-  double phase = 0;     // lobe phase
-  double bend = 0;      // midrib bend (fraction of the half-width at the tip)
-  double tint = 1;      // brightness factor
-  double lobes = 4.5;   // lobes per side (lobed / spiny)
-};
-
 double blade_half_width(LeafShape shape, double tau, const LeafVariant& v) {
   if (tau <= 0 || tau >= 1) return 0;
   const double ovate = std::pow(std::sin(kPi * std::pow(tau, 0.8)), 0.8);
@@ -165,8 +157,6 @@ double blade_half_width(LeafShape shape, double tau, const LeafVariant& v) {
   }
   return ovate;
 }
-
-}  // namespace
 
 tree::Color srgb_to_linear(tree::Color c) {
   auto f = [](float s) {
@@ -235,7 +225,7 @@ Rgba8 make_bark_texture(const BarkLook& look, int size, Rng& rng) {
   return img;
 }
 
-Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng) {
+Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng, std::vector<float>* coverage) {
   check_size(size);
   Rgba8 img{size, size, std::vector<std::uint8_t>(static_cast<std::size_t>(size) * size * 4)};
   const int q = size / 2;
@@ -249,6 +239,19 @@ Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng) {
     lv.tint = rng.uniform(0.9, 1.1);
     lv.lobes = rng.uniform(3.5, 5.0);
     const int ox = (variant % 2) * q, oy = (variant / 2) * q;
+    if (coverage) {
+      // The blade's share of the quadrant, integrated from its outline at a fixed resolution
+      // (independent of `size`); the petiole is not leaf area.
+      constexpr int kRows = 1024;
+      double sum = 0;
+      for (int y = 0; y < kRows; ++y) {
+        const double t = (y + 0.5) / kRows;
+        const double tau = (t - kPetiole) / (1 - kPetiole - 0.01);
+        const double half = blade_half_width(look.shape, tau, lv), mid = lv.bend * tau * tau;
+        if (half > 0) sum += (std::clamp(mid + half, -1.0, 1.0) - std::clamp(mid - half, -1.0, 1.0)) / 2;
+      }
+      coverage->push_back(static_cast<float>(sum / kRows));
+    }
     for (int y = 0; y < q; ++y) {
       const double t = (y + 0.5) / q;  // 0 at the petiole end (top of the quadrant), 1 at the tip
       const double tau = (t - kPetiole) / (1 - kPetiole - 0.01);

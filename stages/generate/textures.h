@@ -42,7 +42,22 @@ struct Rgba8 {
 Rgba8 make_bark_texture(const BarkLook& look, int size, Rng& rng);
 
 // size x size atlas, four leaf variants in 2x2 quadrants; alpha is 0 outside the silhouettes.
-Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng);
+// `coverage` (optional) receives each quadrant's blade area fraction (petiole excluded),
+// integrated from the outline independently of `size`.
+Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng, std::vector<float>* coverage = nullptr);
+
+// Per-variant variation of a leaf silhouette.
+struct LeafVariant {
+  double width = 0.9;   // overall half-width scale
+  double phase = 0;     // lobe phase
+  double bend = 0;      // midrib bend (fraction of the half-width at the tip)
+  double tint = 1;      // brightness factor
+  double lobes = 4.5;   // lobes per side (lobed / spiny)
+};
+
+// Half-width of a blade of `shape` at tau in [0, 1] from its base to its tip, as a fraction of
+// the leaf's half-width (0 outside (0, 1)).
+double blade_half_width(LeafShape shape, double tau, const LeafVariant& v);
 
 // sRGB [0, 1] -> linear (for Materials base colours).
 tree::Color srgb_to_linear(tree::Color c);

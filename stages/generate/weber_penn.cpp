@@ -125,17 +125,11 @@ struct BranchPlan {
   std::int64_t pull_at = -1;    // trunk split compensation per segment node, or -1
   std::uint32_t first_child = 0, child_count = 0;   // laterals, consecutive, by attach_s
   std::uint32_t first_split = 0, split_count = 0;   // splits, by base
-  std::uint32_t first_leaf = 0, leaf_count = 0;     // leaves, by s
   // Set in pass 2.
   double start_radius = 0;
   std::uint32_t junction = 0;  // node of the parent it grows from
 };
 
-struct LeafPlan {
-  double s = 0;  // arc position on the branch
-  double azimuth = 0, angle = 0, size = 1, twist = 0;
-  std::uint8_t variant = 0;
-};
 
 // Per-node data of pass 2 that pass 3 needs (nodes of all branches, concatenated).
 struct NodeInfo {
@@ -159,6 +153,7 @@ class Generator {
     t.name = o_.name;
     t.materials = p_.materials;
     world(t);
+    foliage(t);
     return t;
   }
 
@@ -193,8 +188,7 @@ class Generator {
       // Clones are appended while we iterate: they are grown in the same level.
       for (std::size_t i = 0; i < current.size(); ++i) grow_branch(current[i], current);
     }
-    const double total = std::floor(p_.leaves * o_.leaf_density + 0.5);
-    if (total > 0) add_leaves(current, static_cast<std::uint64_t>(total));
+    last_level_ = std::move(current);
   }
 
   // Curve, trunk split compensation and splits of one branch.
@@ -362,46 +356,6 @@ class Generator {
     }
   }
 
-  // `total` leaves over the last level's branches in proportion to their length (largest
-  // remainder, ties by branch order), spaced evenly along each branch.
-  void add_leaves(const std::vector<std::uint32_t>& branches, std::uint64_t total) {
-    double sum = 0;
-    for (std::uint32_t b : branches) sum += plans_[b].nseg * stems_[plans_[b].stem].seg_len;
-    if (sum <= 0) return;
-    std::vector<std::uint64_t> count(branches.size());
-    std::vector<std::pair<double, std::size_t>> rem;
-    std::uint64_t given = 0;
-    for (std::size_t i = 0; i < branches.size(); ++i) {
-      const double exact = total * (plans_[branches[i]].nseg * stems_[plans_[branches[i]].stem].seg_len) / sum;
-      count[i] = static_cast<std::uint64_t>(std::floor(exact));
-      given += count[i];
-      rem.push_back({exact - std::floor(exact), i});
-    }
-    std::stable_sort(rem.begin(), rem.end(), [](auto& a, auto& b) { return a.first > b.first; });
-    for (std::size_t k = 0; given < total && k < rem.size(); ++k, ++given) ++count[rem[k].second];
-    const LeafLevelParams& lp = p_.leaf;
-    const double natural = murray_angles_for_ratio(e_, lp.branch_ratio).secondary;
-    for (std::size_t i = 0; i < branches.size(); ++i) {
-      BranchPlan& b = plans_[branches[i]];
-      b.first_leaf = static_cast<std::uint32_t>(leaves_.size());
-      b.leaf_count = static_cast<std::uint32_t>(count[i]);
-      const double len = b.nseg * stems_[b.stem].seg_len;
-      const double lo = b.clone ? 0.25 * stems_[b.stem].seg_len : 0.0;
-      double azimuth = 0;
-      for (std::uint64_t k = 0; k < count[i]; ++k) {
-        LeafPlan l;
-        l.s = lo + (static_cast<double>(k) + 0.5) * (len - lo) / static_cast<double>(count[i]);
-        azimuth += (lp.rotate + lp.rotate_v * rng_.signed_unit()) * kDeg;
-        l.azimuth = std::fmod(azimuth, 2 * kPi);
-        l.angle = std::clamp(natural + lp.down_angle_v * kDeg * rng_.signed_unit(), 0.05, kPi - 0.05);
-        l.size = 1 + 0.15 * rng_.signed_unit();
-        l.twist = 0.3 * rng_.signed_unit();
-        l.variant = static_cast<std::uint8_t>(rng_.below(4));
-        leaves_.push_back(l);
-      }
-    }
-  }
-
   // -------------------------------------------------------------------------------------------
   // Pass 2: nodes in arc-length space, radii with exact da Vinci junctions.
 
@@ -564,9 +518,6 @@ class Generator {
     t.branches.resize(plans_.size());
     std::vector<Start> start(plans_.size());
     start[0].frame = {kUp, {1, 0, 0}};
-    const bool needles = p_.foliage == Foliage::kNeedles;
-    if (needles) t.needles.reserve(leaves_.size());
-    else t.leaves.reserve(leaves_.size());
     for (std::uint32_t id = 0; id < plans_.size(); ++id) {
       const BranchPlan& b = plans_[id];
       tree::Branch& out = t.branches[id];
@@ -579,19 +530,22 @@ class Generator {
       // axis (eq. 3.5), measured perpendicular to it; a clone's is its stub.
       Frame f = start[id].frame;
       Vec3 pos = start[id].position;
-      if (b.parent >= 0 && !b.clone) {
-        const double along = child_offset(b.ratio, start[id].parent_radius) / std::max(std::sin(b.deviation), 0.5);
+      const bool grounded = b.parent >= 0;  // every branch but the roots keeps off the ground
+      if (b.parent >= 0) {
+        const double along = b.clone ? s_[n0]
+                                     : child_offset(b.ratio, start[id].parent_radius) /
+                                           std::max(std::sin(b.deviation), 0.5);
+        lift(f, pos, along, radius_[n0]);
         pos += f.d * along;
-      } else if (b.clone) {
-        pos += f.d * s_[n0];
       }
       const int curve_res = stems_[b.stem].curve_res;
       const double attraction = b.level >= 2 ? p_.attraction_up : 0.0;
-      std::uint32_t leaf = b.first_leaf;
-      const std::uint32_t leaf_end = b.first_leaf + b.leaf_count;
       for (std::uint32_t k = n0; k < n1; ++k) {
         const NodeInfo& ni = info_[k];
-        if (k > n0) pos += f.d * (s_[k] - s_[k - 1]);
+        if (k > n0) {
+          if (grounded) lift(f, pos, s_[k] - s_[k - 1], radius_[k]);
+          pos += f.d * (s_[k] - s_[k - 1]);
+        }
         out.nodes[k - n0] = {pos, radius_[k]};
         // Turns at interior segment nodes: Curve about the side axis, then AttractionUp (and the
         // trunk's split correction) towards the vertical.
@@ -625,19 +579,21 @@ class Generator {
             f.turn(tree::normalized(tree::cross(pre.d, o)), -plans_[c].primary_angle);
           }
         }
-        // Leaves on the segment starting here.
-        const double s_next = k + 1 < n1 ? s_[k + 1] : std::numeric_limits<double>::infinity();
-        while (leaf < leaf_end && leaves_[leaf].s < s_next) {
-          emit_leaf(t, id, leaves_[leaf], f, pos + f.d * (leaves_[leaf].s - s_[k]),
-                    k + 1 < n1 ? interp(radius_[k], radius_[k + 1], s_[k], s_[k + 1], leaves_[leaf].s) : radius_[k]);
-          ++leaf;
-        }
       }
     }
   }
 
-  static double interp(double r0, double r1, double s0, double s1, double s) {
-    return s1 > s0 ? r0 + (r1 - r0) * std::clamp((s - s0) / (s1 - s0), 0.0, 1.0) : r0;
+  // Ground: turns f up (about the horizontal axis d x up) just enough that a step of `ds` from
+  // `pos` ends at least ground_clearance(r) above y = 0. Never turns past the vertical.
+  static void lift(Frame& f, Vec3 pos, double ds, double r) {
+    if (!(ds > 0)) return;
+    const double want = (ground_clearance(r) - pos.y) / ds;
+    if (f.d.y >= want) return;
+    const double target = std::asin(std::clamp(want, -1.0, 1.0));
+    const double now = std::asin(std::clamp(f.d.y, -1.0, 1.0));
+    Vec3 axis = tree::cross(f.d, kUp);
+    axis = tree::length(axis) > 1e-9 ? tree::normalized(axis) : f.side;
+    f.turn(axis, target - now);
   }
 
   static Start child_start(const Frame& pre, Vec3 pos, double azimuth, double deviation, double r_parent) {
@@ -651,37 +607,46 @@ class Generator {
     return s;
   }
 
-  void emit_leaf(tree::Tree& t, std::uint32_t branch, const LeafPlan& l, const Frame& f, Vec3 axis_point,
-                 double r) const {
-    const Vec3 o = f.out(l.azimuth);
-    const Vec3 base = axis_point + o * r;
-    const Vec3 dir = tree::normalized(f.d * std::cos(l.angle) + o * std::sin(l.angle));
-    const double length = p_.leaf_scale * l.size;
-    const double width = length * p_.leaf_scale_x;
-    if (p_.foliage == Foliage::kNeedles) {
-      tree::Needle nd;
-      nd.branch = branch;
-      nd.base = tree::to_float(base);
-      nd.tip = tree::to_float(base + dir * length);
-      nd.radius = static_cast<float>(std::max(width / 2, 1e-5));
-      t.needles.push_back(nd);
-      return;
+  // Foliage on the last level (foliage_placement.h), then the bark tint heights.
+  void foliage(tree::Tree& t) {
+    FoliageSpec spec;
+    const bool cards = o_.foliage == FoliageMode::kCards;
+    spec.mode = cards ? FoliageSpec::Mode::kCards
+                      : (p_.foliage == Foliage::kNeedles ? FoliageSpec::Mode::kNeedles : FoliageSpec::Mode::kLeaves);
+    spec.target_lai = p_.leaf_area_index * o_.leaf_density;
+    spec.count = p_.leaves * o_.leaf_density;
+    spec.zone = p_.foliage_zone;
+    spec.leaf_scale = p_.leaf_scale;
+    spec.leaf_scale_x = p_.leaf_scale_x;
+    spec.natural_angle = murray_angles_for_ratio(e_, p_.leaf.branch_ratio).secondary;
+    spec.down_angle_v = p_.leaf.down_angle_v * kDeg;
+    spec.rotate = p_.leaf.rotate * kDeg;
+    spec.rotate_v = p_.leaf.rotate_v * kDeg;
+    spec.card = p_.card;
+    spec.materials = t.materials;
+    spec.materials.leaf_kind = !cards ? tree::LeafKind::kLeaves
+                               : p_.foliage == Foliage::kNeedles ? tree::LeafKind::kShootCards
+                                                                 : tree::LeafKind::kTwigCards;
+    spec.materials.atlas_columns = static_cast<std::uint8_t>(o_.atlas.columns);
+    spec.materials.atlas_rows = static_cast<std::uint8_t>(o_.atlas.rows);
+    spec.materials.cell_coverage = o_.atlas.coverage;
+    FoliageResult res;
+    const bool any = (p_.leaf_area_index > 0 || p_.leaves > 0) && o_.leaf_density > 0;
+    if (any) {
+      res = place_foliage(t, last_level_, spec, rng_);
+    } else {
+      t.materials = spec.materials;
     }
-    // The blade faces the sky, tilted towards the outside of the branch by a random twist.
-    Vec3 up = kUp - dir * tree::dot(kUp, dir);
-    Vec3 side = o - dir * tree::dot(o, dir);
-    Vec3 n = up * (0.7 + l.twist) + side * (0.3 - l.twist);
-    if (tree::length(n) < 1e-6) n = tree::cross(dir, f.side);
-    n = tree::normalized(n - dir * tree::dot(n, dir));
-    tree::Leaf leaf;
-    leaf.branch = branch;
-    leaf.position = tree::to_float(base);
-    leaf.direction = tree::to_float(dir);
-    leaf.normal = tree::to_float(n);
-    leaf.length = static_cast<float>(length);
-    leaf.width = static_cast<float>(width);
-    leaf.variant = l.variant;
-    t.leaves.push_back(leaf);
+    if (o_.foliage_result) *o_.foliage_result = res;
+    // Bark tint heights (fractions of the tree's height in the preset, metres in the tree).
+    double top = 0;
+    for (const auto& b : t.branches)
+      for (const auto& n : b.nodes) top = std::max(top, n.position.y);
+    if (p_.bark_tint_to > 0) {
+      t.materials.bark_tint = p_.bark_tint;
+      t.materials.bark_tint_from_m = static_cast<float>(p_.bark_tint_from * top);
+      t.materials.bark_tint_to_m = static_cast<float>(p_.bark_tint_to * top);
+    }
   }
 
   const Preset& p_;
@@ -693,7 +658,7 @@ class Generator {
   std::vector<Stem> stems_;
   std::vector<BranchPlan> plans_;
   std::vector<SplitPlan> splits_;
-  std::vector<LeafPlan> leaves_;
+  std::vector<std::uint32_t> last_level_;  // the branches that carry foliage
   std::vector<double> curve_, pull_;
   // Pass 2 results (all branches' nodes concatenated) and the branch being built.
   std::vector<std::uint32_t> node_begin_;
@@ -740,6 +705,15 @@ void validate_preset(const Preset& p) {
   need(p.leaves >= 0 && p.leaves <= 5e6, "Leaves", "in [0, 5000000]");
   need(p.leaf_scale > 0 && p.leaf_scale <= 2, "LeafScale", "in (0, 2]");
   need(p.leaf_scale_x > 0 && p.leaf_scale_x <= 4, "LeafScaleX", "in (0, 4]");
+  need(p.leaf_area_index >= 0 && p.leaf_area_index <= 20, "LeafAreaIndex", "in [0, 20]");
+  need(p.foliage_zone > 0 && p.foliage_zone <= 1, "FoliageZone", "in (0, 1]");
+  need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");
+  need(p.card.aspect > 0 && p.card.aspect <= 4, "card.aspect", "in (0, 4]");
+  need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4, "card.layers",
+       "[min, max] with 1 <= min <= max <= 4");
+  need(p.card.light_bias >= 0 && p.card.light_bias <= 1, "card.light_bias", "in [0, 1]");
+  need(p.bark_tint_from >= 0 && p.bark_tint_from <= p.bark_tint_to && p.bark_tint_to <= 1, "textures.bark.lower_tint",
+       "heights 0 <= below <= above <= 1 (fractions of the tree's height)");
   need(!p.level.empty(), "levels", "a list with at least the trunk");
   for (std::size_t i = 0; i < p.level.size(); ++i) {
     const LevelParams& l = p.level[i];

@@ -16,6 +16,7 @@
 
 #include "libs/tree/tree.h"
 #include "pipeline/rng.h"
+#include "stages/generate/foliage_placement.h"
 
 namespace sylva::generate {
 
@@ -64,10 +65,27 @@ struct Preset {
   double leaves = 0;                 // Leaves: total leaves (or needles) on the last level
   double leaf_scale = 0.1;           // LeafScale: leaf (needle) length (m)
   double leaf_scale_x = 0.5;         // LeafScaleX: width / length (needle: diameter / length)
+  double leaf_area_index = 0;        // LeafAreaIndex: target crown LAI; 0 = Leaves is the count
+  double foliage_zone = 1;           // FoliageZone: distal fraction of a last-level branch in leaf
   Foliage foliage = Foliage::kLeaves;
+  CardShape card;                    // the preset's `card:` block (placement part)
+  // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the
+  // tree's height; from = to = 0 means none.
+  tree::Color bark_tint{1, 1, 1};
+  double bark_tint_from = 0, bark_tint_to = 0;
   std::vector<LevelParams> level;    // index = level; levels beyond the list reuse the last entry
   LeafLevelParams leaf;
   tree::Materials materials;         // copied into the tree as is
+};
+
+// Single leaves/needles (Nystad's one quad per leaf, and needles) or cards (twig cards for
+// broadleaves, shoot cards for conifers).
+enum class FoliageMode { kSingle, kCards };
+
+// The leaf atlas the foliage refers to (the stage makes the texture; textures.h / card_atlas.h).
+struct AtlasInfo {
+  int columns = 2, rows = 2;
+  std::vector<float> coverage;  // per cell, leaf-blade fraction; empty = 1
 };
 
 struct GenerateOptions {
@@ -76,6 +94,9 @@ struct GenerateOptions {
   double leaf_density = 1;          // multiplies Leaves
   std::uint64_t max_nodes = 5'000'000;  // budget; exceeding it throws std::length_error
   std::string name;                 // copied to Tree::name
+  FoliageMode foliage = FoliageMode::kSingle;
+  AtlasInfo atlas;
+  FoliageResult* foliage_result = nullptr;  // optional: how the foliage met its LAI target
 };
 
 // A parameter out of range. `key` is the parameter's path as the preset spells it
@@ -99,9 +120,16 @@ void validate_preset(const Preset& preset);
 // from n to m leaves every branch of level <= n − 2 bit-identical, and the level n − 1 branches
 // the same branches (index, level, parent; laterals also junction and first node): the natural
 // rules make a branch react to its children (da Vinci radius steps, primary deviation), so the
-// level that gains children cannot stay bit-identical. Leaves/needles go on the last level.
+// level that gains children cannot stay bit-identical. Foliage goes on the last level
+// (foliage_placement.h), after the branches, from the same Rng. No branch goes below the ground:
+// a non-root branch whose next node would come closer to y = 0 than ground_clearance(r) is
+// turned up just enough (docs/stages/generate.md, "Ground").
 // Throws std::invalid_argument (bad preset) or std::length_error (node budget exceeded).
 tree::Tree generate_tree(const Preset& preset, const GenerateOptions& options, Rng& rng);
+
+// The least height of a branch node of radius r above the ground (m): 1.5 r (the bark's square
+// section before subdivision reaches 1.42 r) + 2 cm.
+inline double ground_clearance(double r) { return 1.5 * r + 0.02; }
 
 // W&P shape ratio f(shape, r) for r in [0, 1] (exposed for tests).
 double shape_ratio(int shape, double r);

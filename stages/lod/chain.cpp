@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include "libs/tree/foliage.h"
 #include "stages/lod/topology.h"
 
 namespace sylva::lod {
@@ -67,6 +68,7 @@ std::vector<LevelSpec> plan_levels(const ChainOptions& o) {
 Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
   Precomputed pre;
   pre.skeletons = build_skeletons(tree);
+  if (options.foliage) pre.card_twigs = tree::twigs_drawn_by_cards(tree);
   // The three precomputations are independent (each writes its own member): run them side by
   // side. Each is sequential and deterministic, so the result does not depend on the threads.
   tbb::parallel_invoke(
@@ -79,7 +81,7 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
         }
       },
       [&] {
-        if (options.foliage) pre.leaf_forest = build_leaf_forest(tree.leaves);
+        if (options.foliage) pre.leaf_forest = build_leaf_forest(tree.leaves, tree.materials);
       },
       [&] {
         if (options.foliage) pre.needle_forest = build_needle_forest(tree.needles);
@@ -100,6 +102,7 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
   for (std::size_t i = 0; i < nb; ++i) {
     const std::int32_t p = pre.skeletons[i].parent;
     if ((p >= 0 && !kept_branch[static_cast<std::size_t>(p)]) || pre.accumulated[i] <= spec.e4) kept_branch[i] = 0;
+    if (i < pre.card_twigs.size() && pre.card_twigs[i]) kept_branch[i] = 0;  // its cards draw it
   }
   for (std::size_t i = 0; i < nb; ++i) {
     if (!kept_branch[i]) continue;

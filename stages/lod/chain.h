@@ -98,6 +98,7 @@ struct Precomputed {
   std::vector<double> accumulated;  // A(b), topology.h
   LeafForest leaf_forest;
   NeedleForest needle_forest;
+  std::vector<char> card_twigs;  // per branch: drawn by its twig/shoot cards, so not drawn as bark
 };
 
 Precomputed precompute(const tree::Tree& tree, const ChainOptions& options);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "libs/tree/foliage.h"
+
 namespace sylva::lod {
 
 using tree::Vec3;
@@ -36,7 +38,7 @@ struct LeafMetric {
 
 }  // namespace
 
-LeafQuad leaf_quad(const tree::Leaf& leaf) {
+LeafQuad leaf_quad(const tree::Leaf& leaf, const tree::Materials& materials) {
   const Vec3 p = tree::to_double(leaf.position);
   const Vec3 d = tree::to_double(leaf.direction);
   const Vec3 n = tree::to_double(leaf.normal);
@@ -47,10 +49,10 @@ LeafQuad leaf_quad(const tree::Leaf& leaf) {
   // from +n the corners run (p - side) -> (tip - side) -> (tip + side) -> (p + side); the other
   // order (p - side, p + side, ...) is clockwise and rendered every leaf dark in glTF clients.
   q.v = {p - side, tip - side, tip + side, p + side};
-  // 2x2 atlas: variant i at column i % 2, row i / 2 (row 0 at the top); u0 on the -side edge.
-  const float u0 = 0.5f * static_cast<float>(leaf.variant % 2);
-  const float v0 = 0.5f * static_cast<float>(leaf.variant / 2);
-  q.uv = {{{u0, v0 + 0.5f}, {u0, v0}, {u0 + 0.5f, v0}, {u0 + 0.5f, v0 + 0.5f}}};
+  // The variant's atlas cell (libs/tree's one definition, as the mesh stage uses it): u0 on the
+  // -side edge, v0 at the petiole (or card base), v1 at the tip.
+  const tree::UvRect c = tree::atlas_cell(materials, leaf.variant);
+  q.uv = {{{c.u0, c.v0}, {c.u0, c.v1}, {c.u1, c.v1}, {c.u1, c.v0}}};
   q.normal = n;
   q.area = quad_area(q.v);
   return q;
@@ -73,7 +75,7 @@ LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
   const float v0 = std::min({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]});
   const float du = std::max({big.uv[0][0], big.uv[1][0], big.uv[2][0], big.uv[3][0]}) - u0;
   const float dv = std::max({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]}) - v0;
-  const std::array<std::array<float, 2>, 4> uv = {{{u0, v0 + dv}, {u0 + du, v0 + dv}, {u0 + du, v0}, {u0, v0}}};
+  const std::array<std::array<float, 2>, 4> uv = {{{u0, v0}, {u0 + du, v0}, {u0 + du, v0 + dv}, {u0, v0 + dv}}};
   LeafQuad best;
   double best_diff = std::numeric_limits<double>::infinity();
   for (int ea = 0; ea < 4; ++ea)
@@ -104,10 +106,10 @@ LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
   return best;
 }
 
-LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves) {
+LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves, const tree::Materials& materials) {
   LeafForest lf;
   lf.quads.reserve(leaves.size() * 2);
-  for (const tree::Leaf& l : leaves) lf.quads.push_back(leaf_quad(l));
+  for (const tree::Leaf& l : leaves) lf.quads.push_back(leaf_quad(l, materials));
   lf.forest = agglomerate(lf.quads, LeafMetric{}, [](const LeafQuad& a, const LeafQuad& b, double ea, double eb) {
     return std::pair<LeafQuad, double>(collapse_leaves(a, b), std::max(ea, eb) + leaf_collapse_cost(a, b));
   });

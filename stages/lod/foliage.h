@@ -33,9 +33,11 @@ struct LeafQuad {
   tree::Vec3 center() const { return (v[0] + v[1] + v[2] + v[3]) * 0.25; }
 };
 
-// Corners of a tree leaf card (tree.h: blade from the petiole along `direction`, `width` across
-// cross(normal, direction)) with the atlas uv of its variant (2x2 atlas, docs/tree-format.md).
-LeafQuad leaf_quad(const tree::Leaf& leaf);
+// Corners of a tree leaf quad — a leaf, or a twig or shoot card (tree.h: from the petiole or
+// card base along `direction`, `width` across cross(normal, direction)) with the uv of its
+// variant's atlas cell (libs/tree/foliage.h atlas_cell(); default materials: the 2x2 atlas).
+// A card is FSA's four-vertex unit like a leaf, so the collapse below reduces cards unchanged.
+LeafQuad leaf_quad(const tree::Leaf& leaf, const tree::Materials& materials = {});
 
 double leaf_collapse_cost(const LeafQuad& a, const LeafQuad& b);
 
@@ -47,8 +49,8 @@ struct LeafForest {
   BinaryForest forest;
 };
 
-// FSA over all leaves of a tree.
-LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves);
+// FSA over all leaves (or cards) of a tree.
+LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves, const tree::Materials& materials = {});
 
 struct LeafGeometry {
   std::vector<float> positions, normals, texcoords;  // 4 vertices per leaf

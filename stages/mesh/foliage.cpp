@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "libs/tree/foliage.h"
+
 namespace sylva::mesh {
 namespace {
 
@@ -28,7 +30,6 @@ gltf::Primitive leaf_cards(const tree::Tree& tree) {
   const std::size_t n = tree.leaves.size();
   p.positions.reserve(12 * n);
   p.normals.reserve(12 * n);
-  p.tangents.reserve(16 * n);
   p.texcoords.reserve(8 * n);
   p.indices.reserve(6 * n);
   for (const tree::Leaf& leaf : tree.leaves) {
@@ -39,22 +40,15 @@ gltf::Primitive leaf_cards(const tree::Tree& tree) {
     const Vec3 base = tree::to_double(leaf.position);
     const Vec3 half = s * (0.5 * leaf.width);
     const Vec3 along = d * static_cast<double>(leaf.length);
-    const double u0 = 0.5 * (leaf.variant % 2), v0 = 0.5 * (leaf.variant / 2);
+    const tree::UvRect cell = tree::atlas_cell(tree.materials, leaf.variant);
     const auto first = static_cast<std::uint32_t>(p.positions.size() / 3);
     // A: petiole, -s side; B: petiole, +s; C: tip, +s; D: tip, -s.
     push3(p.positions, base - half);
     push3(p.positions, base + half);
     push3(p.positions, base + half + along);
     push3(p.positions, base - half + along);
-    p.texcoords.insert(p.texcoords.end(), {static_cast<float>(u0), static_cast<float>(v0), static_cast<float>(u0 + 0.5),
-                                           static_cast<float>(v0), static_cast<float>(u0 + 0.5),
-                                           static_cast<float>(v0 + 0.5), static_cast<float>(u0),
-                                           static_cast<float>(v0 + 0.5)});
-    for (int k = 0; k < 4; ++k) {
-      push3(p.normals, nrm);
-      push3(p.tangents, s);
-      p.tangents.push_back(-1.0f);  // dP/dv = d = -(n x s): a left-handed uv frame
-    }
+    p.texcoords.insert(p.texcoords.end(), {cell.u0, cell.v0, cell.u1, cell.v0, cell.u1, cell.v1, cell.u0, cell.v1});
+    for (int k = 0; k < 4; ++k) push3(p.normals, nrm);
     // (A, B, C) would face -n (s x d = -n): list the corners the other way round.
     p.indices.insert(p.indices.end(), {first, first + 2, first + 1, first, first + 3, first + 2});
   }

@@ -1,13 +1,13 @@
 // Foliage geometry: leaf cards and needles, as glTF primitives separate from the bark.
 //
 // Seeds: Nystad 2010 §5.5.4 (a leaf is a quad from position, direction, orientation, length,
-// width and a "type" choosing one of four quadrants of the leaf texture); tree.h (the 2x2 atlas
-// layout: variant i in column i % 2, row i / 2, v from petiole (low) to tip).
+// width and a "type" choosing one cell of the leaf texture); libs/tree/foliage.h (atlas_cell():
+// the atlas layout, v from the petiole or twig base (low) to the tip).
 //
-//   - Leaf card: 4 vertices, 2 triangles, counter-clockwise seen from the leaf's normal side;
-//     normal = the leaf normal, tangent = the blade's width direction cross(normal, direction)
-//     (w = -1, since v runs along the direction); u across the width, v petiole -> tip, inside
-//     the variant's quadrant. Meant for an alpha-masked, double-sided material.
+//   - Leaf quad (a leaf, or a twig or shoot card): 4 vertices, 2 triangles, counter-clockwise
+//     seen from the leaf's normal side; normal = the leaf normal; u across the width (u0 on the
+//     -side edge, side = cross(normal, direction)), v base -> tip, inside the variant's atlas
+//     cell. No tangents (no normal map). Meant for an alpha-masked, double-sided material.
 //   - Needle: a thin closed tetrahedron — a triangle of the needle's radius around its base and
 //     the tip — 4 vertices, 4 triangles; normals radial at the base, along the needle at the tip.
 #pragma once
@@ -17,8 +17,8 @@
 
 namespace sylva::mesh {
 
-// All leaves of the tree as one TRIANGLES primitive (positions, normals, tangents, texcoords,
-// indices); no vertices when the tree has no leaves.
+// All leaves of the tree as one TRIANGLES primitive (positions, normals, texcoords, indices); no
+// vertices when the tree has no leaves.
 gltf::Primitive leaf_cards(const tree::Tree& tree);
 
 // All needles as one TRIANGLES primitive (positions, normals, indices); no vertices when the

@@ -134,6 +134,8 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
   const double min_r = options.min_radius > 0 ? options.min_radius : 1e-6;
   const double k = options.corner_scale;
   const auto included = [&](const tree::Branch& b) {
+    const std::size_t i = static_cast<std::size_t>(&b - tree.branches.data());
+    if (i < options.omit.size() && options.omit[i]) return false;
     return options.max_level < 0 || b.level <= static_cast<std::uint32_t>(options.max_level);
   };
 

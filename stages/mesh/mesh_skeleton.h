@@ -8,7 +8,8 @@
 // §4.3.3 (v = distance / (0.2 + 0.8 r)); Zhang et al. 2017 eq. (A1) via libs/tree/frames.h.
 //
 // What the normalisation does (docs/stages/mesh.md, "From tree to rings"):
-//   1. Branches above `max_level` are left out (with everything growing from them).
+//   1. Branches above `max_level` are left out (with everything growing from them), and so are
+//      the branches `omit` names (childless twigs that their cards draw, libs/tree/foliage.h).
 //   2. A child attached inside a segment (parent_t in (0.1, 0.9)) gets a virtual ring inserted
 //      into its parent at the attachment point; otherwise it hangs from the nearer node.
 //   3. Junction collapse: a ring whose children are all thinner than the continuation (they
@@ -98,6 +99,7 @@ struct MeshSkeleton {
 
 struct SkeletonOptions {
   int max_level = -1;          // highest branch level meshed; < 0 = all
+  std::vector<char> omit;      // per tree branch, 1 = not meshed (twigs their cards draw); empty = none
   double min_radius = 0.001;   // m, > 0
   double corner_scale = 1.0;   // ring corner distance / radius (joint clearance uses it)
 };

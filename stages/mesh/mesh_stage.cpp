@@ -16,9 +16,10 @@ namespace sylva {
 
 namespace {
 
-constexpr int kVersion =
-    3;  // 2: junction collapse, insets, windowed ring frames, ring merging. 3: libs/gltf writes no tangents
-        // without a normal map; colours from libs/tree/default_colors.h
+// 2: junction collapse, insets, windowed ring frames, ring merging. 3: libs/gltf writes no
+// tangents without a normal map; colours from libs/tree/default_colors.h. 4: cards (atlas cells,
+// card-drawn twigs), no tangents computed, bark tint, LAI statistics.
+constexpr int kVersion = 4;
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -42,7 +43,9 @@ class MeshStage final : public Stage {
             .describe("highest branch level meshed (trunk 0); -1 = every level"),
         Param::integer("subdivision", 1).range(0, 3).describe("Catmull-Clark levels (each multiplies the quads by 4)"),
         Param::boolean("open_base", false).describe("leave the trunk base open (default: closed)"),
-        Param::boolean("foliage", true).describe("leaf cards (alpha-masked, double-sided) and needles"),
+        Param::boolean("foliage", true).describe("leaf quads or cards (alpha-masked, double-sided) and needles"),
+        Param::boolean("mesh_card_twigs", false)
+            .describe("also mesh the twigs that twig/shoot cards draw (default: the cards draw them)"),
         Param::real("min_radius_m", 0.001).range(1e-5, 1)
             .describe("thinner skeleton nodes (tapered tips reach 0) are meshed at this radius (m)"),
         Param::integer("bark_repeat", 1).range(1, 16).describe("bark texture repeats around a branch"),
@@ -92,6 +95,7 @@ class MeshStage final : public Stage {
     o.subdivision = static_cast<int>(ctx.integer("subdivision"));
     o.open_base = ctx.boolean("open_base");
     o.foliage = ctx.boolean("foliage");
+    o.mesh_card_twigs = ctx.boolean("mesh_card_twigs");
     o.min_radius = ctx.real("min_radius_m");
     o.bark_repeat = static_cast<int>(ctx.integer("bark_repeat"));
     o.subdivider = ctx.string("subdivider") == "openmesh" ? mesh::Subdivider::kOpenMesh : mesh::Subdivider::kNative;

@@ -1,10 +1,10 @@
-// Quad mesh -> glTF triangles with normals, tangents and split texture seams (surface.h).
-// Seed: Nystad 2010 §3.3.1 (per-vertex normal, tangent and texture coordinates).
+// Quad mesh -> glTF triangles with normals and split texture seams (surface.h).
+// Seed: Nystad 2010 §3.3.1 (per-vertex normal and texture coordinates).
 //
 // A tree at subdivision 2 has millions of quads, so the passes write the glTF arrays in place
 // and keep temporaries small (every fresh megabyte costs page faults): normals per mesh vertex;
 // glTF vertex ids per quad corner (stored in the index array); the vertex arrays, sized exactly;
-// triangles and tangent sums (expanding the corner ids into triangle indices in place).
+// triangles (expanding the corner ids into triangle indices in place).
 #include "stages/mesh/surface.h"
 
 #include <array>
@@ -18,12 +18,6 @@ using tree::dot;
 using tree::length;
 
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-
-// Any unit vector orthogonal to unit n.
-Vec3 orthogonal(Vec3 n) {
-  const Vec3 a = std::abs(n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  return tree::normalized(cross(n, a));
-}
 
 }  // namespace
 
@@ -90,29 +84,7 @@ gltf::Primitive to_primitive(const QuadMesh& m) {
   uv = {};
 
   // 4. Triangles along the shorter diagonal (the corner ids expand in place, last quad first, so
-  // no id is overwritten before it is read), and per glTF vertex the sum of its triangles' dP/du
-  // scaled by their uv area, T = (e1 dv2 - e2 dv1) sign(det), and of det, whose sign is the uv
-  // frame's handedness for counter-clockwise triangles. Directions only: float is ample.
-  std::vector<std::array<float, 3>> tan(ng, std::array<float, 3>{0, 0, 0});
-  std::vector<float> handed(ng, 0);
-  const float* P = p.positions.data();
-  const float* T = p.texcoords.data();
-  auto accumulate = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    float e1[3], e2[3];
-    for (int k = 0; k < 3; ++k) e1[k] = P[3 * b + k] - P[3 * a + k], e2[k] = P[3 * c + k] - P[3 * a + k];
-    const float du1 = T[2 * b] - T[2 * a], dv1 = T[2 * b + 1] - T[2 * a + 1];
-    const float du2 = T[2 * c] - T[2 * a], dv2 = T[2 * c + 1] - T[2 * a + 1];
-    const float det = du1 * dv2 - du2 * dv1;
-    if (det == 0) return;
-    const float sign = det > 0 ? 1.0f : -1.0f;
-    for (std::size_t k = 0; k < 3; ++k) {
-      const float t = (e1[k] * dv2 - e2[k] * dv1) * sign;
-      tan[a][k] += t;
-      tan[b][k] += t;
-      tan[c][k] += t;
-    }
-    handed[a] += det, handed[b] += det, handed[c] += det;
-  };
+  // no id is overwritten before it is read).
   for (std::size_t f = nf; f-- > 0;) {
     const Quad& q = m.quads[f];
     const std::uint32_t c[4] = {p.indices[4 * f], p.indices[4 * f + 1], p.indices[4 * f + 2], p.indices[4 * f + 3]};
@@ -124,22 +96,6 @@ gltf::Primitive to_primitive(const QuadMesh& m) {
     } else {
       idx[0] = c[0], idx[1] = c[1], idx[2] = c[2], idx[3] = c[0], idx[4] = c[2], idx[5] = c[3];
     }
-    accumulate(idx[0], idx[1], idx[2]);
-    accumulate(idx[3], idx[4], idx[5]);
-  }
-
-  // 5. Tangents: orthogonal to the normal, unit length, w = the uv frame's handedness.
-  p.tangents.resize(4 * ng);
-  for (std::size_t g = 0; g < ng; ++g) {
-    const Vec3 n{p.normals[3 * g], p.normals[3 * g + 1], p.normals[3 * g + 2]};
-    const Vec3 tg{tan[g][0], tan[g][1], tan[g][2]};
-    Vec3 t = tg - n * dot(n, tg);
-    const double tl = length(t);
-    t = tl > 1e-30 && std::isfinite(tl) ? t / tl : orthogonal(n);
-    p.tangents[4 * g] = static_cast<float>(t.x);
-    p.tangents[4 * g + 1] = static_cast<float>(t.y);
-    p.tangents[4 * g + 2] = static_cast<float>(t.z);
-    p.tangents[4 * g + 3] = handed[g] < 0 ? -1.0f : 1.0f;
   }
   return p;
 }

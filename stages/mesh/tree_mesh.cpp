@@ -6,6 +6,7 @@
 #include <string>
 
 #include "libs/tree/default_colors.h"
+#include "libs/tree/foliage.h"
 #include "stages/mesh/foliage.h"
 #include "stages/mesh/surface.h"
 
@@ -21,6 +22,26 @@ std::string mime_type(const Texture& t) {
   throw MeshError("texture '" + t.name + "' is neither a PNG nor a JPEG file");
 }
 
+// COLOR_0 = the tint below bark_tint_from_m (above the first root's base), white above
+// bark_tint_to_m, smoothstep between; nothing when the tint is white or the heights are equal.
+void apply_bark_tint(const tree::Tree& tree, gltf::Primitive& p) {
+  const tree::Materials& m = tree.materials;
+  const bool white = m.bark_tint.r == 1 && m.bark_tint.g == 1 && m.bark_tint.b == 1;
+  if (white || !(m.bark_tint_to_m > m.bark_tint_from_m) || tree.branches.empty()) return;
+  const double base = tree.branches.front().nodes.front().position.y;
+  const std::size_t n = p.vertex_count();
+  p.colors.resize(4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double h = p.positions[3 * i + 1] - base;
+    double t = std::clamp((h - m.bark_tint_from_m) / (m.bark_tint_to_m - m.bark_tint_from_m), 0.0, 1.0);
+    t = t * t * (3 - 2 * t);
+    p.colors[4 * i] = static_cast<float>(m.bark_tint.r + (1 - m.bark_tint.r) * t);
+    p.colors[4 * i + 1] = static_cast<float>(m.bark_tint.g + (1 - m.bark_tint.g) * t);
+    p.colors[4 * i + 2] = static_cast<float>(m.bark_tint.b + (1 - m.bark_tint.b) * t);
+    p.colors[4 * i + 3] = 1.0f;
+  }
+}
+
 }  // namespace
 
 TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
@@ -34,6 +55,10 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   so.max_level = options.max_level;
   so.min_radius = options.min_radius;
   so.corner_scale = corner_scale;
+  if (options.foliage && !options.mesh_card_twigs) {
+    so.omit = tree::twigs_drawn_by_cards(tree);
+    for (char c : so.omit) st.card_twigs += c ? 1 : 0;
+  }
   const MeshSkeleton skeleton = build_skeleton(tree, so);
   st.skeleton = skeleton.stats;
   st.branches = skeleton.branches.size();
@@ -62,8 +87,9 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   st.vertices = out.bark.vertex_count();
   if (options.count_self_intersections) st.self_intersections = static_cast<long long>(count_self_intersections(out.bark));
 
-  // 5. Surface for glTF.
+  // 5. Surface for glTF, with the bark tint (libs/tree Materials) as vertex colours.
   out.bark_surface = to_primitive(out.bark);
+  apply_bark_tint(tree, out.bark_surface);
   st.gltf_vertices = out.bark_surface.vertex_count();
   st.triangles = out.bark_surface.indices.size() / 3;
 
@@ -73,6 +99,10 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
     out.needles = needle_geometry(tree);
     st.leaves = tree.leaves.size();
     st.needles = tree.needles.size();
+    const tree::CrownFoliage crown = tree::crown_foliage(tree);
+    st.leaf_area = crown.leaf_area;
+    st.crown_area = crown.crown_area;
+    st.lai = crown.lai();
   }
   return out;
 }
@@ -157,6 +187,10 @@ nlohmann::json stats_json(const MeshStats& st) {
   j["triangles"] = st.triangles;
   j["leaves"] = st.leaves;
   j["needles"] = st.needles;
+  j["card_twigs"] = st.card_twigs;
+  j["leaf_area_m2"] = st.leaf_area;
+  j["crown_area_m2"] = st.crown_area;
+  j["lai"] = st.lai;
   j["components"] = st.topology.components;
   j["euler_characteristic"] = st.topology.euler;
   j["joints"] = {{"bridges", st.joints.bridges},

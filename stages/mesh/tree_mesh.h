@@ -31,7 +31,8 @@ struct MeshOptions {
   int max_level = -1;          // highest branch level meshed (trunk 0); < 0 = all
   int subdivision = 1;         // Catmull–Clark levels, 0..3
   bool open_base = false;      // leave the trunk base open
-  bool foliage = true;         // leaf cards and needles
+  bool foliage = true;         // leaf quads (leaves or cards) and needles
+  bool mesh_card_twigs = false;  // also mesh the twigs that twig/shoot cards draw
   double min_radius = 0.001;   // m: thinner nodes (tapered tips) are meshed at this radius
   int bark_repeat = 1;         // bark texture repeats around a branch, 1..16
   Subdivider subdivider = Subdivider::kNative;
@@ -46,7 +47,9 @@ struct MeshStats {
   std::size_t base_vertices = 0, base_quads = 0;  // before subdivision
   std::size_t quads = 0, vertices = 0;            // after subdivision (quad mesh)
   std::size_t gltf_vertices = 0, triangles = 0;   // bark primitive (seams split)
-  std::size_t leaves = 0, needles = 0;
+  std::size_t leaves = 0, needles = 0;  // leaf quads (leaves or cards) and needles written
+  std::size_t card_twigs = 0;           // twigs left to their cards (not meshed)
+  double leaf_area = 0, crown_area = 0, lai = 0;  // libs/tree/foliage.h, of the tree's foliage
   long long self_intersections = -1;  // triangle pairs of the final mesh; -1 = not counted
 };
 

@@ -33,7 +33,10 @@ inline Tree sample_tree() {
   needle.tip = {1.0f, 2.0f, 0.02f};
   needle.radius = 0.0005f;
   t.needles = {needle};
-  t.materials = {"bark.png", "leaves.png", {0.3f, 0.2f, 0.1f}, {0.1f, 0.4f, 0.05f}};
+  t.materials.bark_texture = "bark.png";
+  t.materials.leaf_texture = "leaves.png";
+  t.materials.bark_color = {0.3f, 0.2f, 0.1f};
+  t.materials.leaf_color = {0.1f, 0.4f, 0.05f};
   return t;
 }
 

@@ -56,7 +56,10 @@ TEST(Stats, FormatText) {
             "height: 3.000 m\n"
             "dbh: 0.342 m\n"
             "total branch length: 4.000 m\n"
-            "bounds: [0.000, 0.000, 0.000] .. [1.250, 3.000, 0.020] m\n");
+            "bounds: [0.000, 0.000, 0.000] .. [1.250, 3.000, 0.020] m\n"
+            "leaf area: 0.005 m2 (one-sided)\n"
+            "crown projected area: 0.003 m2\n"
+            "leaf area index: 1.825\n");
 }
 
 TEST(Stats, FormatJson) {

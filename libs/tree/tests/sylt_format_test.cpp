@@ -14,6 +14,10 @@ namespace {
 
 using testing::sample_tree;
 
+// Bytes of version 2's materials after the colours for the sample tree (no coverage list):
+// leaf kind, atlas columns, rows (3), coverage count (4), bark tint (12), tint heights (8).
+constexpr std::size_t kMaterials2 = 3 + 4 + 12 + 8;
+
 std::string error_of(std::string_view bytes) {
   try {
     decode_sylt(bytes, "t.sylt");
@@ -58,7 +62,7 @@ TEST(SyltFormat, HeaderStartsWithMagicAndVersion) {
   const std::string bytes = encode_sylt(sample_tree());
   ASSERT_GE(bytes.size(), 16u);
   EXPECT_EQ(bytes.substr(0, 8), std::string("SYLT\r\n\x1a\n", 8));
-  EXPECT_EQ(bytes.substr(8, 4), std::string("\x01\x00\x00\x00", 4));
+  EXPECT_EQ(bytes.substr(8, 4), std::string("\x02\x00\x00\x00", 4));
 }
 
 TEST(SyltFormat, EmptyTreeRoundTrips) {
@@ -93,8 +97,10 @@ TEST(SyltFormat, ExactMessages) {
   EXPECT_EQ(error_of(bytes.substr(0, 12)),
             "t.sylt: truncated: 12 bytes is shorter than the header and checksum");
   std::string v2 = bytes;
-  v2[8] = 2;
-  EXPECT_EQ(error_of(v2), "t.sylt: unsupported .sylt version 2 (this build reads version 1)");
+  v2[8] = 1;
+  EXPECT_EQ(error_of(v2), "t.sylt: unsupported .sylt version 1 (this build reads version 2)");
+  v2[8] = 3;
+  EXPECT_EQ(error_of(v2), "t.sylt: unsupported .sylt version 3 (this build reads version 2)");
   EXPECT_EQ(error_of(bytes.substr(0, bytes.size() - 1)),
             "t.sylt: checksum mismatch (file truncated or corrupt)");
 }
@@ -102,18 +108,19 @@ TEST(SyltFormat, ExactMessages) {
 // A body that is corrupt but carries a matching checksum is still rejected with the offset.
 TEST(SyltFormat, CorruptCountWithValidChecksum) {
   std::string bytes = encode_sylt(sample_tree());
-  // The branch count follows header(16) + name(4+6) + two textures (4+8, 4+10) + colours(24).
-  const std::size_t at = 16 + 10 + 12 + 14 + 24;
+  // The branch count follows header(16) + name(4+6) + two textures (4+8, 4+10) + colours(24) +
+  // leaf kind, atlas grid, coverage count, bark tint (kMaterials2).
+  const std::size_t at = 16 + 10 + 12 + 14 + 24 + kMaterials2;
   std::uint32_t huge = 0x7fffffff;
   std::memcpy(bytes.data() + at, &huge, 4);
   const std::string msg = error_of(reseal(bytes));
-  EXPECT_NE(msg.find("t.sylt: byte 76: branch count 2147483647 needs"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("t.sylt: byte 103: branch count 2147483647 needs"), std::string::npos) << msg;
 }
 
 TEST(SyltFormat, InvalidTreeInsideFileIsRejected) {
   std::string bytes = encode_sylt(sample_tree());
   // Branch 1's parent field: after branch count (4) and branch 0 (24 + 4 * 32).
-  const std::size_t at = 16 + 10 + 12 + 14 + 24 + 4 + 24 + 4 * 32;
+  const std::size_t at = 16 + 10 + 12 + 14 + 24 + kMaterials2 + 4 + 24 + 4 * 32;
   std::int32_t self = 1;
   std::memcpy(bytes.data() + at, &self, 4);
   EXPECT_EQ(error_of(reseal(bytes)), "t.sylt: invalid tree: branch 1: parent 1 is not before it");
@@ -121,11 +128,35 @@ TEST(SyltFormat, InvalidTreeInsideFileIsRejected) {
 
 TEST(SyltFormat, NanRadiusIsRejected) {
   std::string bytes = encode_sylt(sample_tree());
-  const std::size_t at = 16 + 10 + 12 + 14 + 24 + 4 + 24 + 24;  // branch 0, node 0 radius
+  const std::size_t at = 16 + 10 + 12 + 14 + 24 + kMaterials2 + 4 + 24 + 24;  // branch 0, node 0 radius
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::memcpy(bytes.data() + at, &nan, 8);
   EXPECT_EQ(error_of(reseal(bytes)),
             "t.sylt: invalid tree: branch 0: node 0: radius must be finite and >= 0");
+}
+
+// Version 2's materials: leaf kind, a 4x2 atlas with its coverages and the bark tint survive
+// the round trip; an unknown leaf kind and a variant outside the atlas are refused.
+TEST(SyltFormat, CardMaterialsRoundTrip) {
+  Tree t = sample_tree();
+  t.materials.leaf_kind = LeafKind::kShootCards;
+  t.materials.atlas_columns = 4;
+  t.materials.atlas_rows = 2;
+  t.materials.cell_coverage = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f};
+  t.materials.bark_tint = {0.5f, 0.4f, 0.3f};
+  t.materials.bark_tint_from_m = 2;
+  t.materials.bark_tint_to_m = 5;
+  t.leaves[0].variant = 7;
+  const std::string bytes = encode_sylt(t);
+  EXPECT_EQ(decode_sylt(bytes), t);
+  std::string bad = bytes;
+  bad[16 + 10 + 12 + 14 + 24] = 3;  // the leaf kind byte
+  EXPECT_EQ(error_of(reseal(bad)), "t.sylt: byte 77: unknown leaf kind 3");
+  t.leaves[0].variant = 8;
+  EXPECT_THROW(encode_sylt(t), std::invalid_argument);
+  t.leaves[0].variant = 0;
+  t.materials.cell_coverage.pop_back();
+  EXPECT_EQ(validate_tree(t).front(), "materials: 7 cell coverages for 8 atlas cells");
 }
 
 TEST(SyltFormat, WriterRefusesInvalidTree) {

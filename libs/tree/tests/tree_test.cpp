@@ -29,7 +29,7 @@ TEST(Tree, ValidateMessages) {
   EXPECT_EQ(first_error(t), "branch 1: parent_t must be 0 at the parent's last node");
   t = sample_tree();
   t.leaves[0].variant = 4;
-  EXPECT_EQ(first_error(t), "leaf 0: variant 4 is not 0..3");
+  EXPECT_EQ(first_error(t), "leaf 0: variant 4 is not a cell of the 2x2 leaf atlas");
   t = sample_tree();
   t.leaves[0].normal = {0, 1, 0};
   EXPECT_EQ(first_error(t), "leaf 0: direction and normal must be orthogonal unit vectors");

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "libs/image/image_io.h"
 #include "libs/tree/stats.h"
 #include "libs/tree/sylt_format.h"
@@ -63,16 +65,36 @@ TEST(GenerateStage, Declaration) {
   std::vector<std::string> names;
   for (const auto& p : info.params) names.push_back(p.name);
   EXPECT_EQ(names, (std::vector<std::string>{"preset", "age", "seed", "levels", "max_node_spacing_m", "leaf_density",
-                                             "texture_size"}));
+                                             "texture_size", "foliage"}));
   for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
 }
 
-// Writes tree.sylt, bark.png and leaves.png; the tree is the preset's young oak.
+// Writes tree.sylt, stats.json, bark.png and leaves.png; the tree is the preset's young oak, in
+// twig cards (the default) on a 4 x 2 atlas whose cells carry their leaf coverage, and its
+// statistics report the crown's LAI within the preset's published range.
 TEST(GenerateStage, WritesOutputs) {
   test::TempDir dir;
   std::vector<std::string> outputs;
   run({{"age", "young"}, {"texture_size", 64}}, "configs/species/oak.yaml", dir / "a", &outputs);
-  EXPECT_EQ(outputs, (std::vector<std::string>{"tree.sylt", "bark.png", "leaves.png"}));
+  EXPECT_EQ(outputs, (std::vector<std::string>{"tree.sylt", "stats.json", "bark.png", "leaves.png"}));
+  {
+    const tree::Tree t = tree::read_sylt(dir / "a" / "tree.sylt");
+    EXPECT_EQ(t.materials.leaf_kind, tree::LeafKind::kTwigCards);
+    EXPECT_EQ(t.materials.atlas_columns, 4);
+    EXPECT_EQ(t.materials.atlas_rows, 2);
+    ASSERT_EQ(t.materials.cell_coverage.size(), 8u);
+    for (float c : t.materials.cell_coverage) {
+      EXPECT_GT(c, 0.05f);
+      EXPECT_LT(c, 0.9f);
+    }
+    const auto stats = nlohmann::json::parse(test::read_file(dir / "a" / "stats.json"));
+    EXPECT_EQ(stats["foliage"]["kind"], "twig_cards");
+    const double lai = stats["lai"].get<double>();
+    EXPECT_NEAR(lai, tree::compute_stats(t).lai, 1e-5);
+    EXPECT_GE(lai, stats["foliage"]["published_lai_range"][0].get<double>());
+    EXPECT_LE(lai, stats["foliage"]["published_lai_range"][1].get<double>());
+    EXPECT_EQ(stats["leaves"].get<std::size_t>(), t.leaves.size());
+  }
   const tree::Tree t = tree::read_sylt(dir / "a" / "tree.sylt");
   EXPECT_EQ(t.name, "oak/young seed 1");
   EXPECT_EQ(t.materials.bark_texture, "bark.png");
@@ -119,6 +141,27 @@ TEST(GenerateStage, BadPresetIsAStageError) {
     EXPECT_EQ(msg.rfind((dir / "holly.yaml").string() + ":", 0), 0u) << msg;
     EXPECT_NE(msg.find(": ages.young: Ratio must be in (0, 1)"), std::string::npos) << msg;
   }
+}
+
+// `foliage: leaves` gives one quad per leaf on the 2 x 2 leaf atlas; asking a broadleaf preset
+// for needles (or a conifer for leaves) is an error naming the preset.
+TEST(GenerateStage, SingleLeavesAndFoliageMismatch) {
+  test::TempDir dir;
+  run({{"age", "young"}, {"texture_size", 32}, {"foliage", "leaves"}}, "configs/species/birch.yaml", dir / "a");
+  const tree::Tree t = tree::read_sylt(dir / "a" / "tree.sylt");
+  EXPECT_EQ(t.materials.leaf_kind, tree::LeafKind::kLeaves);
+  EXPECT_EQ(t.materials.atlas_cells(), 4u);
+  EXPECT_GT(t.leaves.size(), 5000u);
+  try {
+    run({{"age", "young"}, {"foliage", "needles"}}, "configs/species/birch.yaml", dir / "b");
+    FAIL() << "expected a StageError";
+  } catch (const StageError& e) {
+    EXPECT_NE(std::string(e.what()).find("birch.yaml: foliage 'needles' needs a conifer preset; birch has leaves"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(run({{"age", "young"}, {"foliage", "leaves"}}, "configs/species/scots_pine.yaml", dir / "c"),
+               StageError);
 }
 
 TEST(GenerateStage, TextureSizeMustBePowerOfTwo) {

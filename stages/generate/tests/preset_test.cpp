@@ -33,7 +33,9 @@ ages:
   adult:
     height_m: [8, 14]
     source: "c"
-    params: { Levels: 2, levels: [ {}, {}, { Branches: 3 } ] }
+    params: { Levels: 2, levels: [ {}, {}, { Branches: 3 } ], LeafAreaIndex: 4.5, FoliageZone: 0.4 }
+card: { style: spray, length_m: 0.3, aspect: 0.6, elements: 50, shoots: 3, layers: [2, 3], light_bias: 0.2 }
+leaf_area_index: { range: [2, 5], source: "d" }
 )";
 
 std::string error_of(const std::string& text) {
@@ -71,6 +73,35 @@ TEST(Preset, AgesMergeOverSharedParams) {
   EXPECT_DOUBLE_EQ(s.age("middle").params.scale, 10);
   EXPECT_EQ(adult.params.materials.bark_texture, "bark.png");
   EXPECT_EQ(adult.params.materials.leaf_texture, "leaves.png");
+  // Foliage: the card (atlas look and placement), the LAI range and the per-age target.
+  EXPECT_DOUBLE_EQ(adult.params.leaf_area_index, 4.5);
+  EXPECT_DOUBLE_EQ(adult.params.foliage_zone, 0.4);
+  EXPECT_DOUBLE_EQ(young.params.leaf_area_index, 0);
+  EXPECT_EQ(s.card.style, CardStyle::kSpray);
+  EXPECT_EQ(s.card.elements, 50);
+  EXPECT_EQ(s.card.shoots, 3);
+  EXPECT_DOUBLE_EQ(s.card.length_m, 0.3);
+  EXPECT_DOUBLE_EQ(adult.params.card.aspect, 0.6);
+  EXPECT_EQ(adult.params.card.min_layers, 2);
+  EXPECT_EQ(adult.params.card.max_layers, 3);
+  EXPECT_DOUBLE_EQ(adult.params.card.light_bias, 0.2);
+  EXPECT_DOUBLE_EQ(s.lai_min, 2);
+  EXPECT_DOUBLE_EQ(s.lai_max, 5);
+  EXPECT_EQ(s.lai_source, "d");
+}
+
+// The card and LAI blocks: bad values and missing keys name their line.
+TEST(Preset, CardAndLeafAreaErrors) {
+  EXPECT_EQ(error_of(replace(kGood, "style: spray", "style: fern")),
+            "t.yaml:28:16: style: 'fern' is not one of twig, tuft, spray");
+  EXPECT_EQ(error_of(replace(kGood, "layers: [2, 3]", "layers: [3, 2]")),
+            "t.yaml:28:84: card.layers: expected 1 <= min <= max <= 4");
+  EXPECT_EQ(error_of(replace(kGood, "range: [2, 5]", "range: [5, 2]")),
+            "t.yaml:29:27: leaf_area_index.range: expected 0 < min < max <= 20");
+  EXPECT_EQ(error_of(replace(kGood, "leaf_area_index: { range: [2, 5], source: \"d\" }\n", "")),
+            "t.yaml:1:1: the preset: missing required key 'leaf_area_index'");
+  EXPECT_EQ(error_of(replace(kGood, "LeafAreaIndex: 4.5", "LeafAreaIndex: 25")),
+            "t.yaml:27:78: ages.adult: LeafAreaIndex must be in [0, 20]");
 }
 
 TEST(Preset, UnknownKeyIsAnErrorAtItsLine) {

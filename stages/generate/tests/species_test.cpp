@@ -6,6 +6,7 @@
 #include <set>
 
 #include "libs/tree/stats.h"
+#include "stages/generate/card_atlas.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/weber_penn.h"
 
@@ -36,26 +37,76 @@ TEST(Species, LibraryIsComplete) {
     EXPECT_TRUE(names.count(n)) << n;
 }
 
-TEST(Species, EveryPresetAndAgeWithinItsHeightRange) {
+// As the stage does by default: cards on the species' card atlas (its coverage sets the leaf
+// area each card carries; the atlas is drawn small, coverage does not depend on the size).
+tree::Tree generate_with_cards(const SpeciesPreset& s, const AgeVariant& a, std::uint64_t seed,
+                               FoliageResult* fit = nullptr) {
+  Rng leaf_rng(seed, "leaves");
+  const CardAtlas atlas = make_card_atlas(s.card, s.leaf, s.bark, 64, leaf_rng);
+  GenerateOptions o;
+  o.max_node_spacing = 0.5;  // the stage's default
+  o.foliage = FoliageMode::kCards;
+  o.atlas = {atlas.columns, atlas.rows, atlas.coverage};
+  o.foliage_result = fit;
+  Rng rng(seed, "tree");
+  return generate_tree(a.params, o, rng);
+}
+
+// Every preset and age, three seeds: the height in the preset's range; the crown's leaf area
+// index (one-sided leaf area / crown projected area) in the preset's published range, within
+// 10 % of the age's target; cards of the species' kind, the card scale inside its clamp.
+TEST(Species, EveryPresetAndAgeWithinItsHeightAndLeafAreaRange) {
   for (const auto& f : preset_files()) {
     const SpeciesPreset s = load_species_preset(f);
+    ASSERT_FALSE(s.lai_source.empty()) << f;
     for (const AgeVariant& a : s.ages) {
+      ASSERT_GT(a.params.leaf_area_index, 0) << s.species << "/" << a.age;
       for (std::uint64_t seed : {1, 2, 3}) {
-        GenerateOptions o;
-        o.max_node_spacing = 0.5;  // the stage's default
-        Rng rng(seed, "tree");
-        const tree::Tree t = generate_tree(a.params, o, rng);
+        FoliageResult fit;
+        const tree::Tree t = generate_with_cards(s, a, seed, &fit);
+        const std::string what = s.species + "/" + a.age + " seed " + std::to_string(seed);
         ASSERT_TRUE(tree::validate_tree(t).empty()) << f;
         const tree::TreeStats st = tree::compute_stats(t);
-        EXPECT_GE(st.height, a.height_min) << s.species << "/" << a.age << " seed " << seed;
-        EXPECT_LE(st.height, a.height_max) << s.species << "/" << a.age << " seed " << seed;
-        if (a.params.foliage == Foliage::kLeaves) {
-          EXPECT_GT(st.leaves, 0u);
-          EXPECT_EQ(st.needles, 0u);
-        } else {
-          EXPECT_GT(st.needles, 0u);
-          EXPECT_EQ(st.leaves, 0u);
+        EXPECT_GE(st.height, a.height_min) << what;
+        EXPECT_LE(st.height, a.height_max) << what;
+        EXPECT_GE(st.lai, s.lai_min) << what;
+        EXPECT_LE(st.lai, s.lai_max) << what;
+        EXPECT_NEAR(st.lai, a.params.leaf_area_index, 0.1 * a.params.leaf_area_index) << what;
+        EXPECT_GE(fit.card_scale, kMinCardScale) << what;
+        EXPECT_LT(fit.card_scale, kMaxCardScale) << what << ": the cards cannot carry the target";
+        EXPECT_GT(fit.density, 0.1) << what << ": too few cards for the crown";
+        EXPECT_GT(st.leaves, 0u);
+        EXPECT_EQ(st.needles, 0u);
+        EXPECT_EQ(t.materials.leaf_kind, a.params.foliage == Foliage::kLeaves ? tree::LeafKind::kTwigCards
+                                                                               : tree::LeafKind::kShootCards);
+      }
+    }
+  }
+}
+
+// No branch below the ground, over many seeds of every adult and young preset: every node of a
+// branch that grows from another (laterals and split clones) keeps its radius and the square
+// bark section (1.42 r) above y = 0, the trunk's axis never goes below it, and no foliage quad
+// dips below it.
+TEST(Species, NothingBelowTheGround) {
+  for (const auto& f : preset_files()) {
+    const SpeciesPreset s = load_species_preset(f);
+    for (const char* age : {"young", "adult"}) {
+      for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+        const tree::Tree t = generate_with_cards(s, s.age(age), seed);
+        const std::string what = s.species + "/" + age + " seed " + std::to_string(seed);
+        double lowest = 1e9;
+        for (const tree::Branch& b : t.branches)
+          for (const tree::Node& n : b.nodes) lowest = std::min(lowest, n.position.y - (b.parent >= 0 ? 1.42 * n.radius : 0));
+        EXPECT_GE(lowest, 0.0) << what;
+        double foliage = 1e9;
+        for (const tree::Leaf& l : t.leaves) {
+          const tree::Vec3 p = tree::to_double(l.position), d = tree::to_double(l.direction);
+          const tree::Vec3 side = tree::cross(tree::to_double(l.normal), d) * (0.5 * l.width);
+          for (const tree::Vec3 q : {p - side, p + side, p + d * double(l.length) + side, p + d * double(l.length) - side})
+            foliage = std::min(foliage, q.y);
         }
+        EXPECT_GE(foliage, 0.0) << what;
       }
     }
   }

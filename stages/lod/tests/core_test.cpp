@@ -328,7 +328,7 @@ TEST(Foliage, LeafCollapseBuildsBinaryForest) {
 }
 
 // A collapsed leaf shows one whole atlas leaf: the larger leaf's variant cell, corner for corner
-// (petiole edge at high v from the first leaf, tip edge at low v from the second).
+// (petiole edge at low v from the first leaf, tip edge at high v from the second).
 TEST(Foliage, CollapsedLeafShowsAWholeAtlasLeaf) {
   tree::Leaf la, lb;
   la.position = {0, 0, 0};

@@ -1,4 +1,4 @@
-// The glTF surface of a quad mesh: unit normals that point out, unit tangents with w = +-1,
+// The glTF surface of a quad mesh: unit normals that point out, no tangents (no normal map),
 // seams split into separate vertices, two counter-clockwise triangles per quad. And foliage.
 #include "stages/mesh/surface.h"
 
@@ -31,7 +31,7 @@ TEST(Surface, AttributesAreValidForGltf) {
   const gltf::Primitive p = to_primitive(m);
   const std::size_t n = p.vertex_count();
   ASSERT_EQ(p.normals.size(), 3 * n);
-  ASSERT_EQ(p.tangents.size(), 4 * n);
+  EXPECT_TRUE(p.tangents.empty());  // tangents only with a normal map (the lead's rule)
   ASSERT_EQ(p.texcoords.size(), 2 * n);
   EXPECT_EQ(p.indices.size(), 6 * m.quads.size());
   // The seam: more glTF vertices than mesh vertices, but only along the seam and the caps.
@@ -39,17 +39,13 @@ TEST(Surface, AttributesAreValidForGltf) {
   EXPECT_LT(n, m.positions.size() * 2);
   for (std::size_t i = 0; i < n; ++i) {
     EXPECT_NEAR(tree::length(at(p.normals, i)), 1, 1e-6);
-    EXPECT_NEAR(tree::length(at(p.tangents, i, 4)), 1, 1e-6);
-    EXPECT_TRUE(p.tangents[4 * i + 3] == 1.0f || p.tangents[4 * i + 3] == -1.0f);
   }
-  // Side vertices (away from the caps) have normals pointing away from the axis and tangents
-  // around it.
+  // Side vertices (away from the caps) have normals pointing away from the axis.
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 x = at(p.positions, i);
     if (x.y < 0.9 || x.y > 2.1) continue;
     const Vec3 radial = tree::normalized(Vec3{x.x, 0, x.z});
     EXPECT_GT(tree::dot(at(p.normals, i), radial), 0.9);
-    EXPECT_LT(std::abs(tree::dot(at(p.tangents, i, 4), Vec3{0, 1, 0})), 0.1);
   }
   // Triangles wind counter-clockwise seen from outside: their normal agrees with the vertex normals.
   for (std::size_t t = 0; t < p.indices.size(); t += 3) {
@@ -74,6 +70,7 @@ TEST(Foliage, LeafCardsAndNeedles) {
   const gltf::Primitive p = leaf_cards(t);
   ASSERT_EQ(p.vertex_count(), 4u);
   ASSERT_EQ(p.indices.size(), 6u);
+  EXPECT_TRUE(p.tangents.empty());
   for (std::size_t i = 0; i < 4; ++i) {
     EXPECT_GE(p.texcoords[2 * i], 0.5f);  // variant 3: column 1, row 1
     EXPECT_GE(p.texcoords[2 * i + 1], 0.5f);
@@ -87,6 +84,15 @@ TEST(Foliage, LeafCardsAndNeedles) {
   // The petiole end (x = 0.2) has the low v of the quadrant.
   for (std::size_t i = 0; i < 4; ++i)
     EXPECT_FLOAT_EQ(p.texcoords[2 * i + 1], p.positions[3 * i] < 0.25f ? 0.5f : 1.0f);
+
+  // A 4 x 2 card atlas: variant 5 is column 1, row 1 (libs/tree atlas_cell), u0 on the -side
+  // edge, v0 at the card's base.
+  t.materials.atlas_columns = 4;
+  t.materials.atlas_rows = 2;
+  t.leaves[0].variant = 5;
+  const gltf::Primitive c = leaf_cards(t);
+  const float want[8] = {0.25f, 0.5f, 0.5f, 0.5f, 0.5f, 1.0f, 0.25f, 1.0f};
+  for (std::size_t i = 0; i < 8; ++i) EXPECT_FLOAT_EQ(c.texcoords[i], want[i]) << i;
 
   tree::Needle nd;
   nd.base = {0, 1, 0};

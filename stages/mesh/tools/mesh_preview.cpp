@@ -14,6 +14,7 @@
 #include "libs/render/camera.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
+#include "stages/generate/card_atlas.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
@@ -52,18 +53,37 @@ int main(int argc, char** argv) {
     o.subdivision = argc > 6 ? std::stoi(argv[6]) : 1;
     o.max_level = argc > 7 ? std::stoi(argv[7]) : -1;
     o.count_self_intersections = std::getenv("SELF_INTERSECTIONS") != nullptr;
+    o.foliage = std::getenv("NOFOLIAGE") == nullptr;
     tree::Tree t;
     mesh::Texture bark{"bark.png", ""}, leaves{"leaves.png", ""};
     if (kind == "preset") {
+      // As the generate stage does (FOLIAGE=cards|single, default cards; TEXTURE=size).
       const auto species = generate::load_species_preset(path);
+      const bool cards = !std::getenv("FOLIAGE") || std::string(std::getenv("FOLIAGE")) == "cards";
+      const int size = std::getenv("TEXTURE") ? std::atoi(std::getenv("TEXTURE")) : 256;
       generate::GenerateOptions g;
       g.max_node_spacing = 0.5;
       g.name = species.species + "/" + age;
-      Rng rng(seed, "tree");
-      t = generate::generate_tree(species.age(age).params, g, rng);
       Rng brng(seed, "bark"), lrng(seed, "leaves");
-      bark.bytes = png_of(generate::make_bark_texture(species.bark, 256, brng), out + "_bark.png");
-      leaves.bytes = png_of(generate::make_leaf_atlas(species.leaf, 256, lrng), out + "_leaves.png");
+      if (cards) {
+        generate::CardAtlas atlas = generate::make_card_atlas(species.card, species.leaf, species.bark, size, lrng);
+        leaves.bytes = png_of(atlas.image, out + "_leaves.png");
+        g.atlas = {atlas.columns, atlas.rows, atlas.coverage};
+        g.foliage = generate::FoliageMode::kCards;
+      } else {
+        std::vector<float> coverage;
+        leaves.bytes = png_of(generate::make_leaf_atlas(species.leaf, size, lrng, &coverage), out + "_leaves.png");
+        g.atlas = {2, 2, coverage};
+      }
+      generate::FoliageResult fit;
+      g.foliage_result = &fit;
+      Rng rng(seed, "tree");
+      const auto t0 = std::chrono::steady_clock::now();
+      t = generate::generate_tree(species.age(age).params, g, rng);
+      const double gen_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      bark.bytes = png_of(generate::make_bark_texture(species.bark, size, brng), out + "_bark.png");
+      std::printf("generated in %.1f ms: %zu foliage elements, card scale %.3f, layers %d, LAI %.3f\n", gen_ms,
+                  fit.elements, fit.card_scale, fit.layers, fit.lai);
     } else {
       import::ImportOptions io;
       t = import::import_tree(slurp(path), path, io);
