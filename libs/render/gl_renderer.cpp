@@ -22,7 +22,6 @@
 
 #include <Eigen/Geometry>
 
-#include "libs/image/alpha_mips.h"
 #include "libs/render/gl_context.h"
 #include "libs/render/renderer.h"
 
@@ -277,16 +276,7 @@ GLuint upload_texture(GlObjects& gl, const Texture& t) {
   GLint min = t.min_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR;
   if (t.mipmaps) {
     min = t.min_filter == Filter::kNearest ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
-    if (t.coverage_cutoff > 0) {
-      image::Image base(t.width, t.height);
-      base.bytes() = t.rgba;
-      const std::vector<image::Image> levels = image::coverage_preserving_mips(base, t.coverage_cutoff);
-      for (std::size_t l = 1; l < levels.size(); ++l)
-        glTexImage2D(GL_TEXTURE_2D, GLint(l), GL_SRGB8_ALPHA8, levels[l].width(), levels[l].height(), 0, GL_RGBA,
-                     GL_UNSIGNED_BYTE, levels[l].bytes().data());
-    } else {
-      glGenerateMipmap(GL_TEXTURE_2D);
-    }
+    glGenerateMipmap(GL_TEXTURE_2D);
   }
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
   return id;

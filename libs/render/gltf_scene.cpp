@@ -199,10 +199,6 @@ class Loader {
         mat.alpha_mode = AlphaMode::kBlend;
       }
       mat.alpha_cutoff = float(gm.alphaCutoff);
-      // An alpha-tested texture gets coverage-preserving mipmaps at its material's cutoff
-      // (libs/image/alpha_mips.h), so foliage keeps its density with distance.
-      if (mat.alpha_mode == AlphaMode::kMask && mat.base_color_texture >= 0)
-        scene_.textures[std::size_t(mat.base_color_texture)].coverage_cutoff = mat.alpha_cutoff;
       mat.double_sided = gm.doubleSided;
       mat.unlit = gm.extensions.count(kUnlit) > 0;
       scene_.materials.push_back(std::move(mat));

@@ -48,9 +48,6 @@ struct Texture {
   Filter mag_filter = Filter::kLinear;
   Filter min_filter = Filter::kLinear;
   bool mipmaps = true;  // trilinear minification when min_filter is kLinear
-  // > 0: the texture is alpha-tested at this cutoff; its mipmaps keep the base level's coverage
-  // (libs/image/alpha_mips.h, Castaño 2010) instead of glGenerateMipmap's plain box filter.
-  float coverage_cutoff = -1;
 };
 
 struct Material {

@@ -9,6 +9,7 @@
 #include "libs/tree/stats.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/generate/card_atlas.h"
+#include "stages/generate/mip_safe_alpha.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
@@ -87,6 +88,8 @@ class GenerateStage : public Stage {
       options.atlas = {2, 2, coverage};
       options.foliage = generate::FoliageMode::kSingle;
     }
+    // Mip-safe alpha: the atlas keeps its coverage under the plain mipmaps every client builds.
+    const generate::MipSafety mips = generate::make_mip_safe(leaves, options.atlas.columns, options.atlas.rows);
     options.levels = static_cast<int>(ctx.integer("levels"));
     options.max_node_spacing = ctx.real("max_node_spacing_m");
     options.leaf_density = ctx.real("leaf_density");
@@ -117,7 +120,10 @@ class GenerateStage : public Stage {
                         {"lai_source", species.lai_source},
                         {"card_scale", fit.card_scale},
                         {"card_layers", fit.layers},
-                        {"elements", fit.elements}};
+                        {"elements", fit.elements},
+                        {"atlas_halo_gain", mips.gain},
+                        {"atlas_mip_coverage", mips.coverage},
+                        {"atlas_mip_coverage_without_halo", mips.coverage_plain}};
     ctx.write_output("stats.json", stats.dump(2) + "\n");
     try {
       image::write_png(to_image(bark), ctx.output_path("bark.png"));

@@ -96,7 +96,7 @@ class Reader {
   void apply_params(const YAML::Node& node, Preset& p, Marks& marks, const std::string& what) const {
     static const std::set<std::string> keys = {
         "Shape", "Levels", "Scale", "ScaleV", "BaseSize", "Ratio", "Flare", "BaseSplits", "AttractionUp",
-        "TreeShapeExponent", "Leaves", "LeafScale", "LeafScaleX", "LeafAreaIndex", "FoliageZone", "levels", "leaf"};
+        "TreeShapeExponent", "Leaves", "LeafScale", "LeafScaleX", "LeafAreaIndex", "FoliageZone", "CardScale", "levels", "leaf"};
     for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
       marks[k] = v.Mark();
       if (k == "Shape") p.shape = integer(v, k);
@@ -114,6 +114,7 @@ class Reader {
       else if (k == "LeafScaleX") p.leaf_scale_x = real(v, k);
       else if (k == "LeafAreaIndex") p.leaf_area_index = real(v, k);
       else if (k == "FoliageZone") p.foliage_zone = real(v, k);
+      else if (k == "CardScale") p.card_scale = real(v, k);
       else if (k == "leaf") apply_leaf(v, p.leaf, marks, what + ".leaf");
       else if (k == "levels") {
         if (!v.IsSequence()) fail(v.Mark(), what + ".levels: expected a list (index 0 = trunk)");

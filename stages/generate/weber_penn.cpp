@@ -623,6 +623,7 @@ class Generator {
     spec.rotate = p_.leaf.rotate * kDeg;
     spec.rotate_v = p_.leaf.rotate_v * kDeg;
     spec.card = p_.card;
+    spec.card.length *= p_.card_scale;
     spec.materials = t.materials;
     spec.materials.leaf_kind = !cards ? tree::LeafKind::kLeaves
                                : p_.foliage == Foliage::kNeedles ? tree::LeafKind::kShootCards
@@ -707,6 +708,7 @@ void validate_preset(const Preset& p) {
   need(p.leaf_scale_x > 0 && p.leaf_scale_x <= 4, "LeafScaleX", "in (0, 4]");
   need(p.leaf_area_index >= 0 && p.leaf_area_index <= 20, "LeafAreaIndex", "in [0, 20]");
   need(p.foliage_zone > 0 && p.foliage_zone <= 1, "FoliageZone", "in (0, 1]");
+  need(p.card_scale >= 0.25 && p.card_scale <= 4, "CardScale", "in [0.25, 4]");
   need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");
   need(p.card.aspect > 0 && p.card.aspect <= 4, "card.aspect", "in (0, 4]");
   need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4, "card.layers",

@@ -67,6 +67,7 @@ struct Preset {
   double leaf_scale_x = 0.5;         // LeafScaleX: width / length (needle: diameter / length)
   double leaf_area_index = 0;        // LeafAreaIndex: target crown LAI; 0 = Leaves is the count
   double foliage_zone = 1;           // FoliageZone: distal fraction of a last-level branch in leaf
+  double card_scale = 1;             // CardScale: multiplies card.length (an age's smaller shoots)
   Foliage foliage = Foliage::kLeaves;
   CardShape card;                    // the preset's `card:` block (placement part)
   // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the
