@@ -151,7 +151,7 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
     return kExitUsage;
   }
   if (a.json) std::fputs(summary_json(recipe->name, s).c_str(), io.out);
-  if (!s.warning.empty()) std::fprintf(io.err, "warning: %s\n", s.warning.c_str());
+  for (const auto& e : s.errors) std::fprintf(io.err, "error: %s\n", e.c_str());
   if (s.evicted.actions_removed > 0)
     std::fprintf(io.err, "sylva: cache above its limit: evicted %llu least recently used results (%s)\n",
                  static_cast<unsigned long long>(s.evicted.actions_removed), human_bytes(s.evicted.bytes_freed).c_str());
@@ -233,6 +233,7 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const
 int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io,
             const std::vector<CliCommand*>& extra) {
   RealFileSystem fsys;
+  fsys.set_cancel_flag(io.cancel);  // Ctrl-C and SIGTERM stop hashing too
   Common common;
   CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
   app.require_subcommand(1);
@@ -309,9 +310,11 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
     if (cv->parsed()) {
       Cache cache(fsys, common.cache_root());
       auto gc_lock = cache.lock_for_gc();
-      const auto removed = cache.verify_all();
-      std::fprintf(io.out, "%llu corrupt blob%s removed\n", static_cast<unsigned long long>(removed), removed == 1 ? "" : "s");
-      return removed ? kExitBuildFailed : kExitOk;
+      const VerifyResult v = cache.verify_all();
+      std::fprintf(io.out, "%llu corrupt blob%s removed, %llu invalid action result%s removed\n",
+                   static_cast<unsigned long long>(v.blobs_removed), v.blobs_removed == 1 ? "" : "s",
+                   static_cast<unsigned long long>(v.actions_removed), v.actions_removed == 1 ? "" : "s");
+      return v.blobs_removed + v.actions_removed ? kExitBuildFailed : kExitOk;
     }
     if (cl->parsed()) {
       if (clean_all) {

@@ -42,6 +42,10 @@ void ProgressPrinter::on_finish(const NodeReport& r) {
     ++ran_;
     run_seconds_ += r.seconds;
   }
+  const bool quiet = r.status == NodeStatus::kCached || r.status == NodeStatus::kUpToDate;
+  if (!live_ && quiet) return;
+  // On a terminal a cached node only moves the counter: redraw at most ten times a second.
+  if (live_ && quiet && clock_.now_seconds() - last_redraw_ < 0.1) return;
   if (live_) std::fprintf(out_, "\r\x1b[K");
   if (r.status == NodeStatus::kFailed) {
     std::fprintf(out_, "error: node '%s' (stage %s): %s\n", r.name.c_str(), r.stage.c_str(), r.error.c_str());
@@ -76,6 +80,7 @@ void ProgressPrinter::redraw_locked() {
   }
   std::fprintf(out_, "\r\x1b[K%s", line.c_str());
   std::fflush(out_);
+  last_redraw_ = now;
 }
 
 void ProgressPrinter::ticker() {

@@ -58,6 +58,7 @@ RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::st
   const std::string out_root = global_option(parent, "--out").value_or("out");
   b.out_dir = fs::path(out_root) / recipe.name;
   RealFileSystem fsys;
+  fsys.set_cancel_flag(io.cancel);
   Cache cache(fsys, cache_root_for(out_root, global_option(parent, "--cache").value_or("")));
   SteadyClock clock;
   ProgressPrinter progress(io.err, io.err_is_terminal, clock);

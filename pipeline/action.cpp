@@ -1,6 +1,7 @@
 #include "pipeline/action.h"
 
 #include <algorithm>
+#include <charconv>
 #include <set>
 #include <nlohmann/json.hpp>
 
@@ -9,17 +10,52 @@ namespace sylva {
 using nlohmann::json;
 
 std::string ActionRecord::key_text() const {
+  // Appended piece by piece (no temporaries): a 10,000-node no-op computes 10,000 keys.
   std::string t;
+  t.reserve(256);
+  auto num = [&](std::uint64_t v) {
+    char buf[24];
+    auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+    t.append(buf, end);
+  };
   t += kActionSalt;
-  t += "\nstage " + stage + "\nversion " + std::to_string(version) + "\n";
-  for (const auto& [k, v] : params) t += "param " + k + "=" + v + "\n";
-  for (std::size_t i = 0; i < inputs.size(); ++i) {
-    t += "input " + std::to_string(i) + " " + inputs[i].type + "\n";
-    for (const auto& [name, d] : inputs[i].files)
-      t += "  " + name + " " + d.hash + " " + std::to_string(d.size) + "\n";
+  t += "\nstage ";
+  t += stage;
+  t += "\nversion ";
+  t += std::to_string(version);
+  t += '\n';
+  for (const auto& [k, v] : params) {
+    t += "param ";
+    t += k;
+    t += '=';
+    t += v;
+    t += '\n';
   }
-  for (const auto& [k, f] : files)
-    t += "file " + k + " " + f.digest.hash + " " + std::to_string(f.digest.size) + "\n";
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    t += "input ";
+    num(i);
+    t += ' ';
+    t += inputs[i].type;
+    t += '\n';
+    for (const auto& [name, d] : inputs[i].files) {
+      t += "  ";
+      t += name;
+      t += ' ';
+      t += d.hash;
+      t += ' ';
+      num(d.size);
+      t += '\n';
+    }
+  }
+  for (const auto& [k, f] : files) {
+    t += "file ";
+    t += k;
+    t += ' ';
+    t += f.digest.hash;
+    t += ' ';
+    num(f.digest.size);
+    t += '\n';
+  }
   return t;
 }
 
@@ -40,7 +76,7 @@ std::string ActionRecord::to_json() const {
   for (const auto& [k, f] : files)
     j["files"][k] = {{"path", f.path}, {"hash", f.digest.hash}, {"size", f.digest.size}};
   j["key"] = key();
-  return j.dump(1) + "\n";
+  return j.dump() + "\n";
 }
 
 std::optional<ActionRecord> ActionRecord::from_json(const std::string& text) {

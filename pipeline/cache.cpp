@@ -1,36 +1,57 @@
 #include "pipeline/cache.h"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+
+#include "pipeline/recipe.h"
 
 namespace sylva {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string ActionResult::to_json() const {
-  json j = {{"outputs", json::array()}};
+std::string ActionResult::to_json(const std::string& key) const {
+  json j = {{"key", key}, {"outputs", json::array()}};
   for (const auto& o : outputs)
     j["outputs"].push_back({{"name", o.name}, {"hash", o.digest.hash}, {"size", o.digest.size}});
   return j.dump() + "\n";
 }
 
-std::optional<ActionResult> ActionResult::from_json(const std::string& text) {
+std::optional<ActionResult> ActionResult::from_json(const std::string& text, const std::string& key,
+                                                    std::string* why) {
+  auto bad = [&](std::string reason) -> std::optional<ActionResult> {
+    if (why) *why = std::move(reason);
+    return std::nullopt;
+  };
   try {
     json j = json::parse(text);
+    if (!j.is_object() || !j.contains("key") || j.at("key") != key) return bad("it does not name its own key");
     ActionResult r;
     for (const auto& o : j.at("outputs")) {
       OutputEntry e{o.at("name").get<std::string>(),
                     {o.at("hash").get<std::string>(), o.at("size").get<std::uint64_t>()}};
-      if (!is_hex_digest(e.digest.hash)) return std::nullopt;
+      // The same rule as a stage's output names: never a path, never "." or "..".
+      if (!is_valid_name(e.name)) return bad("it names an invalid output file");
+      if (!is_hex_digest(e.digest.hash)) return bad("it names an invalid digest");
+      if (!r.outputs.empty() && !(r.outputs.back().name < e.name)) return bad("its outputs are not sorted and unique");
       r.outputs.push_back(std::move(e));
     }
+    if (r.outputs.empty()) return bad("it lists no outputs");
     return r;
   } catch (const json::exception&) {
-    return std::nullopt;  // a damaged action result is a miss, never an error
+    return bad("it is not a valid action result");  // a damaged action result is a miss, never an error
   }
+}
+
+bool output_name_declared(const std::string& name, const std::vector<std::string>& patterns) {
+  if (patterns.empty()) return true;
+  for (const auto& p : patterns)
+    if (fnmatch(p.c_str(), name.c_str(), 0) == 0) return true;
+  return false;
 }
 
 Cache::Cache(FileSystem& fs, fs::path root) : fs_(fs), root_(std::move(root)) {}
@@ -43,17 +64,18 @@ fs::path Cache::action_path(const std::string& key) const {
   return root_ / "ac" / key.substr(0, 2) / key;
 }
 
-std::optional<ActionResult> Cache::lookup(const std::string& key) {
+std::optional<ActionResult> Cache::lookup(const std::string& key, const std::vector<std::string>& outputs) {
   const fs::path p = action_path(key);
   auto info = fs_.stat(p);
-  if (!info) return std::nullopt;
-  auto text = fs_.read(p);
+  if (!info || info->is_dir || info->is_other) return std::nullopt;
+  auto text = fs_.read(p, nullptr, kMaxActionBytes);
   if (!text) return std::nullopt;
-  auto result = ActionResult::from_json(*text);
+  auto result = ActionResult::from_json(*text, key);
   if (!result) return std::nullopt;
   for (const auto& o : result->outputs) {
+    if (!output_name_declared(o.name, outputs)) return std::nullopt;  // another stage's entry
     auto st = fs_.stat(blob_path(o.digest.hash));
-    if (!st || st->is_dir || st->size != o.digest.size) return std::nullopt;
+    if (!st || st->is_dir || st->is_other || st->size != o.digest.size) return std::nullopt;
   }
   // LRU for gc, with relatime's coarseness: a no-op build does not rewrite every entry's inode.
   constexpr std::int64_t kHour = 3600ll * 1000000000;
@@ -61,37 +83,41 @@ std::optional<ActionResult> Cache::lookup(const std::string& key) {
   return result;
 }
 
-void Cache::store_action(const std::string& key, const ActionResult& result) {
-  fs_.write_atomic(action_path(key), result.to_json());
+bool Cache::store_action(const std::string& key, const ActionResult& result, bool durable, std::string* error) {
+  return fs_.write_atomic(action_path(key), result.to_json(key), durable, error);
 }
 
-std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at) {
+std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at, bool durable, std::string* error,
+                                      const std::optional<Digest>& known) {
   const std::int64_t now = fs_.now_ns();
-  auto d = fs_.digest(file);
+  auto d = known ? known : fs_.digest(file, error);
   if (!d) return std::nullopt;
   const fs::path dest = blob_path(d->hash);
   // Replacing an existing blob (rather than trusting it) costs nothing and heals a damaged one.
   fs_.set_mtime(file, now - 1);
   fs_.make_read_only(file);
-  fs_.make_dirs(dest.parent_path());
-  if (!fs_.sync(file) || !fs_.rename(file, dest)) return std::nullopt;
+  if (!fs_.make_dirs(dest.parent_path(), error)) return std::nullopt;
+  if (durable && !fs_.sync(file, error)) return std::nullopt;
+  if (!fs_.rename(file, dest, error)) return std::nullopt;
   if (known_at) *known_at = now;
   return d;
 }
 
-bool Cache::materialize(const Digest& d, const fs::path& dest, bool verify, std::int64_t* known_at) {
+bool Cache::materialize(const Digest& d, const fs::path& dest, bool verify, std::int64_t* known_at,
+                        std::string* error) {
   const fs::path src = blob_path(d.hash);
   const std::int64_t now = fs_.now_ns();
   if (verify) {
-    auto actual = fs_.digest(src);
+    auto actual = fs_.digest(src, error);
     if (!actual) return false;
     if (!(*actual == d)) {
       fs_.remove(src);  // corrupt: never used, rebuilt by the caller
+      if (error) *error = "blob " + d.hash.substr(0, 12) + " is corrupt (deleted)";
       return false;
     }
   }
   bool linked = false;
-  if (!fs_.link_or_copy(src, dest, &linked)) return false;
+  if (!fs_.link_or_copy(src, dest, &linked, error)) return false;
   if (!linked) fs_.set_mtime(dest, now - 1);  // a copy is as settled as the blob it copies
   if (known_at) *known_at = now;
   return true;
@@ -148,8 +174,8 @@ GcResult Cache::gc(std::uint64_t max_bytes) {
   for (const auto& fan : fs_.list(root_ / "ac"))
     for (const auto& k : fs_.list(root_ / "ac" / fan)) {
       const fs::path p = root_ / "ac" / fan / k;
-      auto text = fs_.read(p);
-      auto res = text ? ActionResult::from_json(*text) : std::nullopt;
+      auto text = fs_.read(p, nullptr, kMaxActionBytes);
+      auto res = text ? ActionResult::from_json(*text, k) : std::nullopt;
       if (!res) {  // unreadable results are garbage
         if (fs_.remove(p)) ++r.actions_removed;
         continue;
@@ -186,17 +212,31 @@ GcResult Cache::gc(std::uint64_t max_bytes) {
   return r;
 }
 
-std::uint64_t Cache::verify_all() {
-  std::uint64_t removed = 0;
+VerifyResult Cache::verify_all() {
+  VerifyResult r;
   for (const auto& fan : fs_.list(root_ / "cas"))
     for (const auto& b : fs_.list(root_ / "cas" / fan)) {
       const fs::path p = root_ / "cas" / fan / b;
       auto d = fs_.digest(p);
-      if (!d || d->hash != b) {
-        if (fs_.remove(p)) ++removed;
+      if (!d || d->hash != b || fan != b.substr(0, 2)) {
+        if (fs_.remove(p)) ++r.blobs_removed;
       }
     }
-  return removed;
+  // Action results are checked after the blobs: one naming a blob just deleted goes too.
+  for (const auto& fan : fs_.list(root_ / "ac"))
+    for (const auto& k : fs_.list(root_ / "ac" / fan)) {
+      const fs::path p = root_ / "ac" / fan / k;
+      auto text = fs_.read(p, nullptr, kMaxActionBytes);
+      auto res = text && is_hex_digest(k) && fan == k.substr(0, 2) ? ActionResult::from_json(*text, k) : std::nullopt;
+      bool ok = res.has_value();
+      if (ok)
+        for (const auto& o : res->outputs) {
+          auto st = fs_.stat(blob_path(o.digest.hash));
+          if (!st || st->is_dir || st->size != o.digest.size) ok = false;
+        }
+      if (!ok && fs_.remove(p)) ++r.actions_removed;
+    }
+  return r;
 }
 
 }  // namespace sylva

@@ -1,11 +1,17 @@
 // The content-addressed cache (Bazel's vocabulary), shared safely by concurrent builds:
 //   <root>/cas/ab/<hash>     output blobs, named by their SHA-256, read-only
-//   <root>/ac/ab/<key>       action results: JSON manifest of output name -> digest
+//   <root>/ac/ab/<key>       action results: JSON manifest of output name -> digest, naming
+//                            its own key
 //   <root>/locks/ab/<key>    flock files: one process runs an action at a time
 //   <root>/tmp/              temporary files and stage scratch directories
-// Every write is temp + fsync + rename. An action-cache hit counts only if every blob it
-// names is present with the recorded size; a blob whose content does not hash to its name is
-// deleted when it is read and the action rebuilt, never used.
+// Every write is temp + rename, made durable (fsync or syncfs, DurableBatch) before an action
+// result names it. An action-cache hit counts only if the entry names its own key, lists at
+// least one output, every output name is a valid file name ([A-Za-z0-9_.-], no "." or "..":
+// an entry can never name a path outside the node's directory) matching the stage's declared
+// output patterns, and every blob it names is present with the recorded size; a blob whose
+// content does not hash to its name is deleted when it is read and the action rebuilt, never
+// used. Anything else is a miss (and `cache verify` deletes it): a crafted or damaged entry is
+// never trusted.
 #pragma once
 
 #include <cstdint>
@@ -23,13 +29,21 @@ namespace sylva {
 struct OutputEntry {
   std::string name;  // file name within the node's output directory
   Digest digest;
+  friend bool operator==(const OutputEntry&, const OutputEntry&) = default;
 };
 
 struct ActionResult {
   std::vector<OutputEntry> outputs;  // sorted by name
-  std::string to_json() const;
-  static std::optional<ActionResult> from_json(const std::string& text);
+  // The entry stored under `key`.
+  std::string to_json(const std::string& key) const;
+  // The entry's outputs if it is well formed and names `key` (see above); else nullopt.
+  // `why` (optional) says what is wrong.
+  static std::optional<ActionResult> from_json(const std::string& text, const std::string& key,
+                                               std::string* why = nullptr);
 };
+
+// True if output `name` matches one of `patterns` (fnmatch); an empty list accepts any name.
+bool output_name_declared(const std::string& name, const std::vector<std::string>& patterns);
 
 struct CacheStats {
   std::uint64_t blobs = 0, blob_bytes = 0, actions = 0, tmp_entries = 0;
@@ -39,6 +53,13 @@ struct GcResult {
   std::uint64_t actions_removed = 0, blobs_removed = 0, bytes_freed = 0, tmp_removed = 0;
 };
 
+struct VerifyResult {
+  std::uint64_t blobs_removed = 0, actions_removed = 0;
+};
+
+// An action result is a few hundred bytes; anything much larger is not one (never read whole).
+inline constexpr std::uint64_t kMaxActionBytes = 1 << 20;
+
 class Cache {
  public:
   Cache(FileSystem& fs, std::filesystem::path root);
@@ -47,22 +68,30 @@ class Cache {
   std::filesystem::path blob_path(const std::string& hash) const;
   std::filesystem::path action_path(const std::string& key) const;
 
-  // The result for `key` if it and every blob it names are present (sizes checked).
-  std::optional<ActionResult> lookup(const std::string& key);
-  void store_action(const std::string& key, const ActionResult& result);
+  // The result for `key` if it is valid (above; `outputs`: the stage's declared output name
+  // patterns, empty = any name) and every blob it names is present (sizes checked).
+  std::optional<ActionResult> lookup(const std::string& key, const std::vector<std::string>& outputs = {});
+  // Writes the entry for `key`; `durable` fsyncs it (false when a DurableBatch syncs the file
+  // system instead). False (and `error`) if it could not be written.
+  bool store_action(const std::string& key, const ActionResult& result, bool durable = true,
+                    std::string* error = nullptr);
 
-  // Hashes `file` and moves it into the CAS (a rename: the bytes are not copied), read-only,
-  // replacing any blob of that name. Its mtime is set just below the clock read before hashing,
-  // so every later write to it (or to a hard link of it) is visible to DigestCache.
-  // `known_at` (if given) receives that clock value. The file is gone afterwards.
-  std::optional<Digest> put_file(const std::filesystem::path& file, std::int64_t* known_at = nullptr);
+  // Moves `file` into the CAS (a rename: the bytes are not copied), read-only, replacing any
+  // blob of that name; hashes it first unless `known` (its digest, computed while it was
+  // written) is given. Its mtime is set just below the clock read before that, so every later
+  // write to it (or to a hard link of it) is visible to DigestCache. `durable` fsyncs it before
+  // the rename (false when a DurableBatch syncs the file system before any action result names
+  // it). `known_at` (if given) receives that clock value. The file is gone afterwards.
+  std::optional<Digest> put_file(const std::filesystem::path& file, std::int64_t* known_at = nullptr,
+                                 bool durable = true, std::string* error = nullptr,
+                                 const std::optional<Digest>& known = std::nullopt);
 
   // Makes `dest` hold blob `d`: a hard link where possible (bytes stored once), else a copy;
   // atomically. With `verify`, the blob is hashed first, and one that does not match its
   // digest is deleted and false returned (the caller rebuilds). `known_at` receives the clock
   // read before the content was verified (for DigestCache::record).
   bool materialize(const Digest& d, const std::filesystem::path& dest, bool verify = true,
-                   std::int64_t* known_at = nullptr);
+                   std::int64_t* known_at = nullptr, std::string* error = nullptr);
 
   // Exclusive lock for running action `key` (other processes wait, then hit the cache).
   std::unique_ptr<FileLock> lock_action(const std::string& key);
@@ -81,8 +110,9 @@ class Cache {
   // results until blobs referenced take at most `max_bytes` (0: keep all results), then deletes
   // every blob no remaining action result references.
   GcResult gc(std::uint64_t max_bytes);
-  // Re-hashes every blob; deletes those whose content does not match. Returns the number removed.
-  std::uint64_t verify_all();
+  // Re-hashes every blob and deletes those whose content does not match; then deletes every
+  // action result that is not valid for its key or names a missing blob.
+  VerifyResult verify_all();
 
  private:
   FileSystem& fs_;

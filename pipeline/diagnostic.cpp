@@ -5,7 +5,7 @@
 namespace sylva {
 
 std::string SourceLoc::prefix() const {
-  std::string s = file;
+  std::string s = file();
   if (line > 0) {
     s += ":" + std::to_string(line);
     if (col > 0) s += ":" + std::to_string(col);

@@ -4,6 +4,7 @@
 // followed, when the source line is known, by that line and a caret under the column.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -11,9 +12,25 @@
 namespace sylva {
 
 struct SourceLoc {
-  std::string file;  // as the user named it (relative paths stay relative)
-  int line = 0;      // 1-based; 0 = unknown
-  int col = 0;       // 1-based; 0 = unknown
+  SourceLoc() = default;
+  SourceLoc(std::string file, int line = 0, int col = 0)
+      : file_(std::make_shared<const std::string>(std::move(file))), line(line), col(col) {}
+  // Locations in one file share its name (a 10,000-node recipe has ~50,000 of them).
+  SourceLoc(std::shared_ptr<const std::string> file, int line, int col) : file_(std::move(file)), line(line), col(col) {}
+
+  // As the user named it (relative paths stay relative); "" if unknown.
+  const std::string& file() const {
+    static const std::string kNone;
+    return file_ ? *file_ : kNone;
+  }
+  const std::shared_ptr<const std::string>& shared_file() const { return file_; }
+
+ private:
+  std::shared_ptr<const std::string> file_;
+
+ public:
+  int line = 0;  // 1-based; 0 = unknown
+  int col = 0;   // 1-based; 0 = unknown
   std::string prefix() const;  // "file:line:col" (omits unknown parts)
 };
 

@@ -2,6 +2,8 @@
 // stat (size, mtime, ctime, inode, device) the file had when its content was known to have a
 // digest, as ninja's build log keeps output mtimes and Bazel's digest cache keeps
 // (inode, mtime, ctime, size) -> digest. A file whose stat still matches is not read again.
+// And per node, what it last published into this out dir (ninja's log line for an edge): the
+// action it came from, its files and the stat of its directory.
 //
 // The racy-git rule: a record is kept only if the file's mtime is strictly older than the
 // file-system clock (FileSystem::now_ns) read *before* its content was established. Any later
@@ -20,11 +22,22 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
+#include "pipeline/cache.h"
 #include "pipeline/digest.h"
 #include "pipeline/filesystem.h"
 
 namespace sylva {
+
+// What node N last published into <out>/N/.
+struct PublishedNode {
+  std::string tag;                   // which action, from which cache: "<key> <cache root>"
+  std::vector<OutputEntry> outputs;  // the files of <out>/N/, sorted by name (nothing else is there)
+  FileInfo dir;                      // stat of <out>/N/ right after publishing (ino 0: unknown)
+  std::string record_key;            // key of the action whose explain record was written
+  friend bool operator==(const PublishedNode&, const PublishedNode&) = default;
+};
 
 class DigestCache {
  public:
@@ -32,12 +45,14 @@ class DigestCache {
   DigestCache(FileSystem& fs, std::filesystem::path file);
 
   void load();
-  // Writes the records back if any changed. False if they could not be written.
-  bool save();
+  // Writes the records back if any changed. False (and `error`) if they could not be written.
+  bool save(std::string* error = nullptr);
 
   // The digest of file `p`: the recorded one if its stat is unchanged, else hashed now (and
-  // recorded). nullopt (and `error`) if it cannot be read.
-  std::optional<Digest> digest(const std::filesystem::path& p, std::string* error = nullptr);
+  // recorded). nullopt (and `error`) if it cannot be read. `known` is a stat of `p` the caller
+  // already has (the recipe loader's), saving one stat call.
+  std::optional<Digest> digest(const std::filesystem::path& p, std::string* error = nullptr,
+                               const std::optional<FileInfo>& known = std::nullopt);
   // Directory digest: SHA-256 of the sorted "relative path \0 file hash \n" lines of every
   // regular file below `p`, each file through digest(). nullopt if unreadable.
   std::optional<Digest> digest_dir(const std::filesystem::path& p, std::string* error = nullptr);
@@ -49,12 +64,13 @@ class DigestCache {
   void record(const std::filesystem::path& p, const Digest& d, std::int64_t known_at);
   void forget(const std::filesystem::path& p);
 
-  // Small named values kept with the records (e.g. the key whose explain record was written).
-  std::optional<std::string> note(const std::string& name);
-  void set_note(const std::string& name, const std::string& value);
+  std::optional<PublishedNode> published(const std::string& node);
+  void set_published(const std::string& node, PublishedNode p);
+  void forget_published(const std::string& node);
 
   // The racy-git rule for one timestamp.
   static bool settled(std::int64_t mtime_ns, std::int64_t known_at);
+  static bool same_file(const FileInfo& a, const FileInfo& b);
 
  private:
   struct Entry {
@@ -65,7 +81,7 @@ class DigestCache {
   std::filesystem::path file_;
   std::mutex mu_;
   std::unordered_map<std::string, Entry> entries_;
-  std::unordered_map<std::string, std::string> notes_;
+  std::unordered_map<std::string, PublishedNode> nodes_;
   bool dirty_ = false;
 };
 

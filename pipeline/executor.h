@@ -80,10 +80,14 @@ struct BuildSummary {
   std::vector<NodeReport> nodes;  // topological order; only nodes in the target closure
   double seconds = 0;
   GcResult evicted;  // what automatic eviction removed after the build (usually nothing)
-  std::string warning;  // non-empty: a bookkeeping write failed (the build result still holds)
+  // Bookkeeping that could not be written (an action result, an explain record, the digest
+  // records), one message each: the build fails (exit 1) even if every node ran.
+  std::vector<std::string> errors;
   std::size_t count(NodeStatus s) const;
   bool interrupted() const { return count(NodeStatus::kInterrupted) > 0; }
-  bool ok() const { return count(NodeStatus::kFailed) == 0 && count(NodeStatus::kSkipped) == 0 && !interrupted(); }
+  bool ok() const {
+    return count(NodeStatus::kFailed) == 0 && count(NodeStatus::kSkipped) == 0 && !interrupted() && errors.empty();
+  }
 };
 
 // Unknown targets are reported in `error` (and nothing runs).

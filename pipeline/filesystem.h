@@ -2,6 +2,7 @@
 // temporary directories or the in-memory fake (tests/support/fake_filesystem.h) to inject faults.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -20,6 +21,7 @@ namespace fs = std::filesystem;
 // since it was last hashed (ninja's build log and Bazel's digest cache keep the same facts).
 struct FileInfo {
   bool is_dir = false;
+  bool is_other = false;  // neither a regular file nor a directory (FIFO, device, socket)
   std::uint64_t size = 0;
   std::int64_t mtime_ns = 0;  // content modification time, ns since the epoch
   std::int64_t ctime_ns = 0;  // inode change time (any write, chmod, link, rename of the inode)
@@ -37,20 +39,27 @@ class FileSystem {
  public:
   virtual ~FileSystem() = default;
 
-  // Whole-file read; nullopt (and `error` set to the reason, e.g. "No such file or directory")
-  // when it cannot be read.
-  virtual std::optional<std::string> read(const fs::path& p, std::string* error = nullptr) = 0;
-  // Writes `bytes` to a temporary sibling, fsyncs, and renames it over `p`: readers see the old
-  // file or the new one, never a partial one. Creates parent directories. False on failure.
-  // `durable` false skips the fsync (files that are only caches or reports: after a power loss
-  // they may be empty or old, never partial under their name while the system runs).
-  virtual bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true) = 0;
+  // Errors: functions that can fail take an optional `error`, set to the reason as strerror(3)
+  // words ("No space left on device", "Read-only file system") when they return false/nullopt.
+
+  // Whole-file read of a regular file of at most `max_bytes` bytes; nullopt (and `error`) when
+  // it cannot be read. A FIFO, device or socket is refused without blocking ("not a regular
+  // file"), a larger file without reading it ("larger than N bytes").
+  virtual std::optional<std::string> read(const fs::path& p, std::string* error = nullptr,
+                                          std::uint64_t max_bytes = UINT64_MAX) = 0;
+  // Writes `bytes` to a temporary sibling, fsyncs it and its directory after renaming it over
+  // `p`: readers see the old file or the new one, never a partial one, and after a power loss
+  // the new one. Creates parent directories. False (and `error`) on failure, leaving no
+  // temporary file. `durable` false skips both fsyncs (files that are only caches or reports:
+  // after a power loss they may be old or missing, never partial under their name).
+  virtual bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true,
+                            std::string* error = nullptr) = 0;
   // Copies `from` to `to` atomically (temp + fsync + rename). False on failure.
-  virtual bool copy_atomic(const fs::path& from, const fs::path& to) = 0;
+  virtual bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) = 0;
   virtual std::optional<FileInfo> stat(const fs::path& p) = 0;
   virtual bool remove(const fs::path& p) = 0;          // file or empty dir; true if gone
   virtual bool remove_all(const fs::path& p) = 0;      // recursive; true if gone
-  virtual bool make_dirs(const fs::path& p) = 0;
+  virtual bool make_dirs(const fs::path& p, std::string* error = nullptr) = 0;
   virtual std::vector<std::string> list(const fs::path& dir) = 0;  // entry names, sorted
   // Blocks until an exclusive advisory lock on `p` (created if needed) is held.
   virtual std::unique_ptr<FileLock> lock(const fs::path& p) = 0;
@@ -61,16 +70,18 @@ class FileSystem {
   // Seconds since the file was last modified (nullopt if absent).
   virtual std::optional<double> age_seconds(const fs::path& p) = 0;
 
-  // SHA-256 and size of the file's content, streamed (never the whole file in memory); nullopt
-  // (and `error` set to the reason) if it cannot be read.
+  // SHA-256 and size of a regular file's content, streamed (never the whole file in memory);
+  // nullopt (and `error`) if it cannot be read, is not a regular file, or the cancellation flag
+  // (set_cancel_flag) was raised while hashing ("interrupted").
   virtual std::optional<Digest> digest(const fs::path& p, std::string* error = nullptr) = 0;
   // Makes `to` name the same bytes as `from`: a hard link where the file system allows it
   // (store once), else a copy; atomically (temporary sibling, then rename). `linked` says which.
-  virtual bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr) = 0;
+  virtual bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr,
+                            std::string* error = nullptr) = 0;
   // fsync(2) of an existing file (before a rename makes it durable under a trusted name).
-  virtual bool sync(const fs::path& p) = 0;
+  virtual bool sync(const fs::path& p, std::string* error = nullptr) = 0;
   // rename(2): atomically replaces `to`. False on failure.
-  virtual bool rename(const fs::path& from, const fs::path& to) = 0;
+  virtual bool rename(const fs::path& from, const fs::path& to, std::string* error = nullptr) = 0;
   // Sets the modification time (ns since the epoch), best effort.
   virtual void set_mtime(const fs::path& p, std::int64_t mtime_ns) = 0;
   // A shared advisory lock (many holders; excludes lock()/try_lock()). Blocks; nullptr on error.
@@ -82,31 +93,56 @@ class FileSystem {
   virtual std::int64_t now_ns() = 0;
   // Free bytes for unprivileged users on the file system holding `p` (nullopt if unknown).
   virtual std::optional<std::uint64_t> free_bytes(const fs::path& p) = 0;
+
+  // Makes directory `staged` appear at `dest` in one step: readers see the old directory or
+  // the new one, never a mix (renameat2 RENAME_EXCHANGE; where the file system lacks it, two
+  // renames with a moment in which `dest` is absent). If `dest` existed, its old directory is
+  // left at `*displaced` (a temporary sibling) for the caller to remove. Both must be siblings.
+  virtual bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
+                           std::string* error = nullptr) = 0;
+  // syncfs(2): every write to the file system holding `p` so far is durable when it returns
+  // (one call instead of an fsync per file and per directory).
+  virtual bool sync_fs(const fs::path& p, std::string* error = nullptr) = 0;
+  // The path with every symlink resolved (realpath(3)); nullopt if it does not exist.
+  virtual std::optional<fs::path> real_path(const fs::path& p) = 0;
+  // While *flag is true, digest() stops with "interrupted" (Ctrl-C must not wait for a
+  // gigabyte to be hashed). nullptr: never.
+  void set_cancel_flag(const std::atomic<bool>* flag) { cancel_ = flag; }
+
+ protected:
+  bool cancelled() const { return cancel_ && cancel_->load(std::memory_order_relaxed); }
+
+ private:
+  const std::atomic<bool>* cancel_ = nullptr;
 };
 
 class RealFileSystem final : public FileSystem {
  public:
-  std::optional<std::string> read(const fs::path& p, std::string* error) override;
-  bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true) override;
-  bool copy_atomic(const fs::path& from, const fs::path& to) override;
+  std::optional<std::string> read(const fs::path& p, std::string* error = nullptr,
+                                  std::uint64_t max_bytes = UINT64_MAX) override;
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true, std::string* error = nullptr) override;
+  bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) override;
   std::optional<FileInfo> stat(const fs::path& p) override;
   bool remove(const fs::path& p) override;
   bool remove_all(const fs::path& p) override;
-  bool make_dirs(const fs::path& p) override;
+  bool make_dirs(const fs::path& p, std::string* error = nullptr) override;
   std::vector<std::string> list(const fs::path& dir) override;
   std::unique_ptr<FileLock> lock(const fs::path& p) override;
   void make_read_only(const fs::path& p) override;
   void touch(const fs::path& p) override;
   std::optional<double> age_seconds(const fs::path& p) override;
-  std::optional<Digest> digest(const fs::path& p, std::string* error) override;
-  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked) override;
-  bool sync(const fs::path& p) override;
-  bool rename(const fs::path& from, const fs::path& to) override;
+  std::optional<Digest> digest(const fs::path& p, std::string* error = nullptr) override;
+  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr, std::string* error = nullptr) override;
+  bool sync(const fs::path& p, std::string* error = nullptr) override;
+  bool rename(const fs::path& from, const fs::path& to, std::string* error = nullptr) override;
   void set_mtime(const fs::path& p, std::int64_t mtime_ns) override;
   std::unique_ptr<FileLock> lock_shared(const fs::path& p) override;
   std::unique_ptr<FileLock> try_lock(const fs::path& p) override;
   std::int64_t now_ns() override;
   std::optional<std::uint64_t> free_bytes(const fs::path& p) override;
+  bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced, std::string* error = nullptr) override;
+  bool sync_fs(const fs::path& p, std::string* error = nullptr) override;
+  std::optional<fs::path> real_path(const fs::path& p) override;
 };
 
 // A name for a temporary sibling of `p` that no other thread or process uses.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "pipeline/diagnostic.h"
+#include "pipeline/filesystem.h"
 #include "pipeline/stage.h"
 #include "pipeline/value.h"
 
@@ -26,6 +27,7 @@ struct NodeDecl {
   std::vector<std::string> needs;  // upstream node names: pattern order, matches sorted, unique
   Value::Object params;            // complete (defaults filled), typed
   std::map<std::string, std::filesystem::path> files;  // kPath/kDir parameter -> resolved path
+  std::map<std::string, FileInfo> file_stats;          // their stat when the recipe was loaded
 };
 
 struct Recipe {

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <fnmatch.h>
 #include <set>
+#include <unordered_map>
 
 #include "pipeline/graph.h"
 #include "pipeline/yaml_tree.h"
@@ -96,9 +97,11 @@ std::string substitute_text(const std::string& text, const std::map<std::string,
   return out;
 }
 
+// `dollar` is set if any scalar contains '$' (then substitution can change text: "$$" -> "$").
 void collect_vars(const RawNode& n, std::vector<VarRef>& out, const SourceFiles& src,
-                  Diagnostics& diags) {
-  if (n.is_scalar()) {
+                  Diagnostics& diags, bool* dollar) {
+  if (n.is_scalar() && n.text.find('$') != std::string::npos) {
+    *dollar = true;
     bool malformed = false;
     for (auto& v : vars_in(n.text, &malformed)) {
       const bool ident = !v.empty() && std::all_of(v.begin(), v.end(), [](char c) {
@@ -109,10 +112,10 @@ void collect_vars(const RawNode& n, std::vector<VarRef>& out, const SourceFiles&
     }
     if (malformed) src.error(diags, n.loc, "unterminated '${' in '" + n.text + "'");
   }
-  for (const auto& i : n.items) collect_vars(i, out, src, diags);
+  for (const auto& i : n.items) collect_vars(i, out, src, diags, dollar);
   for (const auto& [k, v] : n.entries) {
-    collect_vars(k, out, src, diags);
-    collect_vars(v, out, src, diags);
+    collect_vars(k, out, src, diags, dollar);
+    collect_vars(v, out, src, diags, dollar);
   }
 }
 
@@ -137,7 +140,7 @@ class ParamChecker {
   // Converts `raw` to `spec`'s type; reports and returns nullopt on any problem.
   // `files` receives resolved paths of kPath/kDir parameters (keyed by `spec.name`).
   std::optional<Value> convert(const ParamSpec& spec, const RawNode& raw, const std::string& what,
-                               std::map<std::string, fs::path>* files) {
+                               NodeDecl* files) {
     switch (spec.type) {
       case ParamType::kBool: {
         if (!raw.is_scalar()) return wrong(spec, raw, what);
@@ -177,7 +180,7 @@ class ParamChecker {
         if (!raw.is_scalar() || raw.text.empty()) return wrong(spec, raw, what);
         // Relative paths are relative to the YAML file that wrote them.
         fs::path p = raw.text;
-        if (p.is_relative()) p = fs::path(raw.loc.file).parent_path() / p;
+        if (p.is_relative()) p = fs::path(raw.loc.file()).parent_path() / p;
         p = p.lexically_normal();
         auto st = fs_.stat(p);
         const bool want_dir = spec.type == ParamType::kDir;
@@ -187,7 +190,10 @@ class ParamChecker {
                          " '" + p.string() + "', which " + (st ? "is not a " + std::string(want_dir ? "directory" : "file") : std::string("does not exist")));
           return std::nullopt;
         }
-        if (files) (*files)[spec.name] = p;
+        if (files) {
+          files->files[spec.name] = p;
+          files->file_stats[spec.name] = *st;
+        }
         return Value(p.string());
       }
       case ParamType::kIntList:
@@ -362,6 +368,7 @@ class Loader {
     if (!root) return std::nullopt;
     read_top(*root, /*is_root=*/true, {});
     // Node checks run even after top-level errors so one run reports as much as it can.
+    recipe_.nodes.reserve(entries_.size());
     expand_nodes();
     check_defaults();
     if (!diags_.empty()) return std::nullopt;
@@ -382,8 +389,9 @@ class Loader {
   void err(const SourceLoc& loc, std::string msg) { src_.error(diags_, loc, std::move(msg)); }
 
   // Top-level keys of the recipe or of an included fragment.
-  void read_top(const RawNode& root, bool is_root, std::vector<std::string> include_stack) {
-    const std::string file = root.loc.file;
+  // The node entries are moved out of `root` (a 10,000-node recipe is not copied).
+  void read_top(RawNode& root, bool is_root, std::vector<std::string> include_stack) {
+    const std::string file = root.loc.file();
     if (!root.is_map()) {
       err(root.loc, std::string(is_root ? "a recipe" : "an included recipe fragment") +
                         " must be a map, got a " + root.kind_name());
@@ -396,7 +404,7 @@ class Loader {
     const auto& allowed = is_root ? kRootKeys : kFragmentKeys;
     std::set<std::string> seen;
     bool have_version = false, have_name = false;
-    for (const auto& [k, v] : root.entries) {
+    for (auto& [k, v] : root.entries) {
       if (!k.is_scalar()) {
         err(k.loc, "keys must be plain names");
         continue;
@@ -433,7 +441,7 @@ class Loader {
           err(v.loc, "'nodes' must be a map of node name to node, got a " + std::string(v.kind_name()));
           continue;
         }
-        for (const auto& [nk, nv] : v.entries) entries_.push_back({nk, nv});
+        for (auto& [nk, nv] : v.entries) entries_.push_back({std::move(nk), std::move(nv)});
       }
     }
     if (is_root && !have_version) err({file, 1, 1}, "missing required key 'version'");
@@ -453,16 +461,16 @@ class Loader {
         err(item.loc, "'include' entries must be file names");
         continue;
       }
-      const fs::path target = (fs::path(item.loc.file).parent_path() / item.text).lexically_normal();
+      const fs::path target = (fs::path(item.loc.file()).parent_path() / item.text).lexically_normal();
       if (std::find(stack.begin(), stack.end(), target.string()) != stack.end() ||
-          target.string() == fs::path(v.loc.file).lexically_normal().string()) {
+          target.string() == fs::path(v.loc.file()).lexically_normal().string()) {
         err(item.loc, "include cycle: '" + target.string() + "' is already being read");
         continue;
       }
       auto frag = yaml_.read(target, item.loc);
       if (!frag) continue;
       auto next = stack;
-      next.push_back(fs::path(v.loc.file).lexically_normal().string());
+      next.push_back(fs::path(v.loc.file()).lexically_normal().string());
       read_top(*frag, /*is_root=*/false, next);
     }
   }
@@ -510,28 +518,39 @@ class Loader {
   // Pass 3 + 4: expansion and per-node checks.
   void expand_nodes() {
     for (const auto& e : entries_) {
-      std::vector<MatrixVar> matrix = global_matrix_;
-      RawNode body = e.body;
+      std::vector<MatrixVar> local_matrix;
+      const RawNode* body = &e.body;
+      RawNode local;  // the body without its `matrix:` key, when it has one
       // A node-level `matrix:` adds or overrides variables for this node only.
-      if (body.is_map()) {
-        for (auto it = body.entries.begin(); it != body.entries.end(); ++it) {
-          if (it->first.text != "matrix") continue;
-          std::vector<MatrixVar> local;
-          read_matrix(it->second, local);
-          for (auto& m : local) {
-            auto g = std::find_if(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == m.name; });
-            if (g != matrix.end()) *g = m;
-            else matrix.push_back(m);
+      if (e.body.is_map()) {
+        for (std::size_t k = 0; k < e.body.entries.size(); ++k) {
+          if (e.body.entries[k].first.text != "matrix") continue;
+          local_matrix = global_matrix_;
+          std::vector<MatrixVar> vars;
+          read_matrix(e.body.entries[k].second, vars);
+          for (auto& m : vars) {
+            auto g = std::find_if(local_matrix.begin(), local_matrix.end(),
+                                  [&](const MatrixVar& x) { return x.name == m.name; });
+            if (g != local_matrix.end()) *g = m;
+            else local_matrix.push_back(m);
           }
-          body.entries.erase(it);
+          local = e.body;
+          local.entries.erase(local.entries.begin() + static_cast<std::ptrdiff_t>(k));
+          body = &local;
           break;
         }
       }
+      const std::vector<MatrixVar>& matrix = body == &local ? local_matrix : global_matrix_;
       std::vector<VarRef> name_vars, body_vars;
       const std::size_t errors_before = diags_.size();
-      collect_vars(e.key, name_vars, src_, diags_);
-      collect_vars(body, body_vars, src_, diags_);
+      bool dollar = false;
+      collect_vars(e.key, name_vars, src_, diags_, &dollar);
+      collect_vars(*body, body_vars, src_, diags_, &dollar);
       if (diags_.size() != errors_before) continue;  // malformed ${...}: nothing to expand
+      if (!dollar) {  // nothing to substitute: the common case, checked without copying the node
+        check_node(e.key, *body);
+        continue;
+      }
       std::vector<const MatrixVar*> used;  // in matrix declaration order
       bool ok = true;
       for (const auto& ref : name_vars) {
@@ -561,7 +580,7 @@ class Loader {
       for (;;) {
         std::map<std::string, std::string> vars;
         for (std::size_t i = 0; i < used.size(); ++i) vars[used[i]->name] = used[i]->values[idx[i]];
-        check_node(substitute(e.key, vars), substitute(body, vars));
+        check_node(substitute(e.key, vars), substitute(*body, vars));
         std::size_t i = used.size();
         while (i > 0) {
           --i;
@@ -616,8 +635,11 @@ class Loader {
       return;
     }
     const StageInfo& info = node.stage->info();
-    std::vector<std::string> param_names;
-    for (const auto& p : info.params) param_names.push_back(p.name);
+    auto param_names = [&] {
+      std::vector<std::string> names;
+      for (const auto& p : info.params) names.push_back(p.name);
+      return names;
+    };
     std::set<std::string> given;
     if (with && !with->is_null()) {
       if (!with->is_map()) {
@@ -626,14 +648,14 @@ class Loader {
         for (const auto& [k, v] : with->entries) {
           const ParamSpec* spec = find_param(info, k.text);
           if (!spec) {
-            err(k.loc, "unknown parameter '" + k.text + "' for stage '" + info.name + "'" + did_you_mean(k.text, param_names));
+            err(k.loc, "unknown parameter '" + k.text + "' for stage '" + info.name + "'" + did_you_mean(k.text, param_names()));
             continue;
           }
           if (!given.insert(k.text).second) {
             err(k.loc, "duplicate parameter '" + k.text + "'");
             continue;
           }
-          if (auto val = params_.convert(*spec, v, "parameter '" + k.text + "'", &node.files))
+          if (auto val = params_.convert(*spec, v, "parameter '" + k.text + "'", &node))
             node.params.emplace(k.text, std::move(*val));
         }
       }
@@ -642,7 +664,7 @@ class Loader {
       if (given.count(spec.name)) continue;
       if (auto d = defaults_.find(spec.name); d != defaults_.end()) {
         used_defaults_.insert(spec.name);
-        if (auto val = params_.convert(spec, d->second.second, "default '" + spec.name + "'", &node.files))
+        if (auto val = params_.convert(spec, d->second.second, "default '" + spec.name + "'", &node))
           node.params.emplace(spec.name, std::move(*val));
       } else if (spec.required()) {
         err(key.loc, "node '" + node.name + "' (stage '" + info.name + "') is missing required parameter '" + spec.name + "'");
@@ -750,7 +772,7 @@ class Loader {
   std::map<std::string, std::pair<RawNode, RawNode>> defaults_;
   std::set<std::string> used_defaults_;
   std::vector<NodeEntry> entries_;
-  std::map<std::string, SourceLoc> node_loc_;
+  std::unordered_map<std::string, SourceLoc> node_loc_;
   std::map<std::string, RawNode> needs_raw_;
 };
 

@@ -19,6 +19,8 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -57,6 +59,10 @@ struct StageInfo {
   std::vector<ParamSpec> params;
   InputSpec inputs;
   std::string output_type;  // artifact type of this stage's output, e.g. "tree", "mesh"
+  // The names its output files may have, as fnmatch patterns ("tree.sylt", "lod*.gltf"); empty:
+  // any valid name. A run that declares another name fails; a cached result naming one is
+  // not this stage's (a crafted or misfiled action-cache entry) and is never used.
+  std::vector<std::string> outputs;
 };
 
 // One file of an upstream artifact, already verified against its digest.
@@ -75,6 +81,17 @@ struct InputArtifact {
   const ArtifactFile* file(std::string_view name) const;
   // Files whose name ends with `suffix` (e.g. ".glb"), in name order.
   std::vector<const ArtifactFile*> files_with_suffix(std::string_view suffix) const;
+};
+
+// A stage output being written as a stream (StageContext::open_output): for files too big to
+// build in memory first (a subdivided tree's GLB). Write through stream(); close() flushes and
+// throws StageError if any write failed (the reason, e.g. "No space left on device"). An output
+// stream destroyed without close() leaves a file the engine hashes like any other.
+class OutputStream {
+ public:
+  virtual ~OutputStream() = default;
+  virtual std::ostream& stream() = 0;
+  virtual void close() = 0;
 };
 
 class StageContext {
@@ -100,6 +117,10 @@ class StageContext {
   virtual std::filesystem::path output_path(std::string_view name) = 0;
   // Convenience: declare output `name` and write `bytes` to it.
   virtual void write_output(std::string_view name, std::string_view bytes) = 0;
+  // Declare output `name` and stream it: the engine hashes the bytes as they are written (it
+  // does not read the file again) and never holds the whole file in memory. The default opens
+  // output_path(name) with an ofstream.
+  virtual std::unique_ptr<OutputStream> open_output(std::string_view name);
 
   // Throws Cancelled after Ctrl-C; long loops call it now and then.
   virtual void check_cancelled() const = 0;

@@ -41,12 +41,12 @@ std::string SourceFiles::line(const std::string& file, int line) const {
 }
 
 void SourceFiles::error(Diagnostics& diags, const SourceLoc& loc, std::string message) const {
-  diags.error(loc, std::move(message), line(loc.file, loc.line));
+  diags.error(loc, std::move(message), line(loc.file(), loc.line));
 }
 
 namespace {
 
-SourceLoc loc_of(const std::string& file, const YAML::Mark& m) {
+SourceLoc loc_of(const std::shared_ptr<const std::string>& file, const YAML::Mark& m) {
   if (m.line < 0) return {file, 0, 0};
   return {file, m.line + 1, m.column + 1};
 }
@@ -86,7 +86,7 @@ void put_tree(std::string& out, const RawNode& n) {
 
 struct TreeReader {
   std::string_view s;
-  const std::string& file;
+  std::shared_ptr<const std::string> file;
   std::size_t at = 0;
   bool ok = true;
   std::uint32_t u32() {
@@ -133,7 +133,7 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    const SourceLoc at = loc_of(name, e.mark);
+    const SourceLoc at = loc_of(std::make_shared<const std::string>(name), e.mark);
     std::string hint;
     // `{ a: ${x} }` is the most common slip: `{` after `$` is YAML flow syntax.
     if (sources_.line(name, at.line).find("${") != std::string::npos)
@@ -142,10 +142,11 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
     return std::nullopt;
   }
   bool ok = true;
+  const auto file = std::make_shared<const std::string>(name);
   // Converts recursively; `!include` values are marked, and replaced by resolve_includes().
   auto convert = [&](auto&& self, const YAML::Node& n, const SourceLoc& fallback) -> RawNode {
     RawNode r;
-    r.loc = n.Mark().line >= 0 ? loc_of(name, n.Mark()) : fallback;
+    r.loc = n.Mark().line >= 0 ? loc_of(file, n.Mark()) : fallback;
     if (n.Tag() == "!include") {
       if (!n.IsScalar()) {
         sources_.error(diags_, r.loc, "!include needs a file name");
@@ -181,7 +182,7 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
     }
     return r;
   };
-  RawNode out = convert(convert, root, SourceLoc{name, 1, 1});
+  RawNode out = convert(convert, root, SourceLoc{file, 1, 1});
   if (!ok) return std::nullopt;
   return out;
 }
@@ -226,7 +227,7 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
     if (auto cached = fs_.read(entry); cached && cached->size() > kParseMagic.size() + 64 &&
                                        cached->compare(0, kParseMagic.size(), kParseMagic) == 0 &&
                                        cached->compare(kParseMagic.size(), 64, text_hash) == 0) {
-      TreeReader r{*cached, name, kParseMagic.size() + 64};
+      TreeReader r{*cached, std::make_shared<const std::string>(name), kParseMagic.size() + 64};
       RawNode n;
       if (r.node(n, 0) && r.at == cached->size()) tree = std::move(n);
     }

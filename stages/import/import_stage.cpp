@@ -38,6 +38,7 @@ class ImportStage final : public Stage {
     };
     info_.inputs = InputSpec{{}, 0, 0, "none: the file parameter is the input"};
     info_.output_type = "tree";
+    info_.outputs = {"tree.sylt"};
   }
 
   const StageInfo& info() const override { return info_; }

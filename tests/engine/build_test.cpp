@@ -201,11 +201,13 @@ TEST_F(BuildTest, CacheVerifyAndGc) {
   auto st = cache.stats();
   EXPECT_EQ(st.actions, 4u);
   EXPECT_EQ(st.blobs, 4u);
-  EXPECT_EQ(cache.verify_all(), 0u);
+  EXPECT_EQ(cache.verify_all().blobs_removed, 0u);
   const fs::path blob = cache.blob_path(report(s, "a").outputs[0].digest.hash);
   fs::permissions(blob, fs::perms::owner_write, fs::perm_options::add);
   test::write_file(blob, "garbage");
-  EXPECT_EQ(cache.verify_all(), 1u);
+  const VerifyResult v = cache.verify_all();
+  EXPECT_EQ(v.blobs_removed, 1u);
+  EXPECT_EQ(v.actions_removed, 1u);  // the result that named it goes too
   // An orphan blob is collected; blobs of live results are kept.
   test::write_file(cache.blob_path(std::string(64, 'e')), "orphan");
   auto g = cache.gc(0);

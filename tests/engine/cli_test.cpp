@@ -122,7 +122,7 @@ TEST_F(CliTest, CleanAndCacheCommands) {
   EXPECT_NE(st.out.find("1 blobs (6 B), 1 action results"), std::string::npos) << st.out;
   EXPECT_EQ(run({"clean", r}).code, 0);
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out/r"));
-  EXPECT_EQ(run({"cache", "verify"}).out, "0 corrupt blobs removed\n");
+  EXPECT_EQ(run({"cache", "verify"}).out, "0 corrupt blobs removed, 0 invalid action results removed\n");
   EXPECT_EQ(run({"clean", "--all"}).code, 0);
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out"));
 }

@@ -127,18 +127,19 @@ TEST(DigestCacheTest, RecordsRoundTripAndDamageIsForgotten) {
   DigestCache c(fs, "/o/.sylva/digests");
   auto d = c.digest("/d/x");
   ASSERT_TRUE(d);
-  c.set_note("k", "v");
+  const PublishedNode node{std::string(64, 'b') + " /c", {{"out.txt", *d}}, *fs.stat("/d/x"), std::string(64, 'c')};
+  c.set_published("n", node);
   ASSERT_TRUE(c.save());
   DigestCache c2(fs, "/o/.sylva/digests");
   c2.load();
   fs.reads.clear();
   EXPECT_EQ(c2.digest("/d/x"), d);
   EXPECT_TRUE(fs.reads.empty());
-  EXPECT_EQ(c2.note("k"), "v");
+  EXPECT_EQ(c2.published("n"), node);
   fs.files["/o/.sylva/digests"].resize(20);
   DigestCache c3(fs, "/o/.sylva/digests");
   c3.load();
-  EXPECT_FALSE(c3.note("k"));
+  EXPECT_FALSE(c3.published("n"));
   EXPECT_EQ(c3.digest("/d/x"), d);  // hashed again
 }
 

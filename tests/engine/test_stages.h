@@ -12,6 +12,8 @@
 #include <string>
 #include <thread>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include "pipeline/registry.h"
 #include "pipeline/stage.h"
 
@@ -156,11 +158,69 @@ class MeshOnlyStage final : public Stage {
   StageInfo info_;
 };
 
+// `nested`: writes `text` after a parallel loop of its own (oneTBB), as mesh and lod run them:
+// `items` tiny tasks of `micros` each. Nodes with the same text share one action key.
+class NestedParallelStage final : public Stage {
+ public:
+  explicit NestedParallelStage(RunLog* log) : log_(log) {
+    info_.name = "nested";
+    info_.version = 1;
+    info_.summary = "a parallel loop inside a node (test stage)";
+    info_.params = {Param::string("text", "n").describe("the text"),
+                    Param::integer("items", 64).range(1, 100000).describe("inner tasks"),
+                    Param::integer("micros", 200).range(0, 100000).describe("work per inner task")};
+    info_.inputs = {{"text"}, 0, -1, "any texts"};
+    info_.output_type = "text";
+    info_.outputs = {"out.txt"};
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext& ctx) const override {
+    if (log_) log_->record(ctx.node_name());
+    const auto micros = std::chrono::microseconds(ctx.integer("micros"));
+    std::atomic<std::int64_t> sum{0};
+    tbb::parallel_for(std::int64_t{0}, ctx.integer("items"), [&](std::int64_t i) {
+      std::this_thread::sleep_for(micros);
+      sum += i;
+    });
+    ctx.write_output("out.txt", ctx.string("text") + " " + std::to_string(sum.load()) + "\n");
+  }
+
+ private:
+  RunLog* log_;
+  StageInfo info_;
+};
+
+// `throwing`: throws what `what` says: "int" (not a std::exception), "logic" (std::logic_error),
+// or nothing ("none": writes out.txt).
+class ThrowingStage final : public Stage {
+ public:
+  ThrowingStage() {
+    info_.name = "throwing";
+    info_.version = 1;
+    info_.summary = "throws (test stage)";
+    info_.params = {Param::choice("what", {"int", "logic", "none"}, "int").describe("what to throw")};
+    info_.inputs = {{}, 0, 0, ""};
+    info_.output_type = "text";
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext& ctx) const override {
+    const std::string what = ctx.string("what");
+    if (what == "int") throw 42;
+    if (what == "logic") throw std::logic_error("a bug");
+    ctx.write_output("out.txt", "fine\n");
+  }
+
+ private:
+  StageInfo info_;
+};
+
 inline void register_test_stages(StageRegistry& reg, RunLog* log) {
   reg.add(std::make_unique<TextStage>(log));
   reg.add(std::make_unique<ConcatStage>(log));
   reg.add(std::make_unique<ReadFileStage>(log));
   reg.add(std::make_unique<MeshOnlyStage>());
+  reg.add(std::make_unique<NestedParallelStage>(log));
+  reg.add(std::make_unique<ThrowingStage>());
 }
 
 }  // namespace sylva::test

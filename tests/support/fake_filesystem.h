@@ -20,7 +20,10 @@ class FakeFileSystem final : public FileSystem {
   std::map<std::string, double> ages;          // path -> seconds since modified (default 0)
   std::vector<std::string> writes;             // every successful write_atomic/copy/link/rename target
   std::vector<std::string> reads;              // every read() and digest() of a file's content
-  std::string fail_writes_containing;          // non-empty: such writes fail
+  std::string fail_writes_containing;          // non-empty: such writes fail ...
+  std::string fail_reason = "No space left on device";  // ... with this reason
+  int syncs = 0;                               // sync_fs() calls
+  std::vector<std::string> events;             // "write <path>" and "sync", in order
   std::int64_t now = 1'700'000'000'123'456'789;  // the file-system clock (ns); tests advance it
   std::uint64_t free = 1ull << 40;             // free_bytes()
 
@@ -31,30 +34,36 @@ class FakeFileSystem final : public FileSystem {
     stamp(key(path), true);
   }
 
-  std::optional<std::string> read(const fs::path& p, std::string* error) override {
+  std::optional<std::string> read(const fs::path& p, std::string* error = nullptr,
+                                  std::uint64_t max_bytes = UINT64_MAX) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     auto it = files.find(key(p));
     if (it == files.end()) {
       if (error) *error = "No such file or directory";
       return std::nullopt;
     }
+    if (it->second.size() > max_bytes) {
+      if (error) *error = "larger than " + std::to_string(max_bytes) + " bytes";
+      return std::nullopt;
+    }
     reads.push_back(it->first);
     return it->second;
   }
-  bool write_atomic(const fs::path& p, std::string_view bytes, bool = true) override {
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool = true, std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     const std::string k = key(p);
-    if (failing(k)) return false;
+    if (failing(k)) return fail(error);
     files[k] = std::string(bytes);
     ages[k] = 0;
     stamp(k, true);
     writes.push_back(k);
+    events.push_back("write " + k);
     return true;
   }
-  bool copy_atomic(const fs::path& from, const fs::path& to) override {
+  bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     auto it = files.find(key(from));
-    return it != files.end() && write_atomic(to, std::string(it->second));
+    return it != files.end() && write_atomic(to, std::string(it->second), true, error);
   }
   std::optional<FileInfo> stat(const fs::path& p) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
@@ -91,7 +100,7 @@ class FakeFileSystem final : public FileSystem {
       }
     return true;
   }
-  bool make_dirs(const fs::path&) override { return true; }
+  bool make_dirs(const fs::path&, std::string* = nullptr) override { return true; }
   std::vector<std::string> list(const fs::path& dir) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     const std::string k = key(dir) + "/";
@@ -118,16 +127,21 @@ class FakeFileSystem final : public FileSystem {
     if (auto it = ages.find(k); it != ages.end()) return it->second;
     return stat(p) ? std::optional<double>(0.0) : std::nullopt;
   }
-  std::optional<Digest> digest(const fs::path& p, std::string* error) override {
+  std::optional<Digest> digest(const fs::path& p, std::string* error = nullptr) override {
     auto bytes = read(p, error);
     if (!bytes) return std::nullopt;
     return digest_bytes(*bytes);
   }
-  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked) override {
+  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr,
+                    std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     const std::string f = key(from), t = key(to);
     auto it = files.find(f);
-    if (it == files.end() || failing(t)) return false;
+    if (it == files.end()) {
+      if (error) *error = "No such file or directory";
+      return false;
+    }
+    if (failing(t)) return fail(error);
     files[t] = it->second;
     meta_[f].ctime_ns = now;  // a new link changes the inode's ctime
     meta_[t] = meta_[f];
@@ -136,12 +150,37 @@ class FakeFileSystem final : public FileSystem {
     if (linked) *linked = true;
     return true;
   }
-  bool sync(const fs::path& p) override { return stat(p).has_value(); }
-  bool rename(const fs::path& from, const fs::path& to) override {
+  bool sync(const fs::path& p, std::string* = nullptr) override { return stat(p).has_value(); }
+  // Renames a file, or a directory (every file below it).
+  bool rename(const fs::path& from, const fs::path& to, std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     const std::string f = key(from), t = key(to);
     auto it = files.find(f);
-    if (it == files.end() || failing(t)) return false;
+    if (failing(t)) return fail(error);
+    if (it == files.end()) {
+      const std::string prefix = f + "/";
+      std::vector<std::string> moved;
+      for (const auto& [k, v] : files)
+        if (k.rfind(prefix, 0) == 0) moved.push_back(k);
+      if (moved.empty()) {
+        if (error) *error = "No such file or directory";
+        return false;
+      }
+      remove_all(to);
+      for (const auto& k : moved) {
+        const std::string nk = t + k.substr(f.size());
+        files[nk] = std::move(files[k]);
+        files.erase(k);
+        meta_[nk] = meta_[k];
+      }
+      dir_meta_[t] = dir_meta_[f];
+      dir_meta_[t].ctime_ns = now;
+      dir_meta_.erase(f);
+      touch_parent(f);
+      touch_parent(t);
+      writes.push_back(t);
+      return true;
+    }
     files[t] = std::move(it->second);
     files.erase(it);
     meta_[t] = meta_[f];
@@ -163,9 +202,39 @@ class FakeFileSystem final : public FileSystem {
     return now;
   }
   std::optional<std::uint64_t> free_bytes(const fs::path&) override { return free; }
+  bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
+                   std::string* error = nullptr) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    if (displaced) displaced->clear();
+    if (stat(dest)) {
+      const fs::path old = staged.string() + ".old";
+      if (!rename(dest, old, error)) return false;
+      if (displaced) *displaced = old;
+    }
+    if (!stat(staged)) {  // an empty staged directory holds no files in this fake: nothing to move
+      dir_meta_[key(dest)] = dir_meta_[key(staged)];
+      return true;
+    }
+    return rename(staged, dest, error);
+  }
+  bool sync_fs(const fs::path&, std::string* error = nullptr) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    ++syncs;
+    if (failing("<sync>")) return fail(error);
+    events.push_back("sync");
+    return true;
+  }
+  std::optional<fs::path> real_path(const fs::path& p) override {
+    if (!stat(p)) return std::nullopt;
+    return fs::path(key(p));
+  }
 
  private:
   static std::string key(const fs::path& p) { return p.lexically_normal().string(); }
+  bool fail(std::string* error) const {
+    if (error) *error = fail_reason;
+    return false;
+  }
   bool failing(const std::string& k) const {
     return !fail_writes_containing.empty() && k.find(fail_writes_containing) != std::string::npos;
   }
