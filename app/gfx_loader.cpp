@@ -14,11 +14,11 @@ namespace sylva {
 
 namespace {
 
-std::filesystem::path module_path() {
-  if (const char* env = std::getenv("SYLVA_GFX_MODULE"); env && *env) return env;
+std::filesystem::path module_path(const std::string& file, const std::string& env_var) {
+  if (const char* env = std::getenv(env_var.c_str()); env && *env) return env;
   std::error_code ec;
   const auto exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return (ec ? std::filesystem::path(".") : exe.parent_path()) / "libsylva_gfx.so";
+  return (ec ? std::filesystem::path(".") : exe.parent_path()) / file;
 }
 
 class GfxCommand final : public CliCommand {
@@ -39,6 +39,7 @@ class GfxCommand final : public CliCommand {
     const GfxModule* m = nullptr;
     try {
       m = &loader_.module();
+      if (!m->run_command) throw StageError("the module has no commands");
     } catch (const StageError& e) {
       std::fprintf(io.err, "error: sylva %s: %s\n", info_.name, e.what());
       return kExitBuildFailed;
@@ -56,20 +57,20 @@ class GfxCommand final : public CliCommand {
 
 }  // namespace
 
-const GfxModule& GfxLoader::module() {
+const GfxModule& ModuleLoader::module() {
   std::call_once(once_, [this] {
-    const std::filesystem::path path = module_path();
+    const std::filesystem::path path = module_path(file_, env_);
     void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!handle) {
       const char* why = ::dlerror();
-      error_ = "cannot load the graphics module " + path.string() + ": " + (why ? why : "unknown error");
+      error_ = "cannot load the " + what_ + " " + path.string() + ": " + (why ? why : "unknown error");
       return;
     }
     using Entry = const GfxModule* (*)();
-    auto entry = reinterpret_cast<Entry>(::dlsym(handle, "sylva_gfx_module"));
+    auto entry = reinterpret_cast<Entry>(::dlsym(handle, symbol_.c_str()));
     const GfxModule* m = entry ? entry() : nullptr;
-    if (!m || m->abi != kGfxModuleAbi || !m->find_stage || !m->run_command) {
-      error_ = "the graphics module " + path.string() + " is from another build of sylva (rebuild it)";
+    if (!m || m->abi != kGfxModuleAbi || !m->find_stage) {
+      error_ = "the " + what_ + " " + path.string() + " is from another build of sylva (rebuild it)";
       return;
     }
     module_ = m;  // never closed: its stages and renderer live until the process exits
@@ -78,9 +79,9 @@ const GfxModule& GfxLoader::module() {
   return *module_;
 }
 
-const Stage& GfxLoader::resolve(std::string_view name) {
+const Stage& ModuleLoader::resolve(std::string_view name) {
   const Stage* s = module().find_stage(std::string(name).c_str());
-  if (!s) throw StageError("the graphics module has no stage '" + std::string(name) + "'");
+  if (!s) throw StageError("the " + what_ + " has no stage '" + std::string(name) + "'");
   return *s;
 }
 

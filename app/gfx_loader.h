@@ -1,9 +1,12 @@
-// The binary's side of the graphics module (app/gfx_module.h): opens libsylva_gfx.so with
-// dlopen the first time a heavy stage runs or a heavy command is chosen, never before.
+// The binary's side of its lazily loaded modules (app/gfx_module.h): the graphics module
+// libsylva_gfx.so (OpenImageIO, EGL/GL) and the geometry module libsylva_geometry.so (OpenMesh,
+// CGAL, Draco, tinygltf), each opened with dlopen the first time one of its stages runs (or,
+// for the graphics module, a heavy command is chosen), never before.
 //
-// The module is looked for beside the executable (/proc/self/exe), or at $SYLVA_GFX_MODULE.
-// When it cannot be loaded, every use throws StageError with dlerror()'s reason, so a node
-// fails ("cannot load the graphics module ...") or a command exits 1; nothing else is affected.
+// A module is looked for beside the executable (/proc/self/exe), or at its environment variable
+// ($SYLVA_GFX_MODULE, $SYLVA_GEOMETRY_MODULE). When it cannot be loaded, every use throws
+// StageError with dlerror()'s reason, so a node fails ("cannot load the graphics module ...") or
+// a command exits 1; nothing else is affected.
 #pragma once
 
 #include <memory>
@@ -17,18 +20,30 @@
 
 namespace sylva {
 
-class GfxLoader final : public StageResolver {
+class ModuleLoader final : public StageResolver {
  public:
+  // file: e.g. "libsylva_gfx.so"; env: the variable overriding its path; symbol: its entry
+  // point; what: how messages name it ("graphics module").
+  ModuleLoader(std::string file, std::string env, std::string symbol, std::string what)
+      : file_(std::move(file)), env_(std::move(env)), symbol_(std::move(symbol)), what_(std::move(what)) {}
+  static ModuleLoader graphics() {
+    return {"libsylva_gfx.so", "SYLVA_GFX_MODULE", "sylva_gfx_module", "graphics module"};
+  }
+  static ModuleLoader geometry() {
+    return {"libsylva_geometry.so", "SYLVA_GEOMETRY_MODULE", "sylva_geometry_module", "geometry module"};
+  }
   // The module, loaded on the first call (thread-safe). Throws StageError.
   const GfxModule& module();
   const Stage& resolve(std::string_view name) override;
   bool loaded() const { return module_ != nullptr; }
 
  private:
+  std::string file_, env_, symbol_, what_;
   std::once_flag once_;
   const GfxModule* module_ = nullptr;
   std::string error_;
 };
+using GfxLoader = ModuleLoader;
 
 // One command per entry of kGfxCommands: declared in the binary's command line (name and
 // summary only; its options and --help belong to the module), and run by handing the whole

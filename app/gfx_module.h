@@ -20,6 +20,8 @@ namespace sylva {
 // Bump when GfxModule or the types it passes change shape.
 inline constexpr int kGfxModuleAbi = 1;
 
+// The table is shared by the geometry module (app/geometry_module.cpp: OpenMesh, CGAL, Draco,
+// tinygltf), which has stages only (run_command is null).
 struct GfxModule {
   int abi = kGfxModuleAbi;
   // The implementation of a heavy stage (one the binary registers with make_lazy_stage), or
@@ -52,3 +54,4 @@ constexpr const char* gfx_command_summary(std::string_view name) {
 }  // namespace sylva
 
 extern "C" const sylva::GfxModule* sylva_gfx_module();
+extern "C" const sylva::GfxModule* sylva_geometry_module();

@@ -24,10 +24,12 @@ extern "C" void on_signal(int sig) {
 int main(int argc, char** argv) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  // Heavy stages and commands live in libsylva_gfx.so, opened only when one of them runs.
-  sylva::GfxLoader gfx;
+  // Heavy stages and commands live in libsylva_gfx.so, geometry stages in libsylva_geometry.so,
+  // each opened only when one of them runs.
+  sylva::ModuleLoader gfx = sylva::ModuleLoader::graphics();
+  sylva::ModuleLoader geometry = sylva::ModuleLoader::geometry();
   sylva::StageRegistry registry;
-  sylva::register_builtin_stages(registry, gfx);
+  sylva::register_builtin_stages(registry, gfx, geometry);
   sylva::CliIo io;
   io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
   io.cancel = &g_cancel;

@@ -35,3 +35,39 @@ if(TARGET OpenImageIO::OpenImageIO)
   endforeach()
 endif()
 
+
+# yaml-cpp, libpng (with zlib) and OpenSSL's libcrypto are linked statically into the `sylva`
+# binary and dynamically everywhere else: resolving their ~4,700 symbol relocations was most of
+# the dynamic loader's time, which every `sylva` process pays before doing anything
+# (docs/performance.md, "Engine"). Targets link sylva_yaml / sylva_png / sylva_crypto; the choice
+# is made per linking target by its SYLVA_STATIC_DEPS property (set on the binary only, so the
+# lazily loaded modules and the tests keep the shared libraries). libstdc++ and oneTBB stay
+# shared: the binary and its modules must share one of each.
+function(sylva_static_or_shared name shared)
+  cmake_parse_arguments(A "" "" "ARCHIVES" ${ARGN})
+  set(archives "")
+  foreach(a IN LISTS A_ARCHIVES)
+    find_library(_sylva_${a} NAMES lib${a}.a NO_CACHE)
+    if(NOT _sylva_${a})
+      set(archives "")
+      break()
+    endif()
+    list(APPEND archives ${_sylva_${a}})
+  endforeach()
+  add_library(${name} INTERFACE)
+  if(archives)
+    add_library(${name}_static INTERFACE)
+    target_link_libraries(${name}_static INTERFACE ${archives} ${CMAKE_DL_LIBS} Threads::Threads)
+    get_target_property(inc ${shared} INTERFACE_INCLUDE_DIRECTORIES)
+    if(inc)
+      target_include_directories(${name}_static INTERFACE ${inc})
+    endif()
+    target_link_libraries(${name} INTERFACE
+      "$<IF:$<BOOL:$<TARGET_PROPERTY:SYLVA_STATIC_DEPS>>,${name}_static,${shared}>")
+  else()  # no static archive installed: shared everywhere
+    target_link_libraries(${name} INTERFACE ${shared})
+  endif()
+endfunction()
+sylva_static_or_shared(sylva_yaml yaml-cpp ARCHIVES yaml-cpp)
+sylva_static_or_shared(sylva_png PNG::PNG ARCHIVES png16 z)
+sylva_static_or_shared(sylva_crypto OpenSSL::Crypto ARCHIVES crypto)

@@ -10,16 +10,12 @@
 
 #include "libs/gltf/writer.h"
 #include "libs/tree/sylt_format.h"
+#include "stages/mesh/mesh_info.h"
 #include "stages/mesh/tree_mesh.h"
 
 namespace sylva {
 
 namespace {
-
-// 2: junction collapse, insets, windowed ring frames, ring merging. 3: libs/gltf writes no
-// tangents without a normal map; colours from libs/tree/default_colors.h. 4: cards (atlas cells,
-// card-drawn twigs), no tangents computed, bark tint, LAI statistics.
-constexpr int kVersion = 4;
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -32,36 +28,7 @@ std::string read_bytes(const std::filesystem::path& path) {
 
 class MeshStage final : public Stage {
  public:
-  MeshStage() {
-    info_.name = "mesh";
-    info_.version = kVersion;
-    info_.summary = "tree -> GLB: one connected quad mesh with box joints (Nystad), Catmull-Clark, leaf cards, needles";
-    info_.inputs = InputSpec{{"tree"}, 1, 1, "one tree (generate or import): tree.sylt and the textures it names"};
-    info_.output_type = "mesh";
-    info_.params = {
-        Param::integer("max_level", -1).range(-1, 16)
-            .describe("highest branch level meshed (trunk 0); -1 = every level"),
-        Param::integer("subdivision", 1).range(0, 3).describe("Catmull-Clark levels (each multiplies the quads by 4)"),
-        Param::boolean("open_base", false).describe("leave the trunk base open (default: closed)"),
-        Param::boolean("foliage", true).describe("leaf quads or cards (alpha-masked, double-sided) and needles"),
-        Param::boolean("mesh_card_twigs", false)
-            .describe("also mesh the twigs that twig/shoot cards draw (default: the cards draw them)"),
-        Param::real("min_radius_m", 0.001).range(1e-5, 1)
-            .describe("thinner skeleton nodes (tapered tips reach 0) are meshed at this radius (m)"),
-        Param::integer("bark_repeat", 1).range(1, 16).describe("bark texture repeats around a branch"),
-        Param::choice("subdivider", {"native", "openmesh"}, "native")
-            .describe("Catmull-Clark implementation: native (fast) or OpenMesh's CatmullClarkT (reference)"),
-        Param::choice("format", {"glb", "gltf"}, "glb").describe("glb, or a self-contained .gltf (base64 buffer)"),
-        Param::boolean("draco", false).describe("KHR_draco_mesh_compression for the triangle primitives"),
-        Param::integer("draco_position_bits", 14).range(8, 30).describe("Draco quantisation of positions"),
-        Param::integer("draco_normal_bits", 10).range(4, 30).describe("Draco quantisation of normals"),
-        Param::integer("draco_texcoord_bits", 12).range(4, 30).describe("Draco quantisation of uvs"),
-        Param::integer("draco_generic_bits", 12).range(4, 30).describe("Draco quantisation of tangents"),
-        Param::integer("draco_level", 7).range(0, 10).describe("Draco compression level (0 fastest, 10 smallest)"),
-        Param::boolean("self_intersections", false)
-            .describe("count self-intersecting triangle pairs of the bark (CGAL) into the statistics; slow"),
-    };
-  }
+  MeshStage() : info_(mesh_stage_info()) {}
 
   const StageInfo& info() const override { return info_; }
 
@@ -109,7 +76,7 @@ class MeshStage final : public Stage {
       // with the same inputs share one cached output.
       const nlohmann::json sylva = {
           {"stage", info_.name},
-          {"stage_version", kVersion},
+          {"stage_version", info_.version},
           {"source", tree.name},
           {"parameters", nlohmann::json::parse(Value(ctx.params()).canonical())},
           {"statistics", mesh::stats_json(m.stats)},
