@@ -31,7 +31,7 @@ class GenerateStage : public Stage {
     info_.version = 2;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json
     info_.summary = "parametric tree from a species preset (Weber-Penn with da Vinci/Murray rules)";
     info_.output_type = "tree";
-    info_.outputs = {"tree.sylt", "bark.png", "leaves.png"};
+    info_.outputs = {"tree.sylt", "stats.json", "bark.png", "leaves.png"};
     info_.inputs = {{}, 0, 0, "none: the species preset is a file parameter"};
     info_.params = {
         Param::path("preset").describe("species preset YAML (configs/species/<name>.yaml)"),

@@ -14,11 +14,15 @@ namespace sylva {
 
 namespace {
 
+constexpr int kOwnVersion = 2;  // 2: writes .sylt version 2 (leaf kind, atlas, bark tint)
+
 class ImportStage final : public Stage {
  public:
   ImportStage() {
     info_.name = "import";
-    info_.version = 1;
+    // Own version 2 (the .sylt it writes went to version 2), times ten, plus the .sylt format
+    // version: a new .sylt format changes this stage's key even if nobody bumps kOwnVersion.
+    info_.version = 10 * kOwnVersion + static_cast<int>(tree::kSyltVersion);
     info_.summary =
         "read a tree skeleton: QSM cylinder tables (TreeQSM, SimpleForest, rTwig, aRchi), "
         ".sylt, or a text skeleton";

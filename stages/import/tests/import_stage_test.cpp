@@ -67,6 +67,10 @@ TEST(ImportStage, Declaration) {
   EXPECT_EQ(info.params[1].choices,
             (std::vector<std::string>{"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt"}));
   for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
+  // The key changes with the .sylt format it writes: a cache never serves an older format.
+  EXPECT_EQ(info.version % 10, static_cast<int>(tree::kSyltVersion));
+  EXPECT_GE(info.version, 22);  // was 1 while .sylt went to version 2
+  EXPECT_EQ(info.outputs, (std::vector<std::string>{"tree.sylt"}));
 }
 
 TEST(ImportStage, WritesTreeSylt) {
