@@ -47,7 +47,7 @@ void print_params(std::FILE* out, const std::vector<ParamSpec>& params, const st
     std::fprintf(out, "%s%-22s %-28s %s%s\n", indent.c_str(), p.name.c_str(), type_text(p).c_str(),
                  p.required() ? "(required) " : ("= " + p.default_value.canonical() + "  ").c_str(),
                  p.doc.c_str());
-    if (p.type == ParamType::kObject) print_params(out, p.fields, indent + "  ");
+    if (p.type == ParamType::kObject || p.type == ParamType::kObjectList) print_params(out, p.fields, indent + "  ");
   }
 }
 

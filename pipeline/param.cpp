@@ -16,6 +16,7 @@ const char* param_type_name(ParamType t) {
     case ParamType::kStringList: return "list of string";
     case ParamType::kObject: return "object";
     case ParamType::kMap: return "map of real";
+    case ParamType::kObjectList: return "list of object";
   }
   return "?";
 }
@@ -72,6 +73,11 @@ ParamSpec Param::object(std::string name, std::vector<ParamSpec> fields) {
     else def.emplace(f.name, f.default_value);
   }
   auto s = make(std::move(name), ParamType::kObject, complete ? Value(std::move(def)) : Value());
+  s.fields = std::move(fields);
+  return s;
+}
+ParamSpec Param::object_list(std::string name, std::vector<ParamSpec> fields) {
+  auto s = make(std::move(name), ParamType::kObjectList, Value(Value::List{}));
   s.fields = std::move(fields);
   return s;
 }

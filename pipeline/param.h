@@ -27,6 +27,7 @@ enum class ParamType {
   kStringList,
   kObject,      // nested map with its own `fields`
   kMap,         // free string keys -> real values (e.g. density_per_ha: {oak: 10})
+  kObjectList,  // list of objects, each checked against `fields` (no kPath/kDir fields)
 };
 
 const char* param_type_name(ParamType t);
@@ -38,7 +39,7 @@ struct ParamSpec {
   std::optional<double> min, max;      // inclusive; applies to numbers and to list elements
   std::vector<std::string> choices;    // kEnum only
   std::optional<std::size_t> min_items, max_items;  // list types only
-  std::vector<ParamSpec> fields;       // kObject only
+  std::vector<ParamSpec> fields;       // kObject and kObjectList only
   std::string doc;
 
   bool required() const { return default_value.is_null(); }
@@ -69,6 +70,9 @@ struct Param {
   static ParamSpec string_list(std::string name, std::optional<Value::List> def = std::nullopt);
   static ParamSpec object(std::string name, std::vector<ParamSpec> fields);
   static ParamSpec real_map(std::string name, std::optional<Value::Object> def = std::nullopt);
+  // A list of objects with `fields` (e.g. species: [{name: oak, density_per_ha: 10}, ...]);
+  // the default is the empty list. Fields may not be paths or directories.
+  static ParamSpec object_list(std::string name, std::vector<ParamSpec> fields);
 };
 
 }  // namespace sylva

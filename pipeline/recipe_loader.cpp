@@ -258,6 +258,26 @@ class ParamChecker {
         if (!ok) return std::nullopt;
         return Value(std::move(out));
       }
+      case ParamType::kObjectList: {
+        if (!raw.is_seq()) return wrong(spec, raw, what);
+        if ((spec.min_items && raw.items.size() < *spec.min_items) ||
+            (spec.max_items && raw.items.size() > *spec.max_items)) {
+          src_.error(diags_, raw.loc,
+                     what + " must have " + items_text(spec) + ", got " + std::to_string(raw.items.size()));
+          return std::nullopt;
+        }
+        ParamSpec elem = spec;
+        elem.type = ParamType::kObject;
+        Value::List out;
+        bool ok = true;
+        for (std::size_t i = 0; i < raw.items.size(); ++i) {
+          auto v = convert(elem, raw.items[i], what + "[" + std::to_string(i) + "]", nullptr);
+          if (v) out.push_back(std::move(*v));
+          else ok = false;
+        }
+        if (!ok) return std::nullopt;
+        return Value(std::move(out));
+      }
       case ParamType::kMap: {
         if (!raw.is_map()) return wrong(spec, raw, what);
         ParamSpec elem = spec;

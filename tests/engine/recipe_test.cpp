@@ -68,6 +68,20 @@ TEST_F(RecipeTest, EnumChoiceAndNestedObjectField) {
             "r.yaml:8:17: error: unknown field 'fov_y' in parameter 'camera'; did you mean 'fov_y_deg'?\n");
 }
 
+TEST_F(RecipeTest, ObjectListItemsAreCheckedOneByOne) {
+  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n"
+                    "      items: [{ name: x, weight: 11 }, { wieght: 2 }]\n"));
+  EXPECT_EQ(errors(),
+            "r.yaml:7:34: error: value out of range: parameter 'items'[0].weight must be in [0, 10], got 11\n"
+            "r.yaml:7:42: error: unknown field 'wieght' in parameter 'items'[1]; did you mean 'weight'?\n"
+            "r.yaml:7:40: error: missing required field 'name' in parameter 'items'[1]\n");
+  auto r = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { items: [{ name: x }] }\n");
+  ASSERT_TRUE(r);
+  const Value& items = r->nodes.at(0).params.at("items");
+  ASSERT_EQ(items.as_list().size(), 1u);
+  EXPECT_EQ(items.canonical(), "[{\"name\":\"x\",\"weight\":1.0}]");
+}
+
 TEST_F(RecipeTest, MissingInputNode) {
   EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  base:\n    stage: text\n"
                     "  b:\n    stage: concat\n    needs: [bsae, lod_*]\n"));

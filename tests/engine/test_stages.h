@@ -60,6 +60,7 @@ class TextStage final : public Stage {
         Param::integer("sleep_ms", 0).range(0, 60000).describe("sleep before writing"),
         Param::real_list("weights", Value::List{}).describe("a list"),
         Param::object("camera", {Param::real("fov_y_deg", 45.0).range(1, 179), Param::integer("height_px", 1080).range(1, 100000)}),
+        Param::object_list("items", {Param::string("name"), Param::real("weight", 1.0).range(0, 10)}),
     };
     info_.inputs = {{}, 0, 0, ""};
     info_.output_type = "text";

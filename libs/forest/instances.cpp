@@ -1,0 +1,409 @@
+// The instances.json / instances.bin reader and writer. nlohmann::json keeps object keys sorted
+// and prints doubles in shortest round-trip form, so the bytes are deterministic and every double
+// reads back bit for bit. The binary table is written field by field in little-endian order
+// (not by memcpy of a struct), so its bytes do not depend on padding or on the host.
+#include "libs/forest/instances.h"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace sylva::forest {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kFormat = "sylva-forest";
+constexpr int kVersion = 1;
+
+json vec(const Vec3d& v) { return json::array({v[0], v[1], v[2]}); }
+json box_json(const Box3& b) { return {{"min", vec(b.min)}, {"max", vec(b.max)}}; }
+
+json level_json(const Level& l) {
+  return {{"file", l.file},
+          {"epsilon_m", l.epsilon_m},
+          {"switch_distance_m", l.switch_distance_m},
+          {"primitives", l.primitives},
+          {"impostor", l.impostor}};
+}
+
+json species_json(const Species& s) {
+  json levels = json::array();
+  for (const Level& l : s.levels) levels.push_back(level_json(l));
+  return {{"name", s.name},
+          {"source", s.source},
+          {"bounds", box_json(s.bounds)},
+          {"base_rotation_deg", vec(s.base_rotation_deg)},
+          {"base_translation_y_m", s.base_translation_y_m},
+          {"camera", {{"fov_y_deg", s.fov_y_deg}, {"height_px", s.height_px}}},
+          {"pixel_error_px", s.pixel_error_px},
+          {"levels", levels}};
+}
+
+json instance_json(const Instance& i) {
+  return {{"id", i.id},         {"species", i.species}, {"tile", i.tile},
+          {"position", vec(i.position)}, {"yaw_rad", i.yaw_rad}, {"scale", vec(i.scale)}};
+}
+
+void put_u32(std::string& out, std::uint32_t v) {
+  for (int b = 0; b < 4; ++b) out.push_back(static_cast<char>((v >> (8 * b)) & 0xffu));
+}
+void put_f64(std::string& out, double d) {
+  const auto v = std::bit_cast<std::uint64_t>(d);
+  for (int b = 0; b < 8; ++b) out.push_back(static_cast<char>((v >> (8 * b)) & 0xffu));
+}
+std::uint32_t get_u32(const unsigned char* p) {
+  std::uint32_t v = 0;
+  for (int b = 0; b < 4; ++b) v |= std::uint32_t(p[b]) << (8 * b);
+  return v;
+}
+double get_f64(const unsigned char* p) {
+  std::uint64_t v = 0;
+  for (int b = 0; b < 8; ++b) v |= std::uint64_t(p[b]) << (8 * b);
+  return std::bit_cast<double>(v);
+}
+
+// ---- parsing with located errors ----------------------------------------------------------------
+
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& what) const { throw FormatError(source_ + ": error: " + what); }
+
+  const json& at(const json& obj, const char* key, const std::string& where) const {
+    if (!obj.is_object()) fail(where + " is not an object");
+    auto it = obj.find(key);
+    if (it == obj.end()) fail(where + " has no '" + key + "'");
+    return *it;
+  }
+  double real(const json& obj, const char* key, const std::string& where, double lo = -INFINITY,
+              double hi = INFINITY) const {
+    const json& v = at(obj, key, where);
+    if (!v.is_number()) fail(where + "." + key + " is not a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d) || d < lo || d > hi) fail(where + "." + key + " is out of range");
+    return d;
+  }
+  std::uint64_t uint(const json& obj, const char* key, const std::string& where, std::uint64_t hi) const {
+    const json& v = at(obj, key, where);
+    if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0))
+      fail(where + "." + key + " is not a non-negative integer");
+    const std::uint64_t u = v.get<std::uint64_t>();
+    if (u > hi) fail(where + "." + key + " is out of range");
+    return u;
+  }
+  bool boolean(const json& obj, const char* key, const std::string& where) const {
+    const json& v = at(obj, key, where);
+    if (!v.is_boolean()) fail(where + "." + key + " is not a boolean");
+    return v.get<bool>();
+  }
+  std::string string(const json& obj, const char* key, const std::string& where) const {
+    const json& v = at(obj, key, where);
+    if (!v.is_string()) fail(where + "." + key + " is not a string");
+    return v.get<std::string>();
+  }
+  const json& array(const json& obj, const char* key, const std::string& where) const {
+    const json& v = at(obj, key, where);
+    if (!v.is_array()) fail(where + "." + key + " is not an array");
+    return v;
+  }
+  Vec3d vec3(const json& obj, const char* key, const std::string& where) const {
+    const json& v = array(obj, key, where);
+    if (v.size() != 3) fail(where + "." + key + " does not have 3 numbers");
+    Vec3d out{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (!v[k].is_number()) fail(where + "." + key + " does not have 3 numbers");
+      out[k] = v[k].get<double>();
+      if (!std::isfinite(out[k])) fail(where + "." + key + " is not finite");
+    }
+    return out;
+  }
+  Box3 box(const json& obj, const char* key, const std::string& where) const {
+    const json& b = at(obj, key, where);
+    const std::string w = where + "." + key;
+    Box3 out{vec3(b, "min", w), vec3(b, "max", w)};
+    for (int k = 0; k < 3; ++k)
+      if (out.min[k] > out.max[k]) fail(w + " has min > max");
+    return out;
+  }
+
+ private:
+  std::string source_;
+};
+
+}  // namespace
+
+EncodedForest write_instances(const Forest& f) {
+  json j;
+  j["format"] = kFormat;
+  j["version"] = kVersion;
+  j["extent_m"] = {{"min", {f.extent_min[0], f.extent_min[1]}}, {"max", {f.extent_max[0], f.extent_max[1]}}};
+  j["tile_size_m"] = f.tile_size_m;
+  j["nodes_per_node"] = f.nodes_per_node;
+  j["method"] = f.method;
+  j["seed"] = f.seed;
+  json species = json::array();
+  for (std::size_t s = 0; s < f.species.size(); ++s) {
+    json sj = species_json(f.species[s]);
+    const SpeciesStats st = s < f.stats.size() ? f.stats[s] : SpeciesStats{};
+    sj["stats"] = {{"requested", st.requested}, {"placed", st.placed}, {"dropped", st.dropped}};
+    species.push_back(std::move(sj));
+  }
+  j["species"] = std::move(species);
+  json tiles = json::array();
+  for (const Tile& t : f.tiles) tiles.push_back({{"ix", t.ix}, {"iz", t.iz}, {"bounds", box_json(t.bounds)}, {"instances", t.instances}});
+  j["tiles"] = std::move(tiles);
+  json nodes = json::array();
+  for (const HierarchyNode& n : f.hierarchy)
+    nodes.push_back({{"bounds", box_json(n.bounds)}, {"leaf", n.leaf}, {"children", n.children}});
+  j["hierarchy"] = std::move(nodes);
+  j["instance_count"] = f.instances.size();
+  EncodedForest out;
+  if (f.binary_table) {
+    j["instances"] = {{"file", kInstancesBin}, {"record_bytes", kRecordBytes}};
+    out.bin.reserve(f.instances.size() * kRecordBytes);
+    for (const Instance& i : f.instances) {
+      put_u32(out.bin, i.id);
+      put_u32(out.bin, i.species);
+      put_u32(out.bin, i.tile);
+      for (double d : i.position) put_f64(out.bin, d);
+      put_f64(out.bin, i.yaw_rad);
+      for (double d : i.scale) put_f64(out.bin, d);
+    }
+  } else {
+    json inst = json::array();
+    for (const Instance& i : f.instances) inst.push_back(instance_json(i));
+    j["instances"] = std::move(inst);
+  }
+  out.json = j.dump(1) + "\n";
+  return out;
+}
+
+Forest parse_instances(const std::string& text, const std::string& bin, const std::string& source_name) {
+  const Reader r(source_name);
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    r.fail(std::string("not JSON: ") + e.what());
+  }
+  if (r.string(j, "format", "the file") != kFormat) r.fail("format is not '" + std::string(kFormat) + "'");
+  if (r.uint(j, "version", "the file", 1000) != kVersion) r.fail("unsupported version (this reader knows 1)");
+  Forest f;
+  const json& ext = r.at(j, "extent_m", "the file");
+  const json& emin = r.array(ext, "min", "extent_m");
+  const json& emax = r.array(ext, "max", "extent_m");
+  if (emin.size() != 2 || emax.size() != 2 || !emin[0].is_number() || !emin[1].is_number() || !emax[0].is_number() ||
+      !emax[1].is_number())
+    r.fail("extent_m.min and .max must be [x, z]");
+  f.extent_min = {emin[0].get<double>(), emin[1].get<double>()};
+  f.extent_max = {emax[0].get<double>(), emax[1].get<double>()};
+  f.tile_size_m = r.real(j, "tile_size_m", "the file", 0);
+  f.nodes_per_node = int(r.uint(j, "nodes_per_node", "the file", 1u << 20));
+  f.method = r.string(j, "method", "the file");
+  f.seed = r.uint(j, "seed", "the file", UINT64_MAX);
+  const json& species = r.array(j, "species", "the file");
+  for (std::size_t s = 0; s < species.size(); ++s) {
+    const std::string w = "species[" + std::to_string(s) + "]";
+    const json& sj = species[s];
+    Species sp;
+    sp.name = r.string(sj, "name", w);
+    sp.source = r.string(sj, "source", w);
+    sp.bounds = r.box(sj, "bounds", w);
+    sp.base_rotation_deg = r.vec3(sj, "base_rotation_deg", w);
+    sp.base_translation_y_m = r.real(sj, "base_translation_y_m", w);
+    const json& cam = r.at(sj, "camera", w);
+    sp.fov_y_deg = r.real(cam, "fov_y_deg", w + ".camera", 1e-6, 179.999);
+    sp.height_px = int(r.uint(cam, "height_px", w + ".camera", 1u << 20));
+    sp.pixel_error_px = r.real(sj, "pixel_error_px", w, 1e-9);
+    const json& levels = r.array(sj, "levels", w);
+    if (levels.empty()) r.fail(w + ".levels is empty");
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+      const std::string lw = w + ".levels[" + std::to_string(l) + "]";
+      Level lv;
+      lv.file = r.string(levels[l], "file", lw);
+      lv.epsilon_m = r.real(levels[l], "epsilon_m", lw, 0);
+      lv.switch_distance_m = r.real(levels[l], "switch_distance_m", lw, 0);
+      lv.primitives = r.uint(levels[l], "primitives", lw, UINT64_MAX);
+      lv.impostor = r.boolean(levels[l], "impostor", lw);
+      sp.levels.push_back(std::move(lv));
+    }
+    const json& st = r.at(sj, "stats", w);
+    f.stats.push_back({r.uint(st, "requested", w + ".stats", UINT64_MAX), r.uint(st, "placed", w + ".stats", UINT64_MAX),
+                       r.uint(st, "dropped", w + ".stats", UINT64_MAX)});
+    f.species.push_back(std::move(sp));
+  }
+  const std::size_t count = r.uint(j, "instance_count", "the file", UINT32_MAX);
+  const json& inst = r.at(j, "instances", "the file");
+  if (inst.is_object()) {
+    f.binary_table = true;
+    if (r.uint(inst, "record_bytes", "instances", 1u << 20) != kRecordBytes) r.fail("instances.record_bytes is not " + std::to_string(kRecordBytes));
+    if (bin.size() != count * kRecordBytes)
+      r.fail(std::string(kInstancesBin) + " holds " + std::to_string(bin.size()) + " bytes, expected " +
+             std::to_string(count * kRecordBytes) + " (" + std::to_string(count) + " records)");
+    const auto* p = reinterpret_cast<const unsigned char*>(bin.data());
+    f.instances.resize(count);
+    for (std::size_t i = 0; i < count; ++i, p += kRecordBytes) {
+      Instance& in = f.instances[i];
+      in.id = get_u32(p);
+      in.species = get_u32(p + 4);
+      in.tile = get_u32(p + 8);
+      for (int k = 0; k < 3; ++k) in.position[std::size_t(k)] = get_f64(p + 12 + 8 * k);
+      in.yaw_rad = get_f64(p + 36);
+      for (int k = 0; k < 3; ++k) in.scale[std::size_t(k)] = get_f64(p + 44 + 8 * k);
+    }
+  } else {
+    if (!inst.is_array()) r.fail("instances is neither an array nor a binary table reference");
+    if (inst.size() != count) r.fail("instances has " + std::to_string(inst.size()) + " entries, instance_count says " + std::to_string(count));
+    f.instances.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+      const std::string w = "instances[" + std::to_string(i) + "]";
+      Instance& in = f.instances[i];
+      in.id = std::uint32_t(r.uint(inst[i], "id", w, UINT32_MAX));
+      in.species = std::uint32_t(r.uint(inst[i], "species", w, UINT32_MAX));
+      in.tile = std::uint32_t(r.uint(inst[i], "tile", w, UINT32_MAX));
+      in.position = r.vec3(inst[i], "position", w);
+      in.yaw_rad = r.real(inst[i], "yaw_rad", w);
+      in.scale = r.vec3(inst[i], "scale", w);
+    }
+  }
+  const json& tiles = r.array(j, "tiles", "the file");
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    const std::string w = "tiles[" + std::to_string(t) + "]";
+    Tile tile;
+    const json& ix = r.at(tiles[t], "ix", w);
+    const json& iz = r.at(tiles[t], "iz", w);
+    if (!ix.is_number_integer() || !iz.is_number_integer()) r.fail(w + ".ix/.iz are not integers");
+    tile.ix = ix.get<int>();
+    tile.iz = iz.get<int>();
+    tile.bounds = r.box(tiles[t], "bounds", w);
+    for (const json& v : r.array(tiles[t], "instances", w)) {
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= count) r.fail(w + ".instances has an index out of range");
+      tile.instances.push_back(v.get<std::uint32_t>());
+    }
+    f.tiles.push_back(std::move(tile));
+  }
+  const json& nodes = r.array(j, "hierarchy", "the file");
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const std::string w = "hierarchy[" + std::to_string(n) + "]";
+    HierarchyNode node;
+    node.bounds = r.box(nodes[n], "bounds", w);
+    node.leaf = r.boolean(nodes[n], "leaf", w);
+    const std::size_t limit = node.leaf ? count : nodes.size();
+    for (const json& v : r.array(nodes[n], "children", w)) {
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= limit) r.fail(w + ".children has an index out of range");
+      node.children.push_back(v.get<std::uint32_t>());
+    }
+    f.hierarchy.push_back(std::move(node));
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const Instance& in = f.instances[i];
+    const std::string w = "instance " + std::to_string(i);
+    if (in.id != i) r.fail(w + " has id " + std::to_string(in.id) + " (ids are the instances' indices)");
+    if (in.species >= f.species.size()) r.fail(w + " names species " + std::to_string(in.species) + ", which does not exist");
+    if (in.tile >= f.tiles.size()) r.fail(w + " names tile " + std::to_string(in.tile) + ", which does not exist");
+    for (double d : in.position)
+      if (!std::isfinite(d)) r.fail(w + " has a non-finite position");
+    for (double d : in.scale)
+      if (!(d > 0) || !std::isfinite(d)) r.fail(w + " has a scale that is not positive");
+    if (!std::isfinite(in.yaw_rad)) r.fail(w + " has a non-finite yaw");
+  }
+  return f;
+}
+
+Forest read_instances(const std::filesystem::path& json_path) {
+  auto slurp = [](const std::filesystem::path& p, std::string& out) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return false;
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    out = ss.str();
+    return true;
+  };
+  std::string text, bin;
+  if (!slurp(json_path, text)) throw FormatError(json_path.string() + ": error: cannot read the file");
+  const std::filesystem::path bin_path = json_path.parent_path() / kInstancesBin;
+  if (std::filesystem::exists(bin_path) && !slurp(bin_path, bin))
+    throw FormatError(bin_path.string() + ": error: cannot read the file");
+  return parse_instances(text, bin, json_path.string());
+}
+
+namespace {
+
+using Mat = std::array<double, 16>;
+
+Mat identity() {
+  Mat m{};
+  m[0] = m[5] = m[10] = m[15] = 1;
+  return m;
+}
+Mat mul(const Mat& a, const Mat& b) {  // column-major a * b
+  Mat c{};
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 4; ++row) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a[std::size_t(k * 4 + row)] * b[std::size_t(col * 4 + k)];
+      c[std::size_t(col * 4 + row)] = s;
+    }
+  return c;
+}
+Mat rotation(int axis, double rad) {
+  Mat m = identity();
+  const double c = std::cos(rad), s = std::sin(rad);
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;  // the rotated plane (a, b), right-handed
+  m[std::size_t(a * 4 + a)] = c;
+  m[std::size_t(a * 4 + b)] = s;
+  m[std::size_t(b * 4 + a)] = -s;
+  m[std::size_t(b * 4 + b)] = c;
+  return m;
+}
+Mat translation(const Vec3d& t) {
+  Mat m = identity();
+  m[12] = t[0];
+  m[13] = t[1];
+  m[14] = t[2];
+  return m;
+}
+Mat scaling(const Vec3d& s) {
+  Mat m = identity();
+  m[0] = s[0];
+  m[5] = s[1];
+  m[10] = s[2];
+  return m;
+}
+
+}  // namespace
+
+std::array<double, 16> base_matrix(const Species& s) {
+  constexpr double kDeg = std::numbers::pi / 180;
+  Mat m = rotation(0, s.base_rotation_deg[0] * kDeg);
+  m = mul(rotation(1, s.base_rotation_deg[1] * kDeg), m);
+  m = mul(rotation(2, s.base_rotation_deg[2] * kDeg), m);
+  return mul(translation({0, s.base_translation_y_m, 0}), m);
+}
+
+std::array<double, 16> instance_matrix(const Species& species, const Instance& inst) {
+  return mul(translation(inst.position), mul(rotation(1, inst.yaw_rad), mul(scaling(inst.scale), base_matrix(species))));
+}
+
+Box3 transform_box(const std::array<double, 16>& m, const Box3& box) {
+  Box3 out{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  for (int c = 0; c < 8; ++c) {
+    const Vec3d p{(c & 1) ? box.max[0] : box.min[0], (c & 2) ? box.max[1] : box.min[1], (c & 4) ? box.max[2] : box.min[2]};
+    for (int r = 0; r < 3; ++r) {
+      const double v = m[std::size_t(r)] * p[0] + m[std::size_t(4 + r)] * p[1] + m[std::size_t(8 + r)] * p[2] + m[std::size_t(12 + r)];
+      out.min[std::size_t(r)] = std::min(out.min[std::size_t(r)], v);
+      out.max[std::size_t(r)] = std::max(out.max[std::size_t(r)], v);
+    }
+  }
+  return out;
+}
+
+}  // namespace sylva::forest

@@ -1,0 +1,98 @@
+#include "libs/forest/instances.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace sylva::forest {
+namespace {
+
+Forest sample_forest(bool binary) {
+  Forest f;
+  f.extent_min = {-50, -25};
+  f.extent_max = {50, 25};
+  f.tile_size_m = 50;
+  f.nodes_per_node = 4;
+  f.method = "celba";
+  f.seed = 7;
+  Species s;
+  s.name = "oak";
+  s.source = "oak/adult seed 7";
+  s.bounds = {{-3, 0, -2.5}, {3, 12.25, 2.5}};
+  s.base_rotation_deg = {0, 90, 0};
+  s.base_translation_y_m = -0.1;
+  s.levels = {{"oak_lod0.gltf", 0.001, 2.6, 1000, false}, {"oak_impostor.gltf", 0.4, 1100, 12, true}};
+  f.species.push_back(s);
+  f.stats.push_back({3, 2, 1});
+  f.instances.push_back({0, 0, 0, {-10.125, 1.5, 3.0 / 7.0}, 0.1, {1.1, 0.9, 1.0}});
+  f.instances.push_back({1, 0, 1, {20, 0, -1e-9}, 6.2, {1, 1, 1}});
+  f.tiles.push_back({0, 0, {{-13, 1.4, -2}, {-7, 14, 3}}, {0}});
+  f.tiles.push_back({1, 0, {{17, 0, -3}, {23, 12, 3}}, {1}});
+  f.hierarchy.push_back({{{-13, 0, -3}, {23, 14, 3}}, true, {0, 1}});
+  f.binary_table = binary;
+  return f;
+}
+
+TEST(Instances, RoundTripsBitForBitInlineAndBinary) {
+  for (bool binary : {false, true}) {
+    const Forest f = sample_forest(binary);
+    const EncodedForest e = write_instances(f);
+    EXPECT_EQ(e.bin.size(), binary ? 2 * kRecordBytes : 0u);
+    const Forest back = parse_instances(e.json, e.bin, "x.json");
+    EXPECT_EQ(back, f);
+    EXPECT_EQ(write_instances(back).json, e.json);  // deterministic bytes
+  }
+}
+
+TEST(Instances, BadInputNamesTheProblem) {
+  const EncodedForest e = write_instances(sample_forest(true));
+  try {
+    parse_instances(e.json, e.bin.substr(1), "f/instances.json");
+    FAIL();
+  } catch (const FormatError& err) {
+    EXPECT_STREQ(err.what(), "f/instances.json: error: instances.bin holds 135 bytes, expected 136 (2 records)");
+  }
+  std::string j = write_instances(sample_forest(false)).json;
+  j.replace(j.find("\"species\": 0"), 12, "\"species\": 5");
+  try {
+    parse_instances(j, "", "i.json");
+    FAIL();
+  } catch (const FormatError& err) {
+    EXPECT_STREQ(err.what(), "i.json: error: instance 0 names species 5, which does not exist");
+  }
+  EXPECT_THROW(parse_instances("{", "", "i.json"), FormatError);
+  EXPECT_THROW(parse_instances("[]", "", "i.json"), FormatError);
+}
+
+TEST(Instances, MatrixIsTranslateYawScaleBase) {
+  Species s;
+  s.base_rotation_deg = {90, 0, 0};  // R_x(90): y -> z, z -> -y
+  s.base_translation_y_m = 1;
+  Instance in;
+  in.position = {10, 2, -3};
+  in.yaw_rad = std::numbers::pi / 2;  // R_y(90): x -> -z, z -> x
+  in.scale = {2, 3, 4};
+  const auto m = instance_matrix(s, in);
+  auto apply = [&](Vec3d p) {
+    Vec3d o{};
+    for (int r = 0; r < 3; ++r) o[r] = m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r];
+    return o;
+  };
+  // (0, 0, 1): R_x(90) -> (0, -1, 0); +1 y -> (0, 0, 0); scale -> (0, 0, 0); yaw; + position.
+  Vec3d p = apply({0, 0, 1});
+  EXPECT_NEAR(p[0], 10, 1e-12);
+  EXPECT_NEAR(p[1], 2, 1e-12);
+  EXPECT_NEAR(p[2], -3, 1e-12);
+  // (1, 0, 0): base keeps it, +1 y -> (1, 1, 0); scale -> (2, 3, 0); yaw 90 -> (0, 3, -2).
+  p = apply({1, 0, 0});
+  EXPECT_NEAR(p[0], 10, 1e-12);
+  EXPECT_NEAR(p[1], 5, 1e-12);
+  EXPECT_NEAR(p[2], -5, 1e-12);
+  const Box3 b = transform_box(m, {{-1, -1, -1}, {1, 1, 1}});
+  EXPECT_NEAR(b.min[1], 2 + 3 * 0, 1e-12);  // base: y in [-1, 1] after R_x, +1 -> [0, 2], x3 -> [0, 6]
+  EXPECT_NEAR(b.max[1], 8, 1e-12);
+}
+
+}  // namespace
+}  // namespace sylva::forest
