@@ -1,5 +1,6 @@
 #include "stages/register_gfx_stages.h"
 
+#include "stages/forest/forest_stage.h"
 #include "stages/verify/verify_stage.h"
 
 // Each heavy stage folder exposes its factory in its adapter header and its StageInfo in
@@ -7,6 +8,9 @@
 
 namespace sylva {
 
-void register_gfx_stages(StageRegistry& registry) { registry.add(make_verify_stage()); }
+void register_gfx_stages(StageRegistry& registry) {
+  registry.add(make_forest_stage());
+  registry.add(make_verify_stage());
+}
 
 }  // namespace sylva

@@ -1,5 +1,6 @@
 #include "stages/register_stages.h"
 
+#include "stages/forest/forest_info.h"
 #include "stages/generate/generate_stage.h"
 #include "stages/import/import_stage.h"
 #include "stages/lod/lod_info.h"
@@ -13,6 +14,7 @@
 namespace sylva {
 
 void register_builtin_stages(StageRegistry& registry, StageResolver& gfx, StageResolver& geometry) {
+  registry.add(make_lazy_stage(forest_stage_info(), gfx));
   registry.add(make_generate_stage());
   registry.add(make_import_stage());
   registry.add(make_lazy_stage(lod_stage_info(), geometry));

@@ -1,0 +1,71 @@
+// Celba §6.2: "Two fly paths, 50 s and 55 s: a walkthrough, and a flight that starts low and ends
+// high." Both are sampled at a few evenly spaced instants (frames_per_path), so a verify report
+// shows a forest from the ground and from the air, near trees at their finest levels and far ones
+// at their coarsest. The walkthrough runs south to north (+z to -z) through the middle, the eye
+// moved sideways off any trunk it would stand in; the flight rises from the south-west edge to
+// high above the north-east quarter, always looking at the forest's centre.
+#include "stages/forest/forest_cameras.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sylva::forest {
+
+namespace {
+
+std::string vec(double x, double y, double z) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "[%.4f, %.4f, %.4f]", x, y, z);
+  return buf;
+}
+
+// The nearest tree position to (x, z) on the ground, metres.
+double clearance(const Forest& f, double x, double z) {
+  double best = INFINITY;
+  for (const Instance& in : f.instances) best = std::min(best, std::hypot(in.position[0] - x, in.position[2] - z));
+  return best;
+}
+
+}  // namespace
+
+std::string forest_camera_set(const Forest& f, const Terrain& terrain, const ForestCameraOptions& o) {
+  const double w = f.extent_max[0] - f.extent_min[0], d = f.extent_max[1] - f.extent_min[1];
+  const double cx = 0.5 * (f.extent_min[0] + f.extent_max[0]), cz = 0.5 * (f.extent_min[1] + f.extent_max[1]);
+  double top = 0;
+  for (const Instance& in : f.instances) {
+    const Species& s = f.species[in.species];
+    top = std::max(top, in.position[1] + s.bounds.max[1] * in.scale[1]);
+  }
+  const double ground_c = terrain.height(cx, cz);
+  std::string y = "# The forest camera set written by stage forest (docs/stages/forest.md, \"Cameras\").\n";
+  y += "version: 1\nwidth: " + std::to_string(o.width_px) + "\nheight: " + std::to_string(o.height_px) +
+       "\nmsaa: " + std::to_string(o.msaa) + "\n";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "fov_y_deg: %.6g\n", o.fov_y_deg);
+  y += buf;
+  y += "views:\n";
+  const int n = std::max(1, o.frames_per_path);
+  auto add = [&](const std::string& name, double ex, double ey, double ez, double tx, double ty, double tz) {
+    y += "  - name: " + name + "\n    eye: " + vec(ex, ey, ez) + "\n    target: " + vec(tx, ty, tz) + "\n";
+  };
+  for (int k = 0; k < n; ++k) {
+    const double t = n == 1 ? 0.5 : double(k) / double(n - 1);
+    const double z = cz + d * (0.4 - 0.8 * t);
+    double x = cx;
+    for (int step = 0; step < 40 && clearance(f, x, z) < 1.5; ++step) x = cx + (step % 2 ? -1 : 1) * 1.0 * (step / 2 + 1);
+    const double g = terrain.height(x, z);
+    add("walk_" + std::to_string(k), x, g + o.eye_height_m, z, x, g + o.eye_height_m, z - 20);
+  }
+  const double high = std::max(1.5 * top, 0.6 * std::max(w, d));
+  for (int k = 0; k < n; ++k) {
+    const double t = n == 1 ? 0.5 : double(k) / double(n - 1);
+    const double ex = cx - 0.45 * w + t * 0.6 * w, ez = cz + 0.45 * d - t * 0.6 * d;
+    const double ey = terrain.height(ex, ez) + std::max(o.eye_height_m, top * 0.5) + t * (high - top * 0.5);
+    add("fly_" + std::to_string(k), ex, ey, ez, cx, ground_c, cz - 0.1 * d);
+  }
+  add("overview", cx, ground_c + 0.6 * std::max(w, d), cz + 0.9 * d, cx, ground_c, cz);
+  return y;
+}
+
+}  // namespace sylva::forest

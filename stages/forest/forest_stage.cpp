@@ -1,0 +1,337 @@
+// The adapter of stage `forest`: reads the species' lod artifacts (lod.json, the level glTF
+// files: their bounding boxes and LOD metadata, never their code), the optional maps and CSV,
+// runs the layout core (layout.h), groups the trees (hierarchy.h), and writes instances.json (+
+// instances.bin), each species' level files, one glTF per tile and level, tileset.json and the
+// forest camera set. docs/stages/forest.md lists every parameter and file.
+#include "stages/forest/forest_stage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "stages/forest/field_io.h"
+#include "stages/forest/forest_cameras.h"
+#include "stages/forest/forest_info.h"
+#include "stages/forest/hierarchy.h"
+#include "stages/forest/layout.h"
+#include "stages/forest/tile_gltf.h"
+#include "stages/forest/tileset.h"
+
+namespace sylva {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace forest;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw StageError(p.string() + ": cannot open file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<double> reals(const Value& v) {
+  std::vector<double> out;
+  for (const Value& e : v.as_list()) out.push_back(e.as_real());
+  return out;
+}
+
+std::vector<Point2> points_of(const Value& v, const std::string& what) {
+  const std::vector<double> r = reals(v);
+  if (r.size() % 2) throw StageError(what + ": points must be x, z pairs (an even count), got " + std::to_string(r.size()));
+  std::vector<Point2> out;
+  for (std::size_t i = 0; i + 1 < r.size(); i += 2) out.push_back({r[i], r[i + 1]});
+  return out;
+}
+
+// One species' lod artifact as the stage reads it.
+struct SpeciesInput {
+  std::string node;
+  json lod_json;
+  std::vector<LevelSource> levels;
+  std::vector<const ArtifactFile*> level_bins, images;
+  Box3 bounds;
+  std::vector<std::size_t> primitives;
+};
+
+std::size_t primitive_count(const json& g) {
+  std::size_t n = 0;
+  for (const auto& p : g.at("meshes").at(0).at("primitives")) {
+    const int mode = p.value("mode", 4);
+    const std::size_t per = mode == 4 ? 3 : mode == 1 ? 2 : 1;
+    const std::size_t count = p.contains("indices") ? g.at("accessors").at(p["indices"].get<std::size_t>()).at("count").get<std::size_t>()
+                                                    : g.at("accessors").at(p.at("attributes").at("POSITION").get<std::size_t>()).at("count").get<std::size_t>();
+    n += count / per;
+  }
+  return n;
+}
+
+Box3 position_bounds(const json& g, const std::string& what) {
+  Box3 b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  for (const auto& p : g.at("meshes").at(0).at("primitives")) {
+    const json& a = g.at("accessors").at(p.at("attributes").at("POSITION").get<std::size_t>());
+    if (!a.contains("min") || !a.contains("max")) throw StageError(what + ": a POSITION accessor has no min/max");
+    for (std::size_t k = 0; k < 3; ++k) {
+      b.min[k] = std::min(b.min[k], a["min"][k].get<double>());
+      b.max[k] = std::max(b.max[k], a["max"][k].get<double>());
+    }
+  }
+  if (!(b.min[0] <= b.max[0])) throw StageError(what + ": the level mesh has no positions");
+  return b;
+}
+
+SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
+  SpeciesInput s;
+  s.node = in.node;
+  const ArtifactFile* lj = in.file("lod.json");
+  if (!lj) throw StageError("input '" + in.node + "' has no lod.json");
+  try {
+    s.lod_json = json::parse(read_file(lj->path));
+    const json& levels = s.lod_json.at("levels");
+    if (!levels.is_array() || levels.empty()) throw StageError("input '" + in.node + "': lod.json has no levels");
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+      const std::string file = levels[i].at("file").get<std::string>();
+      const ArtifactFile* f = in.file(file);
+      if (!f) throw StageError("input '" + in.node + "' has no " + file + " though lod.json lists it");
+      LevelSource src;
+      src.gltf = json::parse(read_file(f->path));
+      const json& buffers = src.gltf.at("buffers");
+      if (buffers.size() != 1 || !buffers[0].contains("uri"))
+        throw StageError("input '" + in.node + "': " + file + " must have exactly one external buffer");
+      const std::string bin = buffers[0]["uri"].get<std::string>();
+      const ArtifactFile* bf = in.file(bin);
+      if (!bf) throw StageError("input '" + in.node + "' has no " + bin + " though " + file + " uses it");
+      s.level_bins.push_back(bf);
+      src.bin_name = name + "_" + bin;
+      src.bin_bytes = buffers[0].at("byteLength").get<std::size_t>();
+      src.image_prefix = name + "_";
+      for (const auto& im : src.gltf.value("images", json::array())) {
+        if (!im.contains("uri")) continue;
+        const ArtifactFile* imf = in.file(im["uri"].get<std::string>());
+        if (!imf) throw StageError("input '" + in.node + "' has no image " + im["uri"].get<std::string>());
+        if (std::find(s.images.begin(), s.images.end(), imf) == s.images.end()) s.images.push_back(imf);
+      }
+      s.primitives.push_back(primitive_count(src.gltf));
+      if (i == 0) s.bounds = position_bounds(src.gltf, "input '" + in.node + "': " + file);
+      s.levels.push_back(std::move(src));
+    }
+  } catch (const json::exception& e) {
+    throw StageError("input '" + in.node + "': unreadable lod output: " + e.what());
+  }
+  return s;
+}
+
+class ForestStage final : public Stage {
+ public:
+  ForestStage() : info_(forest_stage_info()) {}
+  const StageInfo& info() const override { return info_; }
+
+  void run(StageContext& ctx) const override {
+    // 1. Species: the i-th lod input with species[i].
+    std::vector<const InputArtifact*> lods;
+    for (const InputArtifact& in : ctx.inputs())
+      if (in.type == "lod") lods.push_back(&in);
+    const Value::List& species_params = ctx.param("species").as_list();
+    if (species_params.size() != lods.size())
+      throw StageError("'species' lists " + std::to_string(species_params.size()) + " entries but the node needs " +
+                       std::to_string(lods.size()) + " lod inputs (one entry per lod input, in the order of 'needs')");
+    LayoutParams lp;
+    const std::vector<double> size = reals(ctx.param("size_m"));
+    lp.width_m = size[0];
+    lp.depth_m = size[1];
+    lp.method = ctx.string("method") == "poisson" ? Method::kPoisson : Method::kCelba;
+    lp.allow_intersection = ctx.real("allow_intersection");
+    lp.retries = int(ctx.integer("retries"));
+    std::vector<std::string> names;
+    std::vector<SpeciesInput> inputs;
+    static const std::regex kName("[A-Za-z0-9_-]+");
+    for (std::size_t i = 0; i < lods.size(); ++i) {
+      const Value::Object& sp = species_params[i].as_object();
+      SpeciesRule r;
+      r.name = sp.at("name").as_string();
+      if (!std::regex_match(r.name, kName)) throw StageError("species[" + std::to_string(i) + "].name '" + r.name + "' must match [A-Za-z0-9_-]+");
+      if (std::find(names.begin(), names.end(), r.name) != names.end()) throw StageError("species name '" + r.name + "' is used twice");
+      names.push_back(r.name);
+      inputs.push_back(read_species(*lods[i], r.name));
+      r.bounds = inputs.back().bounds;
+      r.density_per_ha = sp.at("density_per_ha").as_real();
+      auto range = [&](const char* key) {
+        const auto v = reals(sp.at(key));
+        if (v[1] < v[0]) throw StageError("species '" + r.name + "': " + key + " must be [min, max] with min <= max");
+        return Point2{v[0], v[1]};
+      };
+      r.scale_x = range("scale_x");
+      r.scale_y = range("scale_y");
+      r.scale_z = range("scale_z");
+      const auto rot = reals(sp.at("base_rotation_deg"));
+      r.base_rotation_deg = {rot[0], rot[1], rot[2]};
+      r.base_translation_y_m = sp.at("base_translation_y_m").as_real();
+      r.random_yaw = sp.at("random_yaw").as_bool();
+      r.max_slope_deg = sp.at("max_slope_deg").as_real();
+      r.min_altitude_m = sp.at("min_altitude_m").as_real();
+      r.max_altitude_m = sp.at("max_altitude_m").as_real();
+      r.min_spacing_m = sp.at("min_spacing_m").as_real();
+      lp.species.push_back(r);
+    }
+
+    // 2. Terrain, density map, exclusions, rows, explicit positions.
+    try {
+      if (!ctx.string("height_map").empty()) {
+        std::vector<double> e = reals(ctx.param("terrain_extent_m"));
+        if (e.empty()) e = {-0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m};
+        if (e.size() != 4 || !(e[2] > e[0]) || !(e[3] > e[1]))
+          throw StageError("terrain_extent_m must be [x0, z0, x1, z1] with x1 > x0 and z1 > z0");
+        lp.terrain.field = read_field(ctx.param_file("height_map"), e[0], e[1], e[2], e[3]);
+        const auto hr = reals(ctx.param("height_range_m"));
+        lp.terrain.height_min = hr[0];
+        lp.terrain.height_max = hr[1];
+      }
+      if (!ctx.string("density_map").empty())
+        lp.density = read_field(ctx.param_file("density_map"), -0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m);
+    } catch (const std::runtime_error& e) {
+      if (dynamic_cast<const StageError*>(&e)) throw;
+      throw StageError(e.what());
+    }
+    const Value::List& ex = ctx.param("exclusions").as_list();
+    for (std::size_t i = 0; i < ex.size(); ++i)
+      lp.exclusions.push_back(points_of(ex[i].as_object().at("points"), "exclusions[" + std::to_string(i) + "]"));
+    const Value::List& rows = ctx.param("rows").as_list();
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Value::Object& r = rows[i].as_object();
+      const std::string& sp = r.at("species").as_string();
+      const auto it = std::find(names.begin(), names.end(), sp);
+      if (it == names.end()) throw StageError("rows[" + std::to_string(i) + "] names species '" + sp + "', which is not in 'species'");
+      lp.rows.push_back({std::uint32_t(it - names.begin()), points_of(r.at("points"), "rows[" + std::to_string(i) + "]"),
+                         r.at("spacing_m").as_real(), r.at("jitter_m").as_real()});
+    }
+    if (!ctx.string("positions").empty()) {
+      const fs::path p = ctx.param_file("positions");
+      try {
+        lp.explicit_trees = parse_positions_csv(read_file(p), names, p.filename().string());
+      } catch (const std::invalid_argument& e) {
+        throw StageError(e.what());
+      }
+    }
+
+    // 3. Layout, hierarchy, tiles.
+    Rng rng = ctx.rng("layout");
+    LayoutResult layout;
+    try {
+      layout = lay_out(lp, rng, [&] { ctx.check_cancelled(); });
+    } catch (const std::invalid_argument& e) {
+      throw StageError(e.what());
+    }
+    Forest f;
+    f.extent_min = {-0.5 * lp.width_m, -0.5 * lp.depth_m};
+    f.extent_max = {0.5 * lp.width_m, 0.5 * lp.depth_m};
+    f.tile_size_m = ctx.real("tile_size_m");
+    f.nodes_per_node = int(ctx.integer("nodes_per_node"));
+    f.method = ctx.string("method");
+    f.seed = std::uint64_t(ctx.integer("seed"));
+    f.stats = layout.stats;
+    for (std::size_t s = 0; s < lp.species.size(); ++s) {
+      const SpeciesInput& in = inputs[s];
+      Species sp;
+      sp.name = names[s];
+      sp.source = in.lod_json.value("tree", "");
+      sp.bounds = in.bounds;
+      sp.base_rotation_deg = lp.species[s].base_rotation_deg;
+      sp.base_translation_y_m = lp.species[s].base_translation_y_m;
+      try {
+        sp.pixel_error_px = in.lod_json.at("pixel_error_px").get<double>();
+        sp.fov_y_deg = in.lod_json.at("camera").at("fov_y_deg").get<double>();
+        sp.height_px = in.lod_json.at("camera").at("height_px").get<int>();
+        const json& levels = in.lod_json.at("levels");
+        for (std::size_t l = 0; l < levels.size(); ++l)
+          sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf", levels[l].at("epsilon_m").get<double>(),
+                               levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false});
+      } catch (const json::exception& e) {
+        throw StageError("input '" + in.node + "': lod.json: " + e.what());
+      }
+      f.species.push_back(std::move(sp));
+    }
+    std::vector<Box3> boxes;
+    for (std::size_t i = 0; i < layout.trees.size(); ++i) {
+      const PlacedTree& t = layout.trees[i];
+      f.instances.push_back({std::uint32_t(i), t.species, 0, t.position, t.yaw_rad, t.scale});
+      // The drawn tree's box (the asset's own box transformed), for tiles and the hierarchy.
+      boxes.push_back(transform_box(instance_matrix(f.species[t.species], f.instances.back()), f.species[t.species].bounds));
+    }
+    ctx.check_cancelled();
+    f.tiles = build_tiles(f.instances, boxes, f.extent_min, f.tile_size_m);
+    f.hierarchy = build_hierarchy(boxes, f.nodes_per_node);
+    const auto binary_from = std::size_t(ctx.integer("binary_table_from"));
+    f.binary_table = f.instances.size() >= binary_from;
+
+    // 4. Outputs.
+    const EncodedForest enc = write_instances(f);
+    ctx.write_output(kInstancesJson, enc.json);
+    if (f.binary_table) ctx.write_output(kInstancesBin, enc.bin);
+    int level_count = 0;
+    for (std::size_t s = 0; s < inputs.size(); ++s) {
+      const SpeciesInput& in = inputs[s];
+      level_count = std::max(level_count, int(in.levels.size()));
+      for (std::size_t l = 0; l < in.levels.size(); ++l) {
+        ctx.write_output(f.species[s].levels[l].file, species_level_gltf(in.levels[l]));
+        copy(ctx, in.level_bins[l]->path, in.levels[l].bin_name);
+      }
+      for (const ArtifactFile* im : in.images) copy(ctx, im->path, names[s] + "_" + im->name);
+    }
+    auto tile_stem = [&](std::size_t t) {
+      return "tile_" + std::to_string(f.tiles[t].ix) + "_" + std::to_string(f.tiles[t].iz);
+    };
+    for (std::size_t t = 0; t < f.tiles.size(); ++t) {
+      ctx.check_cancelled();
+      std::string bin;
+      for (int l = 0; l < level_count; ++l) {
+        std::vector<const LevelSource*> srcs;
+        for (const SpeciesInput& in : inputs) srcs.push_back(&in.levels[std::min<std::size_t>(std::size_t(l), in.levels.size() - 1)]);
+        TileFiles tf;
+        try {
+          tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin");
+        } catch (const std::invalid_argument& e) {
+          throw StageError(e.what());
+        }
+        ctx.write_output(tile_stem(t) + "_lod" + std::to_string(l) + ".gltf", tf.gltf);
+        bin = std::move(tf.bin);
+      }
+      ctx.write_output(tile_stem(t) + ".bin", bin);
+    }
+    const Value::Object& geo = ctx.param("georeference").as_object();
+    const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(), geo.at("height_m").as_real()};
+    ctx.write_output("tileset.json", tileset_json(f, level_count, g, [&](std::size_t t, int l) {
+                       return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
+                     }));
+    const Value::Object& cams = ctx.param("cameras").as_object();
+    ForestCameraOptions co;
+    co.width_px = int(cams.at("width_px").as_int());
+    co.height_px = int(cams.at("height_px").as_int());
+    co.frames_per_path = int(cams.at("frames_per_path").as_int());
+    co.fov_y_deg = f.species.empty() ? 45 : f.species[0].fov_y_deg;
+    ctx.write_output("cameras.yaml", forest_camera_set(f, lp.terrain, co));
+  }
+
+ private:
+  static void copy(StageContext& ctx, const fs::path& from, const std::string& name) {
+    const fs::path to = ctx.output_path(name);
+    std::error_code ec;
+    fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+    if (ec) throw StageError("cannot copy " + from.string() + " to " + name + ": " + ec.message());
+  }
+
+  StageInfo info_;
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> make_forest_stage() { return std::make_unique<ForestStage>(); }
+
+}  // namespace sylva

@@ -1,0 +1,264 @@
+// The forest stage end to end on synthetic lod artifacts (two "species", two levels each, written
+// by libs/gltf as the lod stage writes them): instances.json, the tiles' glTF (validator, and
+// loaded back by libs/render: every instance where instances.json puts it), tileset.json, cameras.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "libs/forest/instances.h"
+#include "libs/gltf/writer.h"
+#include "libs/render/camera.h"
+#include "libs/render/gltf_scene.h"
+#include "stages/forest/forest_stage.h"
+#include "tests/support/gltf_validator.h"
+#include "tests/support/test_support.h"
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FakeContext final : public StageContext {
+ public:
+  FakeContext(const Stage& stage, std::vector<InputArtifact> inputs, fs::path out, Value::Object overrides = {})
+      : inputs_(std::move(inputs)), out_(std::move(out)) {
+    for (const ParamSpec& p : stage.info().params)
+      if (!p.required()) params_[p.name] = p.default_value;
+    for (auto& [k, v] : overrides) params_[k] = v;
+  }
+  const std::string& node_name() const override { return name_; }
+  const Value::Object& params() const override { return params_; }
+  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
+  fs::path param_file(std::string_view name) const override { return files.at(std::string(name)); }
+  Rng rng(std::string_view stream) const override { return Rng(std::uint64_t(params_.at("seed").as_int()), stream); }
+  const fs::path& scratch_dir() const override { return out_; }
+  fs::path output_path(std::string_view name) override {
+    declared.insert(std::string(name));
+    return out_ / std::string(name);
+  }
+  void write_output(std::string_view name, std::string_view bytes) override {
+    sylva::test::write_file(output_path(name), std::string(bytes));
+  }
+  void check_cancelled() const override {}
+  std::set<std::string> declared;
+  std::map<std::string, fs::path> files;
+
+ private:
+  std::string name_ = "forest";
+  Value::Object params_;
+  std::vector<InputArtifact> inputs_;
+  fs::path out_;
+};
+
+// A box tree of half width w and height h, two levels (the second a coarser "level": a flat card).
+InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::string& node) {
+  fs::create_directories(dir);
+  nlohmann::json lod;
+  lod["tree"] = node + " tree";
+  lod["pixel_error_px"] = 0.5;
+  lod["camera"] = {{"fov_y_deg", 45.0}, {"height_px", 1080}};
+  lod["levels"] = nlohmann::json::array();
+  for (int l = 0; l < 2; ++l) {
+    gltf::Scene s;
+    gltf::Material m;
+    m.name = l == 0 ? "bark" : "card";
+    m.base_color = {0.3f, 0.5f, 0.2f, 1};
+    s.materials.push_back(m);
+    gltf::Primitive p;
+    const float fw = float(w), fh = float(h);
+    if (l == 0) {
+      p.positions = {-fw, 0, -fw, fw, 0, -fw, fw, 0, fw, -fw, 0, fw, -fw, fh, -fw, fw, fh, -fw, fw, fh, fw, -fw, fh, fw};
+      p.indices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
+    } else {
+      p.positions = {-fw, 0, 0, fw, 0, 0, fw, fh, 0, -fw, fh, 0};
+      p.indices = {0, 1, 2, 0, 2, 3};
+    }
+    p.material = 0;
+    gltf::Mesh mesh;
+    mesh.name = "lod" + std::to_string(l);
+    mesh.primitives.push_back(p);
+    s.meshes.push_back(mesh);
+    gltf::Node n;
+    n.name = mesh.name;
+    n.mesh = 0;
+    s.nodes.push_back(n);
+    s.roots = {0};
+    s.buffer_uris = {"lod" + std::to_string(l) + ".bin"};
+    const gltf::EncodedFiles e = gltf::encode_external(s);
+    sylva::test::write_file(dir / ("lod" + std::to_string(l) + ".gltf"), e.gltf);
+    for (const auto& r : e.resources) sylva::test::write_file(dir / r.name, r.bytes);
+    lod["levels"].push_back({{"file", "lod" + std::to_string(l) + ".gltf"},
+                             {"epsilon_m", l == 0 ? 0.001 : 0.2},
+                             {"switch_distance_m", l == 0 ? 2.6 : 520.0}});
+  }
+  sylva::test::write_file(dir / "lod.json", lod.dump());
+  InputArtifact in;
+  in.node = node;
+  in.type = "lod";
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir)) names.insert(e.path().filename().string());
+  for (const auto& n : names) in.files.push_back({n, dir / n, "0"});
+  return in;
+}
+
+Value::Object species(const std::string& name, double density) {
+  return {{"name", Value(name)}, {"density_per_ha", Value(density)},
+          {"scale_x", Value(Value::List{0.9, 1.1})}, {"scale_y", Value(Value::List{0.8, 1.2})},
+          {"scale_z", Value(Value::List{0.9, 1.1})}, {"base_rotation_deg", Value(Value::List{0.0, 0.0, 0.0})},
+          {"base_translation_y_m", Value(0.0)}, {"random_yaw", Value(true)}, {"max_slope_deg", Value(90.0)},
+          {"min_altitude_m", Value(-1e9)}, {"max_altitude_m", Value(1e9)}, {"min_spacing_m", Value(0.0)}};
+}
+
+class ForestOutput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = tmp_.path();
+    inputs_ = {fake_lod(dir_ / "lod_a", 2, 8, "lod_a"), fake_lod(dir_ / "lod_b", 1, 5, "lod_b")};
+  }
+
+  forest::Forest run(const fs::path& out, Value::Object overrides) {
+    fs::create_directories(out);
+    const auto stage = make_forest_stage();
+    FakeContext ctx(*stage, inputs_, out, std::move(overrides));
+    stage->run(ctx);
+    declared_ = ctx.declared;
+    return forest::read_instances(out / "instances.json");
+  }
+
+  sylva::test::TempDir tmp_;
+  fs::path dir_;
+  std::vector<InputArtifact> inputs_;
+  std::set<std::string> declared_;
+};
+
+TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
+  const Value::Object params = {{"size_m", Value(Value::List{100.0, 60.0})},
+                                {"tile_size_m", Value(50.0)},
+                                {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})},
+                                {"nodes_per_node", Value(std::int64_t(4))}};
+  const fs::path out = dir_ / "out";
+  const forest::Forest f = run(out, params);
+  ASSERT_EQ(f.species.size(), 2u);
+  EXPECT_EQ(f.stats[0].requested, 12u);  // 20 per ha x 0.6 ha
+  EXPECT_EQ(f.stats[1].requested, 24u);
+  EXPECT_EQ(f.instances.size(), f.stats[0].placed + f.stats[1].placed);
+  EXPECT_EQ(f.species[0].bounds.max[1], 8.0);
+  ASSERT_EQ(f.species[0].levels.size(), 2u);
+  EXPECT_EQ(f.species[0].levels[1].file, "a_lod1.gltf");
+  EXPECT_EQ(f.species[0].levels[1].switch_distance_m, 520.0);
+  EXPECT_EQ(f.species[0].levels[0].primitives, 12u);
+  EXPECT_EQ(f.species[0].levels[1].primitives, 2u);
+  EXPECT_FALSE(f.binary_table);
+  // 100 x 60 m in 50 m tiles: at most 2 x 2 tiles, every instance in the tile holding its position.
+  EXPECT_LE(f.tiles.size(), 4u);
+  std::size_t in_tiles = 0;
+  for (std::size_t t = 0; t < f.tiles.size(); ++t) {
+    in_tiles += f.tiles[t].instances.size();
+    for (std::uint32_t i : f.tiles[t].instances) EXPECT_EQ(f.instances[i].tile, t);
+  }
+  EXPECT_EQ(in_tiles, f.instances.size());
+
+  // Every tile at every level: valid glTF whose instances are exactly the forest's trees.
+  std::vector<fs::path> gltfs;
+  for (const auto& t : f.tiles)
+    for (int l = 0; l < 2; ++l) {
+      const fs::path p = out / ("tile_" + std::to_string(t.ix) + "_" + std::to_string(t.iz) + "_lod" + std::to_string(l) + ".gltf");
+      ASSERT_TRUE(fs::exists(p)) << p;
+      gltfs.push_back(p);
+      const render::Scene s = render::load_gltf_scene(p);
+      std::size_t n = 0;
+      for (const auto& m : s.meshes) n += m.instances.size();
+      EXPECT_EQ(n, t.instances.size());
+      // Each instance's base point lands where instances.json says (float precision).
+      for (const auto& m : s.meshes)
+        for (const auto& w : m.instances) {
+          const render::Vec3 base = (w * render::Vec4(0, 0, 0, 1)).head<3>();
+          double best = INFINITY;
+          for (std::uint32_t i : t.instances) {
+            const auto& pos = f.instances[i].position;
+            best = std::min(best, std::hypot(base.x() - pos[0], base.y() - pos[1], base.z() - pos[2]));
+          }
+          EXPECT_LT(best, 1e-4);
+        }
+      if (l == 0) EXPECT_EQ(s.triangle_count(), 12 * t.instances.size());
+    }
+  for (const char* f2 : {"a_lod0.gltf", "a_lod1.gltf", "b_lod0.gltf"}) gltfs.push_back(out / f2);
+  for (const auto& v : sylva::test::validate_gltf(gltfs)) {
+    if (v.skipped) GTEST_SKIP() << v.skip_reason;
+    EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << v.report;
+  }
+
+  // tileset.json: 3D Tiles 1.1, REPLACE chains whose geometricError is the levels' epsilon.
+  const auto ts = nlohmann::json::parse(sylva::test::read_file(out / "tileset.json"));
+  EXPECT_EQ(ts["asset"]["version"], "1.1");
+  EXPECT_EQ(ts["root"]["transform"].size(), 16u);
+  std::function<void(const nlohmann::json&)> walk = [&](const nlohmann::json& n) {
+    EXPECT_EQ(n["refine"], "REPLACE");
+    if (n.contains("content")) {
+      const std::string uri = n["content"]["uri"];
+      EXPECT_TRUE(fs::exists(out / uri)) << uri;
+      const bool coarse = uri.find("_lod1.gltf") != std::string::npos;
+      EXPECT_EQ(n["geometricError"].get<double>(), coarse ? 0.2 : 0.001);
+      if (coarse) {
+        ASSERT_EQ(n["children"].size(), 1u);
+        EXPECT_NE(n["children"][0]["content"]["uri"].get<std::string>().find("_lod0.gltf"), std::string::npos);
+      }
+    } else {
+      EXPECT_GE(n["geometricError"].get<double>(), 5.0);  // drawing nothing costs a whole tree
+    }
+    for (const auto& c : n.value("children", nlohmann::json::array())) walk(c);
+  };
+  walk(ts["root"]);
+
+  // cameras.yaml is a camera set libs/render reads.
+  const render::CameraSet cams = render::load_camera_set(out / "cameras.yaml");
+  EXPECT_EQ(cams.width, 960);
+  EXPECT_EQ(cams.views.size(), 5u);  // 2 walkthrough, 2 fly-over, 1 overview
+
+  // Determinism: the same parameters give the same bytes; another seed another forest.
+  const fs::path again = dir_ / "again";
+  run(again, params);
+  for (const auto& name : declared_) EXPECT_EQ(sylva::test::read_file(out / name), sylva::test::read_file(again / name)) << name;
+  Value::Object other = params;
+  other["seed"] = Value(std::int64_t(2));
+  const forest::Forest g = run(dir_ / "other", other);
+  EXPECT_NE(g.instances.at(0).position, f.instances.at(0).position);
+}
+
+TEST_F(ForestOutput, BinaryTableAndClearErrors) {
+  Value::Object params = {{"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 10))})},
+                          {"binary_table_from", Value(std::int64_t(0))}};
+  const forest::Forest f = run(dir_ / "bin", params);
+  EXPECT_TRUE(f.binary_table);
+  EXPECT_TRUE(fs::exists(dir_ / "bin" / "instances.bin"));
+  auto error = [&](Value::Object p) {
+    try {
+      run(dir_ / "err", std::move(p));
+    } catch (const StageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Value::Object one = params;
+  one["species"] = Value(Value::List{Value(species("a", 20))});
+  EXPECT_EQ(error(one), "'species' lists 1 entries but the node needs 2 lod inputs (one entry per lod input, in the order of 'needs')");
+  Value::Object dup = params;
+  dup["species"] = Value(Value::List{Value(species("a", 20)), Value(species("a", 20))});
+  EXPECT_EQ(error(dup), "species name 'a' is used twice");
+  Value::Object row = params;
+  row["rows"] = Value(Value::List{Value(Value::Object{{"species", Value("c")},
+                                                      {"points", Value(Value::List{0.0, 0.0, 10.0, 0.0})},
+                                                      {"spacing_m", Value(5.0)},
+                                                      {"jitter_m", Value(0.0)}})});
+  EXPECT_EQ(error(row), "rows[0] names species 'c', which is not in 'species'");
+  Value::Object shear = params;
+  Value::Object sp = species("a", 20);
+  sp["base_rotation_deg"] = Value(Value::List{30.0, 0.0, 0.0});
+  shear["species"] = Value(Value::List{Value(sp), Value(species("b", 10))});
+  EXPECT_NE(error(shear).find("glTF instancing cannot express"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sylva
