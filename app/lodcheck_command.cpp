@@ -21,11 +21,14 @@
 #include "app/recipe_build.h"
 #include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
+#include "libs/render/camera.h"
+#include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
 #include "libs/tree/sylt_format.h"
 #include "pipeline/filesystem.h"
 #include "stages/lod/chain.h"
+#include "stages/forest/check/forestcheck.h"
 #include "stages/lod/check/lodcheck.h"
 #include "stages/lod/lod_gltf.h"
 #include "stages/lod/lod_stage.h"
@@ -36,6 +39,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kLodStage = "lod";
+constexpr const char* kForestStage = "forest";
 constexpr const char* kReportsDir = "lodcheck";
 
 std::string read_bytes(const fs::path& p) {
@@ -48,6 +52,32 @@ std::string read_bytes(const fs::path& p) {
 
 // JSON has no infinity: identical images have PSNR +inf.
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+// The full-detail model of lod node `node` (the tree it was built from, chain options from its
+// parameters, every leaf and needle), through the same glTF path as the levels; `glb` receives
+// the encoded file when not null.
+render::Scene full_detail_scene(const Recipe& recipe, const RecipeBuild& built, const NodeDecl& node, bool branches_only,
+                                std::string* glb = nullptr) {
+  const InputArtifact tree_in = input_artifact(recipe, built, node.needs.at(0));
+  const ArtifactFile* sylt = tree_in.file("tree.sylt");
+  if (!sylt) throw std::runtime_error("input '" + tree_in.node + "' has no tree.sylt");
+  const tree::Tree tree = tree::read_sylt(sylt->path);
+  const lod::ChainOptions chain = chain_options_from_params(node.params);
+  lod::OutputTextures tex;
+  if (!tree.materials.leaf_texture.empty())
+    if (const ArtifactFile* f = tree_in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
+  const lod::Precomputed pre = lod::precompute(tree, chain);
+  lod::Level full_level = lod::build_full_detail(tree, pre, chain);
+  if (branches_only) {  // so that --write-full writes what is compared
+    full_level.leaves = {};
+    full_level.needles = {};
+  }
+  std::string full_glb = gltf::encode(lod::level_scene(tree, full_level, 0, tex));
+  if (glb) *glb = full_glb;
+  render::Scene full = render::load_gltf_scene_from_memory(std::move(full_glb), node.name + " (full detail)");
+  if (branches_only) full = lod::branches_only(full);
+  return full;
+}
 
 class LodcheckCommand final : public CliCommand {
  public:
@@ -84,6 +114,10 @@ class LodcheckCommand final : public CliCommand {
                     "also measure another simplifier's models DIR/lod<i>.glb or .gltf (reported, not judged)");
     sub->add_option("--candidate-label", candidate_label_, "name of the candidates in the report (default: DIR's name)");
     sub->add_option("--write-full", write_full_, "write the full-detail model as a GLB (with exactly one node)");
+    sub->add_option("--forest-height", forest_height_px_,
+                    "forest nodes: the check image's height in pixels (16:9; levels chosen for it)")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 4320));
     sub->add_flag("--no-images", no_images_, "do not write the renders and heat maps (lodcheck.json only)");
     return sub;
   }
@@ -92,7 +126,28 @@ class LodcheckCommand final : public CliCommand {
     RealFileSystem fsys;
     auto recipe = load_recipe_or_report(recipe_, registry_, fsys, io);
     if (!recipe) return kExitUsage;
-    const auto selected = select_stage_nodes(*recipe, recipe_, kLodStage, nodes_, "docs/stages/lod.md", io);
+    // Forest nodes (named, or every one when no --node is given) are checked as forests; the rest
+    // must be lod nodes.
+    std::vector<std::string> lod_names;
+    std::vector<const NodeDecl*> forests;
+    for (const auto& name : nodes_) {
+      const NodeDecl* n = recipe->find(name);
+      if (n && n->stage->info().name == kForestStage) {
+        if (std::find(forests.begin(), forests.end(), n) == forests.end()) forests.push_back(n);
+      } else {
+        lod_names.push_back(name);
+      }
+    }
+    if (nodes_.empty())
+      for (const auto& n : recipe->nodes)
+        if (n.stage->info().name == kForestStage) forests.push_back(&n);
+    std::optional<std::vector<const NodeDecl*>> selected = std::vector<const NodeDecl*>{};
+    if (!lod_names.empty() || forests.empty() || nodes_.empty()) {
+      bool has_lod = false;
+      for (const auto& n : recipe->nodes) has_lod = has_lod || n.stage->info().name == kLodStage;
+      if (!lod_names.empty() || has_lod || forests.empty())
+        selected = select_stage_nodes(*recipe, recipe_, kLodStage, lod_names, "docs/stages/lod.md", io);
+    }
     if (!selected) return kExitUsage;
     if ((!write_full_.empty() || !candidates_dir_.empty()) && selected->size() != 1) {
       std::fprintf(io.err, "error: --write-full and --candidates need exactly one lod node (--node NODE); %zu selected\n",
@@ -115,6 +170,10 @@ class LodcheckCommand final : public CliCommand {
 
     std::vector<std::string> targets;
     for (const NodeDecl* n : *selected) targets.push_back(n->name);
+    for (const NodeDecl* f : forests) {
+      targets.push_back(f->name);
+      for (const auto& need : f->needs) targets.push_back(need);  // lod nodes: their trees are needed too
+    }
     const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva lodcheck");
     if (built.exit_code != kExitOk) return built.exit_code;
 
@@ -129,6 +188,12 @@ class LodcheckCommand final : public CliCommand {
     for (const NodeDecl* node : *selected) {
       if (io.cancel && io.cancel->load()) return kExitInterrupted;
       const int rc = check_node(*recipe, *node, built, *renderer, report_root / node->name, io);
+      if (rc == kExitInterrupted) return rc;
+      all_ok = all_ok && rc == kExitOk;
+    }
+    for (const NodeDecl* f : forests) {
+      if (io.cancel && io.cancel->load()) return kExitInterrupted;
+      const int rc = check_forest_node(*recipe, *f, built, *renderer, report_root / f->name, io);
       if (rc == kExitInterrupted) return rc;
       all_ok = all_ok && rc == kExitOk;
     }
@@ -148,34 +213,18 @@ class LodcheckCommand final : public CliCommand {
     nlohmann::json summary;
     std::pair<std::size_t, std::size_t> full_counts;
     try {
-      // The tree the chain was built from, and the chain as written.
-      const InputArtifact tree_in = input_artifact(recipe, built, node.needs.at(0));
+      // The chain as written, and the full-detail model of the tree it was built from.
       const InputArtifact lod_out = input_artifact(recipe, built, node.name);
-      const ArtifactFile* sylt = tree_in.file("tree.sylt");
       const ArtifactFile* lod_json = lod_out.file("lod.json");
-      if (!sylt) return fail("input '" + tree_in.node + "' has no tree.sylt");
       if (!lod_json) return fail("the node wrote no lod.json");
-      const tree::Tree tree = tree::read_sylt(sylt->path);
       summary = nlohmann::json::parse(read_bytes(lod_json->path));
       chain = chain_options_from_params(node.params);
-
-      // The full-detail model, through the same glTF path as the levels.
-      lod::OutputTextures tex;
-      if (!tree.materials.leaf_texture.empty())
-        if (const ArtifactFile* f = tree_in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
-      const lod::Precomputed pre = lod::precompute(tree, chain);
-      lod::Level full_level = lod::build_full_detail(tree, pre, chain);
-      if (branches_only_) {  // so that --write-full writes what is compared
-        full_level.leaves = {};
-        full_level.needles = {};
-      }
-      std::string full_glb = gltf::encode(lod::level_scene(tree, full_level, 0, tex));
+      std::string full_glb;
+      render::Scene full = full_detail_scene(recipe, built, node, branches_only_, &full_glb);
       if (!write_full_.empty()) {
         RealFileSystem fsys;
         if (!fsys.write_atomic(write_full_, full_glb)) return fail("cannot write " + write_full_);
       }
-      render::Scene full = render::load_gltf_scene_from_memory(std::move(full_glb), node.name + " (full detail)");
-      if (branches_only_) full = lod::branches_only(full);
       full_counts = {full.triangle_count(), full.line_count()};
 
       // Subjects: the levels as written, then the candidates.
@@ -227,6 +276,107 @@ class LodcheckCommand final : public CliCommand {
       return fail(e.what());
     }
     return print_table(node, chain, full_counts, results, report_dir, io);
+  }
+
+  // A forest (stages/forest/check/forestcheck.h): its LOD-selected views against every tree at
+  // full detail, from its own cameras at the check's size, judged with this command's thresholds.
+  int check_forest_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, render::Renderer& renderer,
+                        const fs::path& report_dir, const CliIo& io) {
+    const char* name = node.name.c_str();
+    auto fail = [&](const std::string& what) {
+      std::fprintf(io.err, "error: node '%s' (stage forest): %s\n", name, what.c_str());
+      return kExitBuildFailed;
+    };
+    std::vector<forest::ForestViewCheck> results;
+    forest::ForestCheckOptions fo;
+    fo.supersample = options_.supersample;
+    fo.max_failing_fraction = options_.max_failing_fraction;
+    fo.max_coverage_error = options_.max_coverage_error;
+    fo.height_px = forest_height_px_;
+    fo.width_px = forest_height_px_ * 16 / 9;
+    try {
+      const InputArtifact out = input_artifact(recipe, built, node.name);
+      const ArtifactFile* inst = out.file("instances.json");
+      const ArtifactFile* cams = out.file("cameras.yaml");
+      if (!inst || !cams) return fail("the node wrote no instances.json or cameras.yaml");
+      render::ForestView view = render::ForestView::load(inst->path);
+      // Species i is the node's i-th lod input (docs/stages/forest.md).
+      std::size_t s = 0;
+      double delta = 0.5;
+      for (const auto& need : node.needs) {
+        const NodeDecl* lod = recipe.find(need);
+        if (!lod || lod->stage->info().name != kLodStage) continue;
+        if (s >= view.forest().species.size()) break;
+        view.set_full_detail(s, full_detail_scene(recipe, built, *lod, false));
+        delta = chain_options_from_params(lod->params).pixel_error;
+        ++s;
+      }
+      if (s != view.forest().species.size()) return fail("its lod inputs do not match the species of instances.json");
+      fo.pixel_threshold = pixel_threshold_opt_->count() ? options_.pixel_threshold : std::min(1.0, delta);
+      const render::CameraSet set = render::load_camera_set(cams->path);
+      const std::vector<render::Camera> cameras = render::forest_cameras(set, view.bounds());
+      std::error_code ec;
+      fs::remove_all(report_dir, ec);
+      fs::create_directories(report_dir, ec);
+      if (ec) return fail(report_dir.string() + ": cannot create the report directory: " + ec.message());
+      forest::ForestCheckSink sink;
+      if (!no_images_)
+        sink = [&](const forest::ForestViewCheck& c, const image::Image& full, const image::Image& lod, const image::Image& diff) {
+          if (io.cancel && io.cancel->load()) throw Cancelled();
+          image::write_png(full, report_dir / ("full_" + c.view + ".png"));
+          image::write_png(lod, report_dir / ("lod_" + c.view + ".png"));
+          image::write_png(diff, report_dir / ("lod_" + c.view + "_diff.png"));
+        };
+      results = forest::check_forest(view, renderer, cameras, fo, sink);
+      nlohmann::json j;
+      j["node"] = node.name;
+      j["image"] = {{"width", fo.width_px}, {"height", fo.height_px}, {"supersample", fo.supersample}, {"msaa", fo.msaa}};
+      j["thresholds"] = {{"pixel_threshold", fo.pixel_threshold},
+                         {"max_failing_fraction", fo.max_failing_fraction},
+                         {"max_coverage_error", fo.max_coverage_error}};
+      nlohmann::json views = nlohmann::json::array();
+      bool passed = true;
+      for (const auto& c : results) {
+        passed = passed && c.passed;
+        views.push_back({{"view", c.view},
+                         {"trees_drawn", c.trees_drawn},
+                         {"trees_per_level", c.per_level},
+                         {"lod_primitives", c.lod_primitives},
+                         {"full_primitives", c.full_primitives},
+                         {"footprint_pixels", c.footprint_pixels},
+                         {"coverage_failing_fraction", c.coverage_failing_fraction},
+                         {"coverage_mean_error", c.coverage_mean_error},
+                         {"coverage_bias", c.coverage_bias},
+                         {"colour_mean_error", c.colour_mean_error},
+                         {"passed", c.passed},
+                         {"failure", c.failure}});
+      }
+      j["views"] = views;
+      j["passed"] = passed;
+      RealFileSystem fsys;
+      if (!fsys.write_atomic(report_dir / "lodcheck.json", j.dump(2) + "\n")) return fail("cannot write lodcheck.json");
+    } catch (const Cancelled&) {
+      return kExitInterrupted;
+    } catch (const std::exception& e) {
+      return fail(e.what());
+    }
+    std::fprintf(io.out,
+                 "lodcheck %s (forest): %dx%d px, a view passes when <= %.2f%% of the forest's pixels change coverage by "
+                 "> %.3g and the mean coverage change is <= %.3g\n",
+                 name, fo.width_px, fo.height_px, 100 * fo.max_failing_fraction, fo.pixel_threshold, fo.max_coverage_error);
+    std::fprintf(io.out, "  %-10s %6s %12s %12s %8s %9s %7s %8s %8s  %s\n", "view", "trees", "lod_prims", "full_prims",
+                 "prims%", "footprint", "fail%", "cov_mean", "cov_bias", "verdict");
+    std::size_t failed = 0;
+    for (const auto& c : results) {
+      failed += c.passed ? 0 : 1;
+      const double pct = c.full_primitives ? 100.0 * (double(c.lod_primitives) - double(c.full_primitives)) / double(c.full_primitives) : 0;
+      std::fprintf(io.out, "  %-10s %6zu %12zu %12zu %+7.1f%% %9zu %7.3f %8.5f %+8.5f  %s\n", c.view.c_str(), c.trees_drawn,
+                   c.lod_primitives, c.full_primitives, pct, c.footprint_pixels, 100 * c.coverage_failing_fraction,
+                   c.coverage_mean_error, c.coverage_bias, c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
+    }
+    std::fprintf(io.out, "sylva lodcheck: node '%s' %s (%zu/%zu views passed); report: %s\n", name,
+                 failed ? "FAILED" : "passed", results.size() - failed, results.size(), (report_dir / "lodcheck.json").c_str());
+    return failed ? kExitBuildFailed : kExitOk;
   }
 
   int print_table(const NodeDecl& node, const lod::ChainOptions& chain, const std::pair<std::size_t, std::size_t>& full,
@@ -311,6 +461,7 @@ class LodcheckCommand final : public CliCommand {
   bool branches_only_ = false;
   std::string candidates_dir_, candidate_label_, write_full_;
   bool no_images_ = false;
+  int forest_height_px_ = 540;
 };
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
+#include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
 
@@ -38,8 +39,12 @@ class RenderCommand final : public CliCommand {
  public:
   CLI::App* add_to(CLI::App& app) override {
     auto* sub = app.add_subcommand("render", gfx_command_summary("render"));
-    sub->add_option("file", file_, "the .glb or .gltf file")->required();
-    sub->add_option("--camera", camera_, "camera set (default: configs/cameras/default.yaml)");
+    sub->add_option("file", file_, "the .glb or .gltf file, or a forest's instances.json")->required();
+    sub->add_option("--camera", camera_,
+                    "camera set (default: configs/cameras/default.yaml; a forest's own cameras.yaml for a forest)");
+    sub->add_option("--pixel-error", pixel_error_, "forest: the view's pixel error delta (default: each species' chain delta)")
+        ->check(CLI::Range(0.01, 1000.0));
+
     sub->add_option("--view", views_, "render only this view (repeatable; default: every view, or the first for -o FILE.png)")
         ->allow_extra_args(false);
     sub->add_option("-o,--output", output_, "a .png file (one view) or a directory (one <view>.png per view)")->required();
@@ -47,6 +52,10 @@ class RenderCommand final : public CliCommand {
   }
 
   int run(const CliIo& io) override {
+    // A forest (instances.json) is drawn with its LOD levels per tree (libs/render/forest_view.h)
+    // and, unless --camera says otherwise, its own camera set.
+    const bool forest = fs::path(file_).filename() == "instances.json";
+    if (forest && camera_ == kDefaultCameras) camera_ = (fs::path(file_).parent_path() / "cameras.yaml").string();
     // 1. The camera set.
     render::CameraSet set;
     try {
@@ -89,9 +98,24 @@ class RenderCommand final : public CliCommand {
     const auto start = std::chrono::steady_clock::now();
     std::vector<render::RenderedView> images;
     try {
-      const render::Scene scene = render::load_gltf_scene(file_);
-      auto renderer = render::Renderer::create_headless();
-      images = render::render_camera_set(*renderer, scene, set);
+      if (forest) {
+        render::ForestView fv = render::ForestView::load(file_);
+        auto renderer = render::Renderer::create_headless();
+        const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
+        render::ForestViewOptions fo;
+        fo.pixel_error_px = pixel_error_;
+        std::vector<render::ForestViewStats> stats;
+        std::vector<image::Image> imgs = fv.render(*renderer, cams, render::options_for(set), fo, &stats);
+        for (std::size_t i = 0; i < cams.size(); ++i) {
+          std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn, %zu primitives\n", cams[i].name.c_str(),
+                       stats[i].trees_drawn, stats[i].trees, stats[i].primitives);
+          images.push_back({cams[i], std::move(imgs[i])});
+        }
+      } else {
+        const render::Scene scene = render::load_gltf_scene(file_);
+        auto renderer = render::Renderer::create_headless();
+        images = render::render_camera_set(*renderer, scene, set);
+      }
     } catch (const std::exception& e) {  // SceneLoadError, RenderUnavailableError, RenderError: one line each
       print_error(io.err, e.what());
       return kExitBuildFailed;
@@ -127,6 +151,7 @@ class RenderCommand final : public CliCommand {
   std::string camera_ = kDefaultCameras;
   std::vector<std::string> views_;
   std::string output_;
+  double pixel_error_ = 0;
 };
 
 }  // namespace

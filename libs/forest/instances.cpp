@@ -8,10 +8,9 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 namespace sylva::forest {
 
@@ -47,8 +46,8 @@ json species_json(const Species& s) {
 }
 
 json instance_json(const Instance& i) {
-  return {{"id", i.id},         {"species", i.species}, {"tile", i.tile},
-          {"position", vec(i.position)}, {"yaw_rad", i.yaw_rad}, {"scale", vec(i.scale)}};
+  return {{"id", i.id},           {"species", i.species}, {"tile", i.tile}, {"position", vec(i.position)},
+          {"yaw_rad", i.yaw_rad}, {"scale", vec(i.scale)}};
 }
 
 void put_u32(std::string& out, std::uint32_t v) {
@@ -158,7 +157,8 @@ EncodedForest write_instances(const Forest& f) {
   }
   j["species"] = std::move(species);
   json tiles = json::array();
-  for (const Tile& t : f.tiles) tiles.push_back({{"ix", t.ix}, {"iz", t.iz}, {"bounds", box_json(t.bounds)}, {"instances", t.instances}});
+  for (const Tile& t : f.tiles)
+    tiles.push_back({{"ix", t.ix}, {"iz", t.iz}, {"bounds", box_json(t.bounds)}, {"instances", t.instances}});
   j["tiles"] = std::move(tiles);
   json nodes = json::array();
   for (const HierarchyNode& n : f.hierarchy)
@@ -200,8 +200,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   const json& ext = r.at(j, "extent_m", "the file");
   const json& emin = r.array(ext, "min", "extent_m");
   const json& emax = r.array(ext, "max", "extent_m");
-  if (emin.size() != 2 || emax.size() != 2 || !emin[0].is_number() || !emin[1].is_number() || !emax[0].is_number() ||
-      !emax[1].is_number())
+  if (emin.size() != 2 || emax.size() != 2 || !emin[0].is_number() || !emin[1].is_number() ||
+      !emax[0].is_number() || !emax[1].is_number())
     r.fail("extent_m.min and .max must be [x, z]");
   f.extent_min = {emin[0].get<double>(), emin[1].get<double>()};
   f.extent_max = {emax[0].get<double>(), emax[1].get<double>()};
@@ -236,7 +236,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
       sp.levels.push_back(std::move(lv));
     }
     const json& st = r.at(sj, "stats", w);
-    f.stats.push_back({r.uint(st, "requested", w + ".stats", UINT64_MAX), r.uint(st, "placed", w + ".stats", UINT64_MAX),
+    f.stats.push_back({r.uint(st, "requested", w + ".stats", UINT64_MAX),
+                       r.uint(st, "placed", w + ".stats", UINT64_MAX),
                        r.uint(st, "dropped", w + ".stats", UINT64_MAX)});
     f.species.push_back(std::move(sp));
   }
@@ -244,7 +245,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   const json& inst = r.at(j, "instances", "the file");
   if (inst.is_object()) {
     f.binary_table = true;
-    if (r.uint(inst, "record_bytes", "instances", 1u << 20) != kRecordBytes) r.fail("instances.record_bytes is not " + std::to_string(kRecordBytes));
+    if (r.uint(inst, "record_bytes", "instances", 1u << 20) != kRecordBytes)
+      r.fail("instances.record_bytes is not " + std::to_string(kRecordBytes));
     if (bin.size() != count * kRecordBytes)
       r.fail(std::string(kInstancesBin) + " holds " + std::to_string(bin.size()) + " bytes, expected " +
              std::to_string(count * kRecordBytes) + " (" + std::to_string(count) + " records)");
@@ -261,7 +263,9 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
     }
   } else {
     if (!inst.is_array()) r.fail("instances is neither an array nor a binary table reference");
-    if (inst.size() != count) r.fail("instances has " + std::to_string(inst.size()) + " entries, instance_count says " + std::to_string(count));
+    if (inst.size() != count)
+      r.fail("instances has " + std::to_string(inst.size()) + " entries, instance_count says " +
+             std::to_string(count));
     f.instances.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
       const std::string w = "instances[" + std::to_string(i) + "]";
@@ -285,7 +289,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
     tile.iz = iz.get<int>();
     tile.bounds = r.box(tiles[t], "bounds", w);
     for (const json& v : r.array(tiles[t], "instances", w)) {
-      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= count) r.fail(w + ".instances has an index out of range");
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= count)
+        r.fail(w + ".instances has an index out of range");
       tile.instances.push_back(v.get<std::uint32_t>());
     }
     f.tiles.push_back(std::move(tile));
@@ -298,7 +303,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
     node.leaf = r.boolean(nodes[n], "leaf", w);
     const std::size_t limit = node.leaf ? count : nodes.size();
     for (const json& v : r.array(nodes[n], "children", w)) {
-      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= limit) r.fail(w + ".children has an index out of range");
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= limit)
+        r.fail(w + ".children has an index out of range");
       node.children.push_back(v.get<std::uint32_t>());
     }
     f.hierarchy.push_back(std::move(node));
@@ -307,8 +313,10 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
     const Instance& in = f.instances[i];
     const std::string w = "instance " + std::to_string(i);
     if (in.id != i) r.fail(w + " has id " + std::to_string(in.id) + " (ids are the instances' indices)");
-    if (in.species >= f.species.size()) r.fail(w + " names species " + std::to_string(in.species) + ", which does not exist");
-    if (in.tile >= f.tiles.size()) r.fail(w + " names tile " + std::to_string(in.tile) + ", which does not exist");
+    if (in.species >= f.species.size())
+      r.fail(w + " names species " + std::to_string(in.species) + ", which does not exist");
+    if (in.tile >= f.tiles.size())
+      r.fail(w + " names tile " + std::to_string(in.tile) + ", which does not exist");
     for (double d : in.position)
       if (!std::isfinite(d)) r.fail(w + " has a non-finite position");
     for (double d : in.scale)
@@ -390,15 +398,18 @@ std::array<double, 16> base_matrix(const Species& s) {
 }
 
 std::array<double, 16> instance_matrix(const Species& species, const Instance& inst) {
-  return mul(translation(inst.position), mul(rotation(1, inst.yaw_rad), mul(scaling(inst.scale), base_matrix(species))));
+  return mul(translation(inst.position),
+             mul(rotation(1, inst.yaw_rad), mul(scaling(inst.scale), base_matrix(species))));
 }
 
 Box3 transform_box(const std::array<double, 16>& m, const Box3& box) {
   Box3 out{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
   for (int c = 0; c < 8; ++c) {
-    const Vec3d p{(c & 1) ? box.max[0] : box.min[0], (c & 2) ? box.max[1] : box.min[1], (c & 4) ? box.max[2] : box.min[2]};
+    const Vec3d p{(c & 1) ? box.max[0] : box.min[0], (c & 2) ? box.max[1] : box.min[1],
+                  (c & 4) ? box.max[2] : box.min[2]};
     for (int r = 0; r < 3; ++r) {
-      const double v = m[std::size_t(r)] * p[0] + m[std::size_t(4 + r)] * p[1] + m[std::size_t(8 + r)] * p[2] + m[std::size_t(12 + r)];
+      const double v = m[std::size_t(r)] * p[0] + m[std::size_t(4 + r)] * p[1] +
+                       m[std::size_t(8 + r)] * p[2] + m[std::size_t(12 + r)];
       out.min[std::size_t(r)] = std::min(out.min[std::size_t(r)], v);
       out.max[std::size_t(r)] = std::max(out.max[std::size_t(r)], v);
     }

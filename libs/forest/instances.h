@@ -45,24 +45,24 @@ struct Box3 {
 // species' level mesh alone, in object space) with the level's spatial error and switch distance
 // (DESIGN.md "LOD error model": valid from switch_distance_m on, at the chain's camera and delta).
 struct Level {
-  std::string file;               // e.g. "oak_lod3.gltf"
-  double epsilon_m = 0;           // spatial error of the level
-  double switch_distance_m = 0;   // d = epsilon / (delta s(1)); level 0's is where it starts
-  std::size_t primitives = 0;     // triangles + lines + points of the level mesh
-  bool impostor = false;          // the impostor level (the species' last, when it has one)
+  std::string file;              // e.g. "oak_lod3.gltf"
+  double epsilon_m = 0;          // spatial error of the level
+  double switch_distance_m = 0;  // d = epsilon / (delta s(1)); level 0's is where it starts
+  std::size_t primitives = 0;    // triangles + lines + points of the level mesh
+  bool impostor = false;         // the impostor level (the species' last, when it has one)
   friend bool operator==(const Level&, const Level&) = default;
 };
 
 struct Species {
-  std::string name;                   // [A-Za-z0-9_-]+, unique in the forest
-  std::string source;                 // what it was made from (lod.json's "tree"), informative
-  Box3 bounds;                        // the asset's object-space box (level 0)
-  Vec3d base_rotation_deg{0, 0, 0};   // rx, ry, rz (Celba's BaseRotationX/Y/Z)
-  double base_translation_y_m = 0;    // Celba's BaseTranslationY
-  double pixel_error_px = 0.5;        // delta of the chain the switch distances are for
-  double fov_y_deg = 45;              // the chain's camera: phi ...
-  int height_px = 1080;               // ... and H
-  std::vector<Level> levels;          // finest first; the impostor (if any) last
+  std::string name;                  // [A-Za-z0-9_-]+, unique in the forest
+  std::string source;                // what it was made from (lod.json's "tree"), informative
+  Box3 bounds;                       // the asset's object-space box (level 0)
+  Vec3d base_rotation_deg{0, 0, 0};  // rx, ry, rz (Celba's BaseRotationX/Y/Z)
+  double base_translation_y_m = 0;   // Celba's BaseTranslationY
+  double pixel_error_px = 0.5;       // delta of the chain the switch distances are for
+  double fov_y_deg = 45;             // the chain's camera: phi ...
+  int height_px = 1080;              // ... and H
+  std::vector<Level> levels;         // finest first; the impostor (if any) last
   friend bool operator==(const Species&, const Species&) = default;
 };
 
@@ -79,7 +79,7 @@ struct Instance {
 // A square streaming tile (tile_size_m): trees whose position falls in [x0, x0 + size) x
 // [z0, z0 + size). bounds covers the trees' world boxes (not the square).
 struct Tile {
-  int ix = 0, iz = 0;       // grid coordinates; x0 = extent_min.x + ix * size
+  int ix = 0, iz = 0;  // grid coordinates; x0 = extent_min.x + ix * size
   Box3 bounds;
   std::vector<std::uint32_t> instances;  // indices into Forest::instances, ascending
   friend bool operator==(const Tile&, const Tile&) = default;
@@ -98,7 +98,7 @@ struct HierarchyNode {
 struct SpeciesStats {
   std::size_t requested = 0;  // Celba's expected number: density x allowed area
   std::size_t placed = 0;
-  std::size_t dropped = 0;    // gave up after `retries` rejections
+  std::size_t dropped = 0;  // gave up after `retries` rejections
   friend bool operator==(const SpeciesStats&, const SpeciesStats&) = default;
 };
 
@@ -113,7 +113,7 @@ struct Forest {
   std::vector<Instance> instances;  // by id: instances[i].id == i
   std::vector<Tile> tiles;          // non-empty tiles, by (iz, ix)
   std::vector<HierarchyNode> hierarchy;
-  bool binary_table = false;        // instances in instances.bin rather than inline
+  bool binary_table = false;  // instances in instances.bin rather than inline
   friend bool operator==(const Forest&, const Forest&) = default;
 };
 

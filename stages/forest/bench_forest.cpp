@@ -40,7 +40,8 @@ void BM_CelbaMillionTrees(benchmark::State& state) {
     benchmark::DoNotOptimize(r.trees.data());
   }
   state.counters["placed"] = double(placed);
-  state.counters["trees/s"] = benchmark::Counter(double(placed) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["trees/s"] =
+      benchmark::Counter(double(placed) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_CelbaMillionTrees)->Unit(benchmark::kMillisecond)->Iterations(3);
 
@@ -54,7 +55,8 @@ void BM_PoissonMillionTrees(benchmark::State& state) {
     benchmark::DoNotOptimize(r.trees.data());
   }
   state.counters["placed"] = double(placed);
-  state.counters["points/s"] = benchmark::Counter(double(placed) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["points/s"] =
+      benchmark::Counter(double(placed) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PoissonMillionTrees)->Unit(benchmark::kMillisecond)->Iterations(3);
 

@@ -39,7 +39,8 @@ void BoxQuadtree::split(std::uint32_t n, int depth) {
     nodes_[std::size_t(first + cx * 2 + cz)].items.push_back(b);
   }
   for (int c = 0; c < 4; ++c)
-    if (nodes_[std::size_t(first + c)].items.size() > std::size_t(kBucket)) split(std::uint32_t(first + c), depth + 1);
+    if (nodes_[std::size_t(first + c)].items.size() > std::size_t(kBucket))
+      split(std::uint32_t(first + c), depth + 1);
 }
 
 void BoxQuadtree::insert(const Box3& box) {

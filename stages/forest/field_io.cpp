@@ -28,10 +28,12 @@ Field read_field(const std::filesystem::path& path, double x0, double z0, double
   f.z1 = z1;
   f.values.resize(std::size_t(f.cols) * std::size_t(f.rows));
   // Channel 0 only, converted to float (integer types normalised to [0, 1] by OIIO).
-  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, f.values.data())) fail("cannot decode image: " + in->geterror());
+  if (!in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, f.values.data()))
+    fail("cannot decode image: " + in->geterror());
   in->close();
   for (float v : f.values)
-    if (!std::isfinite(v) || v < 0 || v > 1) fail("a value lies outside [0, 1] (float maps must be normalised)");
+    if (!std::isfinite(v) || v < 0 || v > 1)
+      fail("a value lies outside [0, 1] (float maps must be normalised)");
   return f;
 }
 

@@ -3,7 +3,7 @@
 // shows a forest from the ground and from the air, near trees at their finest levels and far ones
 // at their coarsest. The walkthrough runs south to north (+z to -z) through the middle, the eye
 // moved sideways off any trunk it would stand in; the flight rises from the south-west edge to
-// high above the north-east quarter, always looking at the forest's centre.
+// outside the south-west corner to high above the forest's middle, always looking at its centre.
 #include "stages/forest/forest_cameras.h"
 
 #include <algorithm>
@@ -23,7 +23,8 @@ std::string vec(double x, double y, double z) {
 // The nearest tree position to (x, z) on the ground, metres.
 double clearance(const Forest& f, double x, double z) {
   double best = INFINITY;
-  for (const Instance& in : f.instances) best = std::min(best, std::hypot(in.position[0] - x, in.position[2] - z));
+  for (const Instance& in : f.instances)
+    best = std::min(best, std::hypot(in.position[0] - x, in.position[2] - z));
   return best;
 }
 
@@ -53,14 +54,15 @@ std::string forest_camera_set(const Forest& f, const Terrain& terrain, const For
     const double t = n == 1 ? 0.5 : double(k) / double(n - 1);
     const double z = cz + d * (0.4 - 0.8 * t);
     double x = cx;
-    for (int step = 0; step < 40 && clearance(f, x, z) < 1.5; ++step) x = cx + (step % 2 ? -1 : 1) * 1.0 * (step / 2 + 1);
+    for (int step = 0; step < 40 && clearance(f, x, z) < 1.5; ++step)
+      x = cx + (step % 2 ? -1 : 1) * 1.0 * (step / 2 + 1);
     const double g = terrain.height(x, z);
     add("walk_" + std::to_string(k), x, g + o.eye_height_m, z, x, g + o.eye_height_m, z - 20);
   }
-  const double high = std::max(1.5 * top, 0.6 * std::max(w, d));
+  const double high = std::max(2.0 * top, 0.8 * std::max(w, d));
   for (int k = 0; k < n; ++k) {
     const double t = n == 1 ? 0.5 : double(k) / double(n - 1);
-    const double ex = cx - 0.45 * w + t * 0.6 * w, ez = cz + 0.45 * d - t * 0.6 * d;
+    const double ex = cx - 0.6 * w + t * 0.6 * w, ez = cz + 0.6 * d - t * 0.6 * d;
     const double ey = terrain.height(ex, ez) + std::max(o.eye_height_m, top * 0.5) + t * (high - top * 0.5);
     add("fly_" + std::to_string(k), ex, ey, ez, cx, ground_c, cz - 0.1 * d);
   }

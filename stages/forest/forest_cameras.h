@@ -14,11 +14,12 @@ namespace sylva::forest {
 struct ForestCameraOptions {
   int width_px = 960, height_px = 540, msaa = 4;
   double fov_y_deg = 45;
-  int frames_per_path = 2;      // views per path (>= 1)
-  double eye_height_m = 1.7;    // walkthrough eye above the ground
+  int frames_per_path = 2;    // views per path (>= 1)
+  double eye_height_m = 1.7;  // walkthrough eye above the ground
 };
 
 // The camera-set YAML for `forest` (terrain gives the ground height; may be empty).
-std::string forest_camera_set(const Forest& forest, const Terrain& terrain, const ForestCameraOptions& options);
+std::string forest_camera_set(const Forest& forest, const Terrain& terrain,
+                              const ForestCameraOptions& options);
 
 }  // namespace sylva::forest

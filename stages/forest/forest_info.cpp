@@ -4,7 +4,7 @@ namespace sylva {
 
 namespace {
 // Bump whenever the bytes of any output can change.
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;
 
 ParamSpec optional_path(const std::string& name, const std::string& doc) {
   ParamSpec p = Param::path(name).describe(doc);
@@ -17,58 +17,97 @@ StageInfo forest_stage_info() {
   StageInfo info;
   info.name = "forest";
   info.version = kVersion;
-  info.summary = "Celba Alg. 8 forest layout (+ yaw, terrain, density map, exclusions, rows, CSV, Poisson), "
-                 "instanced glTF tiles per LOD level, 3D Tiles tileset, forest cameras";
-  info.inputs = InputSpec{{"lod", "impostor"}, 1, -1,
+  info.summary =
+      "Celba Alg. 8 forest layout (+ yaw, terrain, density map, exclusions, rows, CSV, Poisson), "
+      "instanced glTF tiles per LOD level, 3D Tiles tileset, forest cameras";
+  info.inputs = InputSpec{{"lod", "impostor"},
+                          1,
+                          -1,
                           "species: the i-th lod input is species[i] (with the i-th impostor input, if any)"};
   info.output_type = "forest";
   info.params = {
-      Param::integer("seed", 1).range(0, 4294967295.0).describe("random seed: same recipe -> byte-identical forest"),
-      Param::real_list("size_m", Value::List{100.0, 100.0}).items(2, 2).range(1, 1e6)
+      Param::integer("seed", 1)
+          .range(0, 4294967295.0)
+          .describe("random seed: same recipe -> byte-identical forest"),
+      Param::real_list("size_m", Value::List{100.0, 100.0})
+          .items(2, 2)
+          .range(1, 1e6)
           .describe("Celba's Width x Depth (x, z), metres; the area is centred on the origin"),
       Param::choice("method", {"celba", "poisson"}, "celba")
-          .describe("celba: Alg. 8 (random positions, box overlap test); poisson: variable-radius Poisson disk"),
-      Param::real("allow_intersection", 0.1).range(0, 1)
-          .describe("Celba's AllowIntersection: reject when the overlap with any one placed box exceeds this x own volume"),
-      Param::integer("retries", 10).range(0, 10000)
+          .describe(
+              "celba: Alg. 8 (random positions, box overlap test); poisson: variable-radius Poisson disk"),
+      Param::real("allow_intersection", 0.1)
+          .range(0, 1)
+          .describe("Celba's AllowIntersection: reject when the overlap with any one placed box exceeds this "
+                    "x own volume"),
+      Param::integer("retries", 10)
+          .range(0, 10000)
           .describe("Celba's NumberOfRetries (poisson: candidates per active sample, Bridson's k)"),
-      Param::integer("nodes_per_node", 64).range(2, 100000).describe("Celba's NodesPerNode: children per hierarchy node"),
-      Param::real("tile_size_m", 50).range(1, 1e6).describe("square streaming tiles (glTF per tile and level, 3D Tiles)"),
+      Param::integer("nodes_per_node", 64)
+          .range(2, 100000)
+          .describe("Celba's NodesPerNode: children per hierarchy node"),
+      Param::real("tile_size_m", 50)
+          .range(1, 1e6)
+          .describe("square streaming tiles (glTF per tile and level, 3D Tiles)"),
       Param::object_list(
           "species",
           {Param::string("name").describe("species name ([A-Za-z0-9_-]+), in instances.json and file names"),
            Param::real("density_per_ha", 10).range(0, 1e6).describe("Celba's Density: trees per 10 000 m^2"),
-           Param::real_list("scale_x", Value::List{1.0, 1.0}).items(2, 2).range(1e-3, 1e3)
+           Param::real_list("scale_x", Value::List{1.0, 1.0})
+               .items(2, 2)
+               .range(1e-3, 1e3)
                .describe("Celba's SizeDeviationXMin/Max"),
-           Param::real_list("scale_y", Value::List{1.0, 1.0}).items(2, 2).range(1e-3, 1e3)
+           Param::real_list("scale_y", Value::List{1.0, 1.0})
+               .items(2, 2)
+               .range(1e-3, 1e3)
                .describe("Celba's SizeDeviationYMin/Max (height)"),
-           Param::real_list("scale_z", Value::List{1.0, 1.0}).items(2, 2).range(1e-3, 1e3)
+           Param::real_list("scale_z", Value::List{1.0, 1.0})
+               .items(2, 2)
+               .range(1e-3, 1e3)
                .describe("Celba's SizeDeviationZMin/Max"),
-           Param::real_list("base_rotation_deg", Value::List{0.0, 0.0, 0.0}).items(3, 3).range(-360, 360)
+           Param::real_list("base_rotation_deg", Value::List{0.0, 0.0, 0.0})
+               .items(3, 3)
+               .range(-360, 360)
                .describe("Celba's BaseRotationX/Y/Z (applied X, then Y, then Z)"),
            Param::real("base_translation_y_m", 0).range(-1e4, 1e4).describe("Celba's BaseTranslationY"),
            Param::boolean("random_yaw", true).describe("yaw uniform in [0, 360) deg (Celba §4.5.4)"),
-           Param::real("max_slope_deg", 90).range(0, 90).describe("terrain: no tree where the ground is steeper"),
+           Param::real("max_slope_deg", 90)
+               .range(0, 90)
+               .describe("terrain: no tree where the ground is steeper"),
            Param::real("min_altitude_m", -1e9).range(-1e9, 1e9).describe("terrain: lowest ground height"),
            Param::real("max_altitude_m", 1e9).range(-1e9, 1e9).describe("terrain: highest ground height"),
-           Param::real("min_spacing_m", 0).range(0, 1e4)
+           Param::real("min_spacing_m", 0)
+               .range(0, 1e4)
                .describe("poisson: minimum distance to any tree (0 = half the footprint's diagonal)")}),
       optional_path("height_map", "terrain height map (16-bit PNG, EXR, ...; grey 0..1 -> height_range_m)"),
-      Param::real_list("height_range_m", Value::List{0.0, 10.0}).items(2, 2).range(-1e4, 1e5)
+      Param::real_list("height_range_m", Value::List{0.0, 10.0})
+          .items(2, 2)
+          .range(-1e4, 1e5)
           .describe("terrain heights of grey 0 and 1, metres"),
-      Param::real_list("terrain_extent_m", Value::List{}).items(0, 4).range(-1e7, 1e7)
+      Param::real_list("terrain_extent_m", Value::List{})
+          .items(0, 4)
+          .range(-1e7, 1e7)
           .describe("[x0, z0, x1, z1] the height map covers (default: the forest area)"),
       optional_path("density_map", "image multiplying every density (grey 0..1 over the forest area)"),
-      Param::object_list("exclusions", {Param::real_list("points").items(6, std::nullopt).range(-1e7, 1e7)
-                                            .describe("polygon x0, z0, x1, z1, ... (>= 3 points): glade, road")}),
-      Param::object_list("rows",
-                         {Param::string("species").describe("species name"),
-                          Param::real_list("points").items(4, std::nullopt).range(-1e7, 1e7)
-                              .describe("polyline x0, z0, x1, z1, ... (>= 2 points)"),
-                          Param::real("spacing_m", 5).range(0.01, 1e5).describe("distance between trees along the line"),
-                          Param::real("jitter_m", 0).range(0, 1e4).describe("each tree moved uniformly within this radius")}),
+      Param::object_list("exclusions",
+                         {Param::real_list("points")
+                              .items(6, std::nullopt)
+                              .range(-1e7, 1e7)
+                              .describe("polygon x0, z0, x1, z1, ... (>= 3 points): glade, road")}),
+      Param::object_list("rows", {Param::string("species").describe("species name"),
+                                  Param::real_list("points")
+                                      .items(4, std::nullopt)
+                                      .range(-1e7, 1e7)
+                                      .describe("polyline x0, z0, x1, z1, ... (>= 2 points)"),
+                                  Param::real("spacing_m", 5)
+                                      .range(0.01, 1e5)
+                                      .describe("distance between trees along the line"),
+                                  Param::real("jitter_m", 0)
+                                      .range(0, 1e4)
+                                      .describe("each tree moved uniformly within this radius")}),
       optional_path("positions", "CSV of explicit trees: species,x,z[,yaw_deg][,scale]"),
-      Param::integer("binary_table_from", 100000).range(0, 4294967295.0)
+      Param::integer("binary_table_from", 100000)
+          .range(0, 4294967295.0)
           .describe("instances go to instances.bin from this many trees on (0 = always)"),
       Param::object("georeference", {Param::real("longitude_deg", 0).range(-180, 180),
                                      Param::real("latitude_deg", 45).range(-90, 90),

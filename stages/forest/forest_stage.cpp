@@ -9,10 +9,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
@@ -46,7 +45,8 @@ std::vector<double> reals(const Value& v) {
 
 std::vector<Point2> points_of(const Value& v, const std::string& what) {
   const std::vector<double> r = reals(v);
-  if (r.size() % 2) throw StageError(what + ": points must be x, z pairs (an even count), got " + std::to_string(r.size()));
+  if (r.size() % 2)
+    throw StageError(what + ": points must be x, z pairs (an even count), got " + std::to_string(r.size()));
   std::vector<Point2> out;
   for (std::size_t i = 0; i + 1 < r.size(); i += 2) out.push_back({r[i], r[i + 1]});
   return out;
@@ -67,8 +67,13 @@ std::size_t primitive_count(const json& g) {
   for (const auto& p : g.at("meshes").at(0).at("primitives")) {
     const int mode = p.value("mode", 4);
     const std::size_t per = mode == 4 ? 3 : mode == 1 ? 2 : 1;
-    const std::size_t count = p.contains("indices") ? g.at("accessors").at(p["indices"].get<std::size_t>()).at("count").get<std::size_t>()
-                                                    : g.at("accessors").at(p.at("attributes").at("POSITION").get<std::size_t>()).at("count").get<std::size_t>();
+    const std::size_t count =
+        p.contains("indices")
+            ? g.at("accessors").at(p["indices"].get<std::size_t>()).at("count").get<std::size_t>()
+            : g.at("accessors")
+                  .at(p.at("attributes").at("POSITION").get<std::size_t>())
+                  .at("count")
+                  .get<std::size_t>();
     n += count / per;
   }
   return n;
@@ -78,7 +83,8 @@ Box3 position_bounds(const json& g, const std::string& what) {
   Box3 b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
   for (const auto& p : g.at("meshes").at(0).at("primitives")) {
     const json& a = g.at("accessors").at(p.at("attributes").at("POSITION").get<std::size_t>());
-    if (!a.contains("min") || !a.contains("max")) throw StageError(what + ": a POSITION accessor has no min/max");
+    if (!a.contains("min") || !a.contains("max"))
+      throw StageError(what + ": a POSITION accessor has no min/max");
     for (std::size_t k = 0; k < 3; ++k) {
       b.min[k] = std::min(b.min[k], a["min"][k].get<double>());
       b.max[k] = std::max(b.max[k], a["max"][k].get<double>());
@@ -96,7 +102,8 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
   try {
     s.lod_json = json::parse(read_file(lj->path));
     const json& levels = s.lod_json.at("levels");
-    if (!levels.is_array() || levels.empty()) throw StageError("input '" + in.node + "': lod.json has no levels");
+    if (!levels.is_array() || levels.empty())
+      throw StageError("input '" + in.node + "': lod.json has no levels");
     for (std::size_t i = 0; i < levels.size(); ++i) {
       const std::string file = levels[i].at("file").get<std::string>();
       const ArtifactFile* f = in.file(file);
@@ -141,8 +148,9 @@ class ForestStage final : public Stage {
       if (in.type == "lod") lods.push_back(&in);
     const Value::List& species_params = ctx.param("species").as_list();
     if (species_params.size() != lods.size())
-      throw StageError("'species' lists " + std::to_string(species_params.size()) + " entries but the node needs " +
-                       std::to_string(lods.size()) + " lod inputs (one entry per lod input, in the order of 'needs')");
+      throw StageError("'species' lists " + std::to_string(species_params.size()) +
+                       " entries but the node needs " + std::to_string(lods.size()) +
+                       " lod inputs (one entry per lod input, in the order of 'needs')");
     LayoutParams lp;
     const std::vector<double> size = reals(ctx.param("size_m"));
     lp.width_m = size[0];
@@ -157,15 +165,19 @@ class ForestStage final : public Stage {
       const Value::Object& sp = species_params[i].as_object();
       SpeciesRule r;
       r.name = sp.at("name").as_string();
-      if (!std::regex_match(r.name, kName)) throw StageError("species[" + std::to_string(i) + "].name '" + r.name + "' must match [A-Za-z0-9_-]+");
-      if (std::find(names.begin(), names.end(), r.name) != names.end()) throw StageError("species name '" + r.name + "' is used twice");
+      if (!std::regex_match(r.name, kName))
+        throw StageError("species[" + std::to_string(i) + "].name '" + r.name +
+                         "' must match [A-Za-z0-9_-]+");
+      if (std::find(names.begin(), names.end(), r.name) != names.end())
+        throw StageError("species name '" + r.name + "' is used twice");
       names.push_back(r.name);
       inputs.push_back(read_species(*lods[i], r.name));
       r.bounds = inputs.back().bounds;
       r.density_per_ha = sp.at("density_per_ha").as_real();
       auto range = [&](const char* key) {
         const auto v = reals(sp.at(key));
-        if (v[1] < v[0]) throw StageError("species '" + r.name + "': " + key + " must be [min, max] with min <= max");
+        if (v[1] < v[0])
+          throw StageError("species '" + r.name + "': " + key + " must be [min, max] with min <= max");
         return Point2{v[0], v[1]};
       };
       r.scale_x = range("scale_x");
@@ -195,21 +207,26 @@ class ForestStage final : public Stage {
         lp.terrain.height_max = hr[1];
       }
       if (!ctx.string("density_map").empty())
-        lp.density = read_field(ctx.param_file("density_map"), -0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m);
+        lp.density = read_field(ctx.param_file("density_map"), -0.5 * lp.width_m, -0.5 * lp.depth_m,
+                                0.5 * lp.width_m, 0.5 * lp.depth_m);
     } catch (const std::runtime_error& e) {
       if (dynamic_cast<const StageError*>(&e)) throw;
       throw StageError(e.what());
     }
     const Value::List& ex = ctx.param("exclusions").as_list();
     for (std::size_t i = 0; i < ex.size(); ++i)
-      lp.exclusions.push_back(points_of(ex[i].as_object().at("points"), "exclusions[" + std::to_string(i) + "]"));
+      lp.exclusions.push_back(
+          points_of(ex[i].as_object().at("points"), "exclusions[" + std::to_string(i) + "]"));
     const Value::List& rows = ctx.param("rows").as_list();
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const Value::Object& r = rows[i].as_object();
       const std::string& sp = r.at("species").as_string();
       const auto it = std::find(names.begin(), names.end(), sp);
-      if (it == names.end()) throw StageError("rows[" + std::to_string(i) + "] names species '" + sp + "', which is not in 'species'");
-      lp.rows.push_back({std::uint32_t(it - names.begin()), points_of(r.at("points"), "rows[" + std::to_string(i) + "]"),
+      if (it == names.end())
+        throw StageError("rows[" + std::to_string(i) + "] names species '" + sp +
+                         "', which is not in 'species'");
+      lp.rows.push_back({std::uint32_t(it - names.begin()),
+                         points_of(r.at("points"), "rows[" + std::to_string(i) + "]"),
                          r.at("spacing_m").as_real(), r.at("jitter_m").as_real()});
     }
     if (!ctx.string("positions").empty()) {
@@ -251,7 +268,8 @@ class ForestStage final : public Stage {
         sp.height_px = in.lod_json.at("camera").at("height_px").get<int>();
         const json& levels = in.lod_json.at("levels");
         for (std::size_t l = 0; l < levels.size(); ++l)
-          sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf", levels[l].at("epsilon_m").get<double>(),
+          sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
+                               levels[l].at("epsilon_m").get<double>(),
                                levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false});
       } catch (const json::exception& e) {
         throw StageError("input '" + in.node + "': lod.json: " + e.what());
@@ -263,7 +281,8 @@ class ForestStage final : public Stage {
       const PlacedTree& t = layout.trees[i];
       f.instances.push_back({std::uint32_t(i), t.species, 0, t.position, t.yaw_rad, t.scale});
       // The drawn tree's box (the asset's own box transformed), for tiles and the hierarchy.
-      boxes.push_back(transform_box(instance_matrix(f.species[t.species], f.instances.back()), f.species[t.species].bounds));
+      boxes.push_back(transform_box(instance_matrix(f.species[t.species], f.instances.back()),
+                                    f.species[t.species].bounds));
     }
     ctx.check_cancelled();
     f.tiles = build_tiles(f.instances, boxes, f.extent_min, f.tile_size_m);
@@ -293,7 +312,8 @@ class ForestStage final : public Stage {
       std::string bin;
       for (int l = 0; l < level_count; ++l) {
         std::vector<const LevelSource*> srcs;
-        for (const SpeciesInput& in : inputs) srcs.push_back(&in.levels[std::min<std::size_t>(std::size_t(l), in.levels.size() - 1)]);
+        for (const SpeciesInput& in : inputs)
+          srcs.push_back(&in.levels[std::min<std::size_t>(std::size_t(l), in.levels.size() - 1)]);
         TileFiles tf;
         try {
           tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin");
@@ -306,7 +326,8 @@ class ForestStage final : public Stage {
       ctx.write_output(tile_stem(t) + ".bin", bin);
     }
     const Value::Object& geo = ctx.param("georeference").as_object();
-    const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(), geo.at("height_m").as_real()};
+    const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(),
+                         geo.at("height_m").as_real()};
     ctx.write_output("tileset.json", tileset_json(f, level_count, g, [&](std::size_t t, int l) {
                        return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
                      }));

@@ -26,8 +26,8 @@ struct Item {
   std::uint32_t index;
 };
 
-void group(std::vector<Item>& items, std::size_t lo, std::size_t hi, double x0, double z0, double size, int limit,
-           int depth, std::vector<std::vector<std::uint32_t>>& out) {
+void group(std::vector<Item>& items, std::size_t lo, std::size_t hi, double x0, double z0, double size,
+           int limit, int depth, std::vector<std::vector<std::uint32_t>>& out) {
   if (hi - lo <= std::size_t(limit) || depth > 48) {
     if (hi > lo) {
       std::vector<std::uint32_t> g;
@@ -38,10 +38,13 @@ void group(std::vector<Item>& items, std::size_t lo, std::size_t hi, double x0, 
   }
   const double h = size / 2;
   // Quadrants in (x, z) order: x-major split then z, stable so the order is deterministic.
-  auto mid_x = std::stable_partition(items.begin() + long(lo), items.begin() + long(hi), [&](const Item& it) { return it.x < x0 + h; });
+  auto mid_x = std::stable_partition(items.begin() + long(lo), items.begin() + long(hi),
+                                     [&](const Item& it) { return it.x < x0 + h; });
   const auto mx = std::size_t(mid_x - items.begin());
-  auto mid_z0 = std::stable_partition(items.begin() + long(lo), mid_x, [&](const Item& it) { return it.z < z0 + h; });
-  auto mid_z1 = std::stable_partition(mid_x, items.begin() + long(hi), [&](const Item& it) { return it.z < z0 + h; });
+  auto mid_z0 =
+      std::stable_partition(items.begin() + long(lo), mid_x, [&](const Item& it) { return it.z < z0 + h; });
+  auto mid_z1 =
+      std::stable_partition(mid_x, items.begin() + long(hi), [&](const Item& it) { return it.z < z0 + h; });
   const auto a = std::size_t(mid_z0 - items.begin()), b = std::size_t(mid_z1 - items.begin());
   group(items, lo, a, x0, z0, h, limit, depth + 1, out);
   group(items, a, mx, x0, z0 + h, h, limit, depth + 1, out);

@@ -73,7 +73,8 @@ Box3 place_box(const Box3& base, const Vec3d& position, double yaw_rad, const Ve
 }
 
 double volume(const Box3& b) {
-  return std::max(0.0, b.max[0] - b.min[0]) * std::max(0.0, b.max[1] - b.min[1]) * std::max(0.0, b.max[2] - b.min[2]);
+  return std::max(0.0, b.max[0] - b.min[0]) * std::max(0.0, b.max[1] - b.min[1]) *
+         std::max(0.0, b.max[2] - b.min[2]);
 }
 
 double overlap_volume(const Box3& a, const Box3& b) {
@@ -103,7 +104,9 @@ bool inside_area(const LayoutParams& p, const Point2& q) {
   return std::abs(q[0]) <= 0.5 * p.width_m && std::abs(q[1]) <= 0.5 * p.depth_m;
 }
 
-double uniform_in(Rng& rng, const Point2& range) { return range[0] == range[1] ? range[0] : rng.uniform(range[0], range[1]); }
+double uniform_in(Rng& rng, const Point2& range) {
+  return range[0] == range[1] ? range[0] : rng.uniform(range[0], range[1]);
+}
 
 Vec3d draw_scale(Rng& rng, const SpeciesRule& s) {
   const double x = uniform_in(rng, s.scale_x);
@@ -156,7 +159,8 @@ class Placer {
   bool draw_position(std::uint32_t s, Point2& q) {
     const SpeciesRule& sp = p_.species[s];
     for (int i = 0; i < kMaxPositionDraws; ++i) {
-      q = {rng_.uniform(-0.5 * p_.width_m, 0.5 * p_.width_m), rng_.uniform(-0.5 * p_.depth_m, 0.5 * p_.depth_m)};
+      q = {rng_.uniform(-0.5 * p_.width_m, 0.5 * p_.width_m),
+           rng_.uniform(-0.5 * p_.depth_m, 0.5 * p_.depth_m)};
       if (!p_.density.empty() && rng_.uniform() >= p_.density.sample(q[0], q[1])) continue;
       if (spot_allowed(p_, sp, q)) return true;
     }
@@ -167,7 +171,8 @@ class Placer {
   template <class Insert>
   void place_given(Insert&& insert) {
     for (const ExplicitTree& e : p_.explicit_trees) {
-      if (e.species >= p_.species.size()) throw std::invalid_argument("an explicit position names a species that does not exist");
+      if (e.species >= p_.species.size())
+        throw std::invalid_argument("an explicit position names a species that does not exist");
       const SpeciesRule& sp = p_.species[e.species];
       const double yaw = e.yaw_deg >= 0 ? e.yaw_deg * std::numbers::pi / 180 : draw_yaw(e.species);
       const Vec3d scale = e.scale > 0 ? Vec3d{e.scale, e.scale, e.scale} : draw_scale(rng_, sp);
@@ -218,7 +223,8 @@ class Placer {
     std::size_t total = out_.trees.size();
     for (std::uint32_t s = 0; s < p_.species.size(); ++s) {
       const SpeciesRule& sp = p_.species[s];
-      counts.push_back(std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_fraction(p_, s))));
+      counts.push_back(std::size_t(
+          std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_fraction(p_, s))));
       total += counts.back();
     }
     out_.trees.reserve(total);
@@ -267,14 +273,17 @@ class Placer {
     double r_min = INFINITY, r_max = 0;
     for (std::uint32_t s = 0; s < ns; ++s) {
       radius[s] = spacing(s);
-      if (!(radius[s] > 0)) throw std::invalid_argument("species '" + p_.species[s].name + "': the Poisson spacing is 0");
+      if (!(radius[s] > 0))
+        throw std::invalid_argument("species '" + p_.species[s].name + "': the Poisson spacing is 0");
       r_min = std::min(r_min, radius[s]);
       r_max = std::max(r_max, radius[s]);
     }
     const double cell = r_min / std::sqrt(2.0);
     const double x0 = -0.5 * p_.width_m, z0 = -0.5 * p_.depth_m;
-    const auto gx = std::size_t(std::ceil(p_.width_m / cell)) + 1, gz = std::size_t(std::ceil(p_.depth_m / cell)) + 1;
-    if (double(gx) * double(gz) > 4e8) throw std::invalid_argument("the Poisson grid would need more than 4e8 cells: raise min_spacing_m");
+    const auto gx = std::size_t(std::ceil(p_.width_m / cell)) + 1,
+               gz = std::size_t(std::ceil(p_.depth_m / cell)) + 1;
+    if (double(gx) * double(gz) > 4e8)
+      throw std::invalid_argument("the Poisson grid would need more than 4e8 cells: raise min_spacing_m");
     std::vector<std::vector<std::uint32_t>> grid(gx * gz);
     std::vector<double> r_of;  // radius per placed tree
     auto cell_of = [&](const Point2& q) {
@@ -309,7 +318,8 @@ class Placer {
     std::size_t missing = 0;
     for (std::uint32_t s = 0; s < ns; ++s) {
       const SpeciesRule& sp = p_.species[s];
-      target[s] = std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_fraction(p_, s)));
+      target[s] = std::size_t(
+          std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_fraction(p_, s)));
       out_.stats[s].requested += target[s];
       missing += target[s];
     }
@@ -396,7 +406,8 @@ bool inside_polygon(const std::vector<Point2>& poly, const Point2& p) {
   for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
     const Point2& a = poly[i];
     const Point2& b = poly[j];
-    if ((a[1] > p[1]) != (b[1] > p[1]) && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]) in = !in;
+    if ((a[1] > p[1]) != (b[1] > p[1]) && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0])
+      in = !in;
   }
   return in;
 }
@@ -408,7 +419,8 @@ double allowed_fraction(const LayoutParams& p, std::uint32_t species) {
   double sum = 0;
   for (int iz = 0; iz < kGrid; ++iz)
     for (int ix = 0; ix < kGrid; ++ix) {
-      const Point2 q{(ix + 0.5) / kGrid * p.width_m - 0.5 * p.width_m, (iz + 0.5) / kGrid * p.depth_m - 0.5 * p.depth_m};
+      const Point2 q{(ix + 0.5) / kGrid * p.width_m - 0.5 * p.width_m,
+                     (iz + 0.5) / kGrid * p.depth_m - 0.5 * p.depth_m};
       if (!spot_allowed(p, s, q)) continue;
       sum += p.density.empty() ? 1.0 : p.density.sample(q[0], q[1]);
     }
@@ -440,25 +452,34 @@ std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std
     if (!l.empty() && l.back() == ',') cells.emplace_back();
     return cells;
   };
-  auto fail = [&](const std::string& what) { throw std::invalid_argument(source + ":" + std::to_string(lineno) + ": " + what); };
+  auto fail = [&](const std::string& what) {
+    throw std::invalid_argument(source + ":" + std::to_string(lineno) + ": " + what);
+  };
   while (std::getline(in, line)) {
     ++lineno;
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#') continue;
+    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#')
+      continue;
     const auto cells = split(line);
     if (col_species < 0) {
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const std::string& h = cells[c];
-        int* slot = h == "species" ? &col_species : h == "x" ? &col_x : h == "z" ? &col_z : h == "yaw_deg" ? &col_yaw
-                    : h == "scale" ? &col_scale : nullptr;
+        int* slot = h == "species"   ? &col_species
+                    : h == "x"       ? &col_x
+                    : h == "z"       ? &col_z
+                    : h == "yaw_deg" ? &col_yaw
+                    : h == "scale"   ? &col_scale
+                                     : nullptr;
         if (!slot) fail("unknown column '" + h + "' (expected species, x, z, yaw_deg, scale)");
         if (*slot >= 0) fail("column '" + h + "' appears twice");
         *slot = int(c);
       }
-      if (col_species < 0 || col_x < 0 || col_z < 0) fail("the header must name the columns species, x and z");
+      if (col_species < 0 || col_x < 0 || col_z < 0)
+        fail("the header must name the columns species, x and z");
       columns = cells.size();
       continue;
     }
-    if (cells.size() != columns) fail("expected " + std::to_string(columns) + " values, got " + std::to_string(cells.size()));
+    if (cells.size() != columns)
+      fail("expected " + std::to_string(columns) + " values, got " + std::to_string(cells.size()));
     ExplicitTree t;
     t.line = lineno;
     const auto it = std::find(names.begin(), names.end(), cells[std::size_t(col_species)]);
@@ -468,7 +489,8 @@ std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std
       const std::string& c = cells[std::size_t(col)];
       char* end = nullptr;
       const double v = std::strtod(c.c_str(), &end);
-      if (c.empty() || *end != '\0' || !std::isfinite(v)) fail(std::string(what) + " '" + c + "' is not a number");
+      if (c.empty() || *end != '\0' || !std::isfinite(v))
+        fail(std::string(what) + " '" + c + "' is not a number");
       return v;
     };
     t.position = {number(col_x, "x"), number(col_z, "z")};

@@ -44,15 +44,16 @@ using Point2 = std::array<double, 2>;  // (x, z)
 
 struct SpeciesRule {
   std::string name;
-  Box3 bounds;                       // the asset's object-space box
-  double density_per_ha = 0;         // trees per 10 000 m² (Celba's Density)
-  Point2 scale_x{1, 1}, scale_y{1, 1}, scale_z{1, 1};  // [min, max] per axis (SizeDeviation*)
-  Vec3d base_rotation_deg{0, 0, 0};  // BaseRotationX/Y/Z
-  double base_translation_y_m = 0;   // BaseTranslationY
-  bool random_yaw = true;            // yaw uniform in [0, 2 pi)
-  double max_slope_deg = 90;         // terrain: no tree where the ground is steeper
+  Box3 bounds;                                             // the asset's object-space box
+  double density_per_ha = 0;                               // trees per 10 000 m² (Celba's Density)
+  Point2 scale_x{1, 1}, scale_y{1, 1}, scale_z{1, 1};      // [min, max] per axis (SizeDeviation*)
+  Vec3d base_rotation_deg{0, 0, 0};                        // BaseRotationX/Y/Z
+  double base_translation_y_m = 0;                         // BaseTranslationY
+  bool random_yaw = true;                                  // yaw uniform in [0, 2 pi)
+  double max_slope_deg = 90;                               // terrain: no tree where the ground is steeper
   double min_altitude_m = -1e300, max_altitude_m = 1e300;  // terrain: allowed heights of the ground
-  double min_spacing_m = 0;          // poisson: no other tree closer than this (0: the box's half diagonal on the ground)
+  double min_spacing_m =
+      0;  // poisson: no other tree closer than this (0: the box's half diagonal on the ground)
 };
 
 struct Row {
@@ -76,8 +77,8 @@ struct LayoutParams {
   double allow_intersection = 0;  // Celba's AllowIntersection, [0, 1]
   int retries = 10;               // Celba's NumberOfRetries (poisson: candidates per active point)
   std::vector<SpeciesRule> species;
-  Terrain terrain;                       // empty: flat ground at y = 0
-  Field density;                         // empty: 1 everywhere
+  Terrain terrain;                              // empty: flat ground at y = 0
+  Field density;                                // empty: 1 everywhere
   std::vector<std::vector<Point2>> exclusions;  // polygons (x, z), even-odd rule
   std::vector<Row> rows;
   std::vector<ExplicitTree> explicit_trees;
@@ -92,8 +93,8 @@ struct PlacedTree {
 };
 
 struct LayoutResult {
-  std::vector<PlacedTree> trees;        // in placement order (= id order)
-  std::vector<SpeciesStats> stats;      // per species
+  std::vector<PlacedTree> trees;    // in placement order (= id order)
+  std::vector<SpeciesStats> stats;  // per species
 };
 
 // B_species (Celba's base transform) of a rule, and the tree's world box: the axis-aligned box of

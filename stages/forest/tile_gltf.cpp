@@ -11,8 +11,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 namespace sylva::forest {
@@ -91,10 +91,11 @@ Trs instance_trs(const Species& sp, const Instance& in) {
   for (int col = 0; col < 3; ++col)
     for (int row = 0; row < 3; ++row)
       if (row != col && std::abs(sp_[std::size_t(col * 3 + row)]) > tol)
-        throw std::invalid_argument("species '" + sp.name +
-                                    "': its base rotation turns the per-axis scale into a shear, which glTF instancing "
-                                    "cannot express; use multiples of 90 degrees, a rotation about y only, or equal "
-                                    "scale ranges on the axes");
+        throw std::invalid_argument(
+            "species '" + sp.name +
+            "': its base rotation turns the per-axis scale into a shear, which glTF instancing "
+            "cannot express; use multiples of 90 degrees, a rotation about y only, or equal "
+            "scale ranges on the axes");
   Trs out;
   out.t = {in.position[0], in.position[1] + in.scale[1] * sp.base_translation_y_m, in.position[2]};
   out.r = quaternion(mul3(ry, rb));
@@ -107,13 +108,16 @@ json offset_index(const json& v, std::size_t off) { return json(v.get<std::size_
 }  // namespace
 
 Vec3d tile_origin(const Forest& f, const Tile& t) {
-  return {f.extent_min[0] + (t.ix + 0.5) * f.tile_size_m, 0.0, f.extent_min[1] + (t.iz + 0.5) * f.tile_size_m};
+  return {f.extent_min[0] + (t.ix + 0.5) * f.tile_size_m, 0.0,
+          f.extent_min[1] + (t.iz + 0.5) * f.tile_size_m};
 }
 
 std::string species_level_gltf(const LevelSource& level) {
   json g = level.gltf;
-  if (!g.contains("buffers") || g["buffers"].size() != 1) throw std::invalid_argument("the level glTF must have exactly one buffer");
-  if (!g.contains("meshes") || g["meshes"].size() != 1) throw std::invalid_argument("the level glTF must have exactly one mesh");
+  if (!g.contains("buffers") || g["buffers"].size() != 1)
+    throw std::invalid_argument("the level glTF must have exactly one buffer");
+  if (!g.contains("meshes") || g["meshes"].size() != 1)
+    throw std::invalid_argument("the level glTF must have exactly one mesh");
   g["buffers"][0]["uri"] = level.bin_name;
   if (g.contains("images"))
     for (auto& im : g["images"])
@@ -139,10 +143,12 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
   for (std::size_t s = 0; s < forest.species.size(); ++s) {
     if (by_species[s].empty()) continue;
     const LevelSource* src = levels.at(s);
-    if (!src) throw std::invalid_argument("species '" + forest.species[s].name + "' has no level for this tile");
+    if (!src)
+      throw std::invalid_argument("species '" + forest.species[s].name + "' has no level for this tile");
     const json& g = src->gltf;
-    const std::size_t buf0 = buffers.size(), view0 = views.size(), acc0 = accessors.size(), mat0 = materials.size(),
-                      tex0 = textures.size(), samp0 = samplers.size(), img0 = images.size();
+    const std::size_t buf0 = buffers.size(), view0 = views.size(), acc0 = accessors.size(),
+                      mat0 = materials.size(), tex0 = textures.size(), samp0 = samplers.size(),
+                      img0 = images.size();
     buffers.push_back({{"uri", src->bin_name}, {"byteLength", src->bin_bytes}});
     for (json v : g.value("bufferViews", json::array())) {
       v["buffer"] = buf0;
@@ -188,7 +194,8 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
     const std::size_t mesh_index = meshes.size();
     meshes.push_back(std::move(mesh));
     for (const auto& e : g.value("extensionsUsed", json::array()))
-      if (std::find(used.begin(), used.end(), e.get<std::string>()) == used.end()) used.push_back(e.get<std::string>());
+      if (std::find(used.begin(), used.end(), e.get<std::string>()) == used.end())
+        used.push_back(e.get<std::string>());
     for (const auto& e : g.value("extensionsRequired", json::array()))
       if (std::find(required.begin(), required.end(), e.get<std::string>()) == required.end())
         required.push_back(e.get<std::string>());
@@ -208,14 +215,16 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
       }
       for (double q : trs.r) put_f32(r, q);
       for (double v : trs.s) put_f32(sc, v);
-      if (forest.instances[i].id >= (1u << 24)) throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
+      if (forest.instances[i].id >= (1u << 24))
+        throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
       put_f32(id, double(forest.instances[i].id));
     }
     auto add = [&](const std::string& data, const char* type, bool minmax) {
       const std::size_t offset = files.bin.size();
       files.bin += data;
       views.push_back({{"buffer", tile_buffer_slot}, {"byteOffset", offset}, {"byteLength", data.size()}});
-      json a = {{"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", ids.size()}, {"type", type}};
+      json a = {
+          {"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", ids.size()}, {"type", type}};
       if (minmax) {
         a["min"] = {tmin[0], tmin[1], tmin[2]};
         a["max"] = {tmax[0], tmax[1], tmax[2]};

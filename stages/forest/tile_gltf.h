@@ -11,10 +11,9 @@
 // encodes geometry from plain data cannot do without re-encoding every level per tile.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "libs/forest/instances.h"
 
@@ -23,8 +22,8 @@ namespace sylva::forest {
 // A species' level as the stage reads it: the lod artifact's glTF JSON (one buffer, one mesh
 // drawn by one root node with no transform) and the names its copies get in this artifact.
 struct LevelSource {
-  nlohmann::json gltf;      // parsed lod<i>.gltf
-  std::string bin_name;     // e.g. "oak_lod3.bin": the copy of its buffer 0
+  nlohmann::json gltf;   // parsed lod<i>.gltf
+  std::string bin_name;  // e.g. "oak_lod3.bin": the copy of its buffer 0
   std::size_t bin_bytes = 0;
   std::string image_prefix;  // e.g. "oak_": its images' uris get this prefix
 };

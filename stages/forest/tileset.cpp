@@ -4,9 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <numbers>
-
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 namespace sylva::forest {
 
@@ -16,8 +15,10 @@ using nlohmann::json;
 
 // 3D Tiles box: centre and three half-axis vectors, in the tileset's Z-up frame.
 json box_volume(const Box3& b) {
-  const double cx = 0.5 * (b.min[0] + b.max[0]), cy = 0.5 * (b.min[1] + b.max[1]), cz = 0.5 * (b.min[2] + b.max[2]);
-  const double hx = std::max(0.5 * (b.max[0] - b.min[0]), 1e-3), hy = std::max(0.5 * (b.max[1] - b.min[1]), 1e-3),
+  const double cx = 0.5 * (b.min[0] + b.max[0]), cy = 0.5 * (b.min[1] + b.max[1]),
+               cz = 0.5 * (b.min[2] + b.max[2]);
+  const double hx = std::max(0.5 * (b.max[0] - b.min[0]), 1e-3),
+               hy = std::max(0.5 * (b.max[1] - b.min[1]), 1e-3),
                hz = std::max(0.5 * (b.max[2] - b.min[2]), 1e-3);
   // glTF (x, y, z) -> tileset (x, -z, y).
   return {{"box", {cx, -cz, cy, hx, 0, 0, 0, hz, 0, 0, 0, hy}}};
@@ -39,7 +40,8 @@ std::array<double, 16> enu_to_ecef(const Georeference& g) {
   const double lon = g.longitude_deg * std::numbers::pi / 180, lat = g.latitude_deg * std::numbers::pi / 180;
   const double sl = std::sin(lon), cl = std::cos(lon), sp = std::sin(lat), cp = std::cos(lat);
   const double n = a / std::sqrt(1 - e2 * sp * sp);
-  const double px = (n + g.height_m) * cp * cl, py = (n + g.height_m) * cp * sl, pz = (n * (1 - e2) + g.height_m) * sp;
+  const double px = (n + g.height_m) * cp * cl, py = (n + g.height_m) * cp * sl,
+               pz = (n * (1 - e2) + g.height_m) * sp;
   return {-sl, cl, 0, 0, -sp * cl, -sp * sl, cp, 0, cp * cl, cp * sl, sp, 0, px, py, pz, 1};
 }
 
@@ -75,8 +77,8 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
     return node;
   };
   // Quadtree over the tile grid: split the index rectangle until one tile is left.
-  std::function<json(int, int, int, int, Box3&, bool&)> build = [&](int x0, int z0, int x1, int z1, Box3& bounds,
-                                                                       bool& any) -> json {
+  std::function<json(int, int, int, int, Box3&, bool&)> build = [&](int x0, int z0, int x1, int z1,
+                                                                    Box3& bounds, bool& any) -> json {
     std::vector<std::size_t> inside;
     for (std::size_t t = 0; t < forest.tiles.size(); ++t) {
       const Tile& tile = forest.tiles[t];
@@ -104,7 +106,9 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
         children.push_back(std::move(c));
       }
     if (children.size() == 1) return std::move(children[0]);
-    return {{"boundingVolume", box_volume(bounds)}, {"geometricError", empty_error}, {"refine", "REPLACE"},
+    return {{"boundingVolume", box_volume(bounds)},
+            {"geometricError", empty_error},
+            {"refine", "REPLACE"},
             {"children", std::move(children)}};
   };
   int x0 = 0, z0 = 0, x1 = 1, z1 = 1;
@@ -121,9 +125,12 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
     Box3 b{{forest.extent_min[0], 0, forest.extent_min[1]}, {forest.extent_max[0], 1, forest.extent_max[1]}};
     root = {{"boundingVolume", box_volume(b)}, {"geometricError", 0.0}, {"refine", "REPLACE"}};
   }
-  // The root is always a content-less node with the transform, so a single-tile forest keeps its chain below it.
+  // The root is always a content-less node with the transform, so a single-tile forest keeps its chain below
+  // it.
   if (root.contains("content")) {
-    root = {{"boundingVolume", root["boundingVolume"]}, {"geometricError", empty_error}, {"refine", "REPLACE"},
+    root = {{"boundingVolume", root["boundingVolume"]},
+            {"geometricError", empty_error},
+            {"refine", "REPLACE"},
             {"children", json::array({root})}};
   }
   const auto m = enu_to_ecef(geo);

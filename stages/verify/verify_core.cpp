@@ -5,6 +5,8 @@
 // explained in libs/image/compare.h and docs/stages/verify.md.
 #include "stages/verify/verify_core.h"
 
+#include "libs/render/forest_view.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -136,6 +138,21 @@ CaseResult judge_view(const std::string& asset, const std::string& view, const i
   return c;
 }
 
+namespace {
+
+// A forest's views: its own camera set, each view with its own LOD selection and culling.
+std::vector<render::RenderedView> render_forest(const Asset& asset, render::Renderer& renderer) {
+  render::ForestView fv = render::ForestView::load(asset.file);
+  const render::CameraSet set = render::load_camera_set(asset.file.parent_path() / "cameras.yaml");
+  const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
+  std::vector<image::Image> images = fv.render(renderer, cams, render::options_for(set));
+  std::vector<render::RenderedView> out;
+  for (std::size_t i = 0; i < cams.size(); ++i) out.push_back({cams[i], std::move(images[i])});
+  return out;
+}
+
+}  // namespace
+
 Report run_verification(const std::vector<Asset>& assets, const render::CameraSet& cameras,
                         const fs::path& references_dir, const Thresholds& thresholds, const RunEnv& env) {
   // 1. Check names: they become file names, and two assets must never share one.
@@ -161,9 +178,21 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
     if (env.check_cancelled) env.check_cancelled();
     // 2. Load. A broken asset is one error case per view; the others still get verified.
     render::Scene scene;
+    std::vector<render::RenderedView> rendered;
     try {
-      scene = render::load_gltf_scene(asset.file);
-    } catch (const render::SceneLoadError& e) {
+      if (asset.forest) {
+        rendered = render_forest(asset, env.renderer);
+        for (const auto& rv : rendered)
+          if (std::find(report.views.begin(), report.views.end(), rv.camera.name) == report.views.end())
+            report.views.push_back(rv.camera.name);
+      } else {
+        scene = render::load_gltf_scene(asset.file);
+      }
+    } catch (const render::RenderUnavailableError&) {
+      throw;
+    } catch (const render::RenderError& e) {
+      throw VerifyError(asset.file.string() + ": error: rendering failed: " + e.what());
+    } catch (const std::runtime_error& e) {  // SceneLoadError, forest::FormatError, CameraSetError
       for (const auto& v : cameras.views) {
         CaseResult c;
         c.asset = asset.name;
@@ -176,9 +205,8 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
     }
 
     // 3. Render every view with one upload.
-    std::vector<render::RenderedView> rendered;
     try {
-      rendered = render::render_camera_set(env.renderer, scene, cameras);
+      if (!asset.forest) rendered = render::render_camera_set(env.renderer, scene, cameras);
     } catch (const render::RenderUnavailableError&) {
       throw;
     } catch (const render::RenderError& e) {

@@ -78,6 +78,12 @@ namespace verify {
 std::vector<Asset> assets_from_inputs(const std::vector<InputArtifact>& inputs) {
   std::vector<Asset> assets;
   for (const InputArtifact& in : inputs) {
+    if (in.type == "forest") {  // one asset: the forest seen from its own cameras
+      const ArtifactFile* f = in.file("instances.json");
+      if (!f) throw StageError("input '" + in.node + "' (type forest) has no instances.json");
+      assets.push_back({in.node, f->path, true});
+      continue;
+    }
     std::vector<const ArtifactFile*> files;
     for (const ArtifactFile& f : in.files)
       if (ends_with(f.name, ".glb") || ends_with(f.name, ".gltf")) files.push_back(&f);

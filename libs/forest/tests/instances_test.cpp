@@ -51,7 +51,8 @@ TEST(Instances, BadInputNamesTheProblem) {
     parse_instances(e.json, e.bin.substr(1), "f/instances.json");
     FAIL();
   } catch (const FormatError& err) {
-    EXPECT_STREQ(err.what(), "f/instances.json: error: instances.bin holds 135 bytes, expected 136 (2 records)");
+    EXPECT_STREQ(err.what(),
+                 "f/instances.json: error: instances.bin holds 135 bytes, expected 136 (2 records)");
   }
   std::string j = write_instances(sample_forest(false)).json;
   j.replace(j.find("\"species\": 0"), 12, "\"species\": 5");

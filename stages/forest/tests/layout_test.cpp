@@ -191,8 +191,10 @@ TEST(Layout, PoissonKeepsEverySpacingAndTheMix) {
   EXPECT_EQ(r.stats[1].placed, 20u);
   for (std::size_t i = 0; i < r.trees.size(); ++i)
     for (std::size_t j = 0; j < i; ++j) {
-      const double need = std::max(p.species[r.trees[i].species].min_spacing_m, p.species[r.trees[j].species].min_spacing_m);
-      EXPECT_GE(std::hypot(r.trees[i].position[0] - r.trees[j].position[0], r.trees[i].position[2] - r.trees[j].position[2]),
+      const double need =
+          std::max(p.species[r.trees[i].species].min_spacing_m, p.species[r.trees[j].species].min_spacing_m);
+      EXPECT_GE(std::hypot(r.trees[i].position[0] - r.trees[j].position[0],
+                           r.trees[i].position[2] - r.trees[j].position[2]),
                 need - 1e-9);
     }
 }
@@ -211,7 +213,8 @@ TEST(Layout, PoissonReportsWhatDoesNotFit) {
 }
 
 TEST(Layout, PositionsCsv) {
-  const auto t = parse_positions_csv("# park\nx, z, species, yaw_deg\n1, 2, oak, -90\n3.5,4,birch,0\n", {"oak", "birch"}, "p.csv");
+  const auto t = parse_positions_csv("# park\nx, z, species, yaw_deg\n1, 2, oak, -90\n3.5,4,birch,0\n",
+                                     {"oak", "birch"}, "p.csv");
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t[0].species, 0u);
   EXPECT_EQ(t[0].position, (Point2{1, 2}));
@@ -254,8 +257,10 @@ TEST(Hierarchy, NodesOfAtMostNodesPerNodeUpToOneRoot) {
         EXPECT_LE(nodes[n].bounds.min[k], cb.min[k]);
         EXPECT_GE(nodes[n].bounds.max[k], cb.max[k]);
       }
-      if (nodes[n].leaf) ++seen[c];
-      else ++parents[c];
+      if (nodes[n].leaf)
+        ++seen[c];
+      else
+        ++parents[c];
     }
   }
   for (int s : seen) EXPECT_EQ(s, 1);
@@ -269,7 +274,8 @@ TEST(Hierarchy, TilesHoldTheirTrees) {
   in[1].position = {10, 0, -49};
   in[2].position = {-1, 0, 30};
   std::vector<Box3> boxes(3);
-  for (int i = 0; i < 3; ++i) boxes[std::size_t(i)] = {in[std::size_t(i)].position, in[std::size_t(i)].position};
+  for (int i = 0; i < 3; ++i)
+    boxes[std::size_t(i)] = {in[std::size_t(i)].position, in[std::size_t(i)].position};
   const auto tiles = build_tiles(in, boxes, {-50, -50}, 50);
   ASSERT_EQ(tiles.size(), 3u);
   EXPECT_EQ(tiles[0].ix, 0);

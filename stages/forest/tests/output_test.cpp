@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 
 class FakeContext final : public StageContext {
  public:
-  FakeContext(const Stage& stage, std::vector<InputArtifact> inputs, fs::path out, Value::Object overrides = {})
+  FakeContext(const Stage& stage, std::vector<InputArtifact> inputs, fs::path out,
+              Value::Object overrides = {})
       : inputs_(std::move(inputs)), out_(std::move(out)) {
     for (const ParamSpec& p : stage.info().params)
       if (!p.required()) params_[p.name] = p.default_value;
@@ -32,7 +33,9 @@ class FakeContext final : public StageContext {
   const Value::Object& params() const override { return params_; }
   const std::vector<InputArtifact>& inputs() const override { return inputs_; }
   fs::path param_file(std::string_view name) const override { return files.at(std::string(name)); }
-  Rng rng(std::string_view stream) const override { return Rng(std::uint64_t(params_.at("seed").as_int()), stream); }
+  Rng rng(std::string_view stream) const override {
+    return Rng(std::uint64_t(params_.at("seed").as_int()), stream);
+  }
   const fs::path& scratch_dir() const override { return out_; }
   fs::path output_path(std::string_view name) override {
     declared.insert(std::string(name));
@@ -69,8 +72,10 @@ InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::strin
     gltf::Primitive p;
     const float fw = float(w), fh = float(h);
     if (l == 0) {
-      p.positions = {-fw, 0, -fw, fw, 0, -fw, fw, 0, fw, -fw, 0, fw, -fw, fh, -fw, fw, fh, -fw, fw, fh, fw, -fw, fh, fw};
-      p.indices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1, 1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
+      p.positions = {-fw, 0,  -fw, fw, 0,  -fw, fw, 0,  fw, -fw, 0,  fw,
+                     -fw, fh, -fw, fw, fh, -fw, fw, fh, fw, -fw, fh, fw};
+      p.indices = {0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6, 0, 4, 5, 0, 5, 1,
+                   1, 5, 6, 1, 6, 2, 2, 6, 7, 2, 7, 3, 3, 7, 4, 3, 4, 0};
     } else {
       p.positions = {-fw, 0, 0, fw, 0, 0, fw, fh, 0, -fw, fh, 0};
       p.indices = {0, 1, 2, 0, 2, 3};
@@ -104,11 +109,18 @@ InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::strin
 }
 
 Value::Object species(const std::string& name, double density) {
-  return {{"name", Value(name)}, {"density_per_ha", Value(density)},
-          {"scale_x", Value(Value::List{0.9, 1.1})}, {"scale_y", Value(Value::List{0.8, 1.2})},
-          {"scale_z", Value(Value::List{0.9, 1.1})}, {"base_rotation_deg", Value(Value::List{0.0, 0.0, 0.0})},
-          {"base_translation_y_m", Value(0.0)}, {"random_yaw", Value(true)}, {"max_slope_deg", Value(90.0)},
-          {"min_altitude_m", Value(-1e9)}, {"max_altitude_m", Value(1e9)}, {"min_spacing_m", Value(0.0)}};
+  return {{"name", Value(name)},
+          {"density_per_ha", Value(density)},
+          {"scale_x", Value(Value::List{0.9, 1.1})},
+          {"scale_y", Value(Value::List{0.8, 1.2})},
+          {"scale_z", Value(Value::List{0.9, 1.1})},
+          {"base_rotation_deg", Value(Value::List{0.0, 0.0, 0.0})},
+          {"base_translation_y_m", Value(0.0)},
+          {"random_yaw", Value(true)},
+          {"max_slope_deg", Value(90.0)},
+          {"min_altitude_m", Value(-1e9)},
+          {"max_altitude_m", Value(1e9)},
+          {"min_spacing_m", Value(0.0)}};
 }
 
 class ForestOutput : public ::testing::Test {
@@ -134,10 +146,11 @@ class ForestOutput : public ::testing::Test {
 };
 
 TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
-  const Value::Object params = {{"size_m", Value(Value::List{100.0, 60.0})},
-                                {"tile_size_m", Value(50.0)},
-                                {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})},
-                                {"nodes_per_node", Value(std::int64_t(4))}};
+  const Value::Object params = {
+      {"size_m", Value(Value::List{100.0, 60.0})},
+      {"tile_size_m", Value(50.0)},
+      {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})},
+      {"nodes_per_node", Value(std::int64_t(4))}};
   const fs::path out = dir_ / "out";
   const forest::Forest f = run(out, params);
   ASSERT_EQ(f.species.size(), 2u);
@@ -164,7 +177,8 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
   std::vector<fs::path> gltfs;
   for (const auto& t : f.tiles)
     for (int l = 0; l < 2; ++l) {
-      const fs::path p = out / ("tile_" + std::to_string(t.ix) + "_" + std::to_string(t.iz) + "_lod" + std::to_string(l) + ".gltf");
+      const fs::path p = out / ("tile_" + std::to_string(t.ix) + "_" + std::to_string(t.iz) + "_lod" +
+                                std::to_string(l) + ".gltf");
       ASSERT_TRUE(fs::exists(p)) << p;
       gltfs.push_back(p);
       const render::Scene s = render::load_gltf_scene(p);
@@ -203,7 +217,8 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
       EXPECT_EQ(n["geometricError"].get<double>(), coarse ? 0.2 : 0.001);
       if (coarse) {
         ASSERT_EQ(n["children"].size(), 1u);
-        EXPECT_NE(n["children"][0]["content"]["uri"].get<std::string>().find("_lod0.gltf"), std::string::npos);
+        EXPECT_NE(n["children"][0]["content"]["uri"].get<std::string>().find("_lod0.gltf"),
+                  std::string::npos);
       }
     } else {
       EXPECT_GE(n["geometricError"].get<double>(), 5.0);  // drawing nothing costs a whole tree
@@ -220,7 +235,8 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
   // Determinism: the same parameters give the same bytes; another seed another forest.
   const fs::path again = dir_ / "again";
   run(again, params);
-  for (const auto& name : declared_) EXPECT_EQ(sylva::test::read_file(out / name), sylva::test::read_file(again / name)) << name;
+  for (const auto& name : declared_)
+    EXPECT_EQ(sylva::test::read_file(out / name), sylva::test::read_file(again / name)) << name;
   Value::Object other = params;
   other["seed"] = Value(std::int64_t(2));
   const forest::Forest g = run(dir_ / "other", other);
@@ -243,7 +259,9 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
   };
   Value::Object one = params;
   one["species"] = Value(Value::List{Value(species("a", 20))});
-  EXPECT_EQ(error(one), "'species' lists 1 entries but the node needs 2 lod inputs (one entry per lod input, in the order of 'needs')");
+  EXPECT_EQ(error(one),
+            "'species' lists 1 entries but the node needs 2 lod inputs (one entry per lod input, in the "
+            "order of 'needs')");
   Value::Object dup = params;
   dup["species"] = Value(Value::List{Value(species("a", 20)), Value(species("a", 20))});
   EXPECT_EQ(error(dup), "species name 'a' is used twice");

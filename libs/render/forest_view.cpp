@@ -1,0 +1,185 @@
+// Forest views (forest_view.h). Each view builds its own Scene: the textures and materials of
+// the (species, level) meshes it uses and those meshes with the chosen trees' world matrices as
+// instances, so the renderer draws one instanced call per primitive for the opaque and masked
+// parts (its BLEND pass still draws per instance, far to near).
+#include "libs/render/forest_view.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "libs/render/gltf_scene.h"
+
+namespace sylva::render {
+
+namespace {
+
+Mat4 to_mat4(const std::array<double, 16>& m) {
+  Mat4 out;
+  for (int i = 0; i < 16; ++i) out.data()[i] = float(m[std::size_t(i)]);
+  return out;
+}
+
+Bounds to_bounds(const forest::Box3& b) {
+  Bounds o;
+  o.extend(Vec3(float(b.min[0]), float(b.min[1]), float(b.min[2])));
+  o.extend(Vec3(float(b.max[0]), float(b.max[1]), float(b.max[2])));
+  return o;
+}
+
+double box_distance(const Bounds& b, const Vec3& p) {
+  double s = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = p[k] < b.min[k] ? b.min[k] - p[k] : (p[k] > b.max[k] ? p[k] - b.max[k] : 0.0);
+    s += e * e;
+  }
+  return std::sqrt(s);
+}
+
+// The six planes (a, b, c, d), inside where a x + b y + c z + d >= 0 (Gribb & Hartmann).
+std::array<Vec4, 6> frustum_planes(const Mat4& view_proj) {
+  std::array<Vec4, 6> p;
+  const Eigen::RowVector4f r0 = view_proj.row(0), r1 = view_proj.row(1), r2 = view_proj.row(2),
+                           r3 = view_proj.row(3);
+  const Eigen::RowVector4f rows[6] = {r3 + r0, r3 - r0, r3 + r1, r3 - r1, r3 + r2, r3 - r2};
+  for (int i = 0; i < 6; ++i) p[std::size_t(i)] = rows[i].transpose();
+  return p;
+}
+
+bool outside(const std::array<Vec4, 6>& planes, const Bounds& b) {
+  for (const Vec4& pl : planes) {
+    // The box corner furthest along the plane's normal.
+    const Vec3 v(pl.x() >= 0 ? b.max.x() : b.min.x(), pl.y() >= 0 ? b.max.y() : b.min.y(),
+                 pl.z() >= 0 ? b.max.z() : b.min.z());
+    if (pl.x() * v.x() + pl.y() * v.y() + pl.z() * v.z() + pl.w() < 0) return true;
+  }
+  return false;
+}
+
+// Appends `src` (its textures, materials and meshes) to `dst` with each mesh drawn at `worlds`.
+void append(Scene& dst, const Scene& src, const std::vector<Mat4>& worlds, std::size_t& primitives) {
+  const int tex0 = int(dst.textures.size()), mat0 = int(dst.materials.size());
+  dst.textures.insert(dst.textures.end(), src.textures.begin(), src.textures.end());
+  for (Material m : src.materials) {
+    if (m.base_color_texture >= 0) m.base_color_texture += tex0;
+    dst.materials.push_back(std::move(m));
+  }
+  for (const Mesh& mesh : src.meshes) {
+    Mesh m;
+    m.name = mesh.name;
+    m.primitives = mesh.primitives;
+    for (Primitive& p : m.primitives)
+      if (p.material >= 0) p.material += mat0;
+    m.instances.reserve(worlds.size() * mesh.instances.size());
+    for (const Mat4& w : worlds)
+      for (const Mat4& local : mesh.instances) m.instances.push_back(w * local);
+    for (const Primitive& p : m.primitives) primitives += p.element_count() * m.instances.size();
+    dst.meshes.push_back(std::move(m));
+  }
+}
+
+}  // namespace
+
+ForestView ForestView::load(const std::filesystem::path& instances_json) {
+  forest::Forest f = forest::read_instances(instances_json);
+  std::vector<std::vector<Scene>> levels;
+  const std::filesystem::path dir = instances_json.parent_path();
+  for (const forest::Species& s : f.species) {
+    std::vector<Scene> ls;
+    for (const forest::Level& l : s.levels) ls.push_back(load_gltf_scene(dir / l.file));
+    levels.push_back(std::move(ls));
+  }
+  return ForestView(std::move(f), std::move(levels));
+}
+
+ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels)
+    : forest_(std::move(forest)), levels_(std::move(levels)), full_(forest_.species.size()) {
+  for (const forest::Instance& in : forest_.instances) {
+    const forest::Species& sp = forest_.species.at(in.species);
+    const auto m = forest::instance_matrix(sp, in);
+    tree_matrix_.push_back(to_mat4(m));
+    tree_bounds_.push_back(to_bounds(forest::transform_box(m, sp.bounds)));
+  }
+  for (const forest::Tile& t : forest_.tiles) tile_bounds_.push_back(to_bounds(t.bounds));
+}
+
+void ForestView::set_full_detail(std::size_t species, Scene scene) { full_.at(species) = std::move(scene); }
+
+Bounds ForestView::bounds() const {
+  Bounds b;
+  for (const Bounds& t : tree_bounds_) b.extend(t);
+  return b;
+}
+
+std::size_t ForestView::level_for(std::size_t species, double distance, const ForestViewOptions& o) const {
+  const forest::Species& s = forest_.species.at(species);
+  const double scale = o.pixel_error_px > 0 ? s.pixel_error_px / o.pixel_error_px : 1.0;
+  std::size_t level = 0;
+  for (std::size_t l = 1; l < s.levels.size(); ++l)
+    if (s.levels[l].switch_distance_m * scale <= distance) level = l;
+  return level;
+}
+
+Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestViewOptions& o,
+                             ForestViewStats& stats) {
+  const Mat4 vp = camera.projection_matrix(aspect) * camera.view_matrix();
+  const auto planes = frustum_planes(vp);
+  const std::size_t ns = forest_.species.size();
+  std::size_t max_levels = 1;
+  for (const auto& s : forest_.species) max_levels = std::max(max_levels, s.levels.size());
+  stats = {};
+  stats.trees = forest_.instances.size();
+  stats.per_level.assign(o.full_detail ? 1 : max_levels, 0);
+  // worlds[s][l]: the matrices of the trees species s draws at level l.
+  std::vector<std::vector<std::vector<Mat4>>> worlds(ns);
+  for (std::size_t s = 0; s < ns; ++s) worlds[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
+  for (std::size_t t = 0; t < forest_.tiles.size(); ++t) {
+    if (o.cull && outside(planes, tile_bounds_[t])) continue;
+    bool any = false;
+    for (std::uint32_t i : forest_.tiles[t].instances) {
+      if (o.cull && outside(planes, tree_bounds_[i])) continue;
+      any = true;
+      const std::size_t s = forest_.instances[i].species;
+      const std::size_t l = o.full_detail ? 0 : level_for(s, box_distance(tree_bounds_[i], camera.eye), o);
+      worlds[s][l].push_back(tree_matrix_[i]);
+      ++stats.per_level[l];
+      ++stats.trees_drawn;
+    }
+    stats.tiles_drawn += any ? 1 : 0;
+  }
+  Scene scene;
+  scene.source = "forest";
+  for (std::size_t s = 0; s < ns; ++s)
+    for (std::size_t l = 0; l < worlds[s].size(); ++l) {
+      if (worlds[s][l].empty()) continue;
+      if (o.full_detail && full_[s].meshes.empty())
+        throw RenderError("forest view: no full-detail model was given for species '" +
+                          forest_.species[s].name + "'");
+      append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds[s][l], stats.primitives);
+    }
+  return scene;
+}
+
+std::vector<image::Image> ForestView::render(Renderer& renderer, std::span<const Camera> cameras,
+                                             const RenderOptions& options, const ForestViewOptions& view,
+                                             std::vector<ForestViewStats>* stats) {
+  std::vector<image::Image> out;
+  if (stats) stats->clear();
+  const float aspect = float(options.width) / float(options.height);
+  for (const Camera& c : cameras) {
+    ForestViewStats st;
+    const Scene scene = view_scene(c, aspect, view, st);
+    out.push_back(renderer.render(scene, c, options));
+    if (stats) stats->push_back(std::move(st));
+  }
+  return out;
+}
+
+std::vector<Camera> forest_cameras(const CameraSet& set, const Bounds& forest_bounds) {
+  std::vector<Camera> out;
+  const float aspect = float(set.width) / float(set.height);
+  for (const CameraView& v : set.views) out.push_back(resolve(v, forest_bounds, aspect));
+  return out;
+}
+
+}  // namespace sylva::render

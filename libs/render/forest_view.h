@@ -1,0 +1,80 @@
+// Drawing a forest artifact (libs/forest/instances.h) with the scene renderer: per view, every
+// tree's LOD level is picked by its distance, tiles and trees outside the view frustum are
+// culled, and each (species, level) mesh is drawn instanced once over the trees that use it.
+//
+// Level choice (DESIGN.md "LOD error model"): a level of spatial error epsilon is valid from its
+// switch distance d = epsilon / (delta s(1)) on; a tree is drawn with the coarsest level whose
+// switch distance is at most the distance from the eye to the tree's world box (0 inside it), so
+// every surface of the level is at least its switch distance away, as `sylva lodcheck` proves
+// it. The species' chain was built for a pixel error delta; a view may allow another delta'
+// (ForestViewOptions::pixel_error_px): the switch distances then scale by delta / delta'.
+// The impostor, when a species has one, is simply its last level.
+//
+// Frustum culling: a tile's box, then each tree's box, against the six planes of the view
+// (Celba §4.6.3: "compute the AABB's effective radius and test it as a sphere against the plane"
+// — here the exact box-plane test, which never culls a visible box).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "libs/forest/instances.h"
+#include "libs/render/camera.h"
+#include "libs/render/renderer.h"
+#include "libs/render/scene.h"
+
+namespace sylva::render {
+
+struct ForestViewOptions {
+  double pixel_error_px = 0;  // delta' of the view; 0 = each species' own chain delta
+  bool full_detail = false;   // draw every tree with the full-detail model (set_full_detail), no LOD
+  bool cull = true;           // frustum culling (off: every tree is drawn)
+};
+
+struct ForestViewStats {
+  std::size_t trees = 0, trees_drawn = 0, tiles_drawn = 0;
+  std::size_t primitives = 0;          // triangles + lines + points drawn
+  std::vector<std::size_t> per_level;  // trees drawn at each level index (full detail: index 0)
+};
+
+class ForestView {
+ public:
+  // Loads instances.json (+ .bin) and every species level glTF beside it. Throws
+  // forest::FormatError or SceneLoadError (one line, naming the file).
+  static ForestView load(const std::filesystem::path& instances_json);
+  ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels);
+
+  const forest::Forest& forest() const { return forest_; }
+  // The full-detail model of species s (object space), for ForestViewOptions::full_detail.
+  void set_full_detail(std::size_t species, Scene scene);
+
+  // The level species s's tree is drawn with at `distance` metres (the rule above).
+  std::size_t level_for(std::size_t species, double distance, const ForestViewOptions& options) const;
+
+  // Renders each camera (its own LOD selection and culling), one image per camera.
+  std::vector<image::Image> render(Renderer& renderer, std::span<const Camera> cameras,
+                                   const RenderOptions& options, const ForestViewOptions& view = {},
+                                   std::vector<ForestViewStats>* stats = nullptr);
+
+  // World box of the whole forest (every tree's box).
+  Bounds bounds() const;
+
+ private:
+  Scene view_scene(const Camera& camera, float aspect, const ForestViewOptions& options,
+                   ForestViewStats& stats);
+
+  forest::Forest forest_;
+  std::vector<std::vector<Scene>> levels_;  // [species][level]
+  std::vector<Scene> full_;                 // [species], may be empty scenes
+  std::vector<Bounds> tree_bounds_;         // world box per instance
+  std::vector<Mat4> tree_matrix_;           // world matrix per instance
+  std::vector<Bounds> tile_bounds_;
+};
+
+// Cameras of a camera set for a forest: explicit eye/target views are used as they are; orbit
+// views orbit the forest's box. z_near / z_far enclose the forest as seen from the eye.
+std::vector<Camera> forest_cameras(const CameraSet& set, const Bounds& forest_bounds);
+
+}  // namespace sylva::render
