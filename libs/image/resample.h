@@ -1,7 +1,8 @@
 // Integer-factor reduction of a rendering (supersampling): each output pixel is the box average
 // of factor x factor input pixels, averaged in linear light (the sRGB-encoded colour is decoded
-// first and encoded again after), through OpenImageIO's ImageBufAlgo::resize with a box filter
-// one output pixel wide. Deterministic: single-threaded.
+// first and encoded again after) and weighted by alpha (straight alpha in, straight alpha out),
+// through OpenImageIO's ImageBufAlgo::resize with a box filter one output pixel wide.
+// Deterministic: single-threaded.
 #pragma once
 
 #include "libs/image/image.h"

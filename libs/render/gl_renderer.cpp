@@ -16,13 +16,10 @@
 #include <mutex>
 #include <numeric>
 
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/gl.h>
-#include <GL/glext.h>
-
 #include <Eigen/Geometry>
 
 #include "libs/render/gl_context.h"
+#include "libs/render/gl_util.h"
 #include "libs/render/renderer.h"
 
 namespace sylva::render {
@@ -135,71 +132,11 @@ void main() {
 enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3, kSize = 4, kModel = 5, kNormalMatrix = 9 };
 constexpr int kInstanceFloats = 16 + 9;
 
-// ---- GL object ownership -----------------------------------------------------------------------
-
-// Every GL name created during one render_views() call, deleted when it ends (the context is
-// still current then).
-struct GlObjects {
-  std::vector<GLuint> buffers, textures, vertex_arrays, framebuffers, renderbuffers;
-  GlObjects() = default;
-  GlObjects(const GlObjects&) = delete;
-  GlObjects& operator=(const GlObjects&) = delete;
-  ~GlObjects() {
-    if (!buffers.empty()) glDeleteBuffers(GLsizei(buffers.size()), buffers.data());
-    if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
-    if (!vertex_arrays.empty()) glDeleteVertexArrays(GLsizei(vertex_arrays.size()), vertex_arrays.data());
-    if (!framebuffers.empty()) glDeleteFramebuffers(GLsizei(framebuffers.size()), framebuffers.data());
-    if (!renderbuffers.empty()) glDeleteRenderbuffers(GLsizei(renderbuffers.size()), renderbuffers.data());
-  }
-  GLuint buffer() { GLuint b = 0; glGenBuffers(1, &b); buffers.push_back(b); return b; }
-  GLuint texture() { GLuint t = 0; glGenTextures(1, &t); textures.push_back(t); return t; }
-  GLuint vertex_array() { GLuint v = 0; glGenVertexArrays(1, &v); vertex_arrays.push_back(v); return v; }
-  GLuint framebuffer() { GLuint f = 0; glGenFramebuffers(1, &f); framebuffers.push_back(f); return f; }
-  GLuint renderbuffer() { GLuint r = 0; glGenRenderbuffers(1, &r); renderbuffers.push_back(r); return r; }
-};
-
-// Makes the context current for a scope and releases it afterwards.
-class CurrentContext {
- public:
-  explicit CurrentContext(detail::GlContext& ctx) : ctx_(ctx) { ctx_.make_current(); }
-  ~CurrentContext() { ctx_.release(); }
-  CurrentContext(const CurrentContext&) = delete;
-  CurrentContext& operator=(const CurrentContext&) = delete;
-
- private:
-  detail::GlContext& ctx_;
-};
-
-std::string gl_error_name(GLenum e) {
-  switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    default: return "GL error " + std::to_string(e);
-  }
-}
-
-void check_gl(const char* where) {
-  const GLenum e = glGetError();
-  if (e != GL_NO_ERROR) throw RenderError(std::string("OpenGL error during ") + where + ": " + gl_error_name(e));
-}
-
-GLuint compile(GLenum type, const char* source) {
-  const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &source, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw RenderUnavailableError(std::string("headless OpenGL is not available: shader compilation failed: ") + log);
-  }
-  return s;
-}
+using detail::check_gl;
+using detail::CurrentContext;
+using detail::GlObjects;
+using detail::upload_array;
+using detail::upload_texture;
 
 // ---- Uploaded scene ----------------------------------------------------------------------------
 
@@ -218,14 +155,6 @@ struct GpuMesh {
   std::vector<float> instance_data;  // kInstanceFloats per instance
   bool mirrored = false;             // some instance matrix has a negative determinant
 };
-
-template <typename T>
-GLuint upload_array(GlObjects& gl, GLenum target, const std::vector<T>& data) {
-  const GLuint b = gl.buffer();
-  glBindBuffer(target, b);
-  glBufferData(target, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STATIC_DRAW);
-  return b;
-}
 
 // Binds the vertex arrays of `p` (the buffers already exist) into the bound VAO.
 struct VertexBuffers {
@@ -254,55 +183,13 @@ void fill_instance(const Mat4& m, float* out) {
   std::memcpy(out + 16, n.data(), 9 * sizeof(float));
 }
 
-GLint gl_wrap(Wrap w) {
-  switch (w) {
-    case Wrap::kClampToEdge: return GL_CLAMP_TO_EDGE;
-    case Wrap::kMirroredRepeat: return GL_MIRRORED_REPEAT;
-    default: return GL_REPEAT;
-  }
-}
-
-GLuint upload_texture(GlObjects& gl, const Texture& t) {
-  if (t.width <= 0 || t.height <= 0 || t.rgba.size() != std::size_t(t.width) * std::size_t(t.height) * 4)
-    throw RenderError("texture '" + t.name + "' has inconsistent size and pixel data");
-  const GLuint id = gl.texture();
-  glBindTexture(GL_TEXTURE_2D, id);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  // sRGB storage: sampling returns linear values, as the lighting expects.
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(t.wrap_s));
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(t.wrap_t));
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR);
-  GLint min = t.min_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR;
-  if (t.mipmaps) {
-    min = t.min_filter == Filter::kNearest ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
-    glGenerateMipmap(GL_TEXTURE_2D);
-  }
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
-  return id;
-}
-
 // ---- The renderer ------------------------------------------------------------------------------
 
 class GlRenderer final : public Renderer {
  public:
   explicit GlRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-    const GLuint fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
-    program_ = glCreateProgram();
-    glAttachShader(program_, vs);
-    glAttachShader(program_, fs);
-    glLinkProgram(program_);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      char log[4096] = {};
-      glGetProgramInfoLog(program_, sizeof log, nullptr, log);
-      throw RenderUnavailableError(std::string("headless OpenGL is not available: shader linking failed: ") + log);
-    }
+    program_ = detail::link_program(kVertexShader, kFragmentShader, "scene");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_width_range_);

@@ -186,3 +186,14 @@ TEST(Downsample, AveragesInLinearLight) {
   EXPECT_EQ(sylva::image::downsample(img, 1), img);
   EXPECT_THROW(sylva::image::downsample(img, 3), std::invalid_argument);
 }
+
+// Straight alpha: one covered red pixel among three transparent ones gives red at coverage 1/4,
+// not a dark red (the transparent pixels' black must not enter the colour).
+TEST(Downsample, WeightsColourByCoverage) {
+  sylva::image::Image img(2, 2, {0, 0, 0, 0});
+  img.set(1, 1, {200, 40, 10, 255});
+  const sylva::image::Image small = sylva::image::downsample(img, 2);
+  EXPECT_NEAR(small.at(0, 0).r, 200, 1);
+  EXPECT_NEAR(small.at(0, 0).g, 40, 1);
+  EXPECT_NEAR(small.at(0, 0).a, 64, 1);
+}

@@ -4,31 +4,21 @@
 // and a distant tree is a few percent of it.
 #include "stages/lod/check/lodcheck.h"
 
+#include "libs/image/coverage.h"
 #include "libs/image/resample.h"
+#include "libs/render/distance_camera.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
-#include <numbers>
 #include <span>
 #include <utility>
 
 namespace sylva::lod {
 
 namespace {
-
-// Euclidean distance from p to the axis-aligned box b (0 inside).
-double box_distance(const render::Bounds& b, const Eigen::Vector3d& p) {
-  double s = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = b.min[k], hi = b.max[k];
-    const double e = p[k] < lo ? lo - p[k] : (p[k] > hi ? p[k] - hi : 0.0);
-    s += e * e;
-  }
-  return std::sqrt(s);
-}
 
 std::string view_name(double azimuth_deg) {
   char buf[32];
@@ -38,56 +28,21 @@ std::string view_name(double azimuth_deg) {
 
 std::size_t primitive_count(const render::Scene& s) { return s.triangle_count() + s.line_count(); }
 
-// Coverage (alpha) and colour statistics over the footprint: the pixels either image covers.
 void add_footprint_stats(const image::Image& ref, const image::Image& test, double pixel_threshold, ViewCheck& c) {
-  const auto& rb = ref.bytes();
-  const auto& tb = test.bytes();
-  double coverage_sum = 0, coverage_signed = 0, colour_sum = 0;
-  std::size_t failing = 0;
-  for (std::size_t p = 0; p + 3 < rb.size() && p + 3 < tb.size(); p += 4) {
-    if (rb[p + 3] == 0 && tb[p + 3] == 0) continue;
-    ++c.footprint_pixels;
-    const double signed_change = (int(tb[p + 3]) - int(rb[p + 3])) / 255.0;
-    coverage_sum += std::abs(signed_change);
-    coverage_signed += signed_change;
-    failing += std::abs(signed_change) > pixel_threshold ? 1 : 0;
-    for (int ch = 0; ch < 3; ++ch) colour_sum += std::abs(int(rb[p + ch]) - int(tb[p + ch])) / 255.0;
-  }
-  if (c.footprint_pixels == 0) return;
-  const double n = double(c.footprint_pixels);
-  c.coverage_failing_fraction = double(failing) / n;
-  c.coverage_mean_error = coverage_sum / n;
-  c.coverage_bias = coverage_signed / n;
-  c.colour_mean_error = colour_sum / (3.0 * n);
+  const image::FootprintStats f = image::footprint_stats(ref, test, pixel_threshold);
+  c.footprint_pixels = f.footprint_pixels;
+  c.coverage_failing_fraction = f.failing_fraction;
+  c.coverage_mean_error = f.coverage_mean_error;
+  c.coverage_bias = f.coverage_bias;
+  c.colour_mean_error = f.colour_mean_error;
 }
 
 }  // namespace
 
 render::Camera check_camera(const render::Bounds& full_bounds, double distance, double azimuth_deg,
                             double elevation_deg, double fov_y_rad) {
-  render::Bounds b = full_bounds;
-  if (b.empty()) {
-    b.extend(render::Vec3(-0.5f, -0.5f, -0.5f));
-    b.extend(render::Vec3(0.5f, 0.5f, 0.5f));
-  }
-  const double a = azimuth_deg * std::numbers::pi / 180, e = elevation_deg * std::numbers::pi / 180;
-  const Eigen::Vector3d dir(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a));
-  const Eigen::Vector3d c = b.center().cast<double>();
-  // The box distance grows monotonically along the ray once outside: bisect for the point at
-  // exactly `distance` from the box.
-  double lo = 0, hi = distance + 2.0 * b.radius() + 1.0;
-  for (int it = 0; it < 100; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (box_distance(b, c + mid * dir) < distance ? lo : hi) = mid;
-  }
-  render::Camera cam;
-  cam.eye = (c + hi * dir).cast<float>();
-  cam.target = c.cast<float>();
-  cam.up = std::abs(dir.y()) > 0.999 ? render::Vec3::UnitZ() : render::Vec3::UnitY();
-  cam.fov_y_deg = static_cast<float>(fov_y_rad * 180 / std::numbers::pi);
-  cam.z_near = static_cast<float>(std::max(1e-3, 0.5 * distance));
-  cam.z_far = static_cast<float>(hi + 2.0 * b.radius() + 1.0);
-  cam.name = view_name(azimuth_deg);
+  render::Camera cam = render::camera_at_box_distance(full_bounds, distance, azimuth_deg, elevation_deg, fov_y_rad);
+  cam.name = view_name(azimuth_deg);  // one elevation per run: views are named by azimuth
   return cam;
 }
 

@@ -1,0 +1,130 @@
+// The GL plumbing shared by the scene renderer and the impostor renderer (gl_util.h).
+#include "libs/render/gl_util.h"
+
+#include "libs/render/renderer.h"
+
+namespace sylva::render::detail {
+
+GlObjects::~GlObjects() {
+  if (!buffers.empty()) glDeleteBuffers(GLsizei(buffers.size()), buffers.data());
+  if (!textures.empty()) glDeleteTextures(GLsizei(textures.size()), textures.data());
+  if (!vertex_arrays.empty()) glDeleteVertexArrays(GLsizei(vertex_arrays.size()), vertex_arrays.data());
+  if (!framebuffers.empty()) glDeleteFramebuffers(GLsizei(framebuffers.size()), framebuffers.data());
+  if (!renderbuffers.empty()) glDeleteRenderbuffers(GLsizei(renderbuffers.size()), renderbuffers.data());
+}
+
+GLuint GlObjects::buffer() {
+  GLuint b = 0;
+  glGenBuffers(1, &b);
+  buffers.push_back(b);
+  return b;
+}
+GLuint GlObjects::texture() {
+  GLuint t = 0;
+  glGenTextures(1, &t);
+  textures.push_back(t);
+  return t;
+}
+GLuint GlObjects::vertex_array() {
+  GLuint v = 0;
+  glGenVertexArrays(1, &v);
+  vertex_arrays.push_back(v);
+  return v;
+}
+GLuint GlObjects::framebuffer() {
+  GLuint f = 0;
+  glGenFramebuffers(1, &f);
+  framebuffers.push_back(f);
+  return f;
+}
+GLuint GlObjects::renderbuffer() {
+  GLuint r = 0;
+  glGenRenderbuffers(1, &r);
+  renderbuffers.push_back(r);
+  return r;
+}
+
+namespace {
+
+std::string gl_error_name(GLenum e) {
+  switch (e) {
+    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    default: return "GL error " + std::to_string(e);
+  }
+}
+
+GLuint compile(GLenum type, const char* source, const std::string& name) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &source, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw RenderUnavailableError("headless OpenGL is not available: shader compilation failed (" + name + "): " + log);
+  }
+  return s;
+}
+
+}  // namespace
+
+void check_gl(const char* where) {
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR) throw RenderError(std::string("OpenGL error during ") + where + ": " + gl_error_name(e));
+}
+
+GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& name) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex_source, name);
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_source, name);
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vs);
+  glAttachShader(program, fs);
+  glLinkProgram(program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[4096] = {};
+    glGetProgramInfoLog(program, sizeof log, nullptr, log);
+    glDeleteProgram(program);
+    throw RenderUnavailableError("headless OpenGL is not available: shader linking failed (" + name + "): " + log);
+  }
+  return program;
+}
+
+GLint gl_wrap(Wrap w) {
+  switch (w) {
+    case Wrap::kClampToEdge: return GL_CLAMP_TO_EDGE;
+    case Wrap::kMirroredRepeat: return GL_MIRRORED_REPEAT;
+    default: return GL_REPEAT;
+  }
+}
+
+GLuint upload_texture(GlObjects& gl, const Texture& t) {
+  if (t.width <= 0 || t.height <= 0 || t.rgba.size() != std::size_t(t.width) * std::size_t(t.height) * 4)
+    throw RenderError("texture '" + t.name + "' has inconsistent size and pixel data");
+  const GLuint id = gl.texture();
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  // sRGB storage: sampling returns linear values, as the lighting expects.
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(t.wrap_s));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(t.wrap_t));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR);
+  GLint min = t.min_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR;
+  if (t.mipmaps) {
+    min = t.min_filter == Filter::kNearest ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR;
+    glGenerateMipmap(GL_TEXTURE_2D);
+  }
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
+  return id;
+}
+
+}  // namespace sylva::render::detail

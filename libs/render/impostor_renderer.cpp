@@ -1,0 +1,675 @@
+// The OpenGL 3.3 core implementation of ImpostorRenderer: the atlas baker and the octahedral
+// impostor drawer (impostor_renderer.h has the contract, docs/stages/impostor.md the maps).
+//
+// Bake. One atlas row of views at a time is drawn into a multisampled target as wide as the atlas
+// and as tall as the row, with three colour attachments (colour RGBA8, normal RGBA16, depth
+// RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the coverage keeps 8
+// bits of precision). Each primitive is one glDrawElementsInstanced over the row's views: the
+// vertex shader fetches the view's transform from a buffer texture by gl_InstanceID and clips to
+// the view's rectangle with gl_ClipDistance. Opaque and masked primitives first (depth test and
+// write), then blended ones (depth test, no write, alpha over), as the scene renderer's passes.
+// Every fragment writes its alpha into all three attachments, so after the MSAA resolve each
+// attachment holds value * coverage (the background is 0): dividing by the colour's alpha gives
+// the covered samples' average. Blended primitives are drawn in file order without sorting: a
+// primitive has one material colour, and "over" with equal colours does not depend on order.
+//
+// Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
+#include "libs/render/impostor_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+#include <Eigen/Geometry>
+
+#include "libs/render/gl_context.h"
+#include "libs/render/gl_util.h"
+
+namespace sylva::render {
+namespace {
+
+using detail::check_gl;
+using detail::CurrentContext;
+using detail::GlObjects;
+using detail::upload_array;
+
+// ---- Bake shaders ------------------------------------------------------------------------------
+
+constexpr const char* kBakeVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_texcoord;
+layout(location = 3) in vec4 a_color;
+
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
+// Per view of the row (gl_InstanceID): centre, right / half width, up / half height,
+// dir / depth radius, and the view's rectangle in NDC (centre x, y, half width, half height).
+uniform vec4 u_views[5 * 64];
+
+out vec3 v_world;
+out vec3 v_normal;
+out vec2 v_texcoord;
+out vec4 v_color;
+flat out vec3 v_dir;
+out float v_depth;
+
+void main() {
+  int b = gl_InstanceID * 5;
+  vec3 c = u_views[b].xyz;
+  vec3 r = u_views[b + 1].xyz;
+  vec3 u = u_views[b + 2].xyz;
+  vec3 d = u_views[b + 3].xyz;
+  vec4 rect = u_views[b + 4];
+  vec4 world = u_model * vec4(a_position, 1.0);
+  vec3 a = world.xyz - c;
+  float s = dot(a, r), t = dot(a, u), z = dot(a, d);
+  // Every view frames the whole source (layouts fit the bounding sphere), so nothing reaches a
+  // neighbouring view's rectangle and no clipping is needed.
+  gl_Position = vec4(rect.x + s * rect.z, rect.y + t * rect.w, -z, 1.0);
+  v_world = world.xyz;
+  v_normal = u_normal_matrix * a_normal;
+  v_texcoord = a_texcoord;
+  v_color = a_color;
+  v_dir = normalize(d);
+  v_depth = z;
+}
+)";
+
+constexpr const char* kBakeFragmentShader = R"(#version 330 core
+in vec3 v_world;
+in vec3 v_normal;
+in vec2 v_texcoord;
+in vec4 v_color;
+flat in vec3 v_dir;
+in float v_depth;
+
+uniform vec4 u_base_color;
+uniform sampler2D u_texture;
+uniform bool u_has_texture;
+uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
+uniform float u_alpha_cutoff;
+uniform bool u_has_normals;
+uniform bool u_face_eye;
+
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_normal;
+layout(location = 2) out vec4 o_depth;
+
+float to_srgb(float c) {
+  c = clamp(c, 0.0, 1.0);
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+}
+
+void main() {
+  vec4 base = u_base_color * v_color;
+  if (u_has_texture) base *= texture(u_texture, v_texcoord);
+  if (u_alpha_mode == 1) {
+    if (base.a < u_alpha_cutoff) discard;
+    base.a = 1.0;
+  } else if (u_alpha_mode == 0) {
+    base.a = 1.0;
+  }
+  vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
+  // The scene renderer's two-sided rule with this view's eye, which is at infinity along v_dir.
+  if (u_face_eye && dot(n, v_dir) < 0.0) n = -n;
+  o_color = vec4(to_srgb(base.r), to_srgb(base.g), to_srgb(base.b), base.a);
+  o_normal = vec4(n * 0.5 + 0.5, base.a);
+  o_depth = vec4(clamp(v_depth * 0.5 + 0.5, 0.0, 1.0), 0.0, 0.0, base.a);
+}
+)";
+
+enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3 };
+constexpr std::size_t kMaxRowViews = 64;  // u_views[5 * 64] in the bake vertex shader
+
+// ---- Uploaded bake scene -----------------------------------------------------------------------
+
+struct BakePrimitive {
+  const Primitive* source = nullptr;
+  const Mesh* mesh = nullptr;
+  GLuint vao = 0;
+  GLsizei index_count = 0;
+  bool blend = false;
+};
+
+GLenum gl_mode(Topology t) {
+  switch (t) {
+    case Topology::kLines: return GL_LINES;
+    case Topology::kPoints: return GL_POINTS;
+    default: return GL_TRIANGLES;
+  }
+}
+
+void check_bake_primitive(const Scene& scene, const Primitive& p) {
+  const std::size_t n = p.positions.size();
+  auto bad = [&](const std::string& what) { throw RenderError("invalid primitive in scene '" + scene.source + "': " + what); };
+  if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
+      (!p.colors.empty() && p.colors.size() != n))
+    bad("attribute arrays differ in length from positions");
+  for (std::uint32_t i : p.indices)
+    if (i >= n) bad("index " + std::to_string(i) + " out of range");
+  if (p.material >= 0 && std::size_t(p.material) >= scene.materials.size()) bad("material out of range");
+  if (p.material >= 0) {
+    const int t = scene.materials[std::size_t(p.material)].base_color_texture;
+    if (t >= 0 && std::size_t(t) >= scene.textures.size()) bad("texture out of range");
+  }
+}
+
+// ---- The renderer ------------------------------------------------------------------------------
+
+class GlImpostorRenderer final : public ImpostorRenderer {
+ public:
+  explicit GlImpostorRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
+    CurrentContext current(*ctx_);
+    bake_program_ = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
+    draw_program_ = detail::link_program(octahedral_impostor_vertex_shader(), octahedral_impostor_fragment_shader(),
+                                         "octahedral impostor");
+    glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
+    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_width_range_);
+    check_gl("initialisation");
+  }
+
+  ~GlImpostorRenderer() override {
+    try {
+      CurrentContext current(*ctx_);
+      glDeleteProgram(bake_program_);
+      glDeleteProgram(draw_program_);
+    } catch (...) {
+      // The context goes away with us.
+    }
+  }
+
+  std::string device_description() const override { return ctx_->description(); }
+
+  BakedMaps bake(const Scene& scene, std::span<const BakeView> views, const BakeOptions& o) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    CurrentContext current(*ctx_);
+    validate_bake(views, o);
+    GlObjects gl;
+    glGetError();
+    // Rows of views: (y, h) -> view indices, in view order.
+    std::map<std::pair<int, int>, std::vector<std::size_t>> rows;
+    for (std::size_t v = 0; v < views.size(); ++v) rows[{views[v].y, views[v].h}].push_back(v);
+
+    // Each row's views as uniforms (at most kMaxRowViews per row).
+    std::vector<std::vector<float>> row_data;
+    std::vector<std::vector<std::size_t>> row_views;
+    for (const auto& [key, idx] : rows) {
+      if (idx.size() > kMaxRowViews)
+        throw RenderError("an atlas row holds " + std::to_string(idx.size()) + " views; at most " +
+                          std::to_string(kMaxRowViews) + " are supported");
+      std::vector<float> data;
+      const float band_h = float(key.second);
+      for (std::size_t v : idx) {
+        const BakeView& bv = views[v];
+        const Vec3 r = bv.right / bv.half_width, u = bv.up / bv.half_height, d = bv.dir / bv.depth_radius;
+        const float cx = (bv.x + 0.5f * bv.w) / float(o.atlas_width) * 2 - 1;
+        const float hw = float(bv.w) / float(o.atlas_width);
+        const float hh = float(bv.h) / band_h;  // the row fills the band's height
+        const float vals[20] = {bv.center.x(), bv.center.y(), bv.center.z(), 0, r.x(), r.y(), r.z(), 0,
+                                u.x(), u.y(), u.z(), 0, d.x(), d.y(), d.z(), 0, cx, 0.f, hw, hh};
+        data.insert(data.end(), vals, vals + 20);
+      }
+      row_data.push_back(std::move(data));
+      row_views.push_back(idx);
+    }
+
+    std::vector<GLuint> textures;
+    for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
+    const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
+    check_gl("bake upload");
+
+    BakedMaps out;
+    out.color = image::Image(o.atlas_width, o.atlas_height, {0, 0, 0, 0});
+    out.normal_depth = image::Image(o.atlas_width, o.atlas_height, {0, 0, 0, 0});
+    glUseProgram(bake_program_);
+    const BakeUniforms un = bake_uniforms();
+    glUniform1i(un.texture, 0);
+    std::map<int, BakeTarget> targets;  // by band height
+    for (std::size_t row = 0; row < row_views.size(); ++row) {
+      const std::vector<std::size_t>& idx = row_views[row];
+      const int band_y = views[idx.front()].y, band_h = views[idx.front()].h;
+      auto it = targets.find(band_h);
+      if (it == targets.end()) it = targets.emplace(band_h, make_bake_target(gl, o.atlas_width, band_h, o.msaa)).first;
+      glUniform4fv(un.views, GLsizei(idx.size() * 5), row_data[row].data());
+      draw_bake_row(scene, prims, textures, un, GLsizei(idx.size()), it->second, o);
+      read_bake_row(it->second, band_y, out);
+      check_gl("baking");
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return out;
+  }
+
+  std::vector<image::Image> render_octahedral(const OctahedralImpostor& imp, std::span<const Camera> cameras,
+                                              const RenderOptions& o, const ImpostorDrawOptions& draw) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    CurrentContext current(*ctx_);
+    validate_draw(imp, o);
+    GlObjects gl;
+    glGetError();
+    const DrawTarget target = make_draw_target(gl, o);
+    const GLuint color = upload_atlas(gl, imp.color, true, imp.mip_levels);
+    const GLuint normal = upload_atlas(gl, imp.normal_depth, false, imp.mip_levels);
+
+    // One quad (two triangles), instanced per impostor.
+    const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
+    std::vector<float> models;
+    for (const Mat4& m : imp.instances) models.insert(models.end(), m.data(), m.data() + 16);
+    const GLuint vao = gl.vertex_array();
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, upload_array(gl, GL_ARRAY_BUFFER, corners));
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glBindBuffer(GL_ARRAY_BUFFER, upload_array(gl, GL_ARRAY_BUFFER, models));
+    for (GLuint c = 0; c < 4; ++c) {
+      glEnableVertexAttribArray(1 + c);
+      glVertexAttribPointer(1 + c, 4, GL_FLOAT, GL_FALSE, 16 * sizeof(float),
+                            reinterpret_cast<const void*>(std::uintptr_t(c * 4 * sizeof(float))));
+      glVertexAttribDivisor(1 + c, 1);
+    }
+    check_gl("impostor upload");
+
+    glUseProgram(draw_program_);
+    auto u = [&](const char* n) { return glGetUniformLocation(draw_program_, n); };
+    glUniform1i(u("u_frames"), imp.frames_per_side);
+    glUniform1i(u("u_hemi"), imp.hemi);
+    glUniform3fv(u("u_center"), 1, imp.center.data());
+    glUniform1f(u("u_radius"), imp.radius);
+    glUniform1f(u("u_half_extent"), imp.half_extent);
+    glUniform1f(u("u_padding"), float(imp.padding_px) / float(imp.frame_px));
+    glUniform1i(u("u_parallax_steps"), std::clamp(draw.parallax_steps, 0, 8));
+    glUniform3fv(u("u_ambient"), 1, o.lighting.ambient.data());
+    glUniform3fv(u("u_light_color"), 1, o.lighting.light_color.data());
+    const Vec3 l = o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
+    glUniform3fv(u("u_light_dir"), 1, l.data());
+    glUniform1i(u("u_color"), 0);
+    glUniform1i(u("u_normal_depth"), 1);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, color);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, normal);
+    glActiveTexture(GL_TEXTURE0);
+
+    // Far to near by the instance's distance, so that blended instances composite correctly.
+    std::vector<image::Image> images;
+    const float aspect = float(o.width) / float(o.height);
+    for (const Camera& cam : cameras) {
+      glBindFramebuffer(GL_FRAMEBUFFER, target.draw_fbo);
+      glViewport(0, 0, o.width, o.height);
+      const bool transparent = o.background.a == 0;
+      glClearColor(transparent ? 0.f : o.background.r / 255.f, transparent ? 0.f : o.background.g / 255.f,
+                   transparent ? 0.f : o.background.b / 255.f, o.background.a / 255.f);
+      glClearDepth(1.0);
+      glDepthMask(GL_TRUE);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDisable(GL_CULL_FACE);
+      glEnable(GL_BLEND);
+      glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+      glDepthMask(GL_FALSE);
+      if (o.msaa > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
+      glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, cam.view_matrix().data());
+      glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, cam.projection_matrix(aspect).data());
+      glUniform3fv(u("u_eye"), 1, cam.eye.data());
+      sort_instances(imp, cam, gl, vao);
+      glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(imp.instances.size()));
+      glDepthMask(GL_TRUE);
+      glDisable(GL_BLEND);
+      images.push_back(read_draw_target(target, o));
+      check_gl("impostor drawing");
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return images;
+  }
+
+ private:
+  struct BakeUniforms {
+    GLint model, normal_matrix, views, base_color, texture, has_texture, alpha_mode, alpha_cutoff,
+        has_normals, face_eye;
+  };
+  BakeUniforms bake_uniforms() const {
+    auto u = [&](const char* n) { return glGetUniformLocation(bake_program_, n); };
+    return {u("u_model"), u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"), u("u_texture"),
+            u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_face_eye")};
+  }
+
+  struct BakeTarget {
+    int width = 0, height = 0;
+    GLuint draw_fbo = 0, resolve_fbo = 0;
+  };
+
+  void validate_bake(std::span<const BakeView> views, const BakeOptions& o) const {
+    if (o.atlas_width < 1 || o.atlas_height < 1 || o.atlas_width > max_size_ || o.atlas_height > max_size_)
+      throw RenderError("atlas size " + std::to_string(o.atlas_width) + "x" + std::to_string(o.atlas_height) +
+                        " is outside 1.." + std::to_string(max_size_));
+    if (o.msaa < 1 || o.msaa > max_samples_)
+      throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
+                        std::to_string(max_samples_) + ")");
+    if (!(o.line_width_px > 0)) throw RenderError("line width must be positive");
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      const BakeView& b = views[v];
+      if (b.x < 0 || b.y < 0 || b.w < 1 || b.h < 1 || b.x + b.w > o.atlas_width || b.y + b.h > o.atlas_height)
+        throw RenderError("bake view " + std::to_string(v) + " lies outside the atlas");
+      if (!(b.half_width > 0) || !(b.half_height > 0) || !(b.depth_radius > 0))
+        throw RenderError("bake view " + std::to_string(v) + " has a non-positive extent");
+    }
+  }
+
+  BakeTarget make_bake_target(GlObjects& gl, int w, int h, int msaa) const {
+    BakeTarget t;
+    t.width = w;
+    t.height = h;
+    const GLenum formats[3] = {GL_RGBA8, GL_RGBA16, GL_RGBA16};
+    auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
+      const GLuint rb = gl.renderbuffer();
+      glBindRenderbuffer(GL_RENDERBUFFER, rb);
+      if (samples > 1) {
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+      } else {
+        glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+      }
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    };
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    t.draw_fbo = gl.framebuffer();
+    for (int a = 0; a < 3; ++a) attach(t.draw_fbo, bufs[a], formats[a], msaa);
+    attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, msaa);
+    glDrawBuffers(3, bufs);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("cannot create a " + std::to_string(w) + "x" + std::to_string(h) + " bake target");
+    t.resolve_fbo = t.draw_fbo;
+    if (msaa > 1) {
+      t.resolve_fbo = gl.framebuffer();
+      for (int a = 0; a < 3; ++a) attach(t.resolve_fbo, bufs[a], formats[a], 1);
+      glDrawBuffers(3, bufs);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw RenderError("cannot create the bake resolve target");
+    }
+    return t;
+  }
+
+  std::vector<BakePrimitive> upload_bake_scene(GlObjects& gl, const Scene& scene) const {
+    std::vector<BakePrimitive> out;
+    for (const Mesh& mesh : scene.meshes) {
+      if (mesh.instances.empty()) continue;
+      for (const Primitive& p : mesh.primitives) {
+        check_bake_primitive(scene, p);
+        if (p.indices.empty() || p.topology == Topology::kPoints) continue;  // trees have no points
+        BakePrimitive bp;
+        bp.source = &p;
+        bp.mesh = &mesh;
+        bp.index_count = GLsizei(p.indices.size());
+        bp.blend = p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        bp.vao = gl.vertex_array();
+        glBindVertexArray(bp.vao);
+        auto attach = [&](GLuint location, GLuint buffer, GLint comps) {
+          glBindBuffer(GL_ARRAY_BUFFER, buffer);
+          glEnableVertexAttribArray(location);
+          glVertexAttribPointer(location, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
+        };
+        attach(kPosition, upload_array(gl, GL_ARRAY_BUFFER, p.positions), 3);
+        if (!p.normals.empty()) attach(kNormal, upload_array(gl, GL_ARRAY_BUFFER, p.normals), 3);
+        if (!p.texcoords.empty()) attach(kTexcoord, upload_array(gl, GL_ARRAY_BUFFER, p.texcoords), 2);
+        if (!p.colors.empty()) attach(kColor, upload_array(gl, GL_ARRAY_BUFFER, p.colors), 4);
+        upload_array(gl, GL_ELEMENT_ARRAY_BUFFER, p.indices);
+        glBindVertexArray(0);
+        out.push_back(bp);
+      }
+    }
+    // Opaque and masked first, then blended; each group in file order.
+    std::stable_partition(out.begin(), out.end(), [](const BakePrimitive& p) { return !p.blend; });
+    return out;
+  }
+
+  void draw_bake_row(const Scene& scene, const std::vector<BakePrimitive>& prims, const std::vector<GLuint>& textures,
+                     const BakeUniforms& u, GLsizei count, const BakeTarget& t, const BakeOptions& o) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
+    glViewport(0, 0, t.width, t.height);
+    glClearColor(0, 0, 0, 0);
+    glClearDepth(1.0);
+    glDepthMask(GL_TRUE);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);  // every view is seen from a different side
+    glDisable(GL_BLEND);
+    if (o.msaa > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
+    glLineWidth(std::clamp(o.line_width_px, line_width_range_[0], line_width_range_[1]));
+    bool blending = false;
+    for (const BakePrimitive& bp : prims) {
+      const Primitive& p = *bp.source;
+      if (bp.blend && !blending) {
+        blending = true;
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+        glDepthMask(GL_FALSE);
+      }
+      static const Material kDefault;
+      const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
+      glUniform4fv(u.base_color, 1, m.base_color.data());
+      const bool textured = m.base_color_texture >= 0 && !p.texcoords.empty();
+      glUniform1i(u.has_texture, textured);
+      if (textured) {
+        glActiveTexture(GL_TEXTURE0);
+        glBindTexture(GL_TEXTURE_2D, textures[std::size_t(m.base_color_texture)]);
+      }
+      glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2);
+      glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
+      glUniform1i(u.has_normals, !p.normals.empty());
+      glUniform1i(u.face_eye, m.double_sided || p.topology != Topology::kTriangles);
+      if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
+      if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
+      if (p.colors.empty()) glVertexAttrib4f(kColor, 1, 1, 1, 1);
+      glBindVertexArray(bp.vao);
+      for (const Mat4& model : bp.mesh->instances) {
+        Eigen::Matrix3f n = model.topLeftCorner<3, 3>();
+        if (std::abs(n.determinant()) > 1e-20f) n = n.inverse().transpose().eval();
+        glUniformMatrix4fv(u.model, 1, GL_FALSE, model.data());
+        glUniformMatrix3fv(u.normal_matrix, 1, GL_FALSE, n.data());
+        glDrawElementsInstanced(gl_mode(p.topology), bp.index_count, GL_UNSIGNED_INT, nullptr, count);
+      }
+    }
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+  }
+
+  // Resolves the row, reads the three attachments back and writes the divided values into the
+  // maps at rows [band_y, band_y + height).
+  void read_bake_row(const BakeTarget& t, int band_y, BakedMaps& out) const {
+    const std::size_t n = std::size_t(t.width) * std::size_t(t.height);
+    std::vector<std::uint8_t> color(n * 4);
+    std::vector<std::uint16_t> normal(n * 4), depth(n * 4);
+    for (int a = 0; a < 3; ++a) {
+      const GLenum att = GL_COLOR_ATTACHMENT0 + GLenum(a);
+      if (t.resolve_fbo != t.draw_fbo) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, t.draw_fbo);
+        glReadBuffer(att);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.resolve_fbo);
+        glDrawBuffers(1, &att);
+        glBlitFramebuffer(0, 0, t.width, t.height, 0, 0, t.width, t.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      }
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, t.resolve_fbo);
+      glReadBuffer(att);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      if (a == 0) {
+        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, color.data());
+      } else {
+        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_SHORT, a == 1 ? normal.data() : depth.data());
+      }
+    }
+    if (t.resolve_fbo != t.draw_fbo) {
+      const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.resolve_fbo);
+      glDrawBuffers(3, bufs);
+    }
+    auto& cb = out.color.bytes();
+    auto& nb = out.normal_depth.bytes();
+    const std::size_t stride = std::size_t(out.color.width()) * 4;
+    for (int y = 0; y < t.height; ++y) {
+      const std::size_t src_row = std::size_t(t.height - 1 - y) * std::size_t(t.width) * 4;  // GL rows run bottom up
+      const std::size_t dst_row = std::size_t(band_y + y) * stride;
+      for (int x = 0; x < t.width; ++x) {
+        const std::size_t s = src_row + std::size_t(x) * 4, d = dst_row + std::size_t(x) * 4;
+        const int a8 = color[s + 3];
+        if (a8 == 0) continue;
+        // Values are coverage-weighted; the coverage is the attachments' common alpha.
+        const double an = normal[s + 3] / 65535.0, ad = depth[s + 3] / 65535.0;
+        for (int c = 0; c < 3; ++c) cb[d + c] = std::uint8_t(std::min(255, (color[s + c] * 255 + a8 / 2) / a8));
+        cb[d + 3] = std::uint8_t(a8);
+        // The mean of the covered samples' normals, not renormalised: its length says how much
+        // they spread, and the shader lights with it (mean(n.l) = mean(n).l).
+        Eigen::Vector3d nv(normal[s] / 65535.0, normal[s + 1] / 65535.0, normal[s + 2] / 65535.0);
+        nv = (nv / std::max(an, 1e-9)) * 2.0 - Eigen::Vector3d::Ones();
+        if (nv.norm() > 1) nv.normalize();
+        for (int c = 0; c < 3; ++c) nb[d + c] = std::uint8_t(std::lround(std::clamp((nv[c] * 0.5 + 0.5) * 255.0, 0.0, 255.0)));
+        const double dv = std::clamp(depth[s] / 65535.0 / std::max(ad, 1e-9), 0.0, 1.0);
+        nb[d + 3] = std::uint8_t(std::lround(dv * 255.0));
+      }
+    }
+  }
+
+  struct DrawTarget {
+    GLuint draw_fbo = 0, resolve_fbo = 0;
+  };
+
+  void validate_draw(const OctahedralImpostor& imp, const RenderOptions& o) const {
+    if (o.width < 1 || o.height < 1 || o.width > max_size_ || o.height > max_size_)
+      throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " is outside 1.." +
+                        std::to_string(max_size_));
+    if (o.msaa < 1 || o.msaa > max_samples_)
+      throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
+                        std::to_string(max_samples_) + ")");
+    if (o.background.a != 0 && o.background.a != 255)
+      throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
+    const int atlas = imp.frames_per_side * imp.frame_px;
+    if (imp.frames_per_side < 2 || imp.frame_px < 1 || atlas > max_texture_size_)
+      throw RenderError("impostor atlas of " + std::to_string(imp.frames_per_side) + " x " + std::to_string(imp.frame_px) +
+                        " px frames is not drawable here (2 or more frames, at most " + std::to_string(max_texture_size_) + " px)");
+    for (const image::Image* m : {&imp.color, &imp.normal_depth})
+      if (m->width() != atlas || m->height() != atlas)
+        throw RenderError("impostor maps must be " + std::to_string(atlas) + "x" + std::to_string(atlas) + " pixels, got " +
+                          std::to_string(m->width()) + "x" + std::to_string(m->height()));
+    if (!(imp.radius > 0) || !(imp.half_extent >= imp.radius) || imp.padding_px < 0 || 2 * imp.padding_px >= imp.frame_px)
+      throw RenderError("impostor geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
+  }
+
+  DrawTarget make_draw_target(GlObjects& gl, const RenderOptions& o) const {
+    auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
+      const GLuint rb = gl.renderbuffer();
+      glBindRenderbuffer(GL_RENDERBUFFER, rb);
+      if (samples > 1) {
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, o.width, o.height);
+      } else {
+        glRenderbufferStorage(GL_RENDERBUFFER, format, o.width, o.height);
+      }
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    };
+    DrawTarget t;
+    t.draw_fbo = gl.framebuffer();
+    attach(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, o.msaa);
+    attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw RenderError("cannot create the impostor target");
+    t.resolve_fbo = t.draw_fbo;
+    if (o.msaa > 1) {
+      t.resolve_fbo = gl.framebuffer();
+      attach(t.resolve_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, 1);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw RenderError("cannot create the impostor resolve target");
+    }
+    return t;
+  }
+
+  static GLuint upload_atlas(GlObjects& gl, const image::Image& img, bool srgb, int mip_levels) {
+    const GLuint id = gl.texture();
+    glBindTexture(GL_TEXTURE_2D, id);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, img.width(), img.height(), 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, img.bytes().data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, std::max(0, mip_levels));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mip_levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    if (mip_levels > 0) glGenerateMipmap(GL_TEXTURE_2D);
+    return id;
+  }
+
+  // Instances far to near (by the view depth of their centre; ties keep their order).
+  static void sort_instances(const OctahedralImpostor& imp, const Camera& cam, GlObjects& gl, GLuint vao) {
+    if (imp.instances.size() < 2) return;
+    const Mat4 view = cam.view_matrix();
+    std::vector<std::pair<float, std::size_t>> keys;
+    for (std::size_t i = 0; i < imp.instances.size(); ++i) {
+      const Vec3 w = (imp.instances[i] * imp.center.homogeneous()).hnormalized();
+      keys.push_back({(view * w.homogeneous())(2), i});  // more negative = farther
+    }
+    std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<float> models;
+    for (const auto& k : keys) models.insert(models.end(), imp.instances[k.second].data(), imp.instances[k.second].data() + 16);
+    glBindVertexArray(vao);
+    const GLuint b = upload_array(gl, GL_ARRAY_BUFFER, models);
+    for (GLuint c = 0; c < 4; ++c) {
+      glVertexAttribPointer(1 + c, 4, GL_FLOAT, GL_FALSE, 16 * sizeof(float),
+                            reinterpret_cast<const void*>(std::uintptr_t(c * 4 * sizeof(float))));
+    }
+    (void)b;
+  }
+
+  image::Image read_draw_target(const DrawTarget& t, const RenderOptions& o) const {
+    if (t.resolve_fbo != t.draw_fbo) {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, t.draw_fbo);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.resolve_fbo);
+      glBlitFramebuffer(0, 0, o.width, o.height, 0, 0, o.width, o.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.resolve_fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    std::vector<std::uint8_t> raw(std::size_t(o.width) * std::size_t(o.height) * 4);
+    glReadPixels(0, 0, o.width, o.height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+    image::Image img(o.width, o.height);
+    const std::size_t row = std::size_t(o.width) * 4;
+    for (int y = 0; y < o.height; ++y)
+      std::memcpy(&img.bytes()[std::size_t(y) * row], &raw[std::size_t(o.height - 1 - y) * row], row);
+    if (o.background.a == 0) {
+      auto& px = img.bytes();
+      for (std::size_t i = 0; i < px.size(); i += 4) {
+        const int a = px[i + 3];
+        if (a == 0 || a == 255) continue;
+        for (int c = 0; c < 3; ++c) px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
+      }
+    }
+    return img;
+  }
+
+  std::unique_ptr<detail::GlContext> ctx_;
+  std::mutex mutex_;
+  GLuint bake_program_ = 0, draw_program_ = 0;
+  GLint max_samples_ = 1, max_size_ = 4096, max_texture_size_ = 4096;
+  float line_width_range_[2] = {1.f, 1.f};
+};
+
+}  // namespace
+
+std::unique_ptr<ImpostorRenderer> ImpostorRenderer::create_headless() {
+  return std::make_unique<GlImpostorRenderer>(detail::create_egl_context());
+}
+
+ImpostorRenderer& shared_impostor_renderer() {
+  static std::mutex mu;
+  static ImpostorRenderer* renderer = nullptr;
+  std::lock_guard<std::mutex> lock(mu);
+  if (!renderer) renderer = ImpostorRenderer::create_headless().release();
+  return *renderer;
+}
+
+}  // namespace sylva::render

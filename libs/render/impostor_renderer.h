@@ -1,0 +1,107 @@
+// Baking impostor atlases and drawing (hemi-)octahedral impostors, on the same headless OpenGL
+// (EGL, Mesa llvmpipe) as the scene renderer (renderer.h).
+//
+// Bake: a Scene is drawn into an atlas once per BakeView, an orthographic view of a rectangle in
+// object space, into that view's pixel rectangle of the atlas. Every view of one atlas row is one
+// instanced draw per primitive (the instance selects the view: its transform comes from a buffer
+// texture, gl_ClipDistance keeps it inside its rectangle), so 256 frames cost 16 draws per
+// primitive, not 256. Three maps come out (docs/stages/impostor.md, "Maps"):
+//   - colour: the sRGB-encoded base colour (baseColorFactor * COLOR_0 * texture, unlit) with
+//     straight alpha = the coverage of the texel (MSAA samples covered; BLEND primitives add
+//     their alpha over what lies behind them, as the scene renderer composites them);
+//   - normal: the shading normal in object space, turned toward the view's viewer for
+//     double-sided materials and lines exactly as the scene renderer turns it toward its eye,
+//     encoded n * 0.5 + 0.5, averaged over the covered samples and renormalised;
+//   - depth: h / R * 0.5 + 0.5, h = (X - centre) . dir, averaged over the covered samples.
+//   Texels nothing covers are (0,0,0,0) in every map (dilation is the caller's business).
+//   Materials are read as the scene renderer reads them (alpha modes, cutoff, textures).
+//
+// Draw: render_octahedral() draws impostor instances with the reference shader
+// (libs/render/shaders/octahedral_impostor.{vert,frag}, shipped for engines): one camera-facing
+// quad per instance, three frames blended by the view direction, each reprojected with its depth
+// (parallax), lit with RenderOptions::lighting like the scene renderer, blended over the
+// background with alpha = coverage. Same determinism and thread-safety contract as Renderer.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "libs/image/image.h"
+#include "libs/render/camera.h"
+#include "libs/render/renderer.h"
+#include "libs/render/scene.h"
+
+namespace sylva::render {
+
+// One orthographic view of the bake. The view shows the rectangle centre + [-half_width,
+// half_width] right + [-half_height, half_height] up, seen from +dir (dir points toward the
+// viewer), depths in [-depth_radius, depth_radius] along dir; it lands in atlas pixels
+// [x, x + w) x [y, y + h) (top-left origin). right, up, dir orthonormal, right x up = dir.
+struct BakeView {
+  Vec3 center = Vec3::Zero();
+  Vec3 right = Vec3::UnitX(), up = Vec3::UnitY(), dir = Vec3::UnitZ();
+  float half_width = 1, half_height = 1, depth_radius = 1;
+  int x = 0, y = 0, w = 1, h = 1;
+};
+
+struct BakeOptions {
+  int atlas_width = 1, atlas_height = 1;  // pixels; every view's rectangle must lie inside
+  int msaa = 4;                          // samples per texel (coverage resolution)
+  float line_width_px = 1;               // width of LINES in atlas texels
+};
+
+struct BakedMaps {
+  image::Image color;         // sRGB RGB, straight alpha = coverage
+  image::Image normal_depth;  // RGB = normal * 0.5 + 0.5 (object space), A = depth
+};
+
+// What render_octahedral() needs of an impostor (impostor.json + its two PNGs; the names follow
+// libs/impostor/impostor_json.h).
+struct OctahedralImpostor {
+  image::Image color, normal_depth;  // atlas_px x atlas_px each
+  int frames_per_side = 16;
+  bool hemi = true;
+  Vec3 center = Vec3::Zero();  // sphere centre, object space
+  float radius = 1;            // sphere radius R
+  float half_extent = 1;       // frame half extent W
+  int frame_px = 256;
+  int padding_px = 16;
+  int mip_levels = 4;          // GL_TEXTURE_MAX_LEVEL of both maps
+  std::vector<Mat4> instances{Mat4::Identity()};  // object -> world
+};
+
+struct ImpostorDrawOptions {
+  int parallax_steps = 2;  // depth reprojection iterations per frame (0 = flat frames)
+};
+
+class ImpostorRenderer {
+ public:
+  virtual ~ImpostorRenderer() = default;
+
+  // The real one (its own EGL context, the same device choice as Renderer::create_headless()).
+  // Throws RenderUnavailableError.
+  static std::unique_ptr<ImpostorRenderer> create_headless();
+
+  // Throws RenderError for invalid options or views (a rectangle outside the atlas, views of one
+  // atlas row with different heights, a size beyond the device's limits).
+  virtual BakedMaps bake(const Scene& scene, std::span<const BakeView> views, const BakeOptions& options) = 0;
+
+  virtual std::vector<image::Image> render_octahedral(const OctahedralImpostor& impostor,
+                                                      std::span<const Camera> cameras, const RenderOptions& options,
+                                                      const ImpostorDrawOptions& draw = {}) = 0;
+
+  virtual std::string device_description() const = 0;
+};
+
+// One ImpostorRenderer per process, created on first use and never destroyed (as the verify
+// stage's renderer: tearing EGL down from a static destructor races Mesa's exit handlers). A
+// failure to create it is not remembered: every caller gets the same one-line error.
+ImpostorRenderer& shared_impostor_renderer();
+
+// The reference shader's sources, exactly as shipped in libs/render/shaders/.
+const char* octahedral_impostor_vertex_shader();
+const char* octahedral_impostor_fragment_shader();
+
+}  // namespace sylva::render

@@ -1,0 +1,180 @@
+// The impostor core (bake.h lists the steps). Sources: Brucks 2018 (octahedral impostors), the
+// SpeedTree billboard ring, Persson 2009 (cutouts), DESIGN.md's error model.
+#include "stages/impostor/bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "libs/image/image_io.h"
+#include "libs/impostor/error_model.h"
+#include "libs/impostor/octahedral.h"
+#include "stages/impostor/cutout.h"
+#include "stages/impostor/dilate.h"
+#include "stages/impostor/impostor_gltf.h"
+
+namespace sylva::impostor {
+
+namespace {
+
+PixelRect rect_of(const render::BakeView& v) { return {v.x, v.y, v.w, v.h}; }
+
+// Coverage-weighted mean of the decoded normals of a rectangle, and of its depths (-1..1).
+struct FrameMeans {
+  Vec3 normal = Vec3::Zero();
+  double depth = 0;
+  double coverage = 0;
+};
+
+FrameMeans frame_means(const image::Image& color, const image::Image& nd, const PixelRect& r) {
+  FrameMeans m;
+  const auto& cb = color.bytes();
+  const auto& nb = nd.bytes();
+  double depth_sum = 0;
+  for (int y = r.y; y < r.y + r.h; ++y)
+    for (int x = r.x; x < r.x + r.w; ++x) {
+      const std::size_t i = (std::size_t(y) * std::size_t(color.width()) + std::size_t(x)) * 4;
+      const double a = cb[i + 3] / 255.0;
+      if (a <= 0) continue;
+      m.coverage += a;
+      m.normal += a * Vec3(nb[i] / 127.5 - 1, nb[i + 1] / 127.5 - 1, nb[i + 2] / 127.5 - 1);
+      depth_sum += a * (nb[i + 3] / 127.5 - 1);
+    }
+  if (m.coverage > 0) m.depth = depth_sum / m.coverage;
+  return m;
+}
+
+image::Image crop(const image::Image& src, const PixelRect& r) {
+  image::Image out(r.w, r.h);
+  for (int y = 0; y < r.h; ++y)
+    std::copy_n(&src.bytes()[(std::size_t(r.y + y) * std::size_t(src.width()) + std::size_t(r.x)) * 4], std::size_t(r.w) * 4,
+                &out.bytes()[std::size_t(y) * std::size_t(r.w) * 4]);
+  return out;
+}
+
+void paste(image::Image& dst, const image::Image& src, int x, int y) {
+  for (int row = 0; row < src.height(); ++row)
+    std::copy_n(&src.bytes()[std::size_t(row) * std::size_t(src.width()) * 4], std::size_t(src.width()) * 4,
+                &dst.bytes()[(std::size_t(y + row) * std::size_t(dst.width()) + std::size_t(x)) * 4]);
+}
+
+std::string to_string(const std::vector<std::uint8_t>& bytes) { return std::string(bytes.begin(), bytes.end()); }
+
+}  // namespace
+
+double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry) {
+  const Layout layout = plan_layout(params, geometry);
+  return 2 * layout.frame_half_extent / params.frame_px;
+}
+
+BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& p,
+                         const SourceDesc& source) {
+  if (p.cutout_vertices < 4 || p.cutout_vertices > 8) throw std::invalid_argument("cutout_vertices must be in 4..8");
+  // 1-2. Measure and plan.
+  const SourceGeometry geo = measure(scene);
+  Layout layout = plan_layout(p.layout, geo);
+  const bool billboards = p.layout.kind == Kind::kBillboards;
+  const double texel = 2 * layout.frame_half_extent / p.layout.frame_px;
+
+  // 3. Bake.
+  render::BakeOptions bo;
+  bo.atlas_width = layout.atlas_width;
+  bo.atlas_height = layout.atlas_height;
+  bo.msaa = p.msaa;
+  bo.line_width_px = float(std::max(1.0, source.line_pixel_m / texel));
+  render::BakedMaps maps = renderer.bake(scene, layout.views, bo);
+
+  // 4. Dilate.
+  std::vector<PixelRect> rects;
+  for (const render::BakeView& v : layout.views) rects.push_back(rect_of(v));
+  dilate_frames(maps.color, maps.normal_depth, rects, layout.padding_px);
+
+  // 5-6. Cards: top-card height, normals, cutouts.
+  std::vector<GlbCard> glb_cards;
+  double fill = 0;
+  for (std::size_t c = 0; c < layout.cards.size(); ++c) {
+    Card& card = layout.cards[c];
+    const render::BakeView& v = layout.views[std::size_t(layout.card_view[c])];
+    const FrameMeans means = frame_means(maps.color, maps.normal_depth, rect_of(v));
+    if (billboards && card.name == "top" && means.coverage > 0)
+      card.center[1] += means.depth * v.depth_radius;  // the mean height of what is seen from above
+    const CutoutResult cut = fit_cutout(maps.color, rect_of(v), p.cutout_vertices);
+    card.cutout = cut.polygon;
+    fill += cut.area_fraction;
+    GlbCard g;
+    g.card = card;
+    const Vec3 dir(card.dir[0], card.dir[1], card.dir[2]);
+    Vec3 n = means.normal.norm() > 1e-6 ? means.normal.normalized() : dir;
+    if (n.dot(dir) <= 0.05) n = dir;  // a card must face its own viewer
+    g.normal = {n.x(), n.y(), n.z()};
+    glb_cards.push_back(std::move(g));
+  }
+  const double cutout_fill = layout.cards.empty() ? 1.0 : fill / double(layout.cards.size());
+
+  // 7. Error terms and switch distance.
+  ImpostorInfo info;
+  info.kind = p.layout.kind;
+  info.hemi = p.layout.kind == Kind::kHemiOctahedral;
+  info.frames_per_side = billboards ? 0 : p.layout.frames_per_side;
+  info.frame_px = p.layout.frame_px;
+  info.atlas_width_px = layout.atlas_width;
+  info.atlas_height_px = layout.atlas_height;
+  info.padding_px = layout.padding_px;
+  info.mip_levels = p.layout.mip_levels;
+  info.bounds_min = geo.bounds_min;
+  info.bounds_max = geo.bounds_max;
+  info.sphere_center = geo.center;
+  info.sphere_radius = geo.radius;
+  info.frame_half_extent = layout.frame_half_extent;
+  info.color_map = "impostor_color.png";
+  info.normal_depth_map = "impostor_normal.png";
+  info.camera = p.camera;
+  info.pixel_error_px = p.pixel_error;
+  info.error.source_m = source.epsilon;
+  info.error.texel_m = texel;
+  info.error.view_m = billboards ? geo.radius * std::sin(billboard_max_view_angle(p.layout.cards, p.layout.top_card))
+                                 : geo.radius * view_error_factor(p.layout.frames_per_side, info.hemi);
+  info.switch_distance_m = switch_distance(p.camera, info.error, p.pixel_error);
+  info.source_type = source.type;
+  info.source_file = source.file;
+  info.source_level = source.level;
+  info.cards = layout.cards;
+  info.glb_triangles = card_triangles(glb_cards);
+
+  // 8. impostor.glb: billboards embed the whole (small) atlas; the octahedral kinds a crop of
+  // their card frames, side by side.
+  GlbImage img;
+  if (billboards) {
+    img.png = to_string(image::encode_png(maps.color));
+    img.width = maps.color.width();
+    img.height = maps.color.height();
+    for (GlbCard& g : glb_cards) g.image_x = g.card.x, g.image_y = g.card.y;
+  } else {
+    const int f = p.layout.frame_px, cols = 3;
+    const int rows = int((glb_cards.size() + cols - 1) / cols);
+    image::Image sheet(cols * f, rows * f, {0, 0, 0, 0});
+    for (std::size_t c = 0; c < glb_cards.size(); ++c) {
+      GlbCard& g = glb_cards[c];
+      g.image_x = int(c % cols) * f;
+      g.image_y = int(c / cols) * f;
+      paste(sheet, crop(maps.color, {g.card.x, g.card.y, g.card.w, g.card.h}), g.image_x, g.image_y);
+    }
+    img.png = to_string(image::encode_png(sheet));
+    img.width = sheet.width();
+    img.height = sheet.height();
+  }
+  const nlohmann::json extras = {{"sylva_impostor_kind", kind_name(info.kind)},
+                                 {"switch_distance_m", info.switch_distance_m},
+                                 {"epsilon_m", info.error.epsilon_m()},
+                                 {"impostor_json", "impostor.json"}};
+
+  BakeOutput out;
+  out.glb = encode_impostor_glb(glb_cards, img, p.alpha_cutoff, extras);
+  out.info = std::move(info);
+  out.color = std::move(maps.color);
+  out.normal_depth = std::move(maps.normal_depth);
+  out.cutout_fill = cutout_fill;
+  return out;
+}
+
+}  // namespace sylva::impostor

@@ -1,0 +1,63 @@
+// The impostor stage's core: a scene in, an impostor out (maps, impostor.json's content,
+// impostor.glb). Every step is plain data except the draw calls, which go through
+// render::ImpostorRenderer (tests may pass a fake).
+//
+//  1. measure the source (bounds, bounding sphere about the box centre, axis radius);
+//  2. plan the atlas (layout.h): views and cards;
+//  3. bake every view (libs/render, headless GL), lines as wide as the pixels their alpha was
+//     made for (below);
+//  4. dilate colour and normal into the uncovered texels near the tree (dilate.h);
+//  5. billboards: lift the top card to the coverage-weighted mean height seen from above;
+//  6. fit every card's cutout polygon (cutout.h) and light it with its frame's mean normal;
+//  7. the error terms and the switch distance (libs/impostor/error_model.h);
+//  8. impostor.glb (impostor_gltf.h).
+//
+// Lines. A LOD level's semi-transparent lines carry as alpha the coverage of a branch in a pixel
+// of size s = epsilon / delta (the level's switch distance; docs/stages/lod.md "Line alpha"). A
+// line drawn w texels wide with that alpha covers alpha * w * t metres across, so the baker draws
+// them w = s / t texels wide (at least 1): a branch keeps its width in the atlas.
+#pragma once
+
+#include <string>
+
+#include "libs/image/image.h"
+#include "libs/impostor/impostor_json.h"
+#include "libs/render/impostor_renderer.h"
+#include "libs/render/scene.h"
+#include "stages/impostor/layout.h"
+
+namespace sylva::impostor {
+
+struct BakeParams {
+  LayoutParams layout;
+  int cutout_vertices = 8;  // 4..8 per card
+  int msaa = 4;             // coverage samples per texel
+  float alpha_cutoff = 0.5f;  // impostor.glb's alphaMode MASK cutoff
+  ViewCamera camera;          // the error model's camera ...
+  double pixel_error = 0.5;   // ... and delta
+};
+
+struct SourceDesc {
+  std::string type = "mesh";  // "mesh" or "lod"
+  std::string file;           // the file baked
+  int level = -1;             // LOD level, -1 for a mesh
+  double epsilon = 0;         // the level's epsilon (m), 0 for a mesh
+  double line_pixel_m = 0;    // pixel size the source's line alphas are for (m), 0: no line alphas
+};
+
+struct BakeOutput {
+  ImpostorInfo info;  // map names are the stage's file names
+  image::Image color, normal_depth;
+  std::string glb;
+  double cutout_fill = 1;  // mean area of the cards' polygons over their frames
+};
+
+// Throws std::invalid_argument for parameters that give no atlas, render::RenderError when
+// drawing fails.
+BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& params,
+                         const SourceDesc& source);
+
+// The texel (m) the atlas would have for this scene and these parameters: 2 W / frame_px.
+double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry);
+
+}  // namespace sylva::impostor

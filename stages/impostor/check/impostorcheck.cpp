@@ -1,0 +1,126 @@
+// DESIGN.md's error model checked in image space for impostors (impostorcheck.h): renders from
+// libs/render (the verifier's renderer for the full detail and the billboard cards, the reference
+// impostor shader for the octahedral kinds), statistics from libs/image (coverage.h), judged as
+// lodcheck judges LOD levels, plus the colour of what both renders cover.
+#include "stages/impostor/check/impostorcheck.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+
+#include "libs/image/compare.h"
+#include "libs/image/coverage.h"
+#include "libs/image/resample.h"
+#include "libs/impostor/error_model.h"
+#include "libs/impostor/octahedral.h"
+#include "libs/render/distance_camera.h"
+
+namespace sylva::impostor {
+
+namespace {
+
+Vec3 view_direction(double az_deg, double el_deg) {
+  const double a = az_deg * std::numbers::pi / 180, e = el_deg * std::numbers::pi / 180;
+  return Vec3(std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a));
+}
+
+}  // namespace
+
+double nearest_frame_angle_deg(const ImpostorInfo& info, const Vec3& view) {
+  double best = std::numbers::pi;
+  auto consider = [&](const Vec3& d) { best = std::min(best, std::acos(std::clamp(view.normalized().dot(d), -1.0, 1.0))); };
+  if (info.kind == Kind::kBillboards) {
+    for (const Card& c : info.cards) consider(Vec3(c.dir[0], c.dir[1], c.dir[2]));
+  } else {
+    for (int j = 0; j < info.frames_per_side; ++j)
+      for (int i = 0; i < info.frames_per_side; ++i) consider(frame_direction(i, j, info.frames_per_side, info.hemi));
+  }
+  return best * 180 / std::numbers::pi;
+}
+
+std::vector<ImpostorViewCheck> check_impostor(render::Renderer& scene_renderer, render::ImpostorRenderer& impostor_renderer,
+                                              const render::Scene& full, const ImpostorSubject& subject,
+                                              const ImpostorCheckOptions& o, const ImpostorImageSink& sink) {
+  const ImpostorInfo& info = subject.info;
+  const double distance = info.switch_distance_m * o.distance_scale;
+  const render::Bounds bounds = full.bounds();
+  // The crop: the full-detail box's sphere seen from the nearest distance, plus a margin.
+  const double px = pixel_size(info.camera, distance);
+  const int crop = std::min(info.camera.height_px, int(std::ceil(2.4 * bounds.radius() / px)) + 8);
+  const int k = std::max(1, o.supersample);
+  render::RenderOptions ro;
+  ro.width = ro.height = crop * k;
+  ro.msaa = o.msaa;
+  ro.line_width_px = float(k);
+  ro.background.a = 0;
+  if (std::getenv("CHECK_UNLIT")) {  // experiment
+    ro.lighting.ambient = render::Vec3::Ones();
+    ro.lighting.light_color = render::Vec3::Zero();
+  }
+
+  std::vector<render::Camera> cams;
+  std::vector<std::pair<double, double>> angles;
+  for (double el : o.elevations_deg)
+    for (double az : o.azimuths_deg) {
+      cams.push_back(render::camera_at_box_distance(bounds, distance, az, el, info.camera.fov_y_rad, info.camera.height_px, crop));
+      angles.push_back({az, el});
+    }
+  std::vector<image::Image> ref = scene_renderer.render_views(full, cams, ro);
+  std::vector<image::Image> test;
+  std::size_t primitives = 0;
+  if (info.kind == Kind::kBillboards) {
+    test = scene_renderer.render_views(subject.cards, cams, ro);
+    primitives = subject.cards.triangle_count() + subject.cards.line_count();
+  } else {
+    render::ImpostorDrawOptions draw;
+    draw.parallax_steps = o.parallax_steps;
+    test = impostor_renderer.render_octahedral(subject.octahedral, cams, ro, draw);
+    primitives = 2 * subject.octahedral.instances.size();
+  }
+
+  image::CompareOptions heat;
+  heat.pixel_threshold = o.pixel_threshold;
+  std::vector<ImpostorViewCheck> out;
+  for (std::size_t v = 0; v < cams.size(); ++v) {
+    const image::Image r = image::downsample(ref[v], k), t = image::downsample(test[v], k);
+    const image::FootprintStats f = image::footprint_stats(r, t, o.pixel_threshold);
+    ImpostorViewCheck c;
+    c.label = subject.label;
+    c.view = cams[v].name;
+    c.azimuth_deg = angles[v].first;
+    c.elevation_deg = angles[v].second;
+    c.frame_angle_deg = nearest_frame_angle_deg(info, view_direction(c.azimuth_deg, c.elevation_deg));
+    c.distance = distance;
+    c.footprint_pixels = f.footprint_pixels;
+    c.coverage_failing_fraction = f.failing_fraction;
+    c.coverage_mean_error = f.coverage_mean_error;
+    c.coverage_bias = f.coverage_bias;
+    c.colour_mean_error = f.colour_mean_error;
+    c.shade_mean_error = f.shade_mean_error;
+    c.primitives = primitives;
+    char buf[256];
+    if (c.footprint_pixels == 0) {
+      c.failure = "neither render covers a pixel";
+    } else if (c.coverage_failing_fraction > o.max_failing_fraction) {
+      std::snprintf(buf, sizeof buf, "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
+                    100 * c.coverage_failing_fraction, c.footprint_pixels, o.pixel_threshold, 100 * o.max_failing_fraction);
+      c.failure = buf;
+    } else if (c.coverage_mean_error > o.max_coverage_error) {
+      std::snprintf(buf, sizeof buf, "mean coverage change over the tree's %zu pixels is %.4f (allowed %.4f)",
+                    c.footprint_pixels, c.coverage_mean_error, o.max_coverage_error);
+      c.failure = buf;
+    } else if (c.shade_mean_error > o.max_colour_error) {
+      std::snprintf(buf, sizeof buf, "mean colour difference over the %zu pixels both cover is %.4f (allowed %.4f)",
+                    f.shade_pixels, c.shade_mean_error, o.max_colour_error);
+      c.failure = buf;
+    }
+    c.passed = c.failure.empty();
+    if (sink) sink(c, r, t, image::diff_heatmap(r, t, heat));
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+}  // namespace sylva::impostor

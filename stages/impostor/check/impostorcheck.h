@@ -1,0 +1,84 @@
+// The visual proof of an impostor (`sylva impostorcheck`): the impostor and the full-detail tree
+// drawn from the same camera at the impostor's switch distance, from views that are not frame
+// directions, judged on coverage and colour per view.
+//
+// Seeds: DESIGN.md "LOD error model" (a representation of spatial error epsilon is within delta
+// pixels from d = epsilon / (delta s(1)) on); Zhang et al. 2017 §3; the impostor's epsilon is
+// libs/impostor/error_model.h's. The judgement is lodcheck's (stages/lod/check, docs/stages/lod.md):
+//  - camera: the impostor's fov and an H-pixel image scale (H its camera's height), the eye at the
+//    switch distance from the nearest point of the full-detail box (libs/render/distance_camera.h),
+//    cropped around the tree (same pixels as the full H x H image, far fewer to draw);
+//  - renders at supersample x the scale with 4x MSAA, box-averaged in linear light, transparent
+//    background: a pixel's alpha is its coverage;
+//  - coverage: a pixel fails when its coverage changes by more than delta; a view passes when at
+//    most max_failing_fraction of the footprint fails and the mean change is <= max_coverage_error;
+//  - colour (judged here, reported by lodcheck): the mean per-channel RGB difference over the
+//    pixels both renders cover by at least half (shade_mean_error) must stay <= max_colour_error.
+//    docs/stages/impostor.md justifies the bound.
+// Views: every (azimuth, elevation) pair of the options; each reports its angle to the nearest
+// frame direction (octahedral) or card normal (billboards), so the report shows they are not
+// frame directions.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "libs/image/image.h"
+#include "libs/impostor/impostor_json.h"
+#include "libs/impostor/octahedral.h"
+#include "libs/render/impostor_renderer.h"
+#include "libs/render/renderer.h"
+#include "libs/render/scene.h"
+
+namespace sylva::impostor {
+
+struct ImpostorCheckOptions {
+  double pixel_threshold = 0.5;      // delta (coverage units)
+  double max_failing_fraction = 0.01;
+  double max_coverage_error = 0.15;
+  double max_colour_error = 0.06;    // mean per-channel RGB difference over the shared footprint
+  // 12 azimuths x 3 elevations, none a frame direction of the default grids.
+  std::vector<double> azimuths_deg = {7.5, 37.5, 67.5, 97.5, 127.5, 157.5, 187.5, 217.5, 247.5, 277.5, 307.5, 337.5};
+  std::vector<double> elevations_deg = {4, 33, 73};
+  int msaa = 4;
+  int supersample = 2;
+  double distance_scale = 1;  // check at this multiple of the switch distance (tests)
+  int parallax_steps = 2;     // the reference shader's depth steps
+};
+
+// What is checked: the impostor as impostor.json describes it and its drawable form.
+struct ImpostorSubject {
+  std::string label;  // for reports
+  ImpostorInfo info;
+  render::OctahedralImpostor octahedral;  // octahedral kinds: the maps and grid, drawn with the reference shader
+  render::Scene cards;                    // billboards: impostor.glb, drawn as any viewer draws it
+};
+
+struct ImpostorViewCheck {
+  std::string label, view;
+  double azimuth_deg = 0, elevation_deg = 0;
+  double frame_angle_deg = 0;  // angle between this view and the nearest frame direction / card normal
+  double distance = 0;
+  std::size_t footprint_pixels = 0;
+  double coverage_failing_fraction = 0, coverage_mean_error = 0, coverage_bias = 0;
+  double colour_mean_error = 0;  // over the footprint (premultiplied-looking: includes coverage changes)
+  double shade_mean_error = 0;   // judged: over the pixels both renders cover by >= half
+  std::size_t primitives = 0;    // triangles + lines drawn for the subject
+  bool passed = false;
+  std::string failure;
+};
+
+using ImpostorImageSink = std::function<void(const ImpostorViewCheck&, const image::Image& full,
+                                             const image::Image& test, const image::Image& diff)>;
+
+// Renders `full` and the subject from every view and judges them. Throws render::RenderError.
+std::vector<ImpostorViewCheck> check_impostor(render::Renderer& scene_renderer, render::ImpostorRenderer& impostor_renderer,
+                                              const render::Scene& full, const ImpostorSubject& subject,
+                                              const ImpostorCheckOptions& options, const ImpostorImageSink& sink = {});
+
+// The smallest angle (degrees) between `view` (centre toward the eye) and a direction the
+// impostor was baked from.
+double nearest_frame_angle_deg(const ImpostorInfo& info, const Vec3& view);
+
+}  // namespace sylva::impostor

@@ -1,0 +1,37 @@
+// impostor.glb: the cards of an impostor as plain glTF any viewer shows (three.js, Blender,
+// Babylon.js): for billboards the ring of vertical cards and the top card; for the octahedral
+// kinds a cross of four horizon frames, the top frame (and the bottom one for the full
+// octahedron), as a fallback for viewers without the impostor shader. Each card is its cutout
+// polygon (cutout.h), single-sided (seen from its frame's direction only, so opposite cards
+// sharing a plane never fight), in one alpha-masked material over one embedded image.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "libs/impostor/impostor_json.h"
+
+namespace sylva::impostor {
+
+struct GlbCard {
+  Card card;                        // geometry and cutout (Card::x..h are the atlas rectangle)
+  std::array<double, 3> normal{};   // the vertex normal the card is lit with (unit)
+  int image_x = 0, image_y = 0;     // where the card's frame sits in the embedded image
+};
+
+struct GlbImage {
+  std::string png;  // encoded PNG bytes
+  int width = 0, height = 0;
+};
+
+// The GLB bytes; `extras` goes into the node's extras. Throws gltf::GltfError.
+std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image, float alpha_cutoff,
+                                const nlohmann::json& extras);
+
+// Triangles encode_impostor_glb writes for these cards (a fan per polygon).
+std::size_t card_triangles(const std::vector<GlbCard>& cards);
+
+}  // namespace sylva::impostor

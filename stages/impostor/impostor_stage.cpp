@@ -1,0 +1,188 @@
+// The thin adapter of stage `impostor`: declares the parameters, reads the input artifact (a mesh's
+// tree.glb, or the level of a lod chain that source.h chooses), runs the core (bake.h) on the
+// shared headless renderer and writes the four outputs.
+#include "stages/impostor/impostor_stage.h"
+
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "libs/gltf/writer.h"
+#include "libs/image/image_io.h"
+#include "libs/render/gltf_scene.h"
+#include "stages/impostor/source.h"
+
+namespace sylva {
+
+namespace {
+
+std::string read_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+render::Scene load(const ArtifactFile& f) {
+  try {
+    return render::load_gltf_scene(f.path);
+  } catch (const render::SceneLoadError& e) {
+    throw StageError(e.what());
+  }
+}
+
+// The mesh artifact's one glTF file.
+const ArtifactFile& mesh_file(const InputArtifact& in) {
+  std::vector<const ArtifactFile*> files = in.files_with_suffix(".glb");
+  for (const ArtifactFile* f : in.files_with_suffix(".gltf")) files.push_back(f);
+  if (files.size() != 1)
+    throw StageError("input '" + in.node + "' (mesh) must hold exactly one .glb or .gltf file, has " +
+                     std::to_string(files.size()));
+  return *files.front();
+}
+
+class ImpostorStage final : public Stage {
+ public:
+  explicit ImpostorStage(std::function<render::ImpostorRenderer&()> renderer) : renderer_(std::move(renderer)) {
+    info_.name = "impostor";
+    info_.version = 1;
+    info_.summary = "billboards and (hemi-)octahedral impostor atlases baked headlessly (colour+alpha, normal+depth)";
+    info_.output_type = "impostor";
+    info_.inputs = {{"mesh", "lod"}, 1, 1, "one mesh (tree.glb) or lod chain (lod.json and its levels)"};
+    info_.params = {
+        Param::choice("kind", {"hemi_octahedral", "octahedral", "billboards"}, "hemi_octahedral")
+            .describe("hemi_octahedral (views from above the horizon), octahedral (every view) or billboards"),
+        Param::integer("frames", 16).range(2, 64).describe("octahedral kinds: frames per atlas side N (N x N frames)"),
+        Param::integer("frame_px", 256).range(16, 4096).describe("texels per frame side"),
+        Param::integer("mip_levels", 4).range(0, 10)
+            .describe("mip levels kept free of bleeding: padding of 2^mip_levels texels in every frame"),
+        Param::integer("cards", 8).range(3, 64).describe("billboards: vertical cards around the trunk axis"),
+        Param::boolean("top_card", true).describe("billboards: add the horizontal card seen from above"),
+        Param::integer("cutout_vertices", 8).range(4, 8).describe("vertices of each card's cutout polygon"),
+        Param::integer("msaa", 4).range(1, 16).describe("coverage samples per atlas texel (llvmpipe: at most 4)"),
+        Param::real("alpha_cutoff", 0.5).range(0.0, 1.0).describe("impostor.glb's MASK cutoff on coverage"),
+        Param::object("camera",
+                      {Param::real("fov_y_deg", 45.0).range(1, 179).describe("vertical field of view phi (deg)"),
+                       Param::integer("height_px", 1080).range(1, 65536).describe("image height H (px)")}),
+        Param::real("pixel_error", 0.5).range(0.01, 100).describe("permitted pixel error delta (px) of the switch distance"),
+    };
+  }
+
+  const StageInfo& info() const override { return info_; }
+
+  void run(StageContext& ctx) const override {
+    const impostor::BakeParams params = [&] {
+      try {
+        return bake_params_from(ctx.params());
+      } catch (const std::invalid_argument& e) {
+        throw StageError(e.what());
+      }
+    }();
+    // 1. The source: the mesh, or the coarsest LOD level within one atlas texel.
+    const InputArtifact& in = ctx.inputs()[0];
+    impostor::SourceDesc src;
+    render::Scene scene;
+    if (in.type == "lod") {
+      const ArtifactFile* summary = in.file("lod.json");
+      if (!summary) throw StageError("input '" + in.node + "' (lod) has no lod.json");
+      std::vector<impostor::LodLevelRef> levels;
+      try {
+        levels = impostor::parse_lod_levels(read_bytes(summary->path), summary->path.string());
+      } catch (const std::invalid_argument& e) {
+        throw StageError(e.what());
+      }
+      auto level_file = [&](std::size_t i) -> const ArtifactFile& {
+        const ArtifactFile* f = in.file(levels[i].file);
+        if (!f) throw StageError("input '" + in.node + "': lod.json lists " + levels[i].file + ", which the artifact lacks");
+        return *f;
+      };
+      // The coarsest level measures the tree (every level is within its epsilon of the others),
+      // widened by that epsilon so the estimate never falls short of a finer level's extent.
+      impostor::SourceGeometry g = impostor::measure(load(level_file(levels.size() - 1)));
+      g.radius += levels.back().epsilon;
+      g.horizontal_radius += levels.back().epsilon;
+      double texel = 0;
+      try {
+        texel = impostor::atlas_texel(params.layout, g);
+      } catch (const std::invalid_argument& e) {
+        throw StageError(e.what());
+      }
+      const std::size_t chosen = impostor::choose_level(levels, texel);
+      scene = load(level_file(chosen));
+      src.type = "lod";
+      src.file = levels[chosen].file;
+      src.level = int(chosen);
+      src.epsilon = levels[chosen].epsilon;
+      src.line_pixel_m = levels[chosen].pixel_error > 0 ? levels[chosen].epsilon / levels[chosen].pixel_error : 0;
+    } else {
+      const ArtifactFile& f = mesh_file(in);
+      scene = load(f);
+      src.type = "mesh";
+      src.file = f.name;
+    }
+    ctx.check_cancelled();
+    // 2. Bake (the core).
+    impostor::BakeOutput out;
+    try {
+      out = impostor::bake_impostor(renderer_(), scene, params, src);
+    } catch (const std::invalid_argument& e) {
+      throw StageError(e.what());
+    } catch (const render::RenderError& e) {
+      throw StageError(e.what());
+    } catch (const gltf::GltfError& e) {
+      throw StageError(std::string("writing impostor.glb: ") + e.what());
+    }
+    ctx.check_cancelled();
+    // 3. Write.
+    try {
+      image::write_png(out.color, ctx.output_path(out.info.color_map));
+      image::write_png(out.normal_depth, ctx.output_path(out.info.normal_depth_map));
+    } catch (const image::ImageError& e) {
+      throw StageError(e.what());
+    }
+    ctx.write_output("impostor.glb", out.glb);
+    ctx.write_output("impostor.json", impostor::write_impostor_json(out.info));
+  }
+
+ private:
+  StageInfo info_;
+  std::function<render::ImpostorRenderer&()> renderer_;
+};
+
+}  // namespace
+
+impostor::BakeParams bake_params_from(const Value::Object& params) {
+  auto at = [&](const char* name) -> const Value& {
+    auto it = params.find(name);
+    if (it == params.end()) throw std::invalid_argument(std::string("impostor parameters: '") + name + "' is missing");
+    return it->second;
+  };
+  impostor::BakeParams p;
+  const std::string& kind = at("kind").as_string();
+  p.layout.kind = kind == "octahedral"   ? impostor::Kind::kOctahedral
+                  : kind == "billboards" ? impostor::Kind::kBillboards
+                                         : impostor::Kind::kHemiOctahedral;
+  p.layout.frames_per_side = int(at("frames").as_int());
+  p.layout.frame_px = int(at("frame_px").as_int());
+  p.layout.mip_levels = int(at("mip_levels").as_int());
+  p.layout.cards = int(at("cards").as_int());
+  p.layout.top_card = at("top_card").as_bool();
+  p.cutout_vertices = int(at("cutout_vertices").as_int());
+  p.msaa = int(at("msaa").as_int());
+  p.alpha_cutoff = float(at("alpha_cutoff").as_real());
+  const Value::Object& cam = at("camera").as_object();
+  p.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
+  p.camera.height_px = int(cam.at("height_px").as_int());
+  p.pixel_error = at("pixel_error").as_real();
+  return p;
+}
+
+std::unique_ptr<Stage> make_impostor_stage(std::function<render::ImpostorRenderer&()> renderer) {
+  return std::make_unique<ImpostorStage>(std::move(renderer));
+}
+
+std::unique_ptr<Stage> make_impostor_stage() {
+  return make_impostor_stage([]() -> render::ImpostorRenderer& { return render::shared_impostor_renderer(); });
+}
+
+}  // namespace sylva

@@ -1,0 +1,27 @@
+// Which geometry an impostor is baked from. A `mesh` artifact is baked as it is; from a `lod`
+// artifact the stage bakes the coarsest level whose spatial error epsilon is at most one atlas
+// texel: that level is within a texel of the full detail everywhere, so the atlas cannot tell it
+// from finer levels, and it is the cheapest to draw 256 times (docs/stages/impostor.md, "Source").
+// The levels are read from lod.json (file, epsilon_m, pixel_error_px of each level), as the lod
+// stage writes it (docs/stages/lod.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace sylva::impostor {
+
+struct LodLevelRef {
+  std::string file;       // e.g. "lod3.glb"
+  double epsilon = 0;     // m
+  double pixel_error = 0; // delta the level was built for (px)
+};
+
+// The levels listed in lod.json's text, finest first. Throws std::invalid_argument("<source>:
+// ...") when the text is not a lod summary with at least one level.
+std::vector<LodLevelRef> parse_lod_levels(const std::string& lod_json, const std::string& source);
+
+// Index of the coarsest level with epsilon <= texel_m; the finest (0) when none qualifies.
+std::size_t choose_level(const std::vector<LodLevelRef>& levels, double texel_m);
+
+}  // namespace sylva::impostor
