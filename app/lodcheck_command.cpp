@@ -18,19 +18,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/full_detail.h"
 #include "app/recipe_build.h"
-#include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
-#include "libs/tree/sylt_format.h"
 #include "pipeline/filesystem.h"
 #include "stages/lod/chain.h"
 #include "stages/forest/check/forestcheck.h"
 #include "stages/lod/check/lodcheck.h"
-#include "stages/lod/lod_gltf.h"
 #include "stages/lod/lod_stage.h"
 
 namespace sylva {
@@ -53,26 +51,11 @@ std::string read_bytes(const fs::path& p) {
 // JSON has no infinity: identical images have PSNR +inf.
 nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-// The full-detail model of lod node `node` (the tree it was built from, chain options from its
-// parameters, every leaf and needle), through the same glTF path as the levels; `glb` receives
-// the encoded file when not null.
+// The full-detail model of lod node `node` (app/full_detail.h) as a scene; `glb` receives the
+// encoded file when not null.
 render::Scene full_detail_scene(const Recipe& recipe, const RecipeBuild& built, const NodeDecl& node, bool branches_only,
                                 std::string* glb = nullptr) {
-  const InputArtifact tree_in = input_artifact(recipe, built, node.needs.at(0));
-  const ArtifactFile* sylt = tree_in.file("tree.sylt");
-  if (!sylt) throw std::runtime_error("input '" + tree_in.node + "' has no tree.sylt");
-  const tree::Tree tree = tree::read_sylt(sylt->path);
-  const lod::ChainOptions chain = chain_options_from_params(node.params);
-  lod::OutputTextures tex;
-  if (!tree.materials.leaf_texture.empty())
-    if (const ArtifactFile* f = tree_in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
-  const lod::Precomputed pre = lod::precompute(tree, chain);
-  lod::Level full_level = lod::build_full_detail(tree, pre, chain);
-  if (branches_only) {  // so that --write-full writes what is compared
-    full_level.leaves = {};
-    full_level.needles = {};
-  }
-  std::string full_glb = gltf::encode(lod::level_scene(tree, full_level, 0, tex));
+  std::string full_glb = lod_full_detail_glb(recipe, built, node, branches_only);
   if (glb) *glb = full_glb;
   render::Scene full = render::load_gltf_scene_from_memory(std::move(full_glb), node.name + " (full detail)");
   if (branches_only) full = lod::branches_only(full);

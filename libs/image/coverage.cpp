@@ -2,6 +2,7 @@
 // over the whole frame, and these are over a mask.
 #include "libs/image/coverage.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -24,10 +25,9 @@ FootprintStats footprint_stats(const Image& ref, const Image& test, double pixel
     double d = 0;
     for (int ch = 0; ch < 3; ++ch) d += std::abs(int(rb[p + ch]) - int(tb[p + ch])) / 255.0;
     colour_sum += d;
-    if (rb[p + 3] >= 128 && tb[p + 3] >= 128) {
-      shade_sum += d;
-      ++s.shade_pixels;
-    }
+    const double shared = std::min(rb[p + 3], tb[p + 3]) / 255.0;
+    shade_sum += shared * d;
+    s.shade_weight += shared;
   }
   if (s.footprint_pixels == 0) return s;
   const double n = double(s.footprint_pixels);
@@ -35,7 +35,7 @@ FootprintStats footprint_stats(const Image& ref, const Image& test, double pixel
   s.coverage_mean_error = coverage_sum / n;
   s.coverage_bias = coverage_signed / n;
   s.colour_mean_error = colour_sum / (3.0 * n);
-  if (s.shade_pixels > 0) s.shade_mean_error = shade_sum / (3.0 * double(s.shade_pixels));
+  if (s.shade_weight > 0) s.shade_mean_error = shade_sum / (3.0 * s.shade_weight);
   return s;
 }
 

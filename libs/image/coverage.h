@@ -20,10 +20,12 @@ struct FootprintStats {
   double coverage_mean_error = 0;    // mean |coverage change|
   double coverage_bias = 0;          // mean signed change (test - ref): > 0 the test covers more
   double colour_mean_error = 0;      // mean per-channel |RGB difference| (0..1)
-  // Mean per-channel |RGB difference| over the pixels both images cover by at least half, on the
-  // straight (un-premultiplied) colours: a shading difference, not a coverage one.
+  // Mean per-channel |RGB difference| of the straight (un-premultiplied) colours, each pixel
+  // weighted by the coverage both images share there, min(alpha_ref, alpha_test): how differently
+  // what both show is shaded, not where it is (coverage above says that). shade_weight is the
+  // sum of the weights (in pixels): 0 when the images share no coverage.
   double shade_mean_error = 0;
-  std::size_t shade_pixels = 0;
+  double shade_weight = 0;
 };
 
 // Images of equal size (otherwise every number stays 0 and footprint_pixels is 0).

@@ -20,7 +20,9 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <exception>
 #include <mutex>
+#include <thread>
 
 #include <Eigen/Geometry>
 
@@ -187,61 +189,36 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
   BakedMaps bake(const Scene& scene, std::span<const BakeView> views, const BakeOptions& o) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    CurrentContext current(*ctx_);
-    validate_bake(views, o);
-    GlObjects gl;
-    glGetError();
-    // Rows of views: (y, h) -> view indices, in view order.
-    std::map<std::pair<int, int>, std::vector<std::size_t>> rows;
-    for (std::size_t v = 0; v < views.size(); ++v) rows[{views[v].y, views[v].h}].push_back(v);
-
-    // Each row's views as uniforms (at most kMaxRowViews per row).
-    std::vector<std::vector<float>> row_data;
-    std::vector<std::vector<std::size_t>> row_views;
-    for (const auto& [key, idx] : rows) {
-      if (idx.size() > kMaxRowViews)
-        throw RenderError("an atlas row holds " + std::to_string(idx.size()) + " views; at most " +
-                          std::to_string(kMaxRowViews) + " are supported");
-      std::vector<float> data;
-      const float band_h = float(key.second);
-      for (std::size_t v : idx) {
-        const BakeView& bv = views[v];
-        const Vec3 r = bv.right / bv.half_width, u = bv.up / bv.half_height, d = bv.dir / bv.depth_radius;
-        const float cx = (bv.x + 0.5f * bv.w) / float(o.atlas_width) * 2 - 1;
-        const float hw = float(bv.w) / float(o.atlas_width);
-        const float hh = float(bv.h) / band_h;  // the row fills the band's height
-        const float vals[20] = {bv.center.x(), bv.center.y(), bv.center.z(), 0, r.x(), r.y(), r.z(), 0,
-                                u.x(), u.y(), u.z(), 0, d.x(), d.y(), d.z(), 0, cx, 0.f, hw, hh};
-        data.insert(data.end(), vals, vals + 20);
-      }
-      row_data.push_back(std::move(data));
-      row_views.push_back(idx);
+    {
+      CurrentContext current(*ctx_);
+      validate_bake(views, o);
     }
-
-    std::vector<GLuint> textures;
-    for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
-    const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
-    check_gl("bake upload");
-
+    const std::vector<BakeRow> rows = plan_rows(views, o);
     BakedMaps out;
     out.color = image::Image(o.atlas_width, o.atlas_height, {0, 0, 0, 0});
     out.normal_depth = image::Image(o.atlas_width, o.atlas_height, {0, 0, 0, 0});
-    glUseProgram(bake_program_);
-    const BakeUniforms un = bake_uniforms();
-    glUniform1i(un.texture, 0);
-    std::map<int, BakeTarget> targets;  // by band height
-    for (std::size_t row = 0; row < row_views.size(); ++row) {
-      const std::vector<std::size_t>& idx = row_views[row];
-      const int band_y = views[idx.front()].y, band_h = views[idx.front()].h;
-      auto it = targets.find(band_h);
-      if (it == targets.end()) it = targets.emplace(band_h, make_bake_target(gl, o.atlas_width, band_h, o.msaa)).first;
-      glUniform4fv(un.views, GLsizei(idx.size() * 5), row_data[row].data());
-      draw_bake_row(scene, prims, textures, un, GLsizei(idx.size()), it->second, o);
-      read_bake_row(it->second, band_y, out);
-      check_gl("baking");
-    }
-    glBindVertexArray(0);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    // Rows are independent: each context draws every threads-th row (its own copy of the scene),
+    // into its own rows of the maps. A row's pixels do not depend on which context drew it.
+    const int threads = std::clamp(o.threads, 1, int(rows.size() > 0 ? rows.size() : 1));
+    while (int(workers_.size()) < threads - 1) workers_.push_back(std::make_unique<Worker>(detail::create_egl_context()));
+    std::vector<std::exception_ptr> errors(static_cast<std::size_t>(threads), nullptr);
+    auto run = [&](int t) {
+      try {
+        detail::GlContext& ctx = t == 0 ? *ctx_ : *workers_[std::size_t(t - 1)]->ctx;
+        GLuint& program = t == 0 ? bake_program_ : workers_[std::size_t(t - 1)]->program;
+        CurrentContext current(ctx);
+        if (!program) program = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
+        bake_rows(program, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
+      } catch (...) {
+        errors[std::size_t(t)] = std::current_exception();
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(run, t);
+    run(0);
+    for (std::thread& th : pool) th.join();
+    for (const std::exception_ptr& e : errors)
+      if (e) std::rethrow_exception(e);
     return out;
   }
 
@@ -282,7 +259,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glUniform1f(u("u_radius"), imp.radius);
     glUniform1f(u("u_half_extent"), imp.half_extent);
     glUniform1f(u("u_padding"), float(imp.padding_px) / float(imp.frame_px));
-    glUniform1i(u("u_parallax_steps"), std::clamp(draw.parallax_steps, 0, 8));
+    glUniform1i(u("u_parallax_steps"), std::clamp(draw.parallax_steps, 0, 64));
+    glUniform1f(u("u_atlas_px"), float(imp.frames_per_side * imp.frame_px));
     glUniform3fv(u("u_ambient"), 1, o.lighting.ambient.data());
     glUniform3fv(u("u_light_color"), 1, o.lighting.light_color.data());
     const Vec3 l = o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
@@ -334,8 +312,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     GLint model, normal_matrix, views, base_color, texture, has_texture, alpha_mode, alpha_cutoff,
         has_normals, face_eye;
   };
-  BakeUniforms bake_uniforms() const {
-    auto u = [&](const char* n) { return glGetUniformLocation(bake_program_, n); };
+  static BakeUniforms bake_uniforms(GLuint program) {
+    auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
     return {u("u_model"), u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"), u("u_texture"),
             u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_face_eye")};
   }
@@ -344,6 +322,74 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     int width = 0, height = 0;
     GLuint draw_fbo = 0, resolve_fbo = 0;
   };
+
+  // One atlas row: the views that share its y and height, and their uniforms.
+  struct BakeRow {
+    int y = 0, h = 0;
+    std::vector<std::size_t> views;
+    std::vector<float> uniforms;  // 5 vec4 per view, see the bake vertex shader
+  };
+
+  // A further context for parallel baking, kept for the renderer's lifetime.
+  struct Worker {
+    explicit Worker(std::unique_ptr<detail::GlContext> c) : ctx(std::move(c)) {}
+    std::unique_ptr<detail::GlContext> ctx;
+    GLuint program = 0;
+  };
+
+  static std::vector<BakeRow> plan_rows(std::span<const BakeView> views, const BakeOptions& o) {
+    std::map<std::pair<int, int>, std::vector<std::size_t>> by_row;  // (y, h) -> views, in view order
+    for (std::size_t v = 0; v < views.size(); ++v) by_row[{views[v].y, views[v].h}].push_back(v);
+    std::vector<BakeRow> rows;
+    for (const auto& [key, idx] : by_row) {
+      if (idx.size() > kMaxRowViews)
+        throw RenderError("an atlas row holds " + std::to_string(idx.size()) + " views; at most " +
+                          std::to_string(kMaxRowViews) + " are supported");
+      BakeRow row;
+      row.y = key.first;
+      row.h = key.second;
+      row.views = idx;
+      for (std::size_t v : idx) {
+        const BakeView& bv = views[v];
+        const Vec3 r = bv.right / bv.half_width, u = bv.up / bv.half_height, d = bv.dir / bv.depth_radius;
+        const float cx = (bv.x + 0.5f * bv.w) / float(o.atlas_width) * 2 - 1;
+        const float hw = float(bv.w) / float(o.atlas_width);
+        const float hh = float(bv.h) / float(row.h);  // the row fills its band's height
+        const float vals[20] = {bv.center.x(), bv.center.y(), bv.center.z(), 0, r.x(), r.y(), r.z(), 0,
+                                u.x(), u.y(), u.z(), 0, d.x(), d.y(), d.z(), 0, cx, 0.f, hw, hh};
+        row.uniforms.insert(row.uniforms.end(), vals, vals + 20);
+      }
+      rows.push_back(std::move(row));
+    }
+    return rows;
+  }
+
+  // Rows first, first + stride, ... of `rows`, with `program` on the current context.
+  void bake_rows(GLuint program, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
+                 const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride, BakedMaps& out) const {
+    (void)views;
+    GlObjects gl;
+    glGetError();
+    std::vector<GLuint> textures;
+    for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
+    const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
+    check_gl("bake upload");
+    glUseProgram(program);
+    const BakeUniforms un = bake_uniforms(program);
+    glUniform1i(un.texture, 0);
+    std::map<int, BakeTarget> targets;  // by band height
+    for (std::size_t r = first; r < rows.size(); r += stride) {
+      const BakeRow& row = rows[r];
+      auto it = targets.find(row.h);
+      if (it == targets.end()) it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
+      glUniform4fv(un.views, GLsizei(row.views.size() * 5), row.uniforms.data());
+      draw_bake_row(scene, prims, textures, un, GLsizei(row.views.size()), it->second, o);
+      read_bake_row(it->second, row.y, out);
+      check_gl("baking");
+    }
+    glBindVertexArray(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
 
   void validate_bake(std::span<const BakeView> views, const BakeOptions& o) const {
     if (o.atlas_width < 1 || o.atlas_height < 1 || o.atlas_width > max_size_ || o.atlas_height > max_size_)
@@ -652,6 +698,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   std::unique_ptr<detail::GlContext> ctx_;
+  std::vector<std::unique_ptr<Worker>> workers_;  // never destroyed before the renderer (EGL, above)
   std::mutex mutex_;
   GLuint bake_program_ = 0, draw_program_ = 0;
   GLint max_samples_ = 1, max_size_ = 4096, max_texture_size_ = 4096;

@@ -50,6 +50,9 @@ struct BakeOptions {
   int atlas_width = 1, atlas_height = 1;  // pixels; every view's rectangle must lie inside
   int msaa = 4;                          // samples per texel (coverage resolution)
   float line_width_px = 1;               // width of LINES in atlas texels
+  // Contexts drawing rows of the atlas side by side (llvmpipe runs vertex work on the calling
+  // thread, so one context uses one core for it). The bytes do not depend on this.
+  int threads = 1;
 };
 
 struct BakedMaps {
@@ -73,7 +76,7 @@ struct OctahedralImpostor {
 };
 
 struct ImpostorDrawOptions {
-  int parallax_steps = 2;  // depth reprojection iterations per frame (0 = flat frames)
+  int parallax_steps = 16;  // ray-march steps through the depth map per frame (0 = flat frames)
 };
 
 class ImpostorRenderer {

@@ -3,6 +3,7 @@
 #include "stages/impostor/bake.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -81,6 +82,7 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   bo.atlas_width = layout.atlas_width;
   bo.atlas_height = layout.atlas_height;
   bo.msaa = p.msaa;
+  bo.threads = p.threads;
   bo.line_width_px = float(std::max(1.0, source.line_pixel_m / texel));
   render::BakedMaps maps = renderer.bake(scene, layout.views, bo);
 
@@ -88,6 +90,24 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   std::vector<PixelRect> rects;
   for (const render::BakeView& v : layout.views) rects.push_back(rect_of(v));
   dilate_frames(maps.color, maps.normal_depth, rects, layout.padding_px);
+
+  // 5a. Billboards: half of the vertical cards face any viewer near the horizon and all of them
+  // show the whole crown, so over each other they would cover 1 - (1 - c)^(K/2) where the tree
+  // covers c. Each vertical card's alpha becomes 1 - (1 - c)^(2/K), so that the K/2 together
+  // cover c (the lod stage's rule for its three lines per internode, docs/stages/lod.md).
+  if (billboards && p.layout.cards >= 2) {
+    const double m = 0.5 * p.layout.cards;
+    std::array<std::uint8_t, 256> lut{};
+    for (int a = 0; a < 256; ++a) lut[std::size_t(a)] = std::uint8_t(std::lround(255.0 * (1 - std::pow(1 - a / 255.0, 1 / m))));
+    for (int k = 0; k < p.layout.cards; ++k) {
+      const render::BakeView& v = layout.views[std::size_t(k)];
+      for (int y = v.y; y < v.y + v.h; ++y)
+        for (int x = v.x; x < v.x + v.w; ++x) {
+          std::uint8_t& a = maps.color.bytes()[(std::size_t(y) * std::size_t(maps.color.width()) + std::size_t(x)) * 4 + 3];
+          a = lut[a];
+        }
+    }
+  }
 
   // 5-6. Cards: top-card height, normals, cutouts.
   std::vector<GlbCard> glb_cards;
@@ -169,7 +189,7 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
                                  {"impostor_json", "impostor.json"}};
 
   BakeOutput out;
-  out.glb = encode_impostor_glb(glb_cards, img, p.alpha_cutoff, extras);
+  out.glb = encode_impostor_glb(glb_cards, img, p.glb_alpha, extras);
   out.info = std::move(info);
   out.color = std::move(maps.color);
   out.normal_depth = std::move(maps.normal_depth);

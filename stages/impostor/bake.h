@@ -24,6 +24,7 @@
 #include "libs/impostor/impostor_json.h"
 #include "libs/render/impostor_renderer.h"
 #include "libs/render/scene.h"
+#include "stages/impostor/impostor_gltf.h"
 #include "stages/impostor/layout.h"
 
 namespace sylva::impostor {
@@ -31,8 +32,9 @@ namespace sylva::impostor {
 struct BakeParams {
   LayoutParams layout;
   int cutout_vertices = 8;  // 4..8 per card
-  int msaa = 4;             // coverage samples per texel
-  float alpha_cutoff = 0.5f;  // impostor.glb's alphaMode MASK cutoff
+  int msaa = 1;             // coverage samples per texel
+  int threads = 2;          // GL contexts baking rows side by side (the bytes do not depend on it)
+  GlbAlpha glb_alpha;         // impostor.glb's alpha mode (impostor_gltf.h)
   ViewCamera camera;          // the error model's camera ...
   double pixel_error = 0.5;   // ... and delta
 };

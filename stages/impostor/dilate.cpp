@@ -50,7 +50,7 @@ void dilate_frames(image::Image& color, image::Image& normal_depth, const std::v
       for (int lx = 0; lx < r.w; ++lx) {
         const std::size_t d = at(lx, ly);
         if (cb[d + 3] > 0) continue;
-        nb[d + 3] = 128;  // the mid-plane
+        nb[d + 3] = 0;  // the back of the sphere: a ray marching through the depth map passes it
         const std::int32_t s = source[std::size_t(ly * r.w + lx)];
         if (s < 0) continue;
         const std::size_t from = at(s % r.w, s / r.w);

@@ -7,9 +7,9 @@
 // the normal of the nearest covered texel of the same frame, ties broken by scan order; its alpha
 // stays 0. A band of 2^mip_levels texels is what bilinear sampling up to that mip level can reach
 // from a covered texel (docs/stages/impostor.md, "Padding and dilation"); farther texels stay
-// black, which keeps the PNGs small. Depth is not dilated: an uncovered texel's depth is the
-// frame's mid-plane (the value 128), where the shader's parallax step does not move, so empty
-// space stays empty. Deterministic; O(texels).
+// black, which keeps the PNGs small. Depth is not dilated: an uncovered texel's depth is 0, the
+// back of the bounding sphere, so a ray the shader marches through the depth map passes through
+// empty space to whatever lies behind it. Deterministic; O(texels).
 #pragma once
 
 #include <vector>

@@ -11,7 +11,7 @@ std::size_t card_triangles(const std::vector<GlbCard>& cards) {
   return n;
 }
 
-std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image, float alpha_cutoff,
+std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image, const GlbAlpha& alpha,
                                 const nlohmann::json& extras) {
   gltf::Scene s;
   s.images.push_back({"impostor_cards.png", "image/png", image.png});
@@ -20,8 +20,8 @@ std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImag
   m.base_color_texture.image = 0;
   m.base_color_texture.wrap_s = gltf::Wrap::kClampToEdge;
   m.base_color_texture.wrap_t = gltf::Wrap::kClampToEdge;
-  m.alpha_mode = gltf::AlphaMode::kMask;
-  m.alpha_cutoff = alpha_cutoff;
+  m.alpha_mode = alpha.blend ? gltf::AlphaMode::kBlend : gltf::AlphaMode::kMask;
+  m.alpha_cutoff = alpha.cutoff;
   m.metallic = 0;
   m.roughness = 1;
   s.materials.push_back(m);

@@ -3,7 +3,10 @@
 // kinds a cross of four horizon frames, the top frame (and the bottom one for the full
 // octahedron), as a fallback for viewers without the impostor shader. Each card is its cutout
 // polygon (cutout.h), single-sided (seen from its frame's direction only, so opposite cards
-// sharing a plane never fight), in one alpha-masked material over one embedded image.
+// sharing a plane never fight), in one material over one embedded image: alphaMode BLEND by
+// default, because the image's alpha is coverage and a viewer's mipmaps average it, so the cards
+// keep their coverage at every distance (alpha-testing the same mips at a cutoff thins sparse
+// crowns away as they shrink); MASK on request.
 #pragma once
 
 #include <array>
@@ -28,7 +31,11 @@ struct GlbImage {
 };
 
 // The GLB bytes; `extras` goes into the node's extras. Throws gltf::GltfError.
-std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image, float alpha_cutoff,
+struct GlbAlpha {
+  bool blend = true;         // alphaMode BLEND; false: MASK at `cutoff`
+  float cutoff = 0.5f;
+};
+std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image, const GlbAlpha& alpha,
                                 const nlohmann::json& extras);
 
 // Triangles encode_impostor_glb writes for these cards (a fan per polygon).

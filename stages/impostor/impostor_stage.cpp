@@ -3,7 +3,9 @@
 // shared headless renderer and writes the four outputs.
 #include "stages/impostor/impostor_stage.h"
 
+#include <algorithm>
 #include <fstream>
+#include <thread>
 #include <numbers>
 #include <sstream>
 
@@ -45,7 +47,7 @@ class ImpostorStage final : public Stage {
  public:
   explicit ImpostorStage(std::function<render::ImpostorRenderer&()> renderer) : renderer_(std::move(renderer)) {
     info_.name = "impostor";
-    info_.version = 1;
+    info_.version = 4;
     info_.summary = "billboards and (hemi-)octahedral impostor atlases baked headlessly (colour+alpha, normal+depth)";
     info_.output_type = "impostor";
     info_.inputs = {{"mesh", "lod"}, 1, 1, "one mesh (tree.glb) or lod chain (lod.json and its levels)"};
@@ -59,8 +61,11 @@ class ImpostorStage final : public Stage {
         Param::integer("cards", 8).range(3, 64).describe("billboards: vertical cards around the trunk axis"),
         Param::boolean("top_card", true).describe("billboards: add the horizontal card seen from above"),
         Param::integer("cutout_vertices", 8).range(4, 8).describe("vertices of each card's cutout polygon"),
-        Param::integer("msaa", 4).range(1, 16).describe("coverage samples per atlas texel (llvmpipe: at most 4)"),
-        Param::real("alpha_cutoff", 0.5).range(0.0, 1.0).describe("impostor.glb's MASK cutoff on coverage"),
+        Param::integer("msaa", 1).range(1, 16)
+            .describe("coverage samples per atlas texel (llvmpipe: at most 4); 1 suffices: a texel is <= delta px"),
+        Param::choice("glb_alpha", {"blend", "mask"}, "blend")
+            .describe("impostor.glb's alphaMode: blend (coverage kept at every mip level) or mask"),
+        Param::real("alpha_cutoff", 0.5).range(0.0, 1.0).describe("impostor.glb's MASK cutoff on coverage (glb_alpha: mask)"),
         Param::object("camera",
                       {Param::real("fov_y_deg", 45.0).range(1, 179).describe("vertical field of view phi (deg)"),
                        Param::integer("height_px", 1080).range(1, 65536).describe("image height H (px)")}),
@@ -169,7 +174,11 @@ impostor::BakeParams bake_params_from(const Value::Object& params) {
   p.layout.top_card = at("top_card").as_bool();
   p.cutout_vertices = int(at("cutout_vertices").as_int());
   p.msaa = int(at("msaa").as_int());
-  p.alpha_cutoff = float(at("alpha_cutoff").as_real());
+  // Not a parameter: the thread count changes no byte (impostor_renderer.h), so it stays out of
+  // the action key.
+  p.threads = int(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
+  p.glb_alpha.blend = at("glb_alpha").as_string() == "blend";
+  p.glb_alpha.cutoff = float(at("alpha_cutoff").as_real());
   const Value::Object& cam = at("camera").as_object();
   p.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
   p.camera.height_px = int(cam.at("height_px").as_int());

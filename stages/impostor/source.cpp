@@ -31,6 +31,8 @@ std::vector<LodLevelRef> parse_lod_levels(const std::string& text, const std::st
     r.pixel_error = l.contains("pixel_error_px") && l["pixel_error_px"].is_number() ? l["pixel_error_px"].get<double>()
                     : j.contains("pixel_error_px") && j["pixel_error_px"].is_number() ? j["pixel_error_px"].get<double>()
                                                                                         : 0.0;
+    if (l.contains("switch_distance_m") && l["switch_distance_m"].is_number())
+      r.switch_distance = l["switch_distance_m"].get<double>();
     out.push_back(std::move(r));
   }
   return out;

@@ -2,7 +2,8 @@
 // artifact the stage bakes the coarsest level whose spatial error epsilon is at most one atlas
 // texel: that level is within a texel of the full detail everywhere, so the atlas cannot tell it
 // from finer levels, and it is the cheapest to draw 256 times (docs/stages/impostor.md, "Source").
-// The levels are read from lod.json (file, epsilon_m, pixel_error_px of each level), as the lod
+// The levels are read from lod.json (file, epsilon_m, pixel_error_px, switch_distance_m of each
+// level), as the lod
 // stage writes it (docs/stages/lod.md).
 #pragma once
 
@@ -15,6 +16,7 @@ struct LodLevelRef {
   std::string file;       // e.g. "lod3.glb"
   double epsilon = 0;     // m
   double pixel_error = 0; // delta the level was built for (px)
+  double switch_distance = 0;  // m (0 when lod.json does not say)
 };
 
 // The levels listed in lod.json's text, finest first. Throws std::invalid_argument("<source>:

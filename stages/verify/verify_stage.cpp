@@ -3,10 +3,10 @@
 // never touches the references directory: accepting new images is `sylva verify --update-refs`.
 #include "stages/verify/verify_stage.h"
 
-#include <mutex>
 #include <string>
 
 #include "libs/render/camera.h"
+#include "libs/render/shared_renderer.h"
 #include "stages/verify/report.h"
 #include "stages/verify/verify_info.h"
 
@@ -110,16 +110,7 @@ Thresholds thresholds_from_params(const Value::Object& params) {
   return t;
 }
 
-render::Renderer& shared_renderer() {
-  // Created once and deliberately never destroyed: tearing an EGL display down from a static
-  // destructor races Mesa's own exit handlers. A failure is not remembered, so each verify node
-  // reports it (with the same one-line message).
-  static std::mutex mu;
-  static render::Renderer* renderer = nullptr;
-  std::lock_guard<std::mutex> lock(mu);
-  if (!renderer) renderer = render::Renderer::create_headless().release();
-  return *renderer;
-}
+render::Renderer& shared_renderer() { return render::shared_renderer(); }
 
 }  // namespace verify
 }  // namespace sylva

@@ -1,7 +1,8 @@
 #version 330 core
-// sylva's reference fragment shader for (hemi-)octahedral impostors: per frame, intersect the
-// view ray with the frame's plane, step along the ray to the depth the frame stored (parallax),
-// sample; blend the three frames by their weights; light like sylva's renderer.
+// sylva's reference fragment shader for (hemi-)octahedral impostors: per frame, march the view
+// ray through the frame's depth map to the first surface it stored (relief mapping: Policarpo,
+// Oliveira & Comba 2005; parallax occlusion mapping: Tatarchuk 2006), sample there; blend the
+// three frames by their weights; light like sylva's renderer.
 // docs/stages/impostor.md explains every uniform and formula. Public domain (CC0).
 
 in vec3 v_obj;
@@ -20,7 +21,8 @@ uniform vec3 u_center;             // sphere.center
 uniform float u_radius;            // sphere.radius_m, R
 uniform float u_half_extent;       // frame_half_extent_m, W
 uniform float u_padding;           // atlas.padding_px / atlas.frame_px
-uniform int u_parallax_steps;      // 2
+uniform float u_atlas_px;          // atlas.width_px (= frames_per_side * frame_px)
+uniform int u_parallax_steps;      // ray-march steps through the depth range (16); 0 = flat frames
 uniform vec3 u_ambient;            // linear RGB (sylva: 0.35)
 uniform vec3 u_light_color;        // linear RGB (sylva: 0.75)
 uniform vec3 u_light_dir;          // unit, world space, toward the light
@@ -46,16 +48,44 @@ void main() {
   vec4 albedo = vec4(0.0);  // premultiplied, linear
   vec3 normal = vec3(0.0);
   for (int k = 0; k < 3; ++k) {
+    // Heights along the frame's direction: h(t) = h0 + t rd on the ray eye + t ray.
     float rd = min(dot(ray, v_dir[k]), -1e-4);  // the ray runs against the frame's direction
-    vec3 x = v_eye_obj + ray * (dot(u_center - v_eye_obj, v_dir[k]) / rd);  // on the frame plane
+    float h0 = dot(v_eye_obj - u_center, v_dir[k]);
+    vec3 x = v_eye_obj + ray * (-h0 / rd);       // where the ray crosses the frame's plane
     vec2 uv0 = atlas_uv(x, k);
-    vec2 du = dFdx(uv0), dv = dFdy(uv0);  // mip level from the plane, not from the parallax jumps
+    vec2 du = dFdx(uv0), dv = dFdy(uv0);  // mip level from the plane, not from the steps below
+    // March the ray from the front of the sphere (h = R) to its back (h = -R) and stop at the
+    // first sample that lies below the height the frame stored there (relief / parallax
+    // occlusion mapping on the depth map); uncovered texels store the back, so the ray passes them.
     vec2 uv = uv0;
-    for (int s = 0; s < u_parallax_steps; ++s) {
-      float h = (textureGrad(u_normal_depth, uv, du, dv).a * 2.0 - 1.0) * u_radius;
-      uv = atlas_uv(x + ray * (h / rd), k);  // the ray's point h above the plane
+    float hit = 1.0;  // 0 when the ray leaves the sphere without meeting a stored surface
+    if (u_parallax_steps > 0) {
+      hit = 0.0;
+      float t_front = (u_radius - h0) / rd, t_back = (-u_radius - h0) / rd;
+      float dt = (t_back - t_front) / float(u_parallax_steps);
+      float slab = 2.0 * abs(dt * rd);  // two steps: no slab can be stepped over
+      float prev_gap = -1.0, t_prev = t_front;
+      for (int s = 0; s <= u_parallax_steps; ++s) {
+        float t = t_front + dt * float(s);
+        vec2 uvs = atlas_uv(v_eye_obj + ray * t, k);
+        // The stored height of the texel itself, unfiltered: filtering would blend a thin
+        // branch's height with the empty back behind it and the ray would stop short of both.
+        float stored = (texelFetch(u_normal_depth, ivec2(uvs * u_atlas_px), 0).a * 2.0 - 1.0) * u_radius;
+        float gap = (h0 + t * rd) - stored;  // > 0 while the ray is above the stored surface
+        // A frame stores the first surface only; behind it may be empty (a twig is not a wall),
+        // so a ray more than `slab` below the stored height has passed behind it: keep going.
+        if (gap <= 0.0 && gap >= -slab) {
+          // Between the last sample above and this one below: where the gap crosses zero.
+          float f = s == 0 ? 1.0 : prev_gap / (prev_gap - gap);
+          uv = atlas_uv(v_eye_obj + ray * mix(t_prev, t, f), k);
+          hit = 1.0;
+          break;
+        }
+        prev_gap = max(gap, 0.0);
+        t_prev = t;
+      }
     }
-    vec4 c = textureGrad(u_color, uv, du, dv);
+    vec4 c = textureGrad(u_color, uv, du, dv) * vec4(1.0, 1.0, 1.0, hit);
     vec3 n = textureGrad(u_normal_depth, uv, du, dv).rgb * 2.0 - 1.0;
     albedo += v_weight[k] * vec4(c.rgb * c.a, c.a);
     normal += (v_weight[k] * c.a) * n;

@@ -1,0 +1,37 @@
+// Reading a built impostor for the check (subject.h).
+#include "stages/impostor/check/subject.h"
+
+#include "libs/image/image_io.h"
+#include "libs/render/gltf_scene.h"
+
+namespace sylva::impostor {
+
+render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image color, image::Image normal_depth) {
+  render::OctahedralImpostor o;
+  o.color = std::move(color);
+  o.normal_depth = std::move(normal_depth);
+  o.frames_per_side = info.frames_per_side;
+  o.hemi = info.hemi;
+  o.center = render::Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
+  o.radius = float(info.sphere_radius);
+  o.half_extent = float(info.frame_half_extent);
+  o.frame_px = info.frame_px;
+  o.padding_px = info.padding_px;
+  o.mip_levels = info.mip_levels;
+  return o;
+}
+
+ImpostorSubject load_impostor_subject(const std::filesystem::path& dir, const std::string& label) {
+  ImpostorSubject s;
+  s.label = label;
+  s.info = read_impostor_json((dir / "impostor.json").string());
+  if (s.info.kind == Kind::kBillboards) {
+    s.cards = render::load_gltf_scene(dir / "impostor.glb");
+  } else {
+    s.octahedral = octahedral_of(s.info, image::read_image(dir / s.info.color_map),
+                                 image::read_image(dir / s.info.normal_depth_map));
+  }
+  return s;
+}
+
+}  // namespace sylva::impostor
