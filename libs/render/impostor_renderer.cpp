@@ -95,6 +95,7 @@ uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
 uniform bool u_has_normals;
 uniform bool u_face_eye;
+uniform float u_alpha_scale;  // lines thinner than a texel: their coverage spread over one texel
 
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_normal;
@@ -114,6 +115,7 @@ void main() {
   } else if (u_alpha_mode == 0) {
     base.a = 1.0;
   }
+  base.a *= u_alpha_scale;
   vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
   // The scene renderer's two-sided rule with this view's eye, which is at infinity along v_dir.
   if (u_face_eye && dot(n, v_dir) < 0.0) n = -n;
@@ -310,12 +312,13 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  private:
   struct BakeUniforms {
     GLint model, normal_matrix, views, base_color, texture, has_texture, alpha_mode, alpha_cutoff,
-        has_normals, face_eye;
+        has_normals, face_eye, alpha_scale;
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
     return {u("u_model"), u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"), u("u_texture"),
-            u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_face_eye")};
+            u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_face_eye"),
+            u("u_alpha_scale")};
   }
 
   struct BakeTarget {
@@ -398,7 +401,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     if (o.msaa < 1 || o.msaa > max_samples_)
       throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
                         std::to_string(max_samples_) + ")");
-    if (!(o.line_width_px > 0)) throw RenderError("line width must be positive");
+    if (!(o.line_width_px >= 1) || !(o.line_alpha_scale > 0 && o.line_alpha_scale <= 1))
+      throw RenderError("line width must be at least 1 texel and the line alpha scale in (0, 1]");
     for (std::size_t v = 0; v < views.size(); ++v) {
       const BakeView& b = views[v];
       if (b.x < 0 || b.y < 0 || b.w < 1 || b.h < 1 || b.x + b.w > o.atlas_width || b.y + b.h > o.atlas_height)
@@ -511,6 +515,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
       glUniform1i(u.has_normals, !p.normals.empty());
       glUniform1i(u.face_eye, m.double_sided || p.topology != Topology::kTriangles);
+      glUniform1f(u.alpha_scale, p.topology == Topology::kLines ? std::clamp(o.line_alpha_scale, 0.f, 1.f) : 1.f);
       if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
       if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
       if (p.colors.empty()) glVertexAttrib4f(kColor, 1, 1, 1, 1);

@@ -49,7 +49,8 @@ struct BakeView {
 struct BakeOptions {
   int atlas_width = 1, atlas_height = 1;  // pixels; every view's rectangle must lie inside
   int msaa = 4;                          // samples per texel (coverage resolution)
-  float line_width_px = 1;               // width of LINES in atlas texels
+  float line_width_px = 1;               // width of LINES in atlas texels (>= 1)
+  float line_alpha_scale = 1;            // LINES' alpha is multiplied by this (0..1]
   // Contexts drawing rows of the atlas side by side (llvmpipe runs vertex work on the calling
   // thread, so one context uses one core for it). The bytes do not depend on this.
   int threads = 1;

@@ -61,6 +61,34 @@ void paste(image::Image& dst, const image::Image& src, int x, int y) {
 
 std::string to_string(const std::vector<std::uint8_t>& bytes) { return std::string(bytes.begin(), bytes.end()); }
 
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) {
+  c = std::clamp(c, 0.0, 1.0);
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
+// The colour map lit as the reference shader and the verifier light it (libs/render Lighting
+// defaults; the mean normal keeps its length, so spread normals light like their mean), alpha
+// unchanged: what impostor.glb's unlit cards show.
+image::Image prelit(const image::Image& color, const image::Image& nd) {
+  const render::Lighting light;
+  const Vec3 l = light.direction_to_light.cast<double>().normalized();
+  std::array<double, 256> lin{};
+  for (int i = 0; i < 256; ++i) lin[std::size_t(i)] = srgb_to_linear(i / 255.0);
+  image::Image out = color;
+  auto& ob = out.bytes();
+  const auto& nb = nd.bytes();
+  for (std::size_t i = 0; i < ob.size(); i += 4) {
+    Vec3 n(nb[i] / 127.5 - 1, nb[i + 1] / 127.5 - 1, nb[i + 2] / 127.5 - 1);
+    if (n.norm() > 1) n.normalize();
+    for (int c = 0; c < 3; ++c) {
+      const double k = light.ambient[c] + light.light_color[c] * std::max(0.0, n.dot(l));
+      ob[i + std::size_t(c)] = std::uint8_t(std::lround(255 * linear_to_srgb(lin[ob[i + std::size_t(c)]] * k)));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry) {
@@ -83,7 +111,11 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   bo.atlas_height = layout.atlas_height;
   bo.msaa = p.msaa;
   bo.threads = p.threads;
-  bo.line_width_px = float(std::max(1.0, source.line_pixel_m / texel));
+  // Lines: as wide as the pixel their alpha is for; thinner than a texel, one texel wide with
+  // their alpha scaled by how much of the texel they cover.
+  const double line_texels = source.line_pixel_m > 0 ? source.line_pixel_m / texel : 1.0;
+  bo.line_width_px = float(std::max(1.0, line_texels));
+  bo.line_alpha_scale = float(std::min(1.0, line_texels));
   render::BakedMaps maps = renderer.bake(scene, layout.views, bo);
 
   // 4. Dilate.
@@ -161,11 +193,13 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   info.cards = layout.cards;
   info.glb_triangles = card_triangles(glb_cards);
 
-  // 8. impostor.glb: billboards embed the whole (small) atlas; the octahedral kinds a crop of
-  // their card frames, side by side.
+  // 8. impostor.glb: unlit cards showing the colour map lit as the verifier lights the tree (so
+  // every viewer shows what sylva verifies); billboards embed the whole (small) atlas, the
+  // octahedral kinds a crop of their card frames, side by side.
   GlbImage img;
+  const image::Image lit = prelit(maps.color, maps.normal_depth);
   if (billboards) {
-    img.png = to_string(image::encode_png(maps.color));
+    img.png = to_string(image::encode_png(lit));
     img.width = maps.color.width();
     img.height = maps.color.height();
     for (GlbCard& g : glb_cards) g.image_x = g.card.x, g.image_y = g.card.y;
@@ -177,7 +211,7 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
       GlbCard& g = glb_cards[c];
       g.image_x = int(c % cols) * f;
       g.image_y = int(c / cols) * f;
-      paste(sheet, crop(maps.color, {g.card.x, g.card.y, g.card.w, g.card.h}), g.image_x, g.image_y);
+      paste(sheet, crop(lit, {g.card.x, g.card.y, g.card.w, g.card.h}), g.image_x, g.image_y);
     }
     img.png = to_string(image::encode_png(sheet));
     img.width = sheet.width();

@@ -10,12 +10,15 @@
 //  5. billboards: lift the top card to the coverage-weighted mean height seen from above;
 //  6. fit every card's cutout polygon (cutout.h) and light it with its frame's mean normal;
 //  7. the error terms and the switch distance (libs/impostor/error_model.h);
-//  8. impostor.glb (impostor_gltf.h).
+//  8. impostor.glb (impostor_gltf.h): its cards are unlit and show the colour map lit the way
+//     the verifier and the reference shader light the tree (libs/render Lighting), so every
+//     viewer shows what sylva verifies; the atlas itself stays relightable (albedo + normal).
 //
 // Lines. A LOD level's semi-transparent lines carry as alpha the coverage of a branch in a pixel
 // of size s = epsilon / delta (the level's switch distance; docs/stages/lod.md "Line alpha"). A
 // line drawn w texels wide with that alpha covers alpha * w * t metres across, so the baker draws
-// them w = s / t texels wide (at least 1): a branch keeps its width in the atlas.
+// them w = s / t texels wide, or, when s < t, one texel wide with alpha * s / t: a branch keeps
+// its width in the atlas.
 #pragma once
 
 #include <string>

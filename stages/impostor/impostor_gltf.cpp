@@ -24,6 +24,7 @@ std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImag
   m.alpha_cutoff = alpha.cutoff;
   m.metallic = 0;
   m.roughness = 1;
+  m.unlit = true;  // the image is lit already (bake.h)
   s.materials.push_back(m);
   gltf::Primitive p;
   p.material = 0;

@@ -3,7 +3,8 @@
 // kinds a cross of four horizon frames, the top frame (and the bottom one for the full
 // octahedron), as a fallback for viewers without the impostor shader. Each card is its cutout
 // polygon (cutout.h), single-sided (seen from its frame's direction only, so opposite cards
-// sharing a plane never fight), in one material over one embedded image: alphaMode BLEND by
+// sharing a plane never fight), in one unlit material (KHR_materials_unlit: the embedded image
+// is lit already, bake.h) over one embedded image: alphaMode BLEND by
 // default, because the image's alpha is coverage and a viewer's mipmaps average it, so the cards
 // keep their coverage at every distance (alpha-testing the same mips at a cutoff thins sparse
 // crowns away as they shrink); MASK on request.

@@ -47,7 +47,7 @@ class ImpostorStage final : public Stage {
  public:
   explicit ImpostorStage(std::function<render::ImpostorRenderer&()> renderer) : renderer_(std::move(renderer)) {
     info_.name = "impostor";
-    info_.version = 4;
+    info_.version = 6;
     info_.summary = "billboards and (hemi-)octahedral impostor atlases baked headlessly (colour+alpha, normal+depth)";
     info_.output_type = "impostor";
     info_.inputs = {{"mesh", "lod"}, 1, 1, "one mesh (tree.glb) or lod chain (lod.json and its levels)"};

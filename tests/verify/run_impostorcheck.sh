@@ -1,0 +1,34 @@
+#!/bin/sh
+# ctest impostorcheck_default_recipe: `sylva impostorcheck` on the hemi-octahedral impostors of a
+# recipe in the verify gate's output directory (nodes impostor_*; the billboards' model distance
+# is degenerate, docs/stages/impostor.md "Billboards"), then the Khronos glTF-Validator on every
+# impostor GLB the recipe writes (impostor_* and billboards_*).
+# usage: run_impostorcheck.sh SYLVA RECIPE OUT_DIR [DATA_FILE]
+# Exits 77 (ctest: skipped) when DATA_FILE, third-party data the recipe reads, is missing.
+set -u
+sylva=$1 recipe=$2 out=$3
+if [ $# -ge 4 ] && [ ! -e "$4" ]; then
+  echo "skipped: $4 is missing (third-party test data, ../shared/data)"
+  exit 77
+fi
+# Build the recipe (its impostor and billboards nodes), then check the nodes named impostor_*.
+"$sylva" --out "$out" build "$recipe" -j 2 >/dev/null || exit 1
+args=""
+for d in "$out"/*/impostor_*; do [ -d "$d" ] && args="$args --node $(basename "$d")"; done
+[ -n "$args" ] || { echo "no impostor_* node built under $out" >&2; exit 1; }
+"$sylva" --out "$out" impostorcheck "$recipe" --no-images $args
+rc=$?
+if [ $rc -ne 0 ]; then
+  echo "impostorcheck FAILED (exit $rc) for $recipe: see the table above" >&2
+  exit $rc
+fi
+glbs=$(find "$out" -mindepth 3 -maxdepth 3 -name 'impostor.glb' -not -path '*/cache/*' | sort)
+[ -n "$glbs" ] || { echo "no impostor.glb under $out" >&2; exit 1; }
+node tools/validate_gltf.mjs --max-warnings 0 $glbs
+vrc=$?
+if [ $vrc -eq 3 ] && [ "${SYLVA_REQUIRE_GLTF_VALIDATOR:-0}" != 1 ]; then
+  echo "note: the glTF-Validator is not installed (tools/setup.sh); GLBs not validated"
+  exit 0
+fi
+[ $vrc -ne 0 ] && echo "glTF-Validator: some impostor GLB of $recipe has errors (exit $vrc)" >&2
+exit $vrc
