@@ -1,11 +1,13 @@
 // The graphics module's entry point (libsylva_gfx.so; app/gfx_module.h): the heavy stages
-// (stages/register_gfx_stages.cpp) and the commands that render (render, verify, lodcheck),
+// (stages/register_gfx_stages.cpp) and the commands that render (render, verify, lodcheck,
+// impostorcheck),
 // with the same global options and parse rules as the binary's command line.
 #include "app/gfx_module.h"
 
 #include <memory>
 #include <vector>
 
+#include "app/impostorcheck_command.h"
 #include "app/lodcheck_command.h"
 #include "app/render_command.h"
 #include "app/verify_command.h"
@@ -33,6 +35,7 @@ int run_command(int argc, const char* const* argv, const StageRegistry& registry
     app.require_subcommand(1);
     add_global_options(app, global);
     std::vector<std::unique_ptr<CliCommand>> commands;
+    commands.push_back(make_impostorcheck_command(registry));
     commands.push_back(make_lodcheck_command(registry));
     commands.push_back(make_render_command());
     commands.push_back(make_verify_command(registry));

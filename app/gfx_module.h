@@ -39,6 +39,8 @@ struct GfxCommandInfo {
   const char* summary;
 };
 inline constexpr GfxCommandInfo kGfxCommands[] = {
+    {"impostorcheck",
+     "render each impostor at its switch distance against the full-detail tree from views between its frames"},
     {"lodcheck", "render each LOD level at its switch distance against the full-detail tree and report the image error"},
     {"render", "render a .glb/.gltf file from the views of a camera set to PNG"},
     {"verify", "build a recipe's verify nodes' inputs, compare renderings with references, report"},

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/full_detail.h"
+#include "app/gfx_module.h"
 #include "app/recipe_build.h"
 #include "libs/image/image_io.h"
 #include "libs/render/gltf_scene.h"
@@ -40,9 +41,7 @@ class ImpostorcheckCommand final : public CliCommand {
 
   CLI::App* add_to(CLI::App& app) override {
     parent_ = &app;
-    auto* sub = app.add_subcommand(
-        "impostorcheck",
-        "render each impostor at its switch distance against the full-detail tree from views between its frames");
+    auto* sub = app.add_subcommand("impostorcheck", gfx_command_summary("impostorcheck"));
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
     sub->add_option("--node", nodes_, "check only this impostor node (repeatable; default: every node of stage impostor)")
         ->allow_extra_args(false);

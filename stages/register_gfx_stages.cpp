@@ -1,6 +1,7 @@
 #include "stages/register_gfx_stages.h"
 
 #include "stages/forest/forest_stage.h"
+#include "stages/impostor/impostor_stage.h"
 #include "stages/verify/verify_stage.h"
 
 // Each heavy stage folder exposes its factory in its adapter header and its StageInfo in
@@ -10,6 +11,7 @@ namespace sylva {
 
 void register_gfx_stages(StageRegistry& registry) {
   registry.add(make_forest_stage());
+  registry.add(make_impostor_stage());
   registry.add(make_verify_stage());
 }
 

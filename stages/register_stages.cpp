@@ -3,7 +3,7 @@
 #include "stages/forest/forest_info.h"
 #include "stages/generate/generate_stage.h"
 #include "stages/import/import_stage.h"
-#include "stages/impostor/impostor_stage.h"
+#include "stages/impostor/impostor_info.h"
 #include "stages/lod/lod_info.h"
 #include "stages/mesh/mesh_info.h"
 #include "stages/verify/verify_info.h"
@@ -18,7 +18,7 @@ void register_builtin_stages(StageRegistry& registry, StageResolver& gfx, StageR
   registry.add(make_lazy_stage(forest_stage_info(), gfx));
   registry.add(make_generate_stage());
   registry.add(make_import_stage());
-  registry.add(make_impostor_stage());
+  registry.add(make_lazy_stage(impostor_stage_info(), gfx));
   registry.add(make_lazy_stage(lod_stage_info(), geometry));
   registry.add(make_lazy_stage(mesh_stage_info(), geometry));
   registry.add(make_lazy_stage(verify_stage_info(), gfx));

@@ -94,7 +94,9 @@ uniform bool u_has_texture;
 uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
 uniform bool u_has_normals;
-uniform bool u_face_eye;
+uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
+uniform bool u_mirrored;      // the instance matrix mirrors: clockwise is the front
+uniform bool u_line;          // LINES: the normal is turned toward the view's viewer
 uniform float u_alpha_scale;  // lines thinner than a texel: their coverage spread over one texel
 
 layout(location = 0) out vec4 o_color;
@@ -116,9 +118,15 @@ void main() {
     base.a = 1.0;
   }
   base.a *= u_alpha_scale;
+  // The scene renderer's rules (gl_renderer.cpp, glTF 2.0 3.9.2): the front face is the
+  // counter-clockwise one (clockwise under a mirroring matrix), a double-sided back face is lit
+  // with the reversed normal; without normals, the face normal, which faces the view.
+  bool front = gl_FrontFacing != u_mirrored;
   vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
-  // The scene renderer's two-sided rule with this view's eye, which is at infinity along v_dir.
-  if (u_face_eye && dot(n, v_dir) < 0.0) n = -n;
+  if (u_has_normals && u_two_sided && !front) n = -n;
+  // Lines stand for twigs, which the full detail draws as lit cylinders: bake their normals
+  // turned toward the view (the renderer draws LINES unlit, as three.js does; an impostor is lit).
+  if (u_line && dot(n, v_dir) < 0.0) n = -n;
   o_color = vec4(to_srgb(base.r), to_srgb(base.g), to_srgb(base.b), base.a);
   o_normal = vec4(n * 0.5 + 0.5, base.a);
   o_depth = vec4(clamp(v_depth * 0.5 + 0.5, 0.0, 1.0), 0.0, 0.0, base.a);
@@ -312,13 +320,13 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  private:
   struct BakeUniforms {
     GLint model, normal_matrix, views, base_color, texture, has_texture, alpha_mode, alpha_cutoff,
-        has_normals, face_eye, alpha_scale;
+        has_normals, two_sided, mirrored, line, alpha_scale;
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
     return {u("u_model"), u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"), u("u_texture"),
-            u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_face_eye"),
-            u("u_alpha_scale")};
+            u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_two_sided"),
+            u("u_mirrored"), u("u_line"), u("u_alpha_scale")};
   }
 
   struct BakeTarget {
@@ -489,7 +497,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE);  // every view is seen from a different side
+    glCullFace(GL_BACK);
     glDisable(GL_BLEND);
     if (o.msaa > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
     glLineWidth(std::clamp(o.line_width_px, line_width_range_[0], line_width_range_[1]));
@@ -514,7 +522,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2);
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
       glUniform1i(u.has_normals, !p.normals.empty());
-      glUniform1i(u.face_eye, m.double_sided || p.topology != Topology::kTriangles);
+      const bool triangles = p.topology == Topology::kTriangles;
+      glUniform1i(u.two_sided, triangles && m.double_sided);
+      glUniform1i(u.line, p.topology == Topology::kLines);
       glUniform1f(u.alpha_scale, p.topology == Topology::kLines ? std::clamp(o.line_alpha_scale, 0.f, 1.f) : 1.f);
       if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
       if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
@@ -522,7 +532,16 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glBindVertexArray(bp.vao);
       for (const Mat4& model : bp.mesh->instances) {
         Eigen::Matrix3f n = model.topLeftCorner<3, 3>();
+        const bool mirrored = n.determinant() < 0;
         if (std::abs(n.determinant()) > 1e-20f) n = n.inverse().transpose().eval();
+        glUniform1i(u.mirrored, mirrored);
+        // Single-sided triangles: back faces culled, as the scene renderer culls them.
+        if (triangles && !m.double_sided) {
+          glEnable(GL_CULL_FACE);
+          glFrontFace(mirrored ? GL_CW : GL_CCW);
+        } else {
+          glDisable(GL_CULL_FACE);
+        }
         glUniformMatrix4fv(u.model, 1, GL_FALSE, model.data());
         glUniformMatrix3fv(u.normal_matrix, 1, GL_FALSE, n.data());
         glDrawElementsInstanced(gl_mode(p.topology), bp.index_count, GL_UNSIGNED_INT, nullptr, count);
@@ -530,6 +549,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     }
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
   }
 
   // Resolves the row, reads the three attachments back and writes the divided values into the

@@ -9,8 +9,10 @@
 //   - colour: the sRGB-encoded base colour (baseColorFactor * COLOR_0 * texture, unlit) with
 //     straight alpha = the coverage of the texel (MSAA samples covered; BLEND primitives add
 //     their alpha over what lies behind them, as the scene renderer composites them);
-//   - normal: the shading normal in object space, turned toward the view's viewer for
-//     double-sided materials and lines exactly as the scene renderer turns it toward its eye,
+//   - normal: the shading normal in object space by the scene renderer's rules (glTF: the back
+//     face of a double-sided triangle, by winding, has the reversed normal; single-sided back
+//     faces are culled); lines' normals are turned toward the view (twigs, lit; the scene
+//     renderer draws LINES unlit as three.js does),
 //     encoded n * 0.5 + 0.5, averaged over the covered samples and renormalised;
 //   - depth: h / R * 0.5 + 0.5, h = (X - centre) . dir, averaged over the covered samples.
 //   Texels nothing covers are (0,0,0,0) in every map (dilation is the caller's business).

@@ -14,7 +14,10 @@ std::size_t card_triangles(const std::vector<GlbCard>& cards) {
 std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image, const GlbAlpha& alpha,
                                 const nlohmann::json& extras) {
   gltf::Scene s;
-  s.images.push_back({"impostor_cards.png", "image/png", image.png});
+  gltf::Image img;
+  img.name = "impostor_cards.png";
+  img.bytes = image.png;
+  s.images.push_back(std::move(img));
   gltf::Material m;
   m.name = "impostor";
   m.base_color_texture.image = 0;

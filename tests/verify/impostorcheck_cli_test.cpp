@@ -58,7 +58,7 @@ TEST_F(ImpostorcheckCli, PassesAndReports) {
   EXPECT_NE(r.out.find("impostorcheck impostor_birch: hemi_octahedral, 8x8 frames of 64 px; epsilon "), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("full detail: lod_birch (lod chain at epsilon 0)"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("the colour change is <= max(0.1, 1.5 x lod2.glb's in the view)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the colour change is <= max(0.1, 1.5 x lod2.gltf's in the view)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("sylva impostorcheck: node 'impostor_birch' passed (4/4 views passed); report: " +
                        (report_ / "impostorcheck.json").string() + "\n"),
             std::string::npos)
