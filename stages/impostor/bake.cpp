@@ -204,7 +204,7 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
     img.height = maps.color.height();
     for (GlbCard& g : glb_cards) g.image_x = g.card.x, g.image_y = g.card.y;
   } else {
-    const int f = p.layout.frame_px, cols = 3;
+    const int f = p.layout.frame_px, cols = 2;
     const int rows = int((glb_cards.size() + cols - 1) / cols);
     image::Image sheet(cols * f, rows * f, {0, 0, 0, 0});
     for (std::size_t c = 0; c < glb_cards.size(); ++c) {

@@ -1,7 +1,7 @@
 // impostor.glb: the cards of an impostor as plain glTF any viewer shows (three.js, Blender,
 // Babylon.js): for billboards the ring of vertical cards and the top card; for the octahedral
-// kinds a cross of four horizon frames, the top frame (and the bottom one for the full
-// octahedron), as a fallback for viewers without the impostor shader. Each card is its cutout
+// kinds a cross of the four horizon frames nearest azimuths 0, 90, 180 and 270°, as a fallback
+// for viewers without the impostor shader. Each card is its cutout
 // polygon (cutout.h), single-sided (seen from its frame's direction only, so opposite cards
 // sharing a plane never fight), in one unlit material (KHR_materials_unlit: the embedded image
 // is lit already, bake.h) over one embedded image: alphaMode BLEND by

@@ -101,15 +101,16 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
       for (int i = 0; i < n; ++i)
         out.views.push_back(view_for(c, frame_direction(i, j, n, hemi), out.frame_half_extent, out.frame_half_extent,
                                      depth, i * f, j * f, f, f));
-    // The fallback cross: the frames nearest the four cardinal horizon directions and straight
-    // up (and down for the full octahedron).
+    // The fallback cross: the frames nearest the four cardinal horizon directions, two planes
+    // through the centre. No horizontal card: seen from the side it would be a dense stripe
+    // across the crown (the whole top view squeezed into a sliver), and far trees are seen
+    // from the side.
     struct Target {
       const char* name;
       Vec3 dir;
     };
-    std::vector<Target> targets = {{"az0", Vec3::UnitZ()}, {"az90", Vec3::UnitX()}, {"az180", -Vec3::UnitZ()},
-                                   {"az270", -Vec3::UnitX()}, {"top", Vec3::UnitY()}};
-    if (!hemi) targets.push_back({"bottom", -Vec3::UnitY()});
+    const std::vector<Target> targets = {
+        {"az0", Vec3::UnitZ()}, {"az90", Vec3::UnitX()}, {"az180", -Vec3::UnitZ()}, {"az270", -Vec3::UnitX()}};
     for (const Target& t : targets) {
       int best = 0;
       double best_dot = -2;

@@ -29,6 +29,8 @@ const char* kind_name(Kind k) {
       return "ribbons";
     case Kind::kChain:
       return "MSFT_lod chain";
+    case Kind::kImpostor:
+      return "impostor cards";
   }
   return "?";
 }
@@ -45,6 +47,7 @@ Bound bound_for(Kind k) {
     case Kind::kDracoMesh:
     case Kind::kLineLevel:  // + blended lines: three.js sorts objects, sylva every element
     case Kind::kChain:      // as its level 0
+    case Kind::kImpostor:   // unlit blended cards: three.js sorts objects, sylva every triangle
       return {0.9, 8.0};
   }
   return {};

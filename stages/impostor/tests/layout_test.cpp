@@ -58,7 +58,7 @@ TEST(Layout, FramesFitTheSphereInsideThePadding) {
 }
 
 // Frame (i, j) sits at pixel (i F, j F) and looks from frame_direction(i, j); the fallback cards
-// are the frames nearest the cardinal directions and the top.
+// are the frames nearest the four cardinal horizon directions.
 TEST(Layout, OctahedralGridAndFallbackCards) {
   LayoutParams p;  // defaults: hemi, 16 x 16 x 256, mip 4
   const Layout l = plan_layout(p, tree_like());
@@ -70,13 +70,15 @@ TEST(Layout, OctahedralGridAndFallbackCards) {
   EXPECT_EQ(v.x, 5 * 256);
   EXPECT_EQ(v.y, 3 * 256);
   EXPECT_LT((v.dir.cast<double>() - frame_direction(5, 3, 16, true)).norm(), 1e-6);
-  ASSERT_EQ(l.cards.size(), 5u);
+  ASSERT_EQ(l.cards.size(), 4u);
   EXPECT_EQ(l.cards[0].name, "az0");
   EXPECT_EQ(l.card_view[0], 15);  // frame (15, 0): azimuth 0 exactly
-  EXPECT_EQ(l.cards[4].name, "top");
-  EXPECT_GT(l.cards[4].dir[1], 0.99);
+  EXPECT_EQ(l.cards[1].name, "az90");
+  EXPECT_EQ(l.card_view[1], 15 * 16 + 15);  // frame (15, 15): azimuth 90
   p.kind = Kind::kOctahedral;
-  EXPECT_EQ(plan_layout(p, tree_like()).cards.size(), 6u);  // and the bottom
+  const Layout full = plan_layout(p, tree_like());
+  ASSERT_EQ(full.cards.size(), 4u);
+  EXPECT_LT(std::abs(full.cards[0].dir[1]), 0.1);  // the frame nearest the horizon at azimuth 0
 }
 
 // Billboards: 8 vertical cards 45° apart around the axis and the top card, 3 x 3 frames.

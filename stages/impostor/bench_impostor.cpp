@@ -1,0 +1,84 @@
+// Benchmark (a separate executable, never a timed test): baking an adult tree's impostor on
+// llvmpipe, from the LOD level the stage chooses, and what the outputs weigh.
+//
+//   SYLVA_BENCH_LOD=out/default/lod_oak out/build/stages/impostor/bench_impostor
+//
+// BM_Bake/<kind>/<contexts>: the GL bake (layout, draws, read-back, dilation, cutouts, the GLB),
+// wall time; counters: frames, source primitives, atlas PNG bytes (colour + normal), GLB bytes.
+// BM_EncodeMaps: the two 4096^2 PNG encodes the stage adds after the bake.
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "libs/image/png.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/impostor_renderer.h"
+#include "stages/impostor/bake.h"
+#include "stages/impostor/source.h"
+
+namespace {
+
+using namespace sylva;
+namespace fs = std::filesystem;
+
+struct Source {
+  render::Scene scene;
+  impostor::SourceDesc desc;
+};
+
+// The level the stage would bake for `params` (stages/impostor/source.h), loaded once.
+const Source& source(const impostor::BakeParams& params) {
+  static const Source s = [&] {
+    const char* dir = std::getenv("SYLVA_BENCH_LOD");
+    if (!dir) throw std::runtime_error("set SYLVA_BENCH_LOD to a built lod node's directory (out/default/lod_oak)");
+    std::ifstream in(fs::path(dir) / "lod.json");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const auto levels = impostor::parse_lod_levels(ss.str(), "lod.json");
+    impostor::SourceGeometry g = impostor::measure(render::load_gltf_scene(fs::path(dir) / levels.back().file));
+    g.radius += levels.back().epsilon;
+    const std::size_t i = impostor::choose_level(levels, impostor::atlas_texel(params.layout, g));
+    Source out;
+    out.scene = render::load_gltf_scene(fs::path(dir) / levels[i].file);
+    out.desc.type = "lod";
+    out.desc.file = levels[i].file;
+    out.desc.level = int(i);
+    out.desc.epsilon = levels[i].epsilon;
+    out.desc.line_pixel_m = levels[i].pixel_error > 0 ? levels[i].epsilon / levels[i].pixel_error : 0;
+    return out;
+  }();
+  return s;
+}
+
+void BM_Bake(benchmark::State& state) {
+  impostor::BakeParams p;  // the stage's defaults: 16 x 16 frames of 256 px
+  p.layout.kind = state.range(0) == 0 ? impostor::Kind::kHemiOctahedral : impostor::Kind::kBillboards;
+  p.threads = int(state.range(1));
+  const Source& s = source(impostor::BakeParams{});
+  impostor::BakeOutput out;
+  for (auto _ : state) out = impostor::bake_impostor(render::shared_impostor_renderer(), s.scene, p, s.desc);
+  state.counters["frames"] = double(p.layout.kind == impostor::Kind::kBillboards ? out.info.cards.size()
+                                                                                  : std::size_t(p.layout.frames_per_side * p.layout.frames_per_side));
+  state.counters["source_primitives"] = double(s.scene.triangle_count() + s.scene.line_count());
+  state.counters["source_level"] = s.desc.level;
+  state.counters["atlas_png_bytes"] = double(image::encode_png(out.color).size() + image::encode_png(out.normal_depth).size());
+  state.counters["glb_bytes"] = double(out.glb.size());
+  state.counters["glb_triangles"] = double(out.info.glb_triangles);
+}
+BENCHMARK(BM_Bake)->ArgsProduct({{0}, {1, 2}})->Args({1, 2})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+void BM_EncodeMaps(benchmark::State& state) {
+  const Source& s = source(impostor::BakeParams{});
+  const impostor::BakeOutput out = impostor::bake_impostor(render::shared_impostor_renderer(), s.scene, {}, s.desc);
+  std::size_t bytes = 0;
+  for (auto _ : state) bytes = image::encode_png(out.color).size() + image::encode_png(out.normal_depth).size();
+  state.counters["bytes"] = double(bytes);
+}
+BENCHMARK(BM_EncodeMaps)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
+
+BENCHMARK_MAIN();
