@@ -48,7 +48,12 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::Imp
   // The crop: the full-detail box's sphere seen from the nearest distance, plus a margin.
   const double px = pixel_size(info.camera, distance);
   const int crop = std::min(info.camera.height_px, int(std::ceil(2.4 * bounds.radius() / px)) + 8);
-  const int k = std::max(1, o.supersample);
+  // Supersampling: at least o.supersample, and enough that a render pixel is no larger than an
+  // atlas texel, so the full detail is drawn at the resolution the atlas was baked at. Coarser,
+  // its alpha-tested cards are sampled from mip levels whose alpha falls under the cutoff and
+  // vanish, while the atlas (baked at texel scale) kept them: the check would compare the
+  // impostor with a tree that lost its leaves to texture filtering, not with the tree.
+  const int k = std::clamp(std::max(o.supersample, int(std::ceil(px / std::max(info.error.texel_m, 1e-9)))), 1, 8);
   render::RenderOptions ro;
   ro.width = ro.height = crop * k;
   ro.msaa = o.msaa;

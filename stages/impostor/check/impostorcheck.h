@@ -8,8 +8,10 @@
 //  - camera: the impostor's fov and an H-pixel image scale (H its camera's height), the eye at the
 //    switch distance from the nearest point of the full-detail box (libs/render/distance_camera.h),
 //    cropped around the tree (same pixels as the full H x H image, far fewer to draw);
-//  - renders at supersample x the scale with 4x MSAA, box-averaged in linear light, transparent
-//    background: a pixel's alpha is its coverage;
+//  - renders at k x the scale with 4x MSAA, box-averaged in linear light (weighted by alpha),
+//    transparent background: a pixel's alpha is its coverage. k = max(supersample, the pixel's
+//    size in atlas texels), at most 8: the full detail is drawn at least at the resolution the
+//    atlas was baked at (coarser, alpha-tested cards drawn from coarse mips vanish);
 //  - coverage: a pixel fails when its coverage changes by more than delta; a view passes when at
 //    most max_failing_fraction of the footprint fails and the mean change is <= max_coverage_error;
 //  - colour (judged here, reported by lodcheck): the mean per-channel RGB difference, weighted by
@@ -50,7 +52,7 @@ struct ImpostorCheckOptions {
   std::vector<double> azimuths_deg = {7.5, 37.5, 67.5, 97.5, 127.5, 157.5, 187.5, 217.5, 247.5, 277.5, 307.5, 337.5};
   std::vector<double> elevations_deg = {4, 33, 73};
   int msaa = 4;
-  int supersample = 2;
+  int supersample = 2;        // at least; see the header comment
   double distance_scale = 1;  // check at this multiple of the switch distance (tests)
   int parallax_steps = 16;    // the reference shader's ray-march steps
 };
