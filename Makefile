@@ -4,15 +4,16 @@ JOBS    ?= $(shell nproc)
 CONFIG  ?= RelWithDebInfo
 RECIPE  ?= configs/default.yaml
 SYLVA    = $(BUILD)/app/sylva
+CMAKE_ARGS ?=
 
-.PHONY: all setup configure build run test bench clean
+.PHONY: all setup configure build run test check format-check bench clean
 all: build
 
 setup:
 	@tools/setup.sh
 
 $(BUILD)/build.ninja: CMakeLists.txt | setup
-	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(CONFIG) >/dev/null
+	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(CONFIG) $(CMAKE_ARGS) >/dev/null
 
 configure: setup $(BUILD)/build.ninja
 
@@ -27,8 +28,17 @@ run: build
 test: build
 	@cd $(BUILD) && SYLVA_REQUIRE_GLTF_VALIDATOR=1 SYLVA_REQUIRE_CLIENTS=1 ctest --output-on-failure -j $(JOBS) --timeout 600
 
+# The CI jobs beyond `make test` (to join .ci/run once seen green): sanitizers + fuzzers (.ci/sanitize.sh, its own clang
+# build in out/build-san) and the formatting check (report-only until the repo-wide reformat).
+check: setup
+	@.ci/sanitize.sh
+	@tools/format-check --report-only
+
+format-check:
+	@tools/format-check
+
 bench: build
 	@tools/bench.sh $(BUILD)
 
 clean:
-	rm -rf out/build
+	rm -rf out/build out/build-san out/fuzz-artifacts

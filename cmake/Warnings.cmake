@@ -1,6 +1,6 @@
 # Warnings for sylva's own targets (third-party headers are included as SYSTEM and stay quiet).
 add_library(sylva_warnings INTERFACE)
-target_compile_options(sylva_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow=local
+target_compile_options(sylva_warnings INTERFACE -Wall -Wextra -Wpedantic $<$<CXX_COMPILER_ID:GNU>:-Wshadow=local>
                                                 -Wnon-virtual-dtor -Wimplicit-fallthrough)
 option(SYLVA_WERROR "treat warnings as errors" OFF)
 if(SYLVA_WERROR)

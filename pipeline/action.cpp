@@ -134,12 +134,12 @@ std::vector<std::string> explain_difference(const ActionRecord& before, const Ac
       std::string what = "input '" + n.node + "' changed";
       if (b.node != n.node) what = "input " + std::to_string(i) + " changed: '" + b.node + "' -> '" + n.node + "'";
       for (const auto& [name, d] : n.files) {
-        auto it = std::find_if(b.files.begin(), b.files.end(), [&](const auto& x) { return x.first == name; });
+        auto it = std::find_if(b.files.begin(), b.files.end(), [&key = name](const auto& x) { return x.first == key; });
         if (it == b.files.end()) what += "; new file " + name;
         else if (!(it->second == d)) what += "; " + name + " " + short_hash(it->second.hash) + " -> " + short_hash(d.hash);
       }
       for (const auto& [name, d] : b.files)
-        if (std::none_of(n.files.begin(), n.files.end(), [&](const auto& x) { return x.first == name; }))
+        if (std::none_of(n.files.begin(), n.files.end(), [&key = name](const auto& x) { return x.first == key; }))
           what += "; file " + name + " gone";
       out.push_back(what);
     }

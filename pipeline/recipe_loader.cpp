@@ -518,7 +518,7 @@ class Loader {
       return;
     }
     for (const auto& [k, val] : v.entries) {
-      if (std::any_of(out.begin(), out.end(), [&](const MatrixVar& m) { return m.name == k.text; })) {
+      if (std::any_of(out.begin(), out.end(), [&key = k](const MatrixVar& m) { return m.name == key.text; })) {
         err(k.loc, "duplicate matrix variable '" + k.text + "'");
         continue;
       }

@@ -10,6 +10,8 @@
 
 namespace sylva {
 
+RawNode::RawNode() = default;
+
 const char* RawNode::kind_name() const {
   switch (kind) {
     case Kind::kNull: return "null";

@@ -27,6 +27,10 @@ struct RawNode {
   SourceLoc loc;
   bool include = false;  // a `!include` scalar not yet replaced (only inside YamlReader)
 
+  // Defined in the .cpp, where RawNode is complete: clang (with libstdc++ 12) cannot check the
+  // implicit constructor of `entries` (pairs of the still incomplete RawNode) inside the class.
+  RawNode();
+
   bool is_scalar() const { return kind == Kind::kScalar; }
   bool is_seq() const { return kind == Kind::kSeq; }
   bool is_map() const { return kind == Kind::kMap; }
