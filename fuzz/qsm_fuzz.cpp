@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "fuzz/fuzz_check.h"
+#include "libs/tree/sylt_format.h"
 #include "libs/tree/tree.h"
 #include "stages/import/import_error.h"
 #include "stages/import/import_file.h"
