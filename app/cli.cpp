@@ -121,6 +121,44 @@ struct BuildArgs {
 
 std::string human_bytes(std::uint64_t b);
 
+// `clean --all` deletes only what sylva made (issue 15: `--out .` used to empty a project and
+// `--cache ..` its parent): the cache if Cache::is_cache() accepts it, and in the output root
+// each recipe directory (it has .sylva/) and the parse cache (.sylva-parse/); then the output
+// root itself if nothing else is left in it. Everything else is kept and counted.
+int cmd_clean_all(const Common& c, FileSystem& fsys, const CliIo& io) {
+  const fs::path cache = c.cache_root();
+  std::size_t kept = 0;
+  if (fsys.stat(cache)) {
+    if (Cache::is_cache(fsys, cache)) {
+      Cache tmp(fsys, cache);
+      auto lock = tmp.lock_for_gc();  // waits for running builds
+      fsys.remove_all(cache);
+    } else {
+      std::fprintf(io.err, "sylva clean: kept %s: not a sylva cache (no CACHEDIR.TAG written by sylva)\n",
+                   escape_bytes(cache.string()).c_str());
+      ++kept;
+    }
+  }
+  const fs::path out = c.out_dir;
+  for (const auto& name : fsys.list(out)) {
+    const fs::path p = out / name;
+    auto st = fsys.stat(p);
+    if (!st || !st->is_dir) {
+      ++kept;
+      continue;
+    }
+    if (p.lexically_normal() == cache.lexically_normal()) continue;  // judged above
+    auto marker = fsys.stat(p / ".sylva");
+    if (name == ".sylva-parse" || (marker && marker->is_dir)) fsys.remove_all(p);
+    else ++kept;
+  }
+  if (fsys.list(out).empty()) fsys.remove(out);
+  if (kept > 0)
+    std::fprintf(io.err, "sylva clean: kept %zu entr%s that sylva did not create (in %s)\n", kept,
+                 kept == 1 ? "y" : "ies", escape_bytes(out.string()).c_str());
+  return kExitOk;
+}
+
 int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
   auto recipe = load_recipe_or_report(a.recipe, reg, fsys, io, c.out_dir);
   if (!recipe) return kExitUsage;
@@ -189,13 +227,29 @@ std::string human_bytes(std::uint64_t b) {
 
 }  // namespace
 
+namespace {
+const GlobalOptions* g_global_options = nullptr;  // those of the command line being run
+}  // namespace
+
 std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
                                             const CliIo& io, const std::string& out_dir) {
-  Diagnostics diags;
-  auto recipe = load_recipe(file, registry, fsys, diags, out_dir.empty() ? fs::path() : fs::path(out_dir) / ".sylva-parse");
+  LoadOptions options;
+  if (!out_dir.empty()) options.parse_cache_dir = fs::path(out_dir) / ".sylva-parse";
+  if (const GlobalOptions* g = g_global_options) {
+    options.confine = !g->allow_outside_root;
+    options.root = g->root;
+    for (const auto& l : g->limits)
+      if (auto why = set_limit(options.limits, l)) {
+        std::fprintf(io.err, "error: --limit %s: %s\n", escape_bytes(l).c_str(), why->c_str());
+        return std::nullopt;
+      }
+  }
+  Diagnostics diags(options.limits.errors);
+  auto recipe = load_recipe(file, registry, fsys, diags, options);
   if (!recipe) {
     std::fputs(diags.pretty().c_str(), io.err);
-    std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s", file.c_str());
+    std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s",
+                 escape_bytes(file).c_str());
   }
   return recipe;
 }
@@ -209,6 +263,13 @@ fs::path cache_root_for(const std::string& out_dir, const std::string& cache_dir
 void add_global_options(CLI::App& app, GlobalOptions& g) {
   app.add_option("--out", g.out_dir, "output root (default: out)");
   app.add_option("--cache", g.cache_dir, "cache directory (default: $SYLVA_CACHE or <out>/cache)");
+  app.add_flag("--allow-outside-root", g.allow_outside_root,
+               "let recipes name files outside their project root (trusted recipes only; docs/recipes.md)");
+  app.add_option("--root", g.root, "confine every recipe to this directory, whatever its 'root:' key says");
+  app.add_option("--limit", g.limits,
+                 "raise a recipe limit: file-bytes, yaml-nodes, include-depth, matrix, nodes, errors (NAME=N)")
+      ->allow_extra_args(false);
+  g_global_options = &g;
 }
 
 std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv, const CliIo& io) {
@@ -317,11 +378,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
       return v.blobs_removed + v.actions_removed ? kExitBuildFailed : kExitOk;
     }
     if (cl->parsed()) {
-      if (clean_all) {
-        fsys.remove_all(common.cache_root());
-        fsys.remove_all(common.out_dir);
-        return kExitOk;
-      }
+      if (clean_all) return cmd_clean_all(common, fsys, io);
       if (clean_recipe.empty()) {
         std::fprintf(io.err, "error: 'sylva clean' needs a recipe or --all\n");
         return kExitUsage;

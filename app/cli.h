@@ -46,6 +46,8 @@ class CliCommand {
 // Loads and checks a recipe. On failure prints every diagnostic (file:line:col) and the error
 // count to io.err and returns nullopt; the caller exits with kExitUsage. `out_dir` (optional):
 // the output root, whose .sylva-parse/ keeps parsed YAML between runs (pipeline/yaml_tree.h).
+// The project root and limits are those of the global options (--allow-outside-root, --root,
+// --limit) of the command line being run (add_global_options).
 std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
                                             const CliIo& io, const std::string& out_dir = "");
 
@@ -56,8 +58,12 @@ std::filesystem::path cache_root_for(const std::string& out_dir, const std::stri
 struct GlobalOptions {
   std::string out_dir = "out";
   std::string cache_dir;  // default: $SYLVA_CACHE or <out>/cache
+  bool allow_outside_root = false;  // recipes may name any path (trusted recipes only)
+  std::string root;                 // bounds every recipe's project root (untrusted recipes)
+  std::vector<std::string> limits;  // "name=N" (pipeline/recipe_loader.h, LoadLimits)
 };
-// Adds --out and --cache to the top-level `app`, bound to `g`. The binary and the graphics
+// Adds --out, --cache, --allow-outside-root, --root and --limit to the top-level `app`, bound to
+// `g`, which recipe loading then uses (g must outlive the command). The binary and the graphics
 // module (app/gfx_module.h) both build their command line with it, so they agree.
 void add_global_options(CLI::App& app, GlobalOptions& g);
 

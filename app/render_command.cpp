@@ -113,6 +113,7 @@ class RenderCommand final : public CliCommand {
         }
       } else {
         const render::Scene scene = render::load_gltf_scene(file_);
+        for (const auto& w : scene.warnings) std::fprintf(io.err, "%s\n", w.c_str());
         auto renderer = render::Renderer::create_headless();
         images = render::render_camera_set(*renderer, scene, set);
       }

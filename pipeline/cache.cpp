@@ -127,7 +127,31 @@ std::unique_ptr<FileLock> Cache::lock_action(const std::string& key) {
   return fs_.lock(root_ / "locks" / key.substr(0, 2) / key);
 }
 
-std::unique_ptr<FileLock> Cache::lock_for_build() { return fs_.lock_shared(root_ / "locks" / "gc"); }
+namespace {
+constexpr std::string_view kCacheTag =
+    "Signature: 8a477f597d28d172789f06886806bc55\n"
+    "# This directory is a sylva cache (content-addressed build outputs); `sylva clean --all`\n"
+    "# deletes it. See https://bford.info/cachedir/\n";
+}  // namespace
+
+void Cache::mark() {
+  const fs::path tag = root_ / "CACHEDIR.TAG";
+  if (!fs_.stat(tag)) fs_.write_atomic(tag, kCacheTag, /*durable=*/false);  // best effort
+}
+
+bool Cache::is_cache(FileSystem& fs, const fs::path& dir) {
+  if (auto tag = fs.read(dir / "CACHEDIR.TAG", nullptr, 4096); tag && *tag == kCacheTag) return true;
+  const auto names = fs.list(dir);
+  if (std::find(names.begin(), names.end(), "locks") == names.end()) return false;
+  return std::all_of(names.begin(), names.end(), [](const std::string& n) {
+    return n == "cas" || n == "ac" || n == "locks" || n == "tmp";
+  });
+}
+
+std::unique_ptr<FileLock> Cache::lock_for_build() {
+  mark();
+  return fs_.lock_shared(root_ / "locks" / "gc");
+}
 std::unique_ptr<FileLock> Cache::lock_for_gc() { return fs_.lock(root_ / "locks" / "gc"); }
 std::unique_ptr<FileLock> Cache::try_lock_for_gc() { return fs_.try_lock(root_ / "locks" / "gc"); }
 

@@ -93,6 +93,14 @@ class Cache {
   bool materialize(const Digest& d, const std::filesystem::path& dest, bool verify = true,
                    std::int64_t* known_at = nullptr, std::string* error = nullptr);
 
+  // Marks the root as a sylva cache (a CACHEDIR.TAG, https://bford.info/cachedir/, which also
+  // keeps backup tools out), once; lock_for_build() calls it. `sylva clean --all` deletes only
+  // a directory is_cache() accepts.
+  void mark();
+  // True if `dir` is a sylva cache: it has sylva's CACHEDIR.TAG, or (caches made before the
+  // tag) holds nothing but cas/, ac/, locks/ and tmp/, with locks/.
+  static bool is_cache(FileSystem& fs, const std::filesystem::path& dir);
+
   // Exclusive lock for running action `key` (other processes wait, then hit the cache).
   std::unique_ptr<FileLock> lock_action(const std::string& key);
   // Held (shared) by every build for its whole run, and exclusively by gc: eviction never

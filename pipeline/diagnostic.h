@@ -43,18 +43,35 @@ struct Diagnostic {
   std::string pretty() const;  // str() + source line + caret, for terminals and logs
 };
 
+// Keeps at most `max_kept` diagnostics (a 50 MB recipe of broken nodes must not print 10^6
+// errors or hold them); further errors are only counted, and str()/pretty() end with a line
+// saying how many were not shown.
 class Diagnostics {
  public:
+  static constexpr std::size_t kDefaultMaxKept = 100;
+  explicit Diagnostics(std::size_t max_kept = kDefaultMaxKept) : max_kept_(max_kept) {}
   void error(SourceLoc loc, std::string message, std::string source_line = {});
   bool empty() const { return list_.empty(); }
-  std::size_t size() const { return list_.size(); }
+  std::size_t size() const { return list_.size() + dropped_; }  // every error, kept or not
+  bool full() const { return list_.size() >= max_kept_; }        // callers may stop looking
   const std::vector<Diagnostic>& all() const { return list_; }
-  std::string str() const;     // every diagnostic's str(), one per line
-  std::string pretty() const;  // every diagnostic's pretty()
+  std::string str() const;     // every kept diagnostic's str(), one per line
+  std::string pretty() const;  // every kept diagnostic's pretty()
 
  private:
+  std::string dropped_line() const;
+  std::size_t max_kept_;
   std::vector<Diagnostic> list_;
+  std::size_t dropped_ = 0;
 };
+
+// Bytes from a recipe or any file, made safe to print: control bytes (C0 except tab, DEL, and
+// UTF-8-encoded C1 controls such as CSI) become \xNN, so no terminal escape, bell or NUL ever
+// reaches the terminal; other bytes are kept.
+std::string escape_bytes(std::string_view text);
+// escape_bytes() of at most the first `max_bytes` bytes of `text` (cut at a UTF-8 character
+// boundary), with "..." appended when cut: how messages quote values they did not expect.
+std::string excerpt(std::string_view text, std::size_t max_bytes = 40);
 
 // Levenshtein distance (for did-you-mean suggestions).
 std::size_t edit_distance(std::string_view a, std::string_view b);

@@ -41,6 +41,9 @@ struct ParamSpec {
   std::optional<std::size_t> min_items, max_items;  // list types only
   std::vector<ParamSpec> fields;       // kObject and kObjectList only
   std::string doc;
+  // Constraints the recipe loader checks (at file:line:col, before any node runs).
+  bool power_of_two = false;  // kInt: 1, 2, 4, 8, ...
+  bool increasing = false;    // kIntList/kRealList: each item greater than the one before
 
   bool required() const { return default_value.is_null(); }
 
@@ -52,6 +55,8 @@ struct ParamSpec {
     min_items = lo; max_items = hi; return std::move(*this);
   }
   ParamSpec describe(std::string text) && { doc = std::move(text); return std::move(*this); }
+  ParamSpec require_power_of_two() && { power_of_two = true; return std::move(*this); }
+  ParamSpec require_increasing() && { increasing = true; return std::move(*this); }
 };
 
 // Fluent builders keep stage declarations short and readable:

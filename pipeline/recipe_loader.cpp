@@ -16,6 +16,7 @@
 #include <unordered_map>
 
 #include "pipeline/graph.h"
+#include "pipeline/project_root.h"
 #include "pipeline/yaml_tree.h"
 
 namespace sylva {
@@ -134,8 +135,8 @@ RawNode substitute(const RawNode& n, const std::map<std::string, std::string>& v
 
 class ParamChecker {
  public:
-  ParamChecker(FileSystem& fs, const SourceFiles& src, Diagnostics& diags)
-      : fs_(fs), src_(src), diags_(diags) {}
+  ParamChecker(FileSystem& fs, const SourceFiles& src, Diagnostics& diags, const ProjectRoot& root)
+      : fs_(fs), src_(src), diags_(diags), root_(root) {}
 
   // Converts `raw` to `spec`'s type; reports and returns nullopt on any problem.
   // `files` receives resolved paths of kPath/kDir parameters (keyed by `spec.name`).
@@ -152,6 +153,10 @@ class ParamChecker {
         auto i = scalar_int(raw);
         if (!i) return wrong(spec, raw, what);
         if (!in_range(spec, static_cast<double>(*i), raw, what)) return std::nullopt;
+        if (spec.power_of_two && (*i <= 0 || (*i & (*i - 1)) != 0)) {
+          src_.error(diags_, raw.loc, "value out of range: " + what + " must be a power of two, got " + raw.text);
+          return std::nullopt;
+        }
         return Value(*i);
       }
       case ParamType::kReal: {
@@ -169,7 +174,7 @@ class ParamChecker {
           std::string list;
           for (const auto& c : spec.choices) list += (list.empty() ? "" : ", ") + c;
           src_.error(diags_, raw.loc,
-                     what + " must be one of " + list + ", got '" + raw.text + "'" +
+                     what + " must be one of " + list + ", got '" + excerpt(raw.text) + "'" +
                          did_you_mean(raw.text, spec.choices));
           return std::nullopt;
         }
@@ -182,12 +187,20 @@ class ParamChecker {
         fs::path p = raw.text;
         if (p.is_relative()) p = fs::path(raw.loc.file()).parent_path() / p;
         p = p.lexically_normal();
+        if (!root_.contains(p)) {
+          src_.error(diags_, raw.loc, what + ": " + root_.outside_message(p));
+          return std::nullopt;
+        }
         auto st = fs_.stat(p);
         const bool want_dir = spec.type == ParamType::kDir;
+        if (st && st->is_other) {  // a FIFO or device would block or never end
+          src_.error(diags_, raw.loc, what + " names '" + excerpt(p.string(), 200) + "', which is not a regular file");
+          return std::nullopt;
+        }
         if (!st || st->is_dir != want_dir) {
           src_.error(diags_, raw.loc,
                      "missing input: " + what + " names " + (want_dir ? "directory" : "file") +
-                         " '" + p.string() + "', which " + (st ? "is not a " + std::string(want_dir ? "directory" : "file") : std::string("does not exist")));
+                         " '" + excerpt(p.string(), 200) + "', which " + (st ? "is not a " + std::string(want_dir ? "directory" : "file") : std::string("does not exist")));
           return std::nullopt;
         }
         if (files) {
@@ -219,6 +232,15 @@ class ParamChecker {
           else ok = false;
         }
         if (!ok) return std::nullopt;
+        if (spec.increasing)
+          for (std::size_t i = 1; i < out.size(); ++i)
+            if (!(out[i].as_real() > out[i - 1].as_real())) {
+              src_.error(diags_, raw.items[i].loc,
+                         "value out of range: " + what + " must be increasing, but item " + std::to_string(i) +
+                             " (" + raw.items[i].text + ") is not greater than item " + std::to_string(i - 1) +
+                             " (" + raw.items[i - 1].text + ")");
+              return std::nullopt;
+            }
         return Value(std::move(out));
       }
       case ParamType::kObject: {
@@ -233,7 +255,7 @@ class ParamChecker {
             if (field.name == k.text) f = &field;
           if (!f) {
             src_.error(diags_, k.loc,
-                       "unknown field '" + k.text + "' in " + what + did_you_mean(k.text, names));
+                       "unknown field '" + excerpt(k.text) + "' in " + what + did_you_mean(k.text, names));
             ok = false;
             continue;
           }
@@ -341,7 +363,7 @@ class ParamChecker {
       else
         range = "<= " + format_number(*spec.max);
       src_.error(diags_, raw.loc,
-                 "value out of range: " + what + " must be " + range + ", got " + raw.text);
+                 "value out of range: " + what + " must be " + range + ", got " + excerpt(raw.text));
       return false;
     }
     return true;
@@ -353,7 +375,7 @@ class ParamChecker {
   }
 
   std::optional<Value> wrong(const ParamSpec& spec, const RawNode& raw, const std::string& what) {
-    const std::string got = raw.is_scalar() ? "'" + raw.text + "'" : std::string("a ") + raw.kind_name();
+    const std::string got = raw.is_scalar() ? "'" + excerpt(raw.text) + "'" : std::string("a ") + raw.kind_name();
     src_.error(diags_, raw.loc,
                "wrong type: " + what + " expects " + param_type_name(spec.type) + ", got " + got);
     return std::nullopt;
@@ -362,7 +384,18 @@ class ParamChecker {
   FileSystem& fs_;
   const SourceFiles& src_;
   Diagnostics& diags_;
+  const ProjectRoot& root_;
 };
+
+// Recipe names that would clash with what shares the output root (out/cache, CMake's
+// out/build, out/npm, out/test-images), and node names that would clash with the out dir's own
+// bookkeeping (.sylva/, .<node>.tmp.*): refused, so publishing into out/<recipe>/<node>/ can
+// never replace or delete them.
+bool reserved_recipe_name(const std::string& n) {
+  static const std::set<std::string> kReserved = {"cache", "build", "npm", "test-images", "tmp"};
+  return n.front() == '.' || kReserved.count(n) > 0;
+}
+bool reserved_node_name(const std::string& n) { return n.front() == '.'; }
 
 // ---- the loader ----------------------------------------------------------------------
 
@@ -379,13 +412,22 @@ struct MatrixVar {
 
 class Loader {
  public:
-  Loader(const StageRegistry& reg, FileSystem& fs, Diagnostics& diags, const fs::path& parse_cache_dir)
-      : reg_(reg), fs_(fs), diags_(diags), yaml_(fs, src_, diags, parse_cache_dir), params_(fs, src_, diags) {}
+  Loader(const StageRegistry& reg, FileSystem& fs, Diagnostics& diags, const LoadOptions& options)
+      : reg_(reg),
+        fs_(fs),
+        diags_(diags),
+        options_(options),
+        yaml_(fs, src_, diags, options.parse_cache_dir,
+              YamlLimits{options.limits.file_bytes, options.limits.yaml_nodes, options.limits.include_depth}),
+        params_(fs, src_, diags, project_root_) {}
 
   std::optional<Recipe> load(const fs::path& file) {
     recipe_.file = file;
-    auto root = yaml_.read(file);
+    auto root = yaml_.read_unresolved(file);
     if (!root) return std::nullopt;
+    if (!choose_root(*root, file)) return std::nullopt;
+    yaml_.set_root(&project_root_);
+    if (!yaml_.resolve(*root, file)) return std::nullopt;
     read_top(*root, /*is_root=*/true, {});
     // Node checks run even after top-level errors so one run reports as much as it can.
     recipe_.nodes.reserve(entries_.size());
@@ -408,6 +450,54 @@ class Loader {
  private:
   void err(const SourceLoc& loc, std::string msg) { src_.error(diags_, loc, std::move(msg)); }
 
+  // The project root: the directories the recipe's `root:` names (relative to the recipe),
+  // else its directory; a root given by the caller (--root) bounds them. Unconfined when
+  // options_.confine is false.
+  bool choose_root(const RawNode& top, const fs::path& file) {
+    if (!options_.confine) return true;
+    const fs::path dir = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+    const RawNode* declared = nullptr;
+    if (top.is_map())
+      for (const auto& [k, v] : top.entries)
+        if (k.is_scalar() && k.text == "root") declared = &v;
+    std::vector<fs::path> roots;
+    if (declared) {
+      std::vector<const RawNode*> items;
+      if (declared->is_scalar()) items.push_back(declared);
+      else if (declared->is_seq())
+        for (const auto& i : declared->items) items.push_back(&i);
+      bool ok = !items.empty();
+      for (const RawNode* i : items) ok = ok && i->is_scalar() && !i->text.empty();
+      if (!ok) {
+        err(declared->loc, "'root' must be a directory or a list of directories (relative to the recipe)");
+        return false;
+      }
+      for (const RawNode* i : items) {
+        fs::path d = i->text;
+        if (d.is_relative()) d = dir / d;
+        d = d.lexically_normal();
+        if (!d.has_filename() && d.has_relative_path()) d = d.parent_path();  // "a/b/" -> "a/b"
+        // A root that does not exist (optional data not downloaded) is kept: its files are then
+        // reported as missing, not as outside the project.
+        auto st = fs_.stat(d);
+        if (st && !st->is_dir) {
+          err(i->loc, "'root' names '" + excerpt(d.string(), 200) + "', which is not a directory");
+          return false;
+        }
+        if (!options_.root.empty() && !ProjectRoot(options_.root).contains(d)) {
+          err(i->loc, "'root' names '" + excerpt(d.string(), 200) + "', outside the root given by --root ('" +
+                          excerpt(options_.root.string(), 200) + "')");
+          return false;
+        }
+        roots.push_back(d);
+      }
+    } else {
+      roots.push_back(options_.root.empty() ? dir : options_.root);
+    }
+    project_root_ = ProjectRoot(roots);
+    return true;
+  }
+
   // Top-level keys of the recipe or of an included fragment.
   // The node entries are moved out of `root` (a 10,000-node recipe is not copied).
   void read_top(RawNode& root, bool is_root, std::vector<std::string> include_stack) {
@@ -417,8 +507,8 @@ class Loader {
                         " must be a map, got a " + root.kind_name());
       return;
     }
-    static const std::vector<std::string> kRootKeys = {"version", "name",   "description",
-                                                       "include", "defaults", "matrix", "nodes"};
+    static const std::vector<std::string> kRootKeys = {"version",  "name",   "description", "root",
+                                                       "include",  "defaults", "matrix",    "nodes"};
     static const std::vector<std::string> kFragmentKeys = {"description", "include", "defaults",
                                                            "matrix", "nodes"};
     const auto& allowed = is_root ? kRootKeys : kFragmentKeys;
@@ -432,7 +522,7 @@ class Loader {
       if (std::find(allowed.begin(), allowed.end(), k.text) == allowed.end()) {
         const bool root_only = std::find(kRootKeys.begin(), kRootKeys.end(), k.text) != kRootKeys.end();
         err(k.loc, root_only ? "'" + k.text + "' is only allowed in the top-level recipe"
-                             : "unknown key '" + k.text + "'" + did_you_mean(k.text, allowed));
+                             : "unknown key '" + excerpt(k.text) + "'" + did_you_mean(k.text, allowed));
         continue;
       }
       if (!seen.insert(k.text).second) {
@@ -442,11 +532,17 @@ class Loader {
       if (k.text == "version") {
         have_version = true;
         if (!v.is_scalar() || v.text != "1")
-          err(v.loc, "unsupported recipe version '" + (v.is_scalar() ? v.text : std::string(v.kind_name())) + "' (this sylva reads version 1)");
+          err(v.loc, "unsupported recipe version '" + (v.is_scalar() ? excerpt(v.text) : std::string(v.kind_name())) + "' (this sylva reads version 1)");
+      } else if (k.text == "root") {
+        // chosen before anything was read (choose_root)
       } else if (k.text == "name") {
         have_name = true;
         if (!v.is_scalar() || !is_valid_name(v.text))
-          err(v.loc, "invalid recipe name '" + v.text + "': use letters, digits, '_', '-' and '.'");
+          err(v.loc, "invalid recipe name '" + excerpt(v.text) + "': use letters, digits, '_', '-' and '.'");
+        else if (reserved_recipe_name(v.text))
+          err(v.loc, "reserved recipe name '" + v.text +
+                         "': out/cache, out/build, out/npm, out/test-images, out/tmp and names starting with '.' "
+                         "belong to sylva and the build; choose another name");
         else
           recipe_.name = v.text;
       } else if (k.text == "include") {
@@ -482,6 +578,15 @@ class Loader {
         continue;
       }
       const fs::path target = (fs::path(item.loc.file()).parent_path() / item.text).lexically_normal();
+      if (!project_root_.contains(target)) {
+        err(item.loc, "include " + project_root_.outside_message(target));
+        continue;
+      }
+      if (stack.size() >= options_.limits.include_depth) {
+        err(item.loc, "includes nested deeper than " + std::to_string(options_.limits.include_depth) +
+                          " files; raise the limit with --limit include-depth=N");
+        continue;
+      }
       if (std::find(stack.begin(), stack.end(), target.string()) != stack.end() ||
           target.string() == fs::path(v.loc.file()).lexically_normal().string()) {
         err(item.loc, "include cycle: '" + target.string() + "' is already being read");
@@ -538,6 +643,8 @@ class Loader {
   // Pass 3 + 4: expansion and per-node checks.
   void expand_nodes() {
     for (const auto& e : entries_) {
+      if (diags_.full()) return;  // enough errors reported; the rest are not looked at
+      if (too_many_nodes()) return;
       std::vector<MatrixVar> local_matrix;
       const RawNode* body = &e.body;
       RawNode local;  // the body without its `matrix:` key, when it has one
@@ -595,9 +702,20 @@ class Loader {
         ok = false;
       }
       if (!ok) continue;
+      // Checked before expanding: a matrix of 10^8 combinations is refused at once.
+      std::uint64_t combinations = 1;
+      for (const MatrixVar* m : used)
+        combinations = std::min<std::uint64_t>(combinations * m->values.size(), options_.limits.matrix + 1);
+      if (combinations > options_.limits.matrix) {
+        err(e.key.loc, "node '" + excerpt(e.key.text, 80) + "' expands to more than " +
+                           std::to_string(options_.limits.matrix) +
+                           " nodes over its matrix; raise the limit with --limit matrix=N");
+        continue;
+      }
       // Cartesian product, first variable outermost.
       std::vector<std::size_t> idx(used.size(), 0);
       for (;;) {
+        if (diags_.full() || too_many_nodes()) return;
         std::map<std::string, std::string> vars;
         for (std::size_t i = 0; i < used.size(); ++i) vars[used[i]->name] = used[i]->values[idx[i]];
         check_node(substitute(e.key, vars), substitute(*body, vars));
@@ -613,10 +731,25 @@ class Loader {
     }
   }
 
+  // True (once reported) when the recipe has more nodes than options_.limits.nodes.
+  bool too_many_nodes() {
+    if (node_loc_.size() < options_.limits.nodes) return false;
+    if (!nodes_reported_)
+      err({recipe_.file.string(), 1, 1}, "the recipe has more than " + std::to_string(options_.limits.nodes) +
+                                            " nodes; raise the limit with --limit nodes=N");
+    nodes_reported_ = true;
+    return true;
+  }
+
   void check_node(const RawNode& key, const RawNode& body) {
     if (!key.is_scalar() || !is_valid_name(key.text)) {
-      err(key.loc, "invalid node name '" + key.text +
+      err(key.loc, "invalid node name '" + excerpt(key.text) +
                        "': use letters, digits, '_', '-' and '.' (no path separators)");
+      return;
+    }
+    if (reserved_node_name(key.text)) {
+      err(key.loc, "reserved node name '" + key.text +
+                       "': names starting with '.' belong to sylva's bookkeeping in the out dir");
       return;
     }
     if (auto it = node_loc_.find(key.text); it != node_loc_.end()) {
@@ -637,7 +770,7 @@ class Loader {
     const RawNode* needs = nullptr;
     for (const auto& [k, v] : body.entries) {
       if (std::find(kNodeKeys.begin(), kNodeKeys.end(), k.text) == kNodeKeys.end()) {
-        err(k.loc, "unknown key '" + k.text + "' in node '" + node.name + "'" + did_you_mean(k.text, kNodeKeys));
+        err(k.loc, "unknown key '" + excerpt(k.text) + "' in node '" + node.name + "'" + did_you_mean(k.text, kNodeKeys));
         continue;
       }
       const RawNode** slot = k.text == "stage" ? &stage : k.text == "with" ? &with : k.text == "needs" ? &needs : nullptr;
@@ -649,9 +782,16 @@ class Loader {
       err(key.loc, "node '" + node.name + "' has no 'stage'");
       return;
     }
-    node.stage = stage->is_scalar() ? reg_.find(stage->text) : nullptr;
+    if (!stage->is_scalar()) {
+      err(stage->loc, "'stage' must be one stage name, got a " + std::string(stage->kind_name()) +
+                          (stage->is_seq() && stage->items.size() == 1 && stage->items[0].is_scalar()
+                               ? " (write 'stage: " + excerpt(stage->items[0].text) + "')"
+                               : std::string()));
+      return;
+    }
+    node.stage = reg_.find(stage->text);
     if (!node.stage) {
-      err(stage->loc, "unknown stage '" + stage->text + "'" + did_you_mean(stage->text, reg_.names()));
+      err(stage->loc, "unknown stage '" + excerpt(stage->text) + "'" + did_you_mean(stage->text, reg_.names()));
       return;
     }
     const StageInfo& info = node.stage->info();
@@ -668,7 +808,7 @@ class Loader {
         for (const auto& [k, v] : with->entries) {
           const ParamSpec* spec = find_param(info, k.text);
           if (!spec) {
-            err(k.loc, "unknown parameter '" + k.text + "' for stage '" + info.name + "'" + did_you_mean(k.text, param_names()));
+            err(k.loc, "unknown parameter '" + excerpt(k.text) + "' for stage '" + info.name + "'" + did_you_mean(k.text, param_names()));
             continue;
           }
           if (!given.insert(k.text).second) {
@@ -784,6 +924,9 @@ class Loader {
   const StageRegistry& reg_;
   FileSystem& fs_;
   Diagnostics& diags_;
+  const LoadOptions& options_;
+  ProjectRoot project_root_;  // unconfined until choose_root()
+  bool nodes_reported_ = false;
   SourceFiles src_;
   YamlReader yaml_;
   ParamChecker params_;
@@ -798,10 +941,39 @@ class Loader {
 
 }  // namespace
 
+std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& registry, FileSystem& fs,
+                                  Diagnostics& diags, const LoadOptions& options) {
+  Loader loader(registry, fs, diags, options);
+  return loader.load(file);
+}
+
 std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& registry,
                                   FileSystem& fs, Diagnostics& diags, const fs::path& parse_cache_dir) {
-  Loader loader(registry, fs, diags, parse_cache_dir);
-  return loader.load(file);
+  LoadOptions options;
+  options.parse_cache_dir = parse_cache_dir;
+  return load_recipe(file, registry, fs, diags, options);
+}
+
+std::optional<std::string> set_limit(LoadLimits& limits, std::string_view spec) {
+  const auto eq = spec.find('=');
+  const std::string name(spec.substr(0, eq));
+  std::uint64_t* slot = name == "file-bytes"      ? &limits.file_bytes
+                        : name == "yaml-nodes"    ? &limits.yaml_nodes
+                        : name == "include-depth" ? &limits.include_depth
+                        : name == "matrix"        ? &limits.matrix
+                        : name == "nodes"         ? &limits.nodes
+                        : name == "errors"        ? &limits.errors
+                                                  : nullptr;
+  if (!slot)
+    return "unknown limit '" + excerpt(name) +
+           "' (file-bytes, yaml-nodes, include-depth, matrix, nodes, errors)";
+  std::uint64_t v = 0;
+  const std::string_view num = eq == std::string_view::npos ? std::string_view() : spec.substr(eq + 1);
+  auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
+  if (num.empty() || ec != std::errc() || p != num.data() + num.size() || v == 0)
+    return "limit '" + name + "' needs a positive integer, as in " + name + "=1000";
+  *slot = v;
+  return std::nullopt;
 }
 
 }  // namespace sylva

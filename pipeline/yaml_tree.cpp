@@ -55,10 +55,6 @@ SourceLoc loc_of(const std::shared_ptr<const std::string>& file, const YAML::Mar
 
 }  // namespace
 
-std::optional<RawNode> YamlReader::read(const std::filesystem::path& file, const SourceLoc& from) {
-  return read_impl(file, from);
-}
-
 namespace {
 
 // The parse cache's entry format: magic, SHA-256 of the source text, then the tree, each node
@@ -145,9 +141,19 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
   }
   bool ok = true;
   const auto file = std::make_shared<const std::string>(name);
+  // yaml-cpp keeps an alias as a reference to its anchor; converting copies it. Counting the
+  // converted nodes stops an alias bomb (9 levels of 9 aliases: 387 million nodes) at the limit.
+  std::uint64_t converted = 0;
+  bool too_big = false;
   // Converts recursively; `!include` values are marked, and replaced by resolve_includes().
   auto convert = [&](auto&& self, const YAML::Node& n, const SourceLoc& fallback) -> RawNode {
     RawNode r;
+    if (too_big) return r;
+    if (++converted > limits_.yaml_nodes) {
+      too_big = true;
+      ok = false;
+      return r;
+    }
     r.loc = n.Mark().line >= 0 ? loc_of(file, n.Mark()) : fallback;
     if (n.Tag() == "!include") {
       if (!n.IsScalar()) {
@@ -185,13 +191,28 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
     return r;
   };
   RawNode out = convert(convert, root, SourceLoc{file, 1, 1});
+  if (too_big)
+    sources_.error(diags_, SourceLoc{file, 1, 1},
+                   "'" + excerpt(name, 200) + "' expands to more than " + std::to_string(limits_.yaml_nodes) +
+                       " YAML nodes (aliases count once per use); raise the limit with --limit yaml-nodes=N");
   if (!ok) return std::nullopt;
   return out;
 }
 
 bool YamlReader::resolve_includes(RawNode& n, const std::filesystem::path& file) {
   if (n.include) {
-    auto inc = read_impl(file.parent_path() / n.text, n.loc);
+    const std::filesystem::path target = file.parent_path() / n.text;
+    if (root_ && !root_->contains(target)) {
+      sources_.error(diags_, n.loc, "!include " + root_->outside_message(target.lexically_normal()));
+      return false;
+    }
+    if (stack_.size() >= limits_.include_depth) {
+      sources_.error(diags_, n.loc,
+                     "!include nested deeper than " + std::to_string(limits_.include_depth) +
+                         " files; raise the limit with --limit include-depth=N");
+      return false;
+    }
+    auto inc = read_impl(target, n.loc, /*resolve=*/true);
     if (!inc) return false;
     n = std::move(*inc);
     return true;
@@ -202,8 +223,23 @@ bool YamlReader::resolve_includes(RawNode& n, const std::filesystem::path& file)
   return ok;
 }
 
-std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
-                                             const SourceLoc& from) {
+std::optional<RawNode> YamlReader::read(const std::filesystem::path& file, const SourceLoc& from) {
+  return read_impl(file, from, /*resolve=*/true);
+}
+
+std::optional<RawNode> YamlReader::read_unresolved(const std::filesystem::path& file, const SourceLoc& from) {
+  return read_impl(file, from, /*resolve=*/false);
+}
+
+bool YamlReader::resolve(RawNode& tree, const std::filesystem::path& file) {
+  stack_.push_back(file.lexically_normal().string());
+  const bool ok = resolve_includes(tree, file);
+  stack_.pop_back();
+  return ok;
+}
+
+std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file, const SourceLoc& from,
+                                             bool resolve_now) {
   const std::string name = file.lexically_normal().string();
   if (std::find(stack_.begin(), stack_.end(), name) != stack_.end()) {
     std::string chain;
@@ -212,10 +248,11 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
     return std::nullopt;
   }
   std::string why;
-  auto text = fs_.read(file, &why);
+  auto text = fs_.read(file, &why, limits_.file_bytes);
   if (!text) {
-    sources_.error(diags_, from,
-                   "cannot read '" + name + "': " + why);
+    if (auto st = fs_.stat(file); st && !st->is_dir && !st->is_other && st->size > limits_.file_bytes)
+      why += "; raise the limit with --limit file-bytes=N";
+    sources_.error(diags_, from, "cannot read '" + excerpt(name, 200) + "': " + why);
     return std::nullopt;
   }
   sources_.add(name, *text);
@@ -245,6 +282,7 @@ std::optional<RawNode> YamlReader::read_impl(const std::filesystem::path& file,
     }
   }
 
+  if (!resolve_now) return tree;
   stack_.push_back(name);
   const bool ok = resolve_includes(*tree, file);
   stack_.pop_back();

@@ -6,6 +6,7 @@
 // replaced by the root of that file (resolved relative to the including file).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -15,6 +16,7 @@
 
 #include "pipeline/diagnostic.h"
 #include "pipeline/filesystem.h"
+#include "pipeline/project_root.h"
 
 namespace sylva {
 
@@ -54,17 +56,36 @@ class SourceFiles {
 // the reader can keep each file's parsed tree (before `!include` is resolved) in
 // `parse_cache_dir`, one entry per file path, used only while the file's bytes are the same
 // (their SHA-256 is in the entry). A missing, stale or damaged entry just means parsing again.
+//
+// Limits (each exceeded one is a diagnostic, docs/recipes.md "Limits"): a file of more than
+// `file_bytes` is not read, one that expands (aliases included: the "billion laughs") to more
+// than `yaml_nodes` nodes is not converted, `!include` nests at most `include_depth` deep.
+struct YamlLimits {
+  std::uint64_t file_bytes = 16u << 20;
+  std::uint64_t yaml_nodes = 1'000'000;
+  std::uint64_t include_depth = 16;
+};
+
 class YamlReader {
  public:
-  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags, std::filesystem::path parse_cache_dir = {})
-      : fs_(fs), sources_(sources), diags_(diags), parse_cache_dir_(std::move(parse_cache_dir)) {}
+  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags, std::filesystem::path parse_cache_dir = {},
+             YamlLimits limits = {})
+      : fs_(fs), sources_(sources), diags_(diags), parse_cache_dir_(std::move(parse_cache_dir)), limits_(limits) {}
 
-  // Parses `file` (a path as the user wrote it). On failure adds a diagnostic located at
-  // `from` (the place that named the file; empty for the top-level recipe) and returns nullopt.
+  // Every `!include` target must lie inside `root` (not owned; default: unconfined).
+  void set_root(const ProjectRoot* root) { root_ = root; }
+
+  // Parses `file` (a path as the user wrote it) and resolves its `!include`s. On failure adds
+  // a diagnostic located at `from` (the place that named the file; empty for the top-level
+  // recipe) and returns nullopt.
   std::optional<RawNode> read(const std::filesystem::path& file, const SourceLoc& from = {});
+  // The two halves of read(): parse only (the recipe's `root:` key is needed before any
+  // `!include` is followed), then resolve the `!include`s of a tree read from `file`.
+  std::optional<RawNode> read_unresolved(const std::filesystem::path& file, const SourceLoc& from = {});
+  bool resolve(RawNode& tree, const std::filesystem::path& file);
 
  private:
-  std::optional<RawNode> read_impl(const std::filesystem::path& file, const SourceLoc& from);
+  std::optional<RawNode> read_impl(const std::filesystem::path& file, const SourceLoc& from, bool resolve);
   std::optional<RawNode> parse(const std::string& name, const std::string& text);
   bool resolve_includes(RawNode& n, const std::filesystem::path& file);
 
@@ -72,6 +93,8 @@ class YamlReader {
   SourceFiles& sources_;
   Diagnostics& diags_;
   std::filesystem::path parse_cache_dir_;
+  YamlLimits limits_;
+  const ProjectRoot* root_ = nullptr;
   std::vector<std::string> stack_;  // files being read (include cycle detection)
 };
 

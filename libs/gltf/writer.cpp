@@ -418,16 +418,20 @@ void check_scene(const Scene& scene) {
 
 const char* extension(FileFormat format) { return format == FileFormat::kGlb ? ".glb" : ".gltf"; }
 
-std::string encode(const Scene& scene, const WriteOptions& options) {
+void encode_to(const Scene& scene, std::ostream& out, const WriteOptions& options) {
   if (options.format == FileFormat::kGltfExternal)
     throw GltfError("an external .gltf is several files: use encode_external()");
   check_scene(scene);
   tinygltf::Model model = ModelBuilder(scene, options).build();
   tinygltf::TinyGLTF writer;
-  std::ostringstream out(std::ios::binary);
   const bool glb = options.format == FileFormat::kGlb;
   if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/!glb, /*writeBinary=*/glb))
     throw GltfError("tinygltf could not serialise the scene");
+}
+
+std::string encode(const Scene& scene, const WriteOptions& options) {
+  std::ostringstream out(std::ios::binary);
+  encode_to(scene, out, options);
   return std::move(out).str();
 }
 

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <filesystem>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -57,6 +58,10 @@ struct WriteOptions {
 
 // The file's bytes (kGlb or kGltf; kGltfExternal throws: use encode_external). Throws GltfError.
 std::string encode(const Scene& scene, const WriteOptions& options = {});
+// The same bytes written to `out` as they are produced, without a second copy of the whole file
+// in memory (a subdivided willow's GLB is ~800 MB). The caller checks `out`'s state for write
+// errors. Throws GltfError.
+void encode_to(const Scene& scene, std::ostream& out, const WriteOptions& options = {});
 
 struct EncodedFile {
   std::string name;  // the uri, a plain file name

@@ -36,6 +36,15 @@ const std::set<std::string>& supported_required_extensions() {
   return s;
 }
 
+// Optional extensions whose effect the renderer draws, or that do not change the picture.
+// Any other extension a file uses is drawn without its effect, with a warning
+// (Scene::warnings; issue 15: KHR_texture_transform used to be ignored silently).
+const std::set<std::string>& understood_extensions() {
+  static const std::set<std::string> s = {kDraco, kInstancing, kUnlit, "KHR_mesh_quantization", "MSFT_lod",
+                                          "MSFT_texture_dds", "KHR_materials_emissive_strength"};
+  return s;
+}
+
 // tinygltf reports several problems as newline-separated text; keep one line.
 std::string one_line(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
@@ -66,6 +75,7 @@ class Loader {
     check_extensions();
     check_images();
     scene_.source = file_;
+    scene_.warnings = ignored_extensions();
     load_textures_and_materials();
     const Mat4 identity = Mat4::Identity();
     for (int root : root_nodes()) visit(root, identity, 0);
@@ -84,6 +94,15 @@ class Loader {
       if (!supported_required_extensions().count(ext))
         fail("requires unsupported glTF extension '" + ext + "'");
     }
+  }
+
+  std::vector<std::string> ignored_extensions() const {
+    std::vector<std::string> out;
+    for (const std::string& ext : m_.extensionsUsed)
+      if (!understood_extensions().count(ext))
+        out.push_back(file_ + ": warning: uses glTF extension '" + ext +
+                      "', which sylva's renderer ignores: the image may differ from other viewers'");
+    return out;
   }
 
   // Every image must have decoded; all the missing ones are named in one message.

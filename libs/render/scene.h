@@ -86,6 +86,9 @@ struct Mesh {
 
 struct Scene {
   std::string source;  // file the scene came from (for messages), may be empty
+  // What the renderer ignored, one line each ("uses glTF extension 'KHR_texture_transform',
+  // which sylva's renderer ignores: ..."): the picture may differ from other viewers'.
+  std::vector<std::string> warnings;
   std::vector<Texture> textures;
   std::vector<Material> materials;
   std::vector<Mesh> meshes;

@@ -14,7 +14,7 @@ namespace {
 
 constexpr std::size_t kHeaderSize = 16;     // magic(8) version(4) flags(4)
 constexpr std::size_t kChecksumSize = 8;
-constexpr std::size_t kMaxString = 1 << 16;
+constexpr std::size_t kMaxString = kMaxTextBytes;  // the writer refuses longer (validate_tree)
 constexpr std::size_t kBranchHeader = 4 + 4 + 8 + 4 + 4;
 constexpr std::size_t kNodeSize = 4 * 8;
 constexpr std::size_t kLeafSize = 4 + 9 * 4 + 2 * 4 + 1;

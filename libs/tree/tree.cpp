@@ -18,6 +18,14 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
     if (errors.size() < max_errors) errors.push_back(std::move(msg));
   };
   const Materials& m = tree.materials;
+  auto text = [&](const std::string& value, const char* what) {
+    if (value.size() > kMaxTextBytes)
+      fail(std::string(what) + " is " + std::to_string(value.size()) + " bytes, at most " +
+           std::to_string(kMaxTextBytes) + " are stored");
+  };
+  text(tree.name, "the tree name");
+  text(m.bark_texture, "materials: the bark texture name");
+  text(m.leaf_texture, "materials: the leaf texture name");
   if (m.atlas_columns < 1 || m.atlas_columns > 16 || m.atlas_rows < 1 || m.atlas_rows > 16)
     fail("materials: the leaf atlas must have 1..16 columns and rows, has " + std::to_string(m.atlas_columns) + "x" +
          std::to_string(m.atlas_rows));

@@ -20,7 +20,8 @@
 //     unit length (1e-3) and orthogonal (1e-3), variant < the leaf atlas's cell count; needle
 //     radius > 0;
 //   - materials: the leaf atlas has 1..16 columns and rows, its cell coverage list is empty or
-//     holds one value in [0, 1] per cell, the bark tint is in [0, 1] with from <= to.
+//     holds one value in [0, 1] per cell, the bark tint is in [0, 1] with from <= to;
+//   - the name and the texture references are at most kMaxTextBytes bytes (the .sylt limit).
 // A child's first node is its first cross-section, *not* the attachment point: the segment from
 // the attachment point to nodes[0] is implicit (Nystad's DAG edge from the prepended node to the
 // child's root segment). For generated trees parent_t is 0 and the attachment node is a
@@ -113,8 +114,11 @@ struct Materials {
   friend bool operator==(const Materials&, const Materials&) = default;
 };
 
+// The longest name or texture reference a tree may have (bytes): what .sylt stores.
+inline constexpr std::size_t kMaxTextBytes = 1 << 16;
+
 struct Tree {
-  std::string name;  // free text for people, e.g. "oak/adult seed 1"
+  std::string name;  // free text for people, e.g. "oak/adult seed 1"; <= kMaxTextBytes
   std::vector<Branch> branches;
   std::vector<Leaf> leaves;
   std::vector<Needle> needles;

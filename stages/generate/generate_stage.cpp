@@ -42,7 +42,7 @@ class GenerateStage : public Stage {
             .range(0, 100)
             .describe("longest segment between skeleton nodes (m); 0 = no extra nodes (Nystad 4.3.2)"),
         Param::real("leaf_density", 1.0).range(0, 4).describe("multiplies the preset's Leaves (leaf or needle count)"),
-        Param::integer("texture_size", 512).range(16, 4096).describe("bark and leaf atlas size in pixels (power of two)"),
+        Param::integer("texture_size", 512).range(16, 4096).require_power_of_two().describe("bark and leaf atlas size in pixels (power of two)"),
         Param::choice("foliage", {"cards", "leaves", "needles"}, "cards")
             .describe("cards: twig cards (broadleaves) or shoot cards (conifers), the games default; "
                       "leaves / needles: one quad per leaf or one needle each (hero close-ups)"),

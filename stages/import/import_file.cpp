@@ -23,6 +23,21 @@ bool ends_with(std::string_view s, std::string_view suffix) {
                     });
 }
 
+// Point clouds (LiDAR and photogrammetry scans) are a different kind of input: a tree has to be
+// reconstructed from them (a QSM), which sylva does not do yet. Recognised by their magic bytes
+// (LAS "LASF", PLY "ply") or file name, they get that answer instead of a format guess.
+bool point_cloud(std::string_view bytes, std::string_view file_name) {
+  if (bytes.substr(0, 4) == "LASF") return true;
+  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return true;
+  for (std::string_view ext : {".las", ".laz", ".ply", ".pcd", ".e57", ".xyz", ".pts"})
+    if (ends_with(file_name, ext)) return true;
+  return false;
+}
+
+constexpr const char* kNoPointClouds =
+    "point clouds are not supported yet: reconstruct a QSM cylinder table from the scan first (e.g. "
+    "with TreeQSM or SimpleForest) and import that";
+
 }  // namespace
 
 const char* format_name(Format f) {
@@ -41,6 +56,7 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
       std::memcmp(bytes.data(), tree::kSyltMagic, sizeof tree::kSyltMagic) == 0)
     return Format::kSylt;
   if (ends_with(file_name, ".sylt")) return Format::kSylt;
+  if (point_cloud(bytes, file_name)) throw ImportError(source, 1, kNoPointClouds);
   if (ends_with(file_name, ".skel")) return Format::kSkeletonText;
   if (has_columns) return Format::kTreeQsmText;
 
@@ -57,6 +73,10 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
     if (static_cast<std::size_t>(numeric) < fields.size()) return Format::kQsm;
     if (fields.size() >= 12) return Format::kTreeQsmText;
     if (fields.size() >= 6 && fields.size() <= 9) return Format::kSkeletonText;
+    if (fields.size() >= 3 && fields.size() <= 5)
+      throw ImportError(source, reader.line_number(),
+                        "a headerless row of " + std::to_string(fields.size()) +
+                            " numbers looks like a point cloud (x y z ...); " + kNoPointClouds);
     throw ImportError(source, reader.line_number(),
                       "cannot detect the format: a headerless row of " +
                           std::to_string(fields.size()) +

@@ -74,6 +74,7 @@ struct Layout {
   std::vector<std::string> field_names;   // display name of every field
   std::size_t field_count = 0;            // fields per row (0: take the first row's count)
   bool use_axis = false;                  // end = start + axis * length
+  bool assumed_order = false;             // headerless, no `columns`: TreeQSM's order assumed
   std::string variant;
 };
 
@@ -198,6 +199,7 @@ Layout headerless_layout(const TableOptions& opt, std::size_t fields, const Layo
   for (std::size_t i = names.size(); i < fields; ++i) names.push_back("column " + std::to_string(i + 1));
   Layout l = make_layout(names, ctx);
   l.variant = "treeqsm_txt";
+  l.assumed_order = true;
   return l;
 }
 
@@ -261,7 +263,21 @@ class RowParser {
   std::int64_t parent_id() const { return parent_id_; }
 
   [[noreturn]] void fail_field(Role role, const std::string& message) const {
-    fail(source_, line_, field_label(layout_, role) + ": " + message);
+    // TreeQSM versions differ after the first columns (some put added and UnmodRadius before
+    // branch and order): when the order was only assumed, say how to give the real one.
+    const std::string hint =
+        layout_.assumed_order
+            ? "; the table has no header, so TreeQSM's column order (" + assumed_order_text() +
+                  ") was assumed: if this export orders its columns differently, list them in the "
+                  "import stage's `columns` parameter"
+            : std::string();
+    fail(source_, line_, field_label(layout_, role) + ": " + message + hint);
+  }
+
+  static std::string assumed_order_text() {
+    std::string t;
+    for (std::string_view c : kTreeQsmColumns) t += (t.empty() ? "" : " ") + std::string(c);
+    return t;
   }
 
   static std::string field_label(const Layout& l, Role role) {

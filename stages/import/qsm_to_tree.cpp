@@ -12,6 +12,7 @@
 
 #include "stages/import/import_error.h"
 #include "stages/import/text_scan.h"
+#include "stages/import/value_limits.h"
 
 namespace sylva::import {
 
@@ -62,6 +63,13 @@ tree::Tree qsm_to_tree(const CylinderTable& table, std::string_view source,
       throw ImportError(source, c.line,
                         "cylinder " + std::to_string(c.id) +
                             ": coordinates overflow after scaling and recentring");
+    if (std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)}) > kMaxCoordinateM)
+      throw ImportError(source, c.line,
+                        "cylinder " + std::to_string(c.id) + ": a point lies " +
+                            text::format_real(std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)})) +
+                            " m from the " + (options.recenter ? "root" : "origin") + " (at most " +
+                            std::to_string(static_cast<long long>(kMaxCoordinateM)) + " m): check the scale parameter" +
+                            (options.recenter ? "" : " or set recenter: true"));
     return q;
   };
 
@@ -139,6 +147,11 @@ tree::Tree qsm_to_tree(const CylinderTable& table, std::string_view source,
         throw ImportError(source, cyl[ci].line,
                           "cylinder " + std::to_string(cyl[ci].id) + ": radius " +
                               text::format_real(cyl[ci].radius) + " is not representable after scaling");
+      if (r > kMaxRadiusM)
+        throw ImportError(source, cyl[ci].line,
+                          "cylinder " + std::to_string(cyl[ci].id) + ": radius " + text::format_real(r) +
+                              " m is larger than " + std::to_string(static_cast<long long>(kMaxRadiusM)) +
+                              " m: check the scale parameter");
       start_node[ci] = static_cast<std::uint32_t>(b.nodes.size() - 1);
       if (e != b.nodes.back().position) {
         b.nodes.push_back({e, 0});

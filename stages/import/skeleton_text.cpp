@@ -5,6 +5,7 @@
 #include "stages/import/skeleton_text.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <queue>
@@ -12,6 +13,7 @@
 
 #include "stages/import/import_error.h"
 #include "stages/import/text_scan.h"
+#include "stages/import/value_limits.h"
 
 namespace sylva::import {
 
@@ -98,6 +100,13 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
     if (parent == id) p.fail(1, "branch " + std::to_string(id) + " is its own parent");
     tree::Node node{{p.real(2), p.real(3), p.real(4)}, p.real(5)};
     if (node.radius < 0) p.fail(5, "radius must be >= 0, got " + text::format_real(node.radius));
+    if (node.radius > kMaxRadiusM)
+      p.fail(5, "radius " + text::format_real(node.radius) + " m is larger than " + std::to_string(static_cast<long long>(kMaxRadiusM)) +
+                    " m");
+    for (std::size_t f = 2; f <= 4; ++f)
+      if (std::fabs(p.real(f)) > kMaxCoordinateM)
+        p.fail(f, "coordinate " + text::format_real(p.real(f)) + " m is farther than " +
+                      std::to_string(static_cast<long long>(kMaxCoordinateM)) + " m from the origin");
     std::optional<std::int64_t> parent_node, level;
     std::optional<double> parent_t;
     if (fields.size() > 6) parent_node = p.integer(6, 0);

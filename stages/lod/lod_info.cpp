@@ -23,6 +23,7 @@ StageInfo lod_stage_info() {
       Param::real_list("errors_m", Value::List{})
           .range(1e-6, 100)
           .items(0, 8)
+          .require_increasing()
           .describe("explicit spatial error epsilon per level (m), increasing; overrides levels"),
       Param::real("min_error_m", 0.001).range(1e-6, 100).describe("epsilon of level 0 (m)"),
       Param::real("max_error_m", 0.22)

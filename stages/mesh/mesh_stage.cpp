@@ -96,7 +96,10 @@ class MeshStage final : public Stage {
     w.draco.generic_bits = static_cast<int>(ctx.integer("draco_generic_bits"));
     w.draco.compression_level = static_cast<int>(ctx.integer("draco_level"));
     try {
-      ctx.write_output(std::string("tree") + gltf::extension(w.format), gltf::encode(scene, w));
+      // Streamed (hashed while written): the file is never held in memory whole.
+      auto out = ctx.open_output(std::string("tree") + gltf::extension(w.format));
+      gltf::encode_to(scene, out->stream(), w);
+      out->close();
     } catch (const gltf::GltfError& e) {
       throw StageError(std::string("cannot write the glTF file: ") + e.what());
     }

@@ -127,5 +127,31 @@ TEST_F(CliTest, CleanAndCacheCommands) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out"));
 }
 
+// Issue 15 item 10: `clean --all` deletes only what sylva made. `--out .` used to empty a
+// project and `--cache ..` its parent; now a project's own files, CMake's build folder and a
+// foreign cache directory stay.
+TEST_F(CliTest, CleanAllDeletesOnlyWhatSylvaMade) {
+  const auto r = recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n");
+  ASSERT_EQ(run({"build", r}).code, 0);
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "out/cache/CACHEDIR.TAG"));
+  test::write_file(dir_ / "out/build/CMakeCache.txt", "cmake\n");  // the tool folders beside
+  test::write_file(dir_ / "out/notes.txt", "mine\n");
+  auto c = run({"clean", "--all"});
+  EXPECT_EQ(c.code, 0);
+  EXPECT_EQ(c.err, "sylva clean: kept 2 entries that sylva did not create (in " + (dir_ / "out").string() + ")\n");
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "out/r"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "out/cache"));
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "out/build/CMakeCache.txt"));
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "out/notes.txt"));
+
+  // A --cache that names a directory sylva did not make is kept, whatever is in it.
+  test::write_file(dir_ / "project/src.txt", "code\n");
+  c = run({"--cache", (dir_ / "project").string(), "clean", "--all"});
+  EXPECT_EQ(c.code, 0);
+  EXPECT_NE(c.err.find("sylva clean: kept " + (dir_ / "project").string() + ": not a sylva cache"), std::string::npos)
+      << c.err;
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "project/src.txt"));
+}
+
 }  // namespace
 }  // namespace sylva

@@ -13,6 +13,7 @@ trap 'rm -rf "$dir"' EXIT
 cat >"$dir/r.yaml" <<YAML
 version: 1
 name: startup
+root: $(pwd)
 nodes:
   tree:
     stage: generate

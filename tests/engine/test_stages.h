@@ -215,6 +215,25 @@ class ThrowingStage final : public Stage {
   StageInfo info_;
 };
 
+// Parameters with load-time constraints (a power of two, an increasing list).
+class ConstrainedStage final : public Stage {
+ public:
+  ConstrainedStage() {
+    info_.name = "constrained";
+    info_.version = 1;
+    info_.summary = "parameters with constraints (test stage)";
+    info_.params = {Param::integer("size", 16).range(1, 4096).require_power_of_two().describe("a power of two"),
+                    Param::real_list("levels", Value::List{}).require_increasing().describe("increasing")};
+    info_.inputs = {{}, 0, 0, ""};
+    info_.output_type = "text";
+  }
+  const StageInfo& info() const override { return info_; }
+  void run(StageContext& ctx) const override { ctx.write_output("out.txt", "ok\n"); }
+
+ private:
+  StageInfo info_;
+};
+
 inline void register_test_stages(StageRegistry& reg, RunLog* log) {
   reg.add(std::make_unique<TextStage>(log));
   reg.add(std::make_unique<ConcatStage>(log));
@@ -222,6 +241,7 @@ inline void register_test_stages(StageRegistry& reg, RunLog* log) {
   reg.add(std::make_unique<MeshOnlyStage>());
   reg.add(std::make_unique<NestedParallelStage>(log));
   reg.add(std::make_unique<ThrowingStage>());
+  reg.add(std::make_unique<ConstrainedStage>());
 }
 
 }  // namespace sylva::test

@@ -161,6 +161,20 @@ TEST(GltfScene, MissingTextureNamesTheImage) {
 }
 
 // Out-of-range indices, bad accessors and unsupported required extensions are refused.
+// Issue 15 item 7: an optional extension the renderer does not draw is a warning, not silence.
+TEST(GltfScene, IgnoredExtensionsAreWarnedAbout) {
+  test::TempDir dir;
+  GltfBuilder b;
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f)})}));
+  b.model().extensionsUsed.push_back("KHR_texture_transform");
+  b.model().extensionsUsed.push_back("KHR_materials_unlit");  // drawn: no warning
+  b.write_glb(dir / "tt.glb");
+  const Scene s = load_gltf_scene(dir / "tt.glb");
+  EXPECT_EQ(s.warnings, (std::vector<std::string>{(dir / "tt.glb").string() +
+                                                   ": warning: uses glTF extension 'KHR_texture_transform', which "
+                                                   "sylva's renderer ignores: the image may differ from other viewers'"}));
+}
+
 TEST(GltfScene, InvalidContent) {
   test::TempDir dir;
   {

@@ -65,6 +65,25 @@ TEST(SyltFormat, HeaderStartsWithMagicAndVersion) {
   EXPECT_EQ(bytes.substr(8, 4), std::string("\x02\x00\x00\x00", 4));
 }
 
+// Issue 15 item 6: the writer used to accept names the reader rejects. Now a name of exactly the
+// limit round-trips and one byte more is refused when writing, naming the limit.
+TEST(SyltFormat, WriterAndReaderAgreeOnTheNameLimit) {
+  Tree t = sample_tree();
+  t.name.assign(kMaxTextBytes, 'n');
+  EXPECT_EQ(decode_sylt(encode_sylt(t)).name, t.name);
+  t.name.push_back('n');
+  try {
+    encode_sylt(t);
+    FAIL() << "a name of " << t.name.size() << " bytes was written";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("the tree name is 65537 bytes, at most 65536 are stored"), std::string::npos)
+        << e.what();
+  }
+  t = sample_tree();
+  t.materials.bark_texture.assign(kMaxTextBytes + 1, 'b');
+  EXPECT_THROW(encode_sylt(t), std::invalid_argument);
+}
+
 TEST(SyltFormat, EmptyTreeRoundTrips) {
   Tree t;
   EXPECT_EQ(decode_sylt(encode_sylt(t)), t);

@@ -33,10 +33,28 @@ TEST(ImportFile, DetectFormat) {
   EXPECT_EQ(detect("# c\nID, parentID, radius\n1, 2, 3\n"), Format::kQsm);
   EXPECT_EQ(detect("0.3 1 0 0 0 0 0 1 0 2 1 0 1 0\n"), Format::kTreeQsmText);
   EXPECT_EQ(detect(kSkeleton), Format::kSkeletonText);
-  EXPECT_EQ(detect_error("1 2 3\n"),
-            "f.txt:1: cannot detect the format: a headerless row of 3 numbers is neither a TreeQSM "
+  EXPECT_EQ(detect_error("1 2 3 4 5 6 7 8 9 10\n"),
+            "f.txt:1: cannot detect the format: a headerless row of 10 numbers is neither a TreeQSM "
             "table (12 or more) nor a text skeleton (6 to 9); set the format parameter");
   EXPECT_EQ(detect_error(""), "f.txt:1: empty file: nothing to import");
+}
+
+// Issue 15 item 7: point clouds get one answer, not a format guess: by magic (LAS, PLY), by file
+// name, or by a headerless row of x y z (+ intensity ...) numbers.
+TEST(ImportFile, PointCloudsAreNotSupportedYet) {
+  const std::string no =
+      "point clouds are not supported yet: reconstruct a QSM cylinder table from the scan first (e.g. "
+      "with TreeQSM or SimpleForest) and import that";
+  EXPECT_EQ(detect_error(std::string("LASF\x01\x02", 6)), "f.txt:1: " + no);
+  EXPECT_EQ(detect_error("ply\nformat ascii 1.0\n"), "f.txt:1: " + no);
+  try {
+    detect_format("1 2 3\n", "scan.LAZ", false, "scan.LAZ");
+    FAIL();
+  } catch (const ImportError& e) {
+    EXPECT_EQ(std::string(e.what()), "scan.LAZ:1: " + no);
+  }
+  EXPECT_EQ(detect_error("# scan\n1.5 2 3\n"),
+            "f.txt:2: a headerless row of 3 numbers looks like a point cloud (x y z ...); " + no);
 }
 
 // .sylt is read with libs/tree and comes back unchanged.

@@ -151,6 +151,22 @@ TEST(QsmTable, HeaderlessDefaultOrder) {
   EXPECT_EQ(t.cylinders[2].order, 1);
 }
 
+// Issue 15 item 7: a real TreeQSM export that puts added and UnmodRadius before branch and
+// order. With the order only assumed, the error says so and names the `columns` parameter.
+TEST(QsmTable, HeaderlessOtherOrderNamesTheColumnsParameter) {
+  TableOptions opt;
+  opt.headerless = true;
+  EXPECT_EQ(error_of("0.3 1 0 0 0 0 0 1 0 2 1 0.31 0 0\n", opt),
+            "t.csv:1: field 12 (branch_order): expected an integer, got '0.31'; the table has no header, so "
+            "TreeQSM's column order (radius length start_x start_y start_z axis_x axis_y axis_z parent extension "
+            "branch branch_order) was assumed: if this export orders its columns differently, list them in the "
+            "import stage's `columns` parameter");
+  // With the order declared, the same table reads.
+  opt.columns = {"radius", "length", "start_x", "start_y", "start_z", "axis_x", "axis_y", "axis_z", "parent",
+                 "extension", "added", "unmod_radius", "branch", "branch_order"};
+  EXPECT_EQ(parse_cylinder_table("0.3 1 0 0 0 0 0 1 0 2 1 0.31 0 0\n", "t.csv", opt).cylinders.size(), 1u);
+}
+
 // A declared column order (the `columns` parameter) reads any headerless layout.
 TEST(QsmTable, HeaderlessDeclaredColumns) {
   TableOptions opt;

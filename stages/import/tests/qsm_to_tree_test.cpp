@@ -47,6 +47,30 @@ TEST(QsmToTree, ZUpToYUp) {
   expect_valid(t);
 }
 
+// Issue 15 item 12: finite values that would break every later stage are refused at their line.
+TEST(QsmToTree, ValuesBeyondATreesRangeAreRefused) {
+  auto error = [](std::string_view text, const QsmToTreeOptions& opt) {
+    try {
+      build(text, opt);
+    } catch (const ImportError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  QsmToTreeOptions opt;
+  EXPECT_EQ(error(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 1, 1e308, 0, 0\n", opt),
+            "t.csv:2: cylinder 0: radius 1e+308 m is larger than 100 m: check the scale parameter");
+  EXPECT_EQ(error(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 1, 0.1, 0, 0\n1, 0, 0, 0, 1, 1.7e300, 0, 1, 0.1, 0, 0\n",
+                  opt),
+            "t.csv:3: cylinder 1: a point lies 1.7e+300 m from the root (at most 100000 m): check the scale parameter");
+  opt.recenter = false;  // a georeferenced table (UTM northing) without recentring
+  EXPECT_EQ(error(std::string(kHead) + "0, -1, 500000, 5300000, 0, 500000, 5300000, 1, 0.1, 0, 0\n", opt),
+            "t.csv:2: cylinder 0: a point lies 5300000 m from the origin (at most 100000 m): check the scale "
+            "parameter or set recenter: true");
+  opt.recenter = true;  // the same tree recentred is fine
+  EXPECT_NO_THROW(build(std::string(kHead) + "0, -1, 500000, 5300000, 0, 500000, 5300000, 1, 0.1, 0, 0\n", opt));
+}
+
 // Recentring puts the root cylinder's start at the origin; scale converts units.
 TEST(QsmToTree, RecenterAndScale) {
   QsmToTreeOptions opt;

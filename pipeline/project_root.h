@@ -1,0 +1,35 @@
+// The project root a recipe is confined to (docs/recipes.md, "Project root"): every file or
+// directory a recipe names (`include:`, `!include`, path and directory parameters) must lie
+// inside it once symbolic links are resolved, so a recipe from an untrusted pull request cannot
+// read /etc/shadow or ~/.ssh and leak it through an error message or an output. A recipe may
+// declare several roots (its sources, and a data directory elsewhere).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sylva {
+
+class ProjectRoot {
+ public:
+  // Unconfined: every path is allowed (--allow-outside-root, for trusted recipes).
+  ProjectRoot() = default;
+  // Confined to `dirs` (each made absolute, symbolic links resolved); at least one.
+  explicit ProjectRoot(const std::vector<std::filesystem::path>& dirs);
+  explicit ProjectRoot(const std::filesystem::path& dir) : ProjectRoot(std::vector<std::filesystem::path>{dir}) {}
+
+  bool confined() const { return confined_; }
+  const std::vector<std::filesystem::path>& dirs() const { return dirs_; }
+  // True if `p` (absolute or relative to the working directory; it need not exist) is one of
+  // the dirs or below one after resolving the symbolic links of its existing part.
+  bool contains(const std::filesystem::path& p) const;
+  // "'P' is outside the project root 'D' (...how to allow it...)", for a diagnostic.
+  std::string outside_message(const std::filesystem::path& p) const;
+
+ private:
+  bool confined_ = false;
+  std::vector<std::filesystem::path> dirs_;
+};
+
+}  // namespace sylva
