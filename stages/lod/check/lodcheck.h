@@ -52,6 +52,9 @@ struct LodCheckOptions {
   // rather than hit or missed by 4 sample positions; both images are treated alike. 2 gives 16
   // samples per pixel; 4 costs 4x the fill.
   int supersample = 2;
+  // Render only the centred window of the H x H frame that holds the full detail's projected
+  // bounding box (plus a margin): the same eye and pixels, a small image for a far level.
+  bool crop = true;
 };
 
 // One model to check: a level of a chain (or another simplifier's model with the same budget).

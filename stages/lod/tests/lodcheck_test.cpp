@@ -102,6 +102,31 @@ TEST_F(LodCheckRender, EveryLevelPassesAtItsSwitchDistance) {
   }
 }
 
+// Cropping (LodCheckOptions::crop) renders the centred window that holds the tree, with the
+// frame's eye and pixels: far levels get small images, and every number matches the full frame.
+TEST_F(LodCheckRender, CroppedWindowsMeasureWhatTheFullFrameMeasures) {
+  const Fixture f = make_fixture("oak", 240);
+  std::vector<int> widths;
+  const CheckImageSink sink = [&](const ViewCheck&, const image::Image& full, const image::Image& test,
+                                  const image::Image&) {
+    EXPECT_EQ(full.width(), test.width());
+    widths.push_back(full.width());
+  };
+  LodCheckOptions whole;
+  whole.crop = false;
+  const auto cropped = check_subjects(*renderer_, f.full, f.levels, f.options.camera, LodCheckOptions{}, sink);
+  const auto framed = check_subjects(*renderer_, f.full, f.levels, f.options.camera, whole);
+  ASSERT_EQ(cropped.size(), framed.size());
+  ASSERT_EQ(widths.size(), cropped.size());
+  EXPECT_LT(widths.back(), 240 / 2);  // the coarsest level is a small window
+  for (std::size_t i = 0; i < cropped.size(); ++i) {
+    EXPECT_NEAR(double(cropped[i].footprint_pixels), double(framed[i].footprint_pixels),
+                0.01 * double(framed[i].footprint_pixels) + 2) << i;
+    EXPECT_NEAR(cropped[i].coverage_mean_error, framed[i].coverage_mean_error, 0.005) << i;
+    EXPECT_EQ(cropped[i].passed, framed[i].passed) << i;
+  }
+}
+
 // Seen from a tenth of its switch distance, a coarse level's error is about 10 delta = 5 px:
 // the check must see it.
 TEST_F(LodCheckRender, ACoarseLevelSeenTooCloseFails) {
