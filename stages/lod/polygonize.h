@@ -70,7 +70,7 @@ struct BranchGeometry {
   std::vector<int> ring_edges;      // H_k of every ring emitted (tests and statistics)
 
   // Length-weighted mean alpha of the lines (1 when there are none): the level's alpha (§6:
-  // one transparency per level).
+  // reported; the drawn alpha is per vertex, line_alpha12).
   double level_alpha() const { return line_length > 0 ? alpha_length / line_length : 1.0; }
 };
 

@@ -18,7 +18,7 @@
 // by more than delta (pixel_threshold defaults to delta = 0.5), and a view passes when few of the
 // tree's pixels (its footprint: covered in either image) fail and the mean coverage change over
 // the footprint is small. Colour is reported (OpenImageIO's comparison over RGB, and the mean
-// over the footprint) but not judged: lines with one alpha per level and three fixed normals are
+// over the footprint) but not judged: unlit lines with three fixed normals are
 // not lit like the cylinders they replace (Zhang §5.5, §6), a tone change the bound says nothing
 // about. docs/stages/lod.md justifies the thresholds.
 #pragma once
