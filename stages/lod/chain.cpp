@@ -76,7 +76,7 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
         if (options.topology) {
           const std::vector<double> h = bearer_distances(pre.skeletons);
           pre.accumulated = accumulated_distances(pre.skeletons, h);
-          pre.subtree_area = subtree_areas(pre.skeletons);
+          pre.subtree_area = subtree_areas(pre.skeletons, pre.card_twigs);
         } else {
           pre.accumulated.assign(pre.skeletons.size(), std::numeric_limits<double>::infinity());
         }

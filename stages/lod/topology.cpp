@@ -49,10 +49,12 @@ std::vector<double> accumulated_distances(std::span<const BranchSkeleton> skelet
   return a;
 }
 
-std::vector<double> subtree_areas(std::span<const BranchSkeleton> skeletons) {
+std::vector<double> subtree_areas(std::span<const BranchSkeleton> skeletons,
+                                  std::span<const char> drawn_by_cards) {
   const std::size_t n = skeletons.size();
   std::vector<double> area(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
+    if (i < drawn_by_cards.size() && drawn_by_cards[i]) continue;
     const auto& g = skeletons[i].g;
     for (std::size_t k = 0; k + 1 < g.size(); ++k) area[i] += (g[k].r + g[k + 1].r) * length(g[k + 1].p - g[k].p);
   }

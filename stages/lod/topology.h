@@ -33,8 +33,11 @@ std::vector<double> accumulated_distances(std::span<const BranchSkeleton> skelet
 
 // Side-on projected area (m^2) of every branch's subtree: the sum over its internodes and those
 // of all its descendants of (R_k + R_{k+1}) |P_{k+1} - P_k| (2 R L for a cylinder seen from
-// the side). What a level loses in coverage when it decimates the subtree.
-std::vector<double> subtree_areas(std::span<const BranchSkeleton> skeletons);
+// the side). What a level loses in coverage when it decimates the subtree. Branches flagged in
+// `drawn_by_cards` (libs/tree twigs_drawn_by_cards(); empty = none) count 0: their cards draw
+// them at every level, so no level loses their coverage.
+std::vector<double> subtree_areas(std::span<const BranchSkeleton> skeletons,
+                                  std::span<const char> drawn_by_cards = {});
 
 // Where a decimated subtree's coverage goes (docs/stages/lod.md, "Coverage of decimated
 // branches"): eq. (12)'s alpha 2R/E3 is a line's width over E3, so a subtree of side-on area A

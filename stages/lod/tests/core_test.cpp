@@ -336,6 +336,11 @@ TEST(Topology, DecimatedCoverageIsCarriedOntoTheBearersLine) {
   // child: implicit segment (0.01 m) + 0.04 m at radius 0.004 m; trunk: 3 m at 0.02 m, plus the child.
   EXPECT_NEAR(area[1], 0.008 * 0.05, 1e-12);
   EXPECT_NEAR(area[0], 0.04 * 3 + area[1], 1e-12);
+  // A twig its cards draw is never lost by a level: its area is not carried.
+  const std::vector<char> cards = {0, 1};
+  const auto with_cards = subtree_areas(sk, cards);
+  EXPECT_EQ(with_cards[1], 0.0);
+  EXPECT_NEAR(with_cards[0], 0.04 * 3, 1e-12);
   const std::uint32_t kept[] = {0, 1, 3};  // node 1 stands for (1 + 2) / 2 = 1.5 m
   const std::pair<double, double> deposit[] = {{1.25, area[1]}};
   const auto extra = carried_alpha(sk[0].g, kept, deposit, 0.1);
