@@ -7,6 +7,7 @@
 #include "app/cli.h"
 #include "app/gfx_loader.h"
 #include "app/inspect_command.h"
+#include "app/pack_command.h"
 #include "stages/register_stages.h"
 
 namespace {
@@ -34,8 +35,9 @@ int main(int argc, char** argv) {
   io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
   io.cancel = &g_cancel;
   auto inspect = sylva::make_inspect_command();
+  auto pack = sylva::make_pack_command();
   auto gfx_commands = sylva::make_gfx_commands(gfx, argc, argv, registry);
-  std::vector<sylva::CliCommand*> commands{inspect.get()};
+  std::vector<sylva::CliCommand*> commands{inspect.get(), pack.get()};
   for (auto& c : gfx_commands) commands.push_back(c.get());
   const int code = sylva::run_cli(argc, argv, registry, io, commands);
   // Leave without running static destructors. The shared EGL renderer (stages/verify) lives on a

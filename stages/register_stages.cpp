@@ -6,6 +6,7 @@
 #include "stages/impostor/impostor_info.h"
 #include "stages/lod/lod_info.h"
 #include "stages/mesh/mesh_info.h"
+#include "stages/pack/pack_info.h"
 #include "stages/verify/verify_info.h"
 
 // Each light stage folder exposes one factory in its adapter header; each lazily loaded one its
@@ -21,6 +22,7 @@ void register_builtin_stages(StageRegistry& registry, StageResolver& gfx, StageR
   registry.add(make_lazy_stage(impostor_stage_info(), gfx));
   registry.add(make_lazy_stage(lod_stage_info(), geometry));
   registry.add(make_lazy_stage(mesh_stage_info(), geometry));
+  registry.add(make_lazy_stage(pack_stage_info(), geometry));
   registry.add(make_lazy_stage(verify_stage_info(), gfx));
 }
 

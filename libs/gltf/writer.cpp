@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "libs/gltf/draco_encode.h"
+#include "libs/gltf/meshopt_encode.h"
 
 namespace sylva::gltf {
 namespace {
@@ -422,7 +423,10 @@ void encode_to(const Scene& scene, std::ostream& out, const WriteOptions& option
   if (options.format == FileFormat::kGltfExternal)
     throw GltfError("an external .gltf is several files: use encode_external()");
   check_scene(scene);
+  if (options.meshopt && (options.format != FileFormat::kGlb || options.draco.enabled))
+    throw GltfError("EXT_meshopt_compression is written to GLB files without Draco only");
   tinygltf::Model model = ModelBuilder(scene, options).build();
+  if (options.meshopt) return detail::encode_meshopt_glb(model);
   tinygltf::TinyGLTF writer;
   const bool glb = options.format == FileFormat::kGlb;
   if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/!glb, /*writeBinary=*/glb))

@@ -20,6 +20,9 @@
 //     stay uncompressed. Positions, normals, uvs, colors and custom attributes are quantised with
 //     the bits given; tangents are encoded as a generic attribute. Accessors of a compressed
 //     primitive have no buffer view and count what the Draco decoder will return.
+//   - meshopt (EXT_meshopt_compression, required): every vertex attribute and index buffer view
+//     compressed with meshoptimizer's lossless codecs into the binary chunk, the views in a
+//     fallback buffer without data; images stay uncompressed. Values decode bit for bit.
 #pragma once
 
 #include <filesystem>
@@ -54,6 +57,9 @@ struct DracoOptions {
 struct WriteOptions {
   FileFormat format = FileFormat::kGlb;
   DracoOptions draco;
+  // EXT_meshopt_compression (meshopt_encode.h): kGlb only, not with Draco. Every attribute and
+  // index view is compressed losslessly with meshoptimizer's codecs; the extension is required.
+  bool meshopt = false;
 };
 
 // The file's bytes (kGlb or kGltf; kGltfExternal throws: use encode_external). Throws GltfError.

@@ -24,6 +24,8 @@
 #include <sstream>
 #include <limits>
 
+#include "libs/render/meshopt_decode.h"
+
 namespace sylva::render {
 namespace {
 
@@ -727,6 +729,11 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name, co
   auto fail = [&](const std::string& why) -> SceneLoadError { return SceneLoadError(file + ": error: " + why); };
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (binary) {
+    try {
+      decode_meshopt_glb(bytes);
+    } catch (const std::runtime_error& e) {
+      throw fail(e.what());
+    }
     patch_glb(bytes);
   } else if (auto patched = without_draco_index_accessors(bytes)) {
     bytes = std::move(*patched);

@@ -76,6 +76,7 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
         if (options.topology) {
           const std::vector<double> h = bearer_distances(pre.skeletons);
           pre.accumulated = accumulated_distances(pre.skeletons, h);
+          pre.subtree_area = subtree_areas(pre.skeletons, pre.card_twigs);
         } else {
           pre.accumulated.assign(pre.skeletons.size(), std::numeric_limits<double>::infinity());
         }
@@ -104,12 +105,25 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
     if ((p >= 0 && !kept_branch[static_cast<std::size_t>(p)]) || pre.accumulated[i] <= spec.e4) kept_branch[i] = 0;
     if (i < pre.card_twigs.size() && pre.card_twigs[i]) kept_branch[i] = 0;  // its cards draw it
   }
+  // A decimated subtree's coverage is carried onto its kept bearer's line at the attachment
+  // (topology.h, carried_alpha): within A(b) <= E4 of the subtree, but on a sub-pixel bearer
+  // the subtree's coverage would otherwise be lost (docs/stages/lod.md). A bearer drawn as a
+  // polygon is opaque and at least ~delta px wide there, and covers the subtree's pixels itself.
+  std::vector<std::vector<std::pair<double, double>>> deposits(nb);
+  for (std::size_t i = 0; i < nb; ++i) {
+    const std::int32_t p = pre.skeletons[i].parent;
+    if (!kept_branch[i] && p >= 0 && kept_branch[static_cast<std::size_t>(p)] && !pre.subtree_area.empty())
+      deposits[static_cast<std::size_t>(p)].emplace_back(pre.skeletons[i].attach_arc, pre.subtree_area[i]);
+  }
+  std::vector<double> extra;
   for (std::size_t i = 0; i < nb; ++i) {
     if (!kept_branch[i]) continue;
     const auto& g = pre.skeletons[i].g;
     if (options.check_cancelled && (i & 255) == 0) options.check_cancelled();
     merge_internodes(g, limits, level.kept_nodes[i], options.check_cancelled);
-    polygonize_branch(g, level.kept_nodes[i], spec.e3, options.max_edges, level.branches);
+    extra.clear();
+    if (!deposits[i].empty()) extra = carried_alpha(g, level.kept_nodes[i], deposits[i], spec.e3);
+    polygonize_branch(g, level.kept_nodes[i], spec.e3, options.max_edges, level.branches, extra);
     level.counts.internodes += level.kept_nodes[i].size() - 1;
     ++level.counts.branches;
   }
@@ -141,7 +155,9 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
 
 double drawn_line_alpha(double eq12_alpha, double delta) {
   const double coverage = std::clamp(eq12_alpha * delta, 0.0, 1.0);
-  return 1 - std::cbrt(1 - coverage);
+  if (coverage >= 1) return 1.0;
+  // 1 - (1 - c)^(1/3) without cancellation (c can be ~1e-16 for a needle line).
+  return std::clamp(-std::expm1(std::log1p(-coverage) / 3), 0.0, 1.0);
 }
 
 Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const ChainOptions& options) {

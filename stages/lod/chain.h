@@ -96,6 +96,7 @@ double drawn_line_alpha(double eq12_alpha, double delta);
 struct Precomputed {
   std::vector<BranchSkeleton> skeletons;
   std::vector<double> accumulated;  // A(b), topology.h
+  std::vector<double> subtree_area;  // side-on area of each branch's subtree, m^2 (topology.h)
   LeafForest leaf_forest;
   NeedleForest needle_forest;
   std::vector<char> card_twigs;  // per branch: drawn by its twig/shoot cards, so not drawn as bark

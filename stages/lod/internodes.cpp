@@ -49,7 +49,10 @@ std::vector<BranchSkeleton> build_skeletons(const tree::Tree& tree) {
       // The bearer's skeleton may have a prepended node: its node j is skeleton node j + offset.
       const std::size_t offset =
           bearer.g.size() - tree.branches[static_cast<std::size_t>(br.parent)].nodes.size();
-      initial_normal = bearer.g[std::min(bearer.g.size() - 1, br.parent_node + offset)].n;
+      const std::size_t j = std::min(bearer.g.size() - 1, br.parent_node + offset);
+      initial_normal = bearer.g[j].n;
+      const double seg = j + 1 < bearer.g.size() ? bearer.g[j + 1].arc - bearer.g[j].arc : 0.0;
+      out[i].attach_arc = bearer.g[j].arc + br.parent_t * seg;
     }
     nodes.insert(nodes.end(), br.nodes.begin(), br.nodes.end());
     fill_skeleton(nodes, initial_normal, out[i]);

@@ -35,6 +35,7 @@ struct SkeletalVector {
 // bearer to nodes[0] (tree.h) is part of the branch surface.
 struct BranchSkeleton {
   std::int32_t parent = -1;  // bearer branch index or -1
+  double attach_arc = 0;     // arc length t on the bearer's skeleton where the branch grows, m
   std::vector<SkeletalVector> g;
 };
 

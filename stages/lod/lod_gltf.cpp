@@ -20,11 +20,6 @@ namespace {
 std::string level_bin(std::size_t i) { return "lod" + std::to_string(i) + ".bin"; }
 std::string ribbons_bin(std::size_t i) { return "lod" + std::to_string(i) + "_ribbons.bin"; }
 
-std::array<float, 4> with_alpha(std::array<float, 4> c, double a) {
-  c[3] = static_cast<float>(std::clamp(a, 0.0, 1.0));
-  return c;
-}
-
 // The materials of a level, by role; a role a level does not use is left out by the writer.
 // Colours are those of the mesh stage (libs/tree/default_colors.h), including its fallbacks
 // for trees without colours (an imported TreeQSM tree), and its roughness.
@@ -32,17 +27,16 @@ struct LevelMaterials {
   gltf::Material bark, lines, leaves, needle_lines, needles;
 };
 
-LevelMaterials level_materials(const tree::Tree& tree, const Level& level, int leaf_image) {
+LevelMaterials level_materials(const tree::Tree& tree, int leaf_image) {
   const tree::Materials& m = tree.materials;
   LevelMaterials out;
   out.bark.name = "bark";
   out.bark.base_color = tree::bark_color(m);
   out.bark.roughness = 0.9f;
   out.lines.name = "bark_lines";
-  out.lines.base_color = with_alpha(tree::bark_color(m), level.line_alpha);
+  out.lines.base_color = tree::bark_color(m);  // alpha per vertex (COLOR_0), lines()
   out.lines.roughness = 0.9f;
   out.lines.alpha_mode = gltf::AlphaMode::kBlend;
-  out.lines.extras = {{"alpha_eq12", level.line_alpha_eq12}};
   out.leaves.name = "leaves";
   out.leaves.base_color = tree::leaf_color(m);
   out.leaves.roughness = 0.7f;
@@ -53,9 +47,8 @@ LevelMaterials level_materials(const tree::Tree& tree, const Level& level, int l
     out.leaves.alpha_mode = gltf::AlphaMode::kMask;
   }
   out.needle_lines.name = "needle_lines";
-  out.needle_lines.base_color = with_alpha(tree::needle_color(m), level.needle_line_alpha);
+  out.needle_lines.base_color = tree::needle_color(m);
   out.needle_lines.roughness = 0.7f;
-  out.needle_lines.extras = {{"alpha_eq12", level.needle_alpha_eq12}};
   out.needle_lines.alpha_mode = gltf::AlphaMode::kBlend;
   out.needles.name = "needles";
   out.needles.base_color = tree::needle_color(m);
@@ -93,12 +86,19 @@ gltf::Primitive triangles(const std::vector<float>& positions, const std::vector
   return p;
 }
 
-gltf::Primitive lines(const BranchGeometry& g, int material) {
+// Lines with each vertex's drawn alpha in COLOR_0 (white, so the material's colour shows):
+// eq. (12) per node, as coverage at the switch distance split over the three lines
+// (drawn_line_alpha, chain.h).
+gltf::Primitive lines(const BranchGeometry& g, double delta, int material) {
   gltf::Primitive p;
   p.mode = gltf::PrimitiveMode::kLines;
   p.positions = g.line_positions;
   p.normals = g.line_normals;
   p.indices = g.line_indices;
+  p.colors.reserve(g.line_alpha12.size() * 4);
+  for (float a : g.line_alpha12) {
+    p.colors.insert(p.colors.end(), {1.0f, 1.0f, 1.0f, static_cast<float>(drawn_line_alpha(a, delta))});
+  }
   p.material = material;
   return p;
 }
@@ -107,7 +107,7 @@ gltf::Primitive lines(const BranchGeometry& g, int material) {
 // the lines become opaque ribbons in that buffer.
 gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level, std::size_t index,
                       int leaf_image, int ribbon_buffer) {
-  const LevelMaterials mats = level_materials(tree, level, leaf_image);
+  const LevelMaterials mats = level_materials(tree, leaf_image);
   gltf::Mesh mesh;
   mesh.name = "lod" + std::to_string(index);
   // Opaque and masked triangles first, lines last (lod_gltf.h).
@@ -126,7 +126,7 @@ gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level
   auto add_lines = [&](const BranchGeometry& g, const gltf::Material& line_mat, const gltf::Material& solid) {
     if (g.line_indices.empty()) return;
     if (ribbon_buffer < 0) {
-      mesh.primitives.push_back(lines(g, add_material(s, line_mat)));
+      mesh.primitives.push_back(lines(g, level.spec.delta, add_material(s, line_mat)));
       return;
     }
     const Ribbons r = line_ribbons(g);
@@ -277,10 +277,6 @@ gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels
     node.extras = level_extras(levels[i], i);
     s.nodes.push_back(node);
   }
-  // Per-level line materials share a name; tell them apart in the one file.
-  std::map<std::string, int> seen;
-  for (gltf::Material& m : s.materials)
-    if (m.alpha_mode == gltf::AlphaMode::kBlend) m.name += "_" + std::to_string(seen[m.name]++);
   s.nodes[0].extras["MSFT_screencoverage"] = screen_coverages(levels, camera, bounding_radius(levels[0]));
   s.roots = {0};
   s.extras = file_extras(tree);

@@ -1,7 +1,7 @@
 // glTF output of a LOD chain through libs/gltf.
 //
-// Seeds: Zhang et al. 2017 §6 (opaque meshes, then semi-transparent lines with one alpha per
-// level); Microsoft MSFT_lod extension (node.extensions.MSFT_lod.ids = the coarser levels'
+// Seeds: Zhang et al. 2017 §6 (opaque meshes, then semi-transparent lines; eq. 12's alpha per
+// line vertex, docs/stages/lod.md); Microsoft MSFT_lod extension (node.extensions.MSFT_lod.ids = the coarser levels'
 // nodes, highest detail first; node.extras.MSFT_screencoverage, one value per level).
 //
 // Files (docs/stages/lod.md "Outputs"), every byte stored once:
@@ -14,8 +14,8 @@
 //
 // One glTF node and mesh per level. A level's mesh has, each only when non-empty and in this
 // order: bark (TRIANGLES, opaque), leaves (TRIANGLES, double-sided, alpha MASK with the leaf
-// atlas when given), needle prisms (TRIANGLES), branch lines (LINES, BLEND, alpha = the level's
-// drawn line alpha), needle lines (LINES, BLEND). Lines last, so a level's non-line data is a
+// atlas when given), needle prisms (TRIANGLES), branch lines (LINES, BLEND, each vertex's
+// drawn alpha in COLOR_0), needle lines (LINES, BLEND). Lines last, so a level's non-line data is a
 // prefix of its .bin. Every level's node and mesh carry the level's extras (level_extras()).
 #pragma once
 

@@ -7,8 +7,10 @@ StageInfo lod_stage_info() {
   info.name = "lod";
   // 2: MSFT_lod written by libs/gltf (JSON bytes changed). 3: leaves wound with their normals,
   // mesh-stage colours, screen coverage as a screen fraction, .gltf + shared .bin files, ribbons.
-  // 4: merging by exponential + binary search (groups may differ).
-  info.version = 4;
+  // 4: merging by exponential + binary search (groups may differ). 5: line alpha per vertex
+  // (COLOR_0), decimated branches' coverage carried onto their bearers' lines.
+  // 6: twigs drawn by cards carry no coverage onto their bearers.
+  info.version = 6;
   info.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
   info.output_type = "lod";
   info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png"};

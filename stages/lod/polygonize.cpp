@@ -30,18 +30,25 @@ void push3(std::vector<float>& v, Vec3 a) {
   v.push_back(static_cast<float>(a.z));
 }
 
-// Ring of h vertices at skeletal vector s (eq. A4 with angle 2*pi*j/h, normals A5).
+// Ring of h vertices at skeletal vector s (eq. A4 with angle 2*pi*j/h, normals A5), at
+// ring_factor(h) R from the axis: the prism keeps the cylinder's mean width (polygonize.h).
 std::uint32_t emit_ring(const SkeletalVector& s, int h, BranchGeometry& out) {
   const auto base = static_cast<std::uint32_t>(out.tri_positions.size() / 3);
+  const double radius = ring_factor(h) * s.r;
   for (int j = 0; j < h; ++j) {
     const double a = 2 * std::numbers::pi * j / h;
     const Vec3 d = s.n * std::cos(a) + s.b * std::sin(a);
-    push3(out.tri_positions, s.p + d * s.r);
+    push3(out.tri_positions, s.p + d * radius);
     push3(out.tri_normals, d);
   }
   out.ring_edges.push_back(h);
   out.max_polygon_error = std::max(out.max_polygon_error, polygon_error(s.r, h));
   return base;
+}
+
+// Eq. (12) at one node of a line: 2 / rho with rho = E3 / R_k (1 where rho < 2).
+double node_alpha(double r, double e3) {
+  return line_alpha(r > 0 ? e3 / r : std::numeric_limits<double>::infinity());
 }
 
 void tri(BranchGeometry& out, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
@@ -86,9 +93,12 @@ void connect_rings(BranchGeometry& out, std::uint32_t a, int na, std::uint32_t b
 }  // namespace
 
 void polygonize_branch(std::span<const SkeletalVector> g, std::span<const std::uint32_t> kept, double e3,
-                       int max_edges, BranchGeometry& out) {
+                       int max_edges, BranchGeometry& out, std::span<const double> extra_alpha12) {
   const std::size_t n = kept.size();
   if (n < 2) return;
+  auto alpha_at = [&](std::size_t i) {
+    return node_alpha(g[kept[i]].r, e3) + (extra_alpha12.empty() ? 0.0 : extra_alpha12[i]);
+  };
   // 1. End polygons: H_k = h(E3 / R_k) per kept node (eq. 10, 11).
   auto edges_at = [&](std::size_t i) {
     const double r = g[kept[i]].r;
@@ -133,6 +143,7 @@ void polygonize_branch(std::span<const SkeletalVector> g, std::span<const std::u
           push3(out.line_positions, sa.p);
           push3(out.line_normals, sa.n * std::cos(a) + sa.b * std::sin(a));
           out.line_radii.push_back(static_cast<float>(sa.r));
+          out.line_alpha12.push_back(static_cast<float>(alpha_at(i)));
         }
       }
       const auto next = static_cast<std::uint32_t>(out.line_positions.size() / 3);
@@ -141,6 +152,7 @@ void polygonize_branch(std::span<const SkeletalVector> g, std::span<const std::u
         push3(out.line_positions, sb.p);
         push3(out.line_normals, sb.n * std::cos(a) + sb.b * std::sin(a));
         out.line_radii.push_back(static_cast<float>(sb.r));
+        out.line_alpha12.push_back(static_cast<float>(alpha_at(i + 1)));
         out.line_indices.push_back(line_base + static_cast<std::uint32_t>(c));
         out.line_indices.push_back(next + static_cast<std::uint32_t>(c));
       }

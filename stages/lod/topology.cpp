@@ -49,4 +49,38 @@ std::vector<double> accumulated_distances(std::span<const BranchSkeleton> skelet
   return a;
 }
 
+std::vector<double> subtree_areas(std::span<const BranchSkeleton> skeletons,
+                                  std::span<const char> drawn_by_cards) {
+  const std::size_t n = skeletons.size();
+  std::vector<double> area(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i < drawn_by_cards.size() && drawn_by_cards[i]) continue;
+    const auto& g = skeletons[i].g;
+    for (std::size_t k = 0; k + 1 < g.size(); ++k) area[i] += (g[k].r + g[k + 1].r) * length(g[k + 1].p - g[k].p);
+  }
+  // Children come after their parents (tree.h): one backward pass accumulates the subtrees.
+  for (std::size_t i = n; i-- > 0;) {
+    const std::int32_t p = skeletons[i].parent;
+    if (p >= 0) area[static_cast<std::size_t>(p)] += area[i];
+  }
+  return area;
+}
+
+std::vector<double> carried_alpha(std::span<const SkeletalVector> g, std::span<const std::uint32_t> kept,
+                                  std::span<const std::pair<double, double>> deposits, double e3) {
+  const std::size_t n = kept.size();
+  std::vector<double> extra(n, 0.0);
+  if (n < 2 || !(e3 > 0)) return extra;
+  auto arc = [&](std::size_t j) { return g[kept[j]].arc; };
+  for (const auto& [at, area] : deposits) {
+    // The kept node nearest the attachment (ties: the lower one).
+    std::size_t j = 0;
+    while (j + 1 < n && arc(j + 1) <= at) ++j;
+    if (j + 1 < n && arc(j + 1) - at < at - arc(j)) ++j;
+    const double w = 0.5 * (arc(std::min(j + 1, n - 1)) - arc(j > 0 ? j - 1 : 0));
+    if (w > 0) extra[j] += area / (e3 * w);
+  }
+  return extra;
+}
+
 }  // namespace sylva::lod

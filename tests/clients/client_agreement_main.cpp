@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "libs/image/image_io.h"
+#include "libs/pack/manifest.h"
 #include "libs/render/gltf_scene.h"
 #include "tests/clients/agreement.h"
 
@@ -112,6 +113,14 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
           const std::string r = l["ribbons_file"];
           out.push_back({n / r, node + "/" + r, Kind::kRibbons});
         }
+      }
+    }
+    // An asset pack (stage pack): each species' coarsest level file, EXT_meshopt_compression
+    // (three.js decodes it with its MeshoptDecoder, sylva with libs/render/meshopt_decode.h).
+    if (fs::exists(n / "manifest.json")) {
+      for (const auto& sp : pack::read_manifest(n / "manifest.json").species) {
+        const std::string f = sp.levels.back();
+        out.push_back({n / f, node + "/" + f, has_lines(gltf_json(n / f)) ? Kind::kLineLevel : Kind::kLevel});
       }
     }
   }

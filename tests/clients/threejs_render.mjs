@@ -1,6 +1,6 @@
 #!/usr/bin/env node
 // The second, independent renderer of the test suite: three.js (npm `three`, its stock
-// GLTFLoader + DRACOLoader) in Debian's headless Chromium, driven by npm `playwright-core`.
+// GLTFLoader + DRACOLoader + MeshoptDecoder) in Debian's headless Chromium, driven by npm `playwright-core`.
 // It renders glTF files exactly as a three.js user would load them, from cameras that sylva's
 // renderer uses too (tests/clients/client_agreement.cpp compares the two), and checks with the
 // MSFT_lod plugin of npm `three-gltf-extensions` which level a chain shows at given distances.
@@ -70,6 +70,7 @@ const PAGE = `<!doctype html><html><head><meta charset="utf-8">
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 import GLTFLodExtension from 'three-gltf-extensions/loaders/MSFT_lod/MSFT_lod.js';
 
 let renderer = null;
@@ -91,6 +92,7 @@ function loader(plugins) {
   const draco = new DRACOLoader();
   draco.setDecoderPath('${ORIGIN}/npm/three/examples/jsm/libs/draco/');
   l.setDRACOLoader(draco);
+  l.setMeshoptDecoder(MeshoptDecoder);
   for (const p of plugins) l.register(p);
   return l;
 }

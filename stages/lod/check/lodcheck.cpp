@@ -13,12 +13,17 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <numbers>
 #include <span>
 #include <utility>
 
 namespace sylva::lod {
 
 namespace {
+
+// Spare pixels around the full detail's projected box in a cropped window: a level's geometry
+// lies within epsilon (delta px) of the full detail's, and lines are a pixel wide.
+constexpr double kCropMarginPx = 8;
 
 std::string view_name(double azimuth_deg) {
   char buf[32];
@@ -37,6 +42,33 @@ void add_footprint_stats(const image::Image& ref, const image::Image& test, doub
   c.colour_mean_error = f.colour_mean_error;
 }
 
+// The side (px) of the centred square window of an H x H image from `cam` that holds the box
+// `b` with `margin_px` to spare: the largest offset of a projected corner from the image centre
+// (the box's projection lies in their hull). Same parity as H, so the window's pixels are
+// exactly pixels of the full frame; H when a corner is not in front of the eye.
+int crop_window(const render::Bounds& b, const render::Camera& cam, int height_px, double margin_px) {
+  const render::Mat4 view = cam.view_matrix();
+  const double t = 1.0 / std::tan(cam.fov_y_deg * std::numbers::pi / 360);
+  double reach = 0;
+  for (int c = 0; c < 8; ++c) {
+    const render::Vec3 p((c & 1) ? b.max.x() : b.min.x(), (c & 2) ? b.max.y() : b.min.y(),
+                         (c & 4) ? b.max.z() : b.min.z());
+    const Eigen::Vector4f e = view * p.homogeneous();
+    if (!(-e.z() > cam.z_near)) return height_px;
+    reach = std::max({reach, std::abs(e.x()) * t / -e.z(), std::abs(e.y()) * t / -e.z()});
+  }
+  int w = 2 * static_cast<int>(std::ceil(reach * height_px / 2 + margin_px));
+  if (w % 2 != height_px % 2) ++w;
+  return std::min(w, height_px);
+}
+
+// `cam` narrowed to the centred window of w of its H pixels: the same eye and pixel size.
+render::Camera cropped(render::Camera cam, int w, int height_px) {
+  const double half = std::atan(std::tan(cam.fov_y_deg * std::numbers::pi / 360) * w / height_px);
+  cam.fov_y_deg = static_cast<float>(2 * half * 180 / std::numbers::pi);
+  return cam;
+}
+
 }  // namespace
 
 render::Camera check_camera(const render::Bounds& full_bounds, double distance, double azimuth_deg,
@@ -50,29 +82,43 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
                                       const std::vector<CheckSubject>& subjects, const Camera& chain_camera,
                                       const LodCheckOptions& options, const CheckImageSink& sink) {
   const int k = std::max(1, options.supersample);
-  render::RenderOptions ro;
-  ro.width = ro.height = chain_camera.height_px * k;
-  ro.msaa = options.msaa;
-  ro.line_width_px = static_cast<float>(k);  // one pixel of the final image
-  ro.background.a = 0;                       // alpha = coverage
-  auto render_views = [&](const render::Scene& scene, const std::vector<render::Camera>& cams) {
+  const int frame = chain_camera.height_px;
+  // Renders at k x the window, box-averaged down to it (header: supersampling).
+  auto render_views = [&](const render::Scene& scene, const std::vector<render::Camera>& cams, int window) {
+    render::RenderOptions ro;
+    ro.width = ro.height = window * k;
+    ro.msaa = options.msaa;
+    ro.line_width_px = static_cast<float>(k);  // one pixel of the final image
+    ro.background.a = 0;                       // alpha = coverage
     std::vector<image::Image> images = renderer.render_views(scene, cams, ro);
     for (auto& img : images) img = image::downsample(img, k);
     return images;
   };
   const render::Bounds bounds = full.bounds();
-  auto camera_for = [&](double distance, double az) {
-    return check_camera(bounds, distance, az, options.elevation_deg, chain_camera.fov_y_rad);
+  // Per distance: the views' cameras, cropped to the centred window that holds the tree (the
+  // same for both views and for every subject at that distance, so the images compare pixel
+  // for pixel; outside it both images are empty). A far level is a small window.
+  struct Views {
+    int window = 0;
+    std::vector<render::Camera> cameras;
   };
+  std::map<double, Views> views;
+  for (const auto& s : subjects) {
+    auto [it, fresh] = views.try_emplace(s.distance);
+    if (!fresh) continue;
+    std::vector<render::Camera> cams;
+    for (double az : options.azimuths_deg) {
+      cams.push_back(check_camera(bounds, s.distance, az, options.elevation_deg, chain_camera.fov_y_rad));
+      it->second.window = std::max(it->second.window,
+                                   options.crop ? crop_window(bounds, cams.back(), frame, kCropMarginPx) : frame);
+    }
+    for (auto& c : cams) c = cropped(c, it->second.window, frame);
+    it->second.cameras = std::move(cams);
+  }
 
-  // The full-detail renders: one per distinct (distance, view), in one upload.
-  std::map<std::pair<double, double>, std::size_t> full_index;
-  std::vector<render::Camera> full_cameras;
-  for (const auto& s : subjects)
-    for (double az : options.azimuths_deg)
-      if (full_index.emplace(std::pair(s.distance, az), full_cameras.size()).second)
-        full_cameras.push_back(camera_for(s.distance, az));
-  const std::vector<image::Image> full_images = render_views(full, full_cameras);
+  // The full-detail renders: one per (distance, view).
+  std::map<double, std::vector<image::Image>> full_images;
+  for (const auto& [d, v] : views) full_images.emplace(d, render_views(full, v.cameras, v.window));
 
   image::CompareOptions co;  // colour, reported only
   co.compare_alpha = false;
@@ -81,11 +127,11 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
   heat.pixel_threshold = options.pixel_threshold;
   std::vector<ViewCheck> out;
   for (const auto& s : subjects) {
-    std::vector<render::Camera> cams;
-    for (double az : options.azimuths_deg) cams.push_back(camera_for(s.distance, az));
-    const std::vector<image::Image> images = render_views(s.scene, cams);
+    const Views& at = views.at(s.distance);
+    const std::vector<render::Camera>& cams = at.cameras;
+    const std::vector<image::Image> images = render_views(s.scene, cams, at.window);
     for (std::size_t v = 0; v < cams.size(); ++v) {
-      const image::Image& ref = full_images[full_index.at({s.distance, options.azimuths_deg[v]})];
+      const image::Image& ref = full_images.at(s.distance)[v];
       const image::Image& test = images[v];
       ViewCheck c;
       c.label = s.label;

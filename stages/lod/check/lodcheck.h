@@ -18,7 +18,7 @@
 // by more than delta (pixel_threshold defaults to delta = 0.5), and a view passes when few of the
 // tree's pixels (its footprint: covered in either image) fail and the mean coverage change over
 // the footprint is small. Colour is reported (OpenImageIO's comparison over RGB, and the mean
-// over the footprint) but not judged: lines with one alpha per level and three fixed normals are
+// over the footprint) but not judged: unlit lines with three fixed normals are
 // not lit like the cylinders they replace (Zhang §5.5, §6), a tone change the bound says nothing
 // about. docs/stages/lod.md justifies the thresholds.
 #pragma once
@@ -52,6 +52,9 @@ struct LodCheckOptions {
   // rather than hit or missed by 4 sample positions; both images are treated alike. 2 gives 16
   // samples per pixel; 4 costs 4x the fill.
   int supersample = 2;
+  // Render only the centred window of the H x H frame that holds the full detail's projected
+  // bounding box (plus a margin): the same eye and pixels, a small image for a far level.
+  bool crop = true;
 };
 
 // One model to check: a level of a chain (or another simplifier's model with the same budget).

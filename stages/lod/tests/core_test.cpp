@@ -158,6 +158,46 @@ TEST(Polygonize, ThinBranchBecomesThreeLinesPerInternode) {
   EXPECT_NEAR(n[0] * n[3] + n[1] * n[4] + n[2] * n[5], -0.5, 1e-6);  // cos 120°
 }
 
+// Line alpha per vertex (eq. 12 at each node, not one per level): a tapered thin branch's line
+// vertices carry 2 R_k / E3 of their own node, and the output's COLOR_0 alpha is its drawn value.
+TEST(Polygonize, LineAlphaIsEquation12AtEachNode) {
+  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.01, 0.005, 0.0025});
+  const auto sk = build_skeletons(t);
+  const std::uint32_t kept[] = {0, 1, 2};
+  BranchGeometry g;
+  polygonize_branch(sk[0].g, kept, 0.04, 12, g);
+  ASSERT_EQ(g.line_alpha12.size(), 9u);
+  const double want[] = {0.5, 0.25, 0.125};  // 2 R / E3
+  for (std::size_t v = 0; v < 9; ++v) EXPECT_NEAR(g.line_alpha12[v], want[v / 3], 1e-7) << v;
+  // Decimated coverage carried onto node 1 adds to that node only.
+  const double extra[] = {0, 0.3, 0};
+  BranchGeometry h;
+  polygonize_branch(sk[0].g, kept, 0.04, 12, h, extra);
+  for (std::size_t v = 0; v < 9; ++v) EXPECT_NEAR(h.line_alpha12[v], want[v / 3] + extra[v / 3], 1e-7) << v;
+}
+
+// Rings keep the cylinder's mean width: an h-gon of circumradius k R, k = pi / (h sin(pi/h)),
+// has perimeter 2 pi R (Cauchy: mean width = perimeter / pi = 2R); its error against the circle
+// stays below the inscribed polygon's, so eq. (9)'s choice of h still bounds it by E3.
+TEST(Polygonize, RingsKeepTheMeanWidthOfTheCylinder) {
+  for (int h = 3; h <= 12; ++h) {
+    const double k = ring_factor(h);
+    EXPECT_NEAR(2 * h * k * std::sin(std::numbers::pi / h), 2 * std::numbers::pi, 1e-12) << h;
+    EXPECT_LT(polygon_error(1.0, h), 1 - std::cos(std::numbers::pi / h)) << h;
+    EXPECT_GT(polygon_error(1.0, h), 0) << h;
+  }
+  EXPECT_NEAR(ring_factor(3), kRibbonCornerFactor, 1e-12);
+  // R = 0.1 with E3 = 0.1 (rho = 1): a triangle whose corners lie k R from the axis.
+  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}}, {0.1, 0.1});
+  const auto sk = build_skeletons(t);
+  const std::uint32_t kept[] = {0, 1};
+  BranchGeometry g;
+  polygonize_branch(sk[0].g, kept, 0.1, 12, g);
+  ASSERT_EQ(g.ring_edges, (std::vector<int>{3, 3}));
+  for (std::size_t v = 0; v < g.tri_positions.size() / 3; ++v)
+    EXPECT_NEAR(std::hypot(g.tri_positions[3 * v], g.tri_positions[3 * v + 2]), ring_factor(3) * 0.1, 1e-6);
+}
+
 // Ribbons (ribbons.h): the 6 line segments of a thin two-internode branch (radius 1 cm along
 // +Y) become 12 triangles on the same 9 vertices, each corner k R from the axis, every triangle
 // counter-clockwise seen from outside (its geometric normal points away from the axis), and the
@@ -275,6 +315,66 @@ TEST(Topology, AccumulatedDistanceDecimatesSubtrees) {
   EXPECT_NEAR(a[1], 0.61, 1e-9);
   EXPECT_NEAR(a[2], 0.29, 1e-9);
   EXPECT_TRUE(std::isinf(a[0]));
+}
+
+// Coverage of decimated branches (topology.h): a subtree's side-on area sum (R_k + R_k+1) L,
+// accumulated to its ancestors; carried onto the bearer's kept node nearest the attachment as
+// A / (E3 w), w = half of the adjacent internodes, so that node's line covers A more.
+TEST(Topology, DecimatedCoverageIsCarriedOntoTheBearersLine) {
+  tree::Tree t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}}, {0.02, 0.02, 0.02, 0.02});
+  tree::Branch c;
+  c.parent = 0;
+  c.parent_node = 1;
+  c.parent_t = 0.25;  // grows at arc 1.25 m
+  c.level = 1;
+  c.nodes = {{{0, 1.25, 0.01}, 0.004}, {{0, 1.25, 0.05}, 0.004}};
+  t.branches.push_back(c);
+  ASSERT_TRUE(tree::validate_tree(t).empty());
+  const auto sk = build_skeletons(t);
+  EXPECT_NEAR(sk[1].attach_arc, 1.25, 1e-12);
+  const auto area = subtree_areas(sk);
+  // child: implicit segment (0.01 m) + 0.04 m at radius 0.004 m; trunk: 3 m at 0.02 m, plus the child.
+  EXPECT_NEAR(area[1], 0.008 * 0.05, 1e-12);
+  EXPECT_NEAR(area[0], 0.04 * 3 + area[1], 1e-12);
+  // A twig its cards draw is never lost by a level: its area is not carried.
+  const std::vector<char> cards = {0, 1};
+  const auto with_cards = subtree_areas(sk, cards);
+  EXPECT_EQ(with_cards[1], 0.0);
+  EXPECT_NEAR(with_cards[0], 0.04 * 3, 1e-12);
+  const std::uint32_t kept[] = {0, 1, 3};  // node 1 stands for (1 + 2) / 2 = 1.5 m
+  const std::pair<double, double> deposit[] = {{1.25, area[1]}};
+  const auto extra = carried_alpha(sk[0].g, kept, deposit, 0.1);
+  ASSERT_EQ(extra.size(), 3u);
+  EXPECT_EQ(extra[0], 0.0);
+  EXPECT_NEAR(extra[1], area[1] / (0.1 * 1.5), 1e-12);
+  EXPECT_EQ(extra[2], 0.0);
+  // Through the chain at epsilon = 0.2: the trunk is lines (rho = 10), the child (A(b) = 0.034 m
+  // <= E4 = 0.1 m) is decimated, and its area reappears on the trunk's lines.
+  ChainOptions o;
+  o.errors = {0.2};
+  o.foliage = false;
+  const std::vector<Level> levels = build_chain(t, o);
+  ASSERT_EQ(levels[0].counts.branches, 1u);
+  const BranchGeometry& g = levels[0].branches;
+  ASSERT_FALSE(g.line_alpha12.empty());
+  ChainOptions no_topology = o;
+  no_topology.topology = false;
+  const std::vector<Level> both = build_chain(t, no_topology);
+  ASSERT_EQ(both[0].counts.branches, 2u);
+  // Alpha times E3 times the length a vertex stands for = side-on area: the level keeps it.
+  auto covered = [](const BranchGeometry& b, double e3) {
+    double sum = 0;
+    for (std::size_t s = 0; s + 1 < b.line_indices.size(); s += 2) {
+      const std::uint32_t a = b.line_indices[s], z = b.line_indices[s + 1];
+      const double len = std::hypot(b.line_positions[3 * z] - b.line_positions[3 * a],
+                                    b.line_positions[3 * z + 1] - b.line_positions[3 * a + 1],
+                                    b.line_positions[3 * z + 2] - b.line_positions[3 * a + 2]);
+      sum += 0.5 * (b.line_alpha12[a] + b.line_alpha12[z]) * e3 * len / 3;  // three lines per internode
+    }
+    return sum;
+  };
+  EXPECT_NEAR(covered(g, 0.2), covered(both[0].branches, 0.2), 1e-6);
+  EXPECT_GT(covered(g, 0.2), 0.04 * 3 - 1e-6);
 }
 
 std::vector<tree::Leaf> leaf_row(int n) {

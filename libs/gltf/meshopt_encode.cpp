@@ -1,0 +1,213 @@
+// EXT_meshopt_compression (the format gltfpack writes), with Debian's meshoptimizer codecs. The
+// JSON comes from tinygltf (its buffers left empty) and is patched with nlohmann::json, whose
+// sorted keys keep the bytes deterministic; the GLB container is assembled here because tinygltf
+// cannot write a buffer without data (the fallback buffer).
+#include "libs/gltf/meshopt_encode.h"
+
+#include <meshoptimizer.h>
+#include <tiny_gltf.h>
+
+#include <cstdint>
+#include <cstring>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <vector>
+
+#include "libs/gltf/writer.h"
+
+namespace sylva::gltf::detail {
+
+namespace {
+
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+
+enum class Kind { kRaw, kAttributes, kTriangles, kIndices };
+
+struct ViewUse {
+  Kind kind = Kind::kRaw;
+  std::size_t count = 0, stride = 0;
+  int component_type = 0;
+};
+
+void pad4(std::string& s, char fill) {
+  while (s.size() % 4 != 0) s.push_back(fill);
+}
+
+void put_u32(std::string& s, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
+}
+
+// How each buffer view is used: one accessor of a primitive attribute or of indices, whole
+// (count x element size == byteLength), else raw.
+std::vector<ViewUse> classify(const tinygltf::Model& m) {
+  std::vector<ViewUse> uses(m.bufferViews.size());
+  std::vector<int> refs(m.bufferViews.size(), 0);
+  for (const auto& a : m.accessors)
+    if (a.bufferView >= 0) ++refs[std::size_t(a.bufferView)];
+  auto element_size = [](const tinygltf::Accessor& a) {
+    return std::size_t(tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType)) *
+                       tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)));
+  };
+  auto mark = [&](int accessor, Kind kind) {
+    if (accessor < 0) return;
+    const tinygltf::Accessor& a = m.accessors[std::size_t(accessor)];
+    if (a.bufferView < 0 || refs[std::size_t(a.bufferView)] != 1 || a.byteOffset != 0 || a.sparse.isSparse)
+      return;
+    const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
+    const std::size_t size = element_size(a);
+    if (v.byteStride != 0 && v.byteStride != size) return;
+    if (a.count == 0 || a.count * size != v.byteLength) return;
+    // The vertex codec needs a multiple of 4 bytes per element; the index codec 2- or 4-byte
+    // indices, whole triangles.
+    if (kind == Kind::kAttributes && (size % 4 != 0 || size > 252)) return;
+    if (kind != Kind::kAttributes && size != 2 && size != 4) return;
+    if (kind == Kind::kTriangles && a.count % 3 != 0) kind = Kind::kIndices;
+    uses[std::size_t(a.bufferView)] = {kind, a.count, size, a.componentType};
+  };
+  for (const auto& mesh : m.meshes)
+    for (const auto& p : mesh.primitives) {
+      for (const auto& [name, acc] : p.attributes) mark(acc, Kind::kAttributes);
+      mark(p.indices, p.mode == TINYGLTF_MODE_TRIANGLES ? Kind::kTriangles : Kind::kIndices);
+    }
+  for (const auto& n : m.nodes) {
+    const auto it = n.extensions.find("EXT_mesh_gpu_instancing");
+    if (it == n.extensions.end() || !it->second.Has("attributes")) continue;
+    const tinygltf::Value& attrs = it->second.Get("attributes");
+    for (const std::string& k : attrs.Keys()) mark(attrs.Get(k).GetNumberAsInt(), Kind::kAttributes);
+  }
+  return uses;
+}
+
+std::vector<unsigned int> read_indices(const unsigned char* p, const ViewUse& u) {
+  std::vector<unsigned int> out(u.count);
+  for (std::size_t i = 0; i < u.count; ++i) {
+    if (u.stride == 2) {
+      std::uint16_t v;
+      std::memcpy(&v, p + 2 * i, 2);
+      out[i] = v;
+    } else {
+      std::memcpy(&out[i], p + 4 * i, 4);
+    }
+  }
+  return out;
+}
+
+std::string encode_view(const unsigned char* data, const ViewUse& u) {
+  std::vector<unsigned char> out;
+  std::size_t n = 0;
+  switch (u.kind) {
+    case Kind::kAttributes:
+      out.resize(meshopt_encodeVertexBufferBound(u.count, u.stride));
+      n = meshopt_encodeVertexBuffer(out.data(), out.size(), data, u.count, u.stride);
+      break;
+    case Kind::kTriangles: {
+      const std::vector<unsigned int> idx = read_indices(data, u);
+      unsigned int max_index = 0;
+      for (unsigned int i : idx) max_index = std::max(max_index, i);
+      out.resize(meshopt_encodeIndexBufferBound(idx.size(), std::size_t(max_index) + 1));
+      n = meshopt_encodeIndexBuffer(out.data(), out.size(), idx.data(), idx.size());
+      break;
+    }
+    case Kind::kIndices: {
+      const std::vector<unsigned int> idx = read_indices(data, u);
+      unsigned int max_index = 0;
+      for (unsigned int i : idx) max_index = std::max(max_index, i);
+      out.resize(meshopt_encodeIndexSequenceBound(idx.size(), std::size_t(max_index) + 1));
+      n = meshopt_encodeIndexSequence(out.data(), out.size(), idx.data(), idx.size());
+      break;
+    }
+    case Kind::kRaw:
+      break;
+  }
+  if (n == 0) throw GltfError("meshoptimizer could not encode a buffer view");
+  return std::string(reinterpret_cast<const char*>(out.data()), n);
+}
+
+}  // namespace
+
+std::string encode_meshopt_glb(tinygltf::Model& model) {
+  // Index codec version 1 (EXT_meshopt_compression decoders read 0 and 1); meshoptimizer keeps
+  // the choice in a global, set once.
+  static std::once_flag once;
+  std::call_once(once, [] { meshopt_encodeIndexVersion(1); });
+
+  const std::vector<ViewUse> uses = classify(model);
+  std::vector<unsigned char> source;
+  if (!model.buffers.empty()) source.swap(model.buffers[0].data);
+  // Serialise the JSON without the data (tinygltf would base64 it); buffers are rewritten below.
+  for (auto& b : model.buffers) b.data.assign(4, 0);
+  tinygltf::TinyGLTF writer;
+  std::ostringstream text;
+  if (!writer.WriteGltfSceneToStream(&model, text, /*prettyPrint=*/false, /*writeBinary=*/false))
+    throw GltfError("tinygltf could not serialise the scene");
+  nlohmann::json j = nlohmann::json::parse(std::move(text).str());
+
+  std::string bin;
+  std::size_t fallback = 0;
+  bool any = false;
+  for (std::size_t v = 0; v < model.bufferViews.size(); ++v) {
+    const tinygltf::BufferView& view = model.bufferViews[v];
+    nlohmann::json& jv = j["bufferViews"][v];
+    if (view.buffer != 0 || view.byteOffset + view.byteLength > source.size())
+      throw GltfError("meshopt: a buffer view lies outside the scene's buffer");
+    const unsigned char* data = source.data() + view.byteOffset;
+    pad4(bin, '\0');
+    if (uses[v].kind == Kind::kRaw) {
+      jv["byteOffset"] = bin.size();
+      bin.append(reinterpret_cast<const char*>(data), view.byteLength);
+      continue;
+    }
+    const std::string enc = encode_view(data, uses[v]);
+    const char* mode = uses[v].kind == Kind::kAttributes  ? "ATTRIBUTES"
+                       : uses[v].kind == Kind::kTriangles ? "TRIANGLES"
+                                                          : "INDICES";
+    jv[std::string("extensions")][kMeshopt] = {{"buffer", 0},
+                                               {"byteOffset", bin.size()},
+                                               {"byteLength", enc.size()},
+                                               {"byteStride", uses[v].stride},
+                                               {"count", uses[v].count},
+                                               {"mode", mode}};
+    bin += enc;
+    jv["buffer"] = 1;
+    jv["byteOffset"] = fallback;
+    if (uses[v].kind == Kind::kAttributes) jv["byteStride"] = uses[v].stride;
+    fallback += (view.byteLength + 3) / 4 * 4;
+    any = true;
+  }
+  pad4(bin, '\0');
+  j["buffers"] = nlohmann::json::array();
+  if (!bin.empty()) j["buffers"].push_back({{"byteLength", bin.size()}});
+  if (any) {
+    j["buffers"].push_back({{"byteLength", fallback}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
+    for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+      std::vector<std::string> names = j.value(list, std::vector<std::string>{});
+      names.push_back(kMeshopt);
+      std::sort(names.begin(), names.end());
+      names.erase(std::unique(names.begin(), names.end()), names.end());
+      j[list] = names;
+    }
+  }
+  if (bin.empty() && !any) j.erase("buffers");
+
+  std::string json_text = j.dump();
+  pad4(json_text, ' ');
+  std::string glb;
+  const std::size_t total = 12 + 8 + json_text.size() + (bin.empty() ? 0 : 8 + bin.size());
+  if (total > 0xFFFFFFFFu) throw GltfError("meshopt: the GLB would exceed 4 GiB");
+  glb.reserve(total);
+  glb += "glTF";
+  put_u32(glb, 2);
+  put_u32(glb, static_cast<std::uint32_t>(total));
+  put_u32(glb, static_cast<std::uint32_t>(json_text.size()));
+  glb += "JSON";
+  glb += json_text;
+  if (!bin.empty()) {
+    put_u32(glb, static_cast<std::uint32_t>(bin.size()));
+    glb += std::string("BIN\0", 4);
+    glb += bin;
+  }
+  return glb;
+}
+
+}  // namespace sylva::gltf::detail

@@ -1,0 +1,20 @@
+// Private to libs/gltf: a built tinygltf model -> GLB bytes with EXT_meshopt_compression.
+#pragma once
+
+#include <string>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace sylva::gltf::detail {
+
+// Every buffer view that holds one vertex attribute or one index accessor is encoded with
+// meshoptimizer's codecs (ATTRIBUTES: the vertex codec; TRIANGLES: the index codec, version 1;
+// INDICES: the index sequence codec for lines and points) into buffer 0, the GLB's binary chunk;
+// the views themselves move to buffer 1, a fallback buffer without data
+// ({"fallback": true}), so the extension is required. Image views stay uncompressed in buffer 0.
+// Deterministic. Throws GltfError.
+std::string encode_meshopt_glb(tinygltf::Model& model);
+
+}  // namespace sylva::gltf::detail

@@ -1,0 +1,33 @@
+// <species>.lod.json (issue 14; docs/formats.md "Pack lod.json"): the engine-neutral description
+// of a species' shipped LOD chain, for engines that do not read MSFT_lod. One writer, here.
+//
+//   {"format": "sylva-pack-lod", "version": 1, "species": "oak", "chain": "oak.glb",
+//    "levels": [{"file": "oak_lod0.glb", "epsilon_m": .., "pixel_error_px": ..,
+//                "switch_distance_m": .., "screen_coverage": .., "triangles": .., "lines": ..,
+//                "bytes": ..}, ...]}
+// Nearest level first. Level i is proven (at most pixel_error_px of image error) from its switch
+// distance on, and is drawn while the tree's bounding sphere covers at least screen_coverage of
+// the screen height (MSFT_screencoverage); nearer than level 0's switch distance no level is proven.
+// Canonical bytes: sorted keys, two-space indent, final newline.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sylva::pack {
+
+struct LodLevel {
+  std::string file;
+  double epsilon_m = 0, pixel_error_px = 0, switch_distance_m = 0, screen_coverage = 0;
+  std::uint64_t triangles = 0, lines = 0, bytes = 0;
+};
+
+struct LodDescription {
+  std::string species, chain;
+  std::vector<LodLevel> levels;
+};
+
+std::string write_lod_json(const LodDescription& d);
+
+}  // namespace sylva::pack

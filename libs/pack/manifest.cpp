@@ -1,0 +1,265 @@
+// pack/manifest.json through nlohmann::json (its objects keep keys sorted, so dump() is
+// canonical); SHA-256 from pipeline/digest.h (OpenSSL).
+#include "libs/pack/manifest.h"
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "pipeline/digest.h"
+
+namespace sylva::pack {
+
+namespace {
+
+using nlohmann::json;
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// A relative path of plain names: no empty, "." or ".." segment, no backslash, not absolute.
+bool plain_relative_path(std::string_view p) {
+  if (p.empty() || p.front() == '/' || p.find('\\') != std::string_view::npos) return false;
+  std::size_t start = 0;
+  while (start <= p.size()) {
+    const std::size_t end = std::min(p.find('/', start), p.size());
+    const std::string_view seg = p.substr(start, end - start);
+    if (seg.empty() || seg == "." || seg == "..") return false;
+    start = end + 1;
+  }
+  return true;
+}
+
+// Reading with the element's JSON path in every message.
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw ManifestError(source_ + ": " + where + ": " + what);
+  }
+  const json& member(const json& obj, const std::string& where, const char* key) const {
+    if (!obj.is_object()) fail(where, "expected an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) fail(where, std::string("missing \"") + key + "\"");
+    return *it;
+  }
+  std::string string(const json& obj, const std::string& where, const char* key) const {
+    const json& v = member(obj, where, key);
+    if (!v.is_string()) fail(where + "." + key, "expected a string");
+    return v.get<std::string>();
+  }
+  std::uint64_t unsigned_integer(const json& obj, const std::string& where, const char* key) const {
+    const json& v = member(obj, where, key);
+    if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<std::int64_t>() >= 0))
+      fail(where + "." + key, "expected a non-negative integer");
+    return v.get<std::uint64_t>();
+  }
+  const json& array(const json& obj, const std::string& where, const char* key) const {
+    const json& v = member(obj, where, key);
+    if (!v.is_array()) fail(where + "." + key, "expected an array");
+    return v;
+  }
+  std::string digest(const json& obj, const std::string& where, const char* key) const {
+    std::string d = string(obj, where, key);
+    if (!is_hex_digest(d)) fail(where + "." + key, "expected 64 lowercase hex digits");
+    return d;
+  }
+  std::string path(const json& obj, const std::string& where, const char* key) const {
+    std::string p = string(obj, where, key);
+    if (!plain_relative_path(p))
+      fail(where + "." + key, "'" + p.substr(0, 80) + "' is not a plain relative path");
+    return p;
+  }
+
+ private:
+  std::string source_;
+};
+
+}  // namespace
+
+std::uint64_t Manifest::total_bytes() const {
+  std::uint64_t sum = 0;
+  for (const auto& f : files) sum += f.size;
+  return sum;
+}
+
+const FileEntry* Manifest::file(std::string_view path) const {
+  for (const auto& f : files)
+    if (f.path == path) return &f;
+  return nullptr;
+}
+
+std::string media_type_for(std::string_view path) {
+  if (ends_with(path, ".glb")) return "model/gltf-binary";
+  if (ends_with(path, ".gltf")) return "model/gltf+json";
+  if (ends_with(path, ".json")) return "application/json";
+  if (ends_with(path, ".png")) return "image/png";
+  if (ends_with(path, ".ktx2")) return "image/ktx2";
+  return "application/octet-stream";
+}
+
+FileEntry describe_file(std::string path, std::string_view bytes, Producer producer) {
+  FileEntry e;
+  e.media_type = media_type_for(path);
+  e.path = std::move(path);
+  e.sha256 = sha256_hex(bytes);
+  e.size = bytes.size();
+  e.producer = std::move(producer);
+  return e;
+}
+
+std::string write_manifest(const Manifest& manifest) {
+  std::vector<const FileEntry*> files;
+  for (const auto& f : manifest.files) files.push_back(&f);
+  std::sort(files.begin(), files.end(),
+            [](const FileEntry* a, const FileEntry* b) { return a->path < b->path; });
+  for (std::size_t i = 1; i < files.size(); ++i)
+    if (files[i]->path == files[i - 1]->path)
+      throw ManifestError("manifest: two files named '" + files[i]->path + "'");
+  std::set<std::string> listed;
+  json jf = json::array();
+  for (const FileEntry* f : files) {
+    listed.insert(f->path);
+    json inputs = json::object();
+    for (const auto& [name, digest] : f->producer.inputs) inputs[name] = digest;
+    jf.push_back({{"path", f->path},
+                  {"sha256", f->sha256},
+                  {"size", f->size},
+                  {"media_type", f->media_type},
+                  {"producer",
+                   {{"stage", f->producer.stage},
+                    {"stage_version", f->producer.stage_version},
+                    {"inputs", std::move(inputs)}}}});
+  }
+  std::vector<const SpeciesEntry*> species;
+  for (const auto& s : manifest.species) species.push_back(&s);
+  std::sort(species.begin(), species.end(),
+            [](const SpeciesEntry* a, const SpeciesEntry* b) { return a->name < b->name; });
+  json js = json::array();
+  for (const SpeciesEntry* s : species) {
+    auto check = [&](const std::string& p) {
+      if (!listed.count(p))
+        throw ManifestError("manifest: species '" + s->name + "' names '" + p +
+                            "', which is not in the pack");
+    };
+    check(s->chain);
+    check(s->lod_json);
+    for (const auto& l : s->levels) check(l);
+    js.push_back({{"name", s->name}, {"chain", s->chain}, {"lod_json", s->lod_json}, {"levels", s->levels}});
+  }
+  const json j = {{"format", "sylva-pack-manifest"},
+                  {"version", manifest.version},
+                  {"files", std::move(jf)},
+                  {"species", std::move(js)},
+                  {"total_bytes", manifest.total_bytes()}};
+  return j.dump(2) + "\n";
+}
+
+Manifest parse_manifest(std::string_view text, const std::string& source) {
+  const Reader r(source);
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // e.byte is the offset of the error; name it as line:column.
+    std::size_t line = 1, col = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        col = 1;
+      } else {
+        ++col;
+      }
+    }
+    throw ManifestError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": not valid JSON");
+  }
+  if (!j.is_object()) r.fail("(root)", "expected an object");
+  if (r.string(j, "(root)", "format") != "sylva-pack-manifest")
+    r.fail("format", "expected \"sylva-pack-manifest\"");
+  const std::uint64_t version = r.unsigned_integer(j, "(root)", "version");
+  if (version != kManifestVersion)
+    r.fail("version", std::to_string(version) + " is not supported (this sylva reads version " +
+                          std::to_string(kManifestVersion) + ")");
+  Manifest m;
+  std::set<std::string> paths;
+  const json& files = r.array(j, "(root)", "files");
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::string where = "files[" + std::to_string(i) + "]";
+    const json& f = files[i];
+    FileEntry e;
+    e.path = r.path(f, where, "path");
+    if (!paths.insert(e.path).second) r.fail(where + ".path", "'" + e.path + "' is listed twice");
+    e.sha256 = r.digest(f, where, "sha256");
+    e.size = r.unsigned_integer(f, where, "size");
+    e.media_type = r.string(f, where, "media_type");
+    const json& p = r.member(f, where, "producer");
+    e.producer.stage = r.string(p, where + ".producer", "stage");
+    e.producer.stage_version = static_cast<int>(r.unsigned_integer(p, where + ".producer", "stage_version"));
+    const json& in = r.member(p, where + ".producer", "inputs");
+    if (!in.is_object()) r.fail(where + ".producer.inputs", "expected an object");
+    for (auto it = in.begin(); it != in.end(); ++it) {
+      if (!it.value().is_string() || !is_hex_digest(it.value().get<std::string>()))
+        r.fail(where + ".producer.inputs." + it.key(), "expected 64 lowercase hex digits");
+      e.producer.inputs.emplace(it.key(), it.value().get<std::string>());
+    }
+    m.files.push_back(std::move(e));
+  }
+  const json& species = r.array(j, "(root)", "species");
+  for (std::size_t i = 0; i < species.size(); ++i) {
+    const std::string where = "species[" + std::to_string(i) + "]";
+    const json& s = species[i];
+    SpeciesEntry e;
+    e.name = r.string(s, where, "name");
+    auto listed = [&](const std::string& p, const std::string& at) {
+      if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
+      return p;
+    };
+    e.chain = listed(r.path(s, where, "chain"), where + ".chain");
+    e.lod_json = listed(r.path(s, where, "lod_json"), where + ".lod_json");
+    const json& levels = r.array(s, where, "levels");
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      const std::string at = where + ".levels[" + std::to_string(k) + "]";
+      if (!levels[k].is_string()) r.fail(at, "expected a string");
+      e.levels.push_back(listed(levels[k].get<std::string>(), at));
+    }
+    m.species.push_back(std::move(e));
+  }
+  const std::uint64_t total = r.unsigned_integer(j, "(root)", "total_bytes");
+  if (total != m.total_bytes())
+    r.fail("total_bytes", std::to_string(total) + " is not the sum of the files' sizes (" +
+                              std::to_string(m.total_bytes()) + ")");
+  return m;
+}
+
+Manifest read_manifest(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw ManifestError(path.string() + ": cannot be read");
+  std::ostringstream text;
+  text << f.rdbuf();
+  if (!f && !f.eof()) throw ManifestError(path.string() + ": read failed");
+  return parse_manifest(text.str(), path.string());
+}
+
+ManifestDiff diff_manifests(const Manifest& old_manifest, const Manifest& new_manifest) {
+  std::map<std::string, std::string> before, after;
+  for (const auto& f : old_manifest.files) before.emplace(f.path, f.sha256);
+  for (const auto& f : new_manifest.files) after.emplace(f.path, f.sha256);
+  ManifestDiff d;
+  for (const auto& [path, digest] : after) {
+    const auto it = before.find(path);
+    if (it == before.end())
+      d.added.push_back(path);
+    else if (it->second != digest)
+      d.changed.push_back(path);
+  }
+  for (const auto& [path, digest] : before)
+    if (!after.count(path)) d.removed.push_back(path);
+  return d;
+}
+
+}  // namespace sylva::pack

@@ -1,0 +1,93 @@
+// pack/manifest.json (issue 14; docs/formats.md "Pack manifest"; docs/stages/pack.md): the one
+// reader and writer of an asset pack's table of contents, used by stage `pack` and by
+// `sylva pack diff`.
+//
+// The manifest lists every other file of the pack with its SHA-256, size, media type and what
+// produced it (the stage, its version, and the digests of the input files it was made from),
+// then each species' chain of files, and the pack's total size. Bytes are canonical: object keys
+// sorted, files sorted by path, species sorted by name, two-space indent, a final newline; so the
+// same pack gives the same manifest bytes on every run.
+//
+// Upstream node names are not recorded: they are not part of a node's action key (renaming a
+// node does not rebuild the pack), so a manifest naming them could name them wrongly. What ties a
+// file to its inputs is the input digests, which are part of the key.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sylva::pack {
+
+inline constexpr int kManifestVersion = 1;
+
+// A manifest that cannot be read: what() names the file and the JSON element.
+class ManifestError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Producer {
+  std::string stage;      // e.g. "pack"
+  int stage_version = 0;  // the stage's implementation version
+  // The input files this file was made from: "<input artifact type>/<file name>" -> hex SHA-256.
+  std::map<std::string, std::string> inputs;
+  friend bool operator==(const Producer&, const Producer&) = default;
+};
+
+struct FileEntry {
+  std::string path;        // relative to the manifest's directory, '/'-separated, e.g. "oak.glb"
+  std::string sha256;      // 64 lowercase hex digits
+  std::uint64_t size = 0;  // bytes
+  std::string media_type;  // e.g. "model/gltf-binary"
+  Producer producer;
+  friend bool operator==(const FileEntry&, const FileEntry&) = default;
+};
+
+// One species' chain in the pack.
+struct SpeciesEntry {
+  std::string name;                 // e.g. "oak"
+  std::string chain;                // the MSFT_lod file, e.g. "oak.glb"
+  std::string lod_json;             // e.g. "oak.lod.json"
+  std::vector<std::string> levels;  // one file per level, nearest first: "oak_lod0.glb", ...
+  friend bool operator==(const SpeciesEntry&, const SpeciesEntry&) = default;
+};
+
+struct Manifest {
+  int version = kManifestVersion;
+  std::vector<FileEntry> files;       // sorted by path on write
+  std::vector<SpeciesEntry> species;  // sorted by name on write
+  std::uint64_t total_bytes() const;  // sum of the files' sizes (written, checked on read)
+  const FileEntry* file(std::string_view path) const;
+  friend bool operator==(const Manifest&, const Manifest&) = default;
+};
+
+// The entry for `bytes` stored as `path` (SHA-256 and size computed, media type from the name).
+FileEntry describe_file(std::string path, std::string_view bytes, Producer producer);
+
+// "model/gltf-binary" (.glb), "model/gltf+json" (.gltf), "application/json" (.json),
+// "image/png", "image/ktx2", "application/octet-stream" (.bin and anything else).
+std::string media_type_for(std::string_view path);
+
+// Canonical bytes (header comment). Throws ManifestError when two files share a path, or a
+// species names a file the manifest does not list.
+std::string write_manifest(const Manifest& manifest);
+
+// Parses manifest bytes; `source` names them in messages ("out/x/pack/manifest.json"). Checks the
+// version, every field's type, the digests' form and total_bytes. Throws ManifestError.
+Manifest parse_manifest(std::string_view text, const std::string& source);
+Manifest read_manifest(const std::filesystem::path& path);
+
+// What changed between two packs: paths only in `new_manifest` (added), in both with another
+// SHA-256 (changed), only in `old_manifest` (removed); each list sorted.
+struct ManifestDiff {
+  std::vector<std::string> added, changed, removed;
+  bool empty() const { return added.empty() && changed.empty() && removed.empty(); }
+};
+ManifestDiff diff_manifests(const Manifest& old_manifest, const Manifest& new_manifest);
+
+}  // namespace sylva::pack

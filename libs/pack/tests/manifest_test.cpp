@@ -1,0 +1,121 @@
+// libs/pack manifest: canonical bytes, a lossless round trip, precise errors, and the diff.
+#include "libs/pack/manifest.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace sylva::pack {
+namespace {
+
+const std::string kDigestA(64, 'a');
+
+Manifest sample() {
+  Manifest m;
+  Producer p{"pack", 1, {{"lod/lod0.gltf", kDigestA}}};
+  m.files.push_back(describe_file("oak_lod0.glb", "level zero", p));
+  m.files.push_back(describe_file("oak.glb", "chain", p));
+  m.files.push_back(describe_file("oak.lod.json", "{}", p));
+  m.species.push_back({"oak", "oak.glb", "oak.lod.json", {"oak_lod0.glb"}});
+  return m;
+}
+
+TEST(PackManifest, DescribesAFile) {
+  const FileEntry e = describe_file("a/b.glb", "abc", {});
+  EXPECT_EQ(e.sha256,
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");  // FIPS 180-2 "abc"
+  EXPECT_EQ(e.size, 3u);
+  EXPECT_EQ(e.media_type, "model/gltf-binary");
+  EXPECT_EQ(media_type_for("x.gltf"), "model/gltf+json");
+  EXPECT_EQ(media_type_for("oak.lod.json"), "application/json");
+  EXPECT_EQ(media_type_for("leaves.png"), "image/png");
+  EXPECT_EQ(media_type_for("lod0.bin"), "application/octet-stream");
+}
+
+TEST(PackManifest, BytesAreCanonicalAndRoundTrip) {
+  Manifest m = sample();
+  const std::string text = write_manifest(m);
+  // Files sorted by path whatever their order in memory; keys sorted; a final newline.
+  Manifest shuffled = m;
+  std::swap(shuffled.files[0], shuffled.files[2]);
+  EXPECT_EQ(write_manifest(shuffled), text);
+  EXPECT_LT(text.find("\"oak.glb\""), text.find("\"oak.lod.json\""));
+  EXPECT_LT(text.find("\"oak.lod.json\""), text.find("\"oak_lod0.glb\""));
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_NE(text.find("\"total_bytes\": 17"), std::string::npos) << text;
+  const Manifest back = parse_manifest(text, "m.json");
+  EXPECT_EQ(write_manifest(back), text);
+  ASSERT_EQ(back.files.size(), 3u);
+  const FileEntry* f = back.file("oak_lod0.glb");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->producer.stage, "pack");
+  EXPECT_EQ(f->producer.stage_version, 1);
+  EXPECT_EQ(f->producer.inputs.at("lod/lod0.gltf"), kDigestA);
+  EXPECT_EQ(back.species, m.species);
+}
+
+TEST(PackManifest, WriteRefusesDuplicatesAndUnlistedChainFiles) {
+  Manifest m = sample();
+  m.files.push_back(m.files[0]);
+  EXPECT_THROW(write_manifest(m), ManifestError);
+  m = sample();
+  m.species[0].levels.push_back("oak_lod1.glb");
+  try {
+    write_manifest(m);
+    FAIL();
+  } catch (const ManifestError& e) {
+    EXPECT_STREQ(e.what(), "manifest: species 'oak' names 'oak_lod1.glb', which is not in the pack");
+  }
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_manifest(text, "m.json");
+  } catch (const ManifestError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(PackManifest, ReadErrorsNameTheElement) {
+  const std::string good = write_manifest(sample());
+  EXPECT_EQ(error_of("{\n  \"format\": 1,\n  x"), "m.json:3:3: not valid JSON");
+  EXPECT_EQ(error_of("[]"), "m.json: (root): expected an object");
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string t = good;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return t.replace(at, from.size(), to);
+  };
+  EXPECT_EQ(error_of(replaced("\"version\": 1", "\"version\": 7")),
+            "m.json: version: 7 is not supported (this sylva reads version 1)");
+  EXPECT_EQ(error_of(replaced("\"path\": \"oak.glb\"", "\"path\": \"../oak.glb\"")),
+            "m.json: files[0].path: '../oak.glb' is not a plain relative path");
+  EXPECT_EQ(error_of(replaced("\"size\": 5", "\"size\": -5")),
+            "m.json: files[0].size: expected a non-negative integer");
+  EXPECT_EQ(error_of(replaced("\"total_bytes\": 17", "\"total_bytes\": 23")),
+            "m.json: total_bytes: 23 is not the sum of the files' sizes (17)");
+  const std::string first_digest = sample().file("oak.glb")->sha256;
+  EXPECT_EQ(error_of(replaced(first_digest, "ABC")),
+            "m.json: files[0].sha256: expected 64 lowercase hex digits");
+  EXPECT_EQ(error_of(replaced("\"chain\": \"oak.glb\"", "\"chain\": \"pine.glb\"")),
+            "m.json: species[0].chain: 'pine.glb' is not in files");
+}
+
+TEST(PackManifest, DiffListsAddedChangedRemoved) {
+  const Manifest old_m = sample();
+  Manifest new_m = sample();
+  new_m.files[0] = describe_file("oak_lod0.glb", "level zero, again", {});     // changed
+  new_m.files.erase(new_m.files.begin() + 2);                                  // oak.lod.json removed
+  new_m.files.push_back(describe_file("pine.glb", "p", {}));                   // added
+  new_m.files.push_back(describe_file("oak.glb", "chain", {"other", 9, {}}));  // same bytes: unchanged
+  new_m.files.erase(new_m.files.begin() + 1);
+  const ManifestDiff d = diff_manifests(old_m, new_m);
+  EXPECT_EQ(d.added, std::vector<std::string>{"pine.glb"});
+  EXPECT_EQ(d.changed, std::vector<std::string>{"oak_lod0.glb"});
+  EXPECT_EQ(d.removed, std::vector<std::string>{"oak.lod.json"});
+  EXPECT_TRUE(diff_manifests(old_m, old_m).empty());
+}
+
+}  // namespace
+}  // namespace sylva::pack
