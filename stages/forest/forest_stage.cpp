@@ -312,8 +312,8 @@ class ForestStage final : public Stage {
       std::string bin;
       for (int l = 0; l < level_count; ++l) {
         std::vector<const LevelSource*> srcs;
-        for (const SpeciesInput& in : inputs)
-          srcs.push_back(&in.levels[std::min<std::size_t>(std::size_t(l), in.levels.size() - 1)]);
+        for (std::size_t s = 0; s < inputs.size(); ++s)
+          srcs.push_back(&inputs[s].levels[species_level(f.species[s], l, level_count)]);
         TileFiles tf;
         try {
           tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin");

@@ -196,7 +196,9 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
           }
           EXPECT_LT(best, 1e-4);
         }
-      if (l == 0) EXPECT_EQ(s.triangle_count(), 12 * t.instances.size());
+      if (l == 0) {
+        EXPECT_EQ(s.triangle_count(), 12 * t.instances.size());
+      }
     }
   for (const char* f2 : {"a_lod0.gltf", "a_lod1.gltf", "b_lod0.gltf"}) gltfs.push_back(out / f2);
   for (const auto& v : sylva::test::validate_gltf(gltfs)) {
