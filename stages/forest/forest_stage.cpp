@@ -13,10 +13,12 @@
 #include <regex>
 #include <sstream>
 
+#include "libs/impostor/impostor_json.h"
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
 #include "stages/forest/forest_info.h"
 #include "stages/forest/hierarchy.h"
+#include "stages/forest/impostor_level.h"
 #include "stages/forest/layout.h"
 #include "stages/forest/tile_gltf.h"
 #include "stages/forest/tileset.h"
@@ -60,6 +62,10 @@ struct SpeciesInput {
   std::vector<const ArtifactFile*> level_bins, images;
   Box3 bounds;
   std::vector<std::size_t> primitives;
+  // The impostor level (when the species has an impostor input): its source, buffer and epsilon.
+  bool has_impostor = false;
+  ImpostorLevel impostor;
+  double impostor_epsilon_m = 0;
 };
 
 std::size_t primitive_count(const json& g) {
@@ -136,6 +142,29 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
   return s;
 }
 
+// The species' impostor artifact: impostor.json (libs/impostor's reader: its epsilon) and
+// impostor.glb, which becomes the species' last level.
+void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInput& s) {
+  const ArtifactFile* ij = in.file("impostor.json");
+  const ArtifactFile* glb = in.file("impostor.glb");
+  if (!ij || !glb)
+    throw StageError("input '" + in.node + "' (impostor) has no impostor.json and impostor.glb");
+  try {
+    const impostor::ImpostorInfo info =
+        impostor::parse_impostor_json(read_file(ij->path), in.node + "/impostor.json");
+    s.impostor_epsilon_m = info.error.epsilon_m();
+  } catch (const impostor::ImpostorFormatError& e) {
+    throw StageError(e.what());
+  }
+  try {
+    s.impostor = impostor_level_source(read_file(glb->path), name, "input '" + in.node + "': impostor.glb");
+  } catch (const std::invalid_argument& e) {
+    throw StageError(e.what());
+  }
+  s.primitives.push_back(primitive_count(s.impostor.source.gltf));
+  s.has_impostor = true;
+}
+
 class ForestStage final : public Stage {
  public:
   ForestStage() : info_(forest_stage_info()) {}
@@ -143,9 +172,13 @@ class ForestStage final : public Stage {
 
   void run(StageContext& ctx) const override {
     // 1. Species: the i-th lod input with species[i].
-    std::vector<const InputArtifact*> lods;
-    for (const InputArtifact& in : ctx.inputs())
-      if (in.type == "lod") lods.push_back(&in);
+    std::vector<const InputArtifact*> lods, impostors;
+    for (const InputArtifact& in : ctx.inputs()) (in.type == "lod" ? lods : impostors).push_back(&in);
+    if (!impostors.empty() && impostors.size() != lods.size())
+      throw StageError("the node needs " + std::to_string(lods.size()) + " lod inputs and " +
+                       std::to_string(impostors.size()) +
+                       " impostor inputs: give every species an impostor (the i-th impostor input is the "
+                       "i-th lod input's species) or none");
     const Value::List& species_params = ctx.param("species").as_list();
     if (species_params.size() != lods.size())
       throw StageError("'species' lists " + std::to_string(species_params.size()) +
@@ -172,6 +205,7 @@ class ForestStage final : public Stage {
         throw StageError("species name '" + r.name + "' is used twice");
       names.push_back(r.name);
       inputs.push_back(read_species(*lods[i], r.name));
+      if (!impostors.empty()) read_impostor(*impostors[i], r.name, inputs.back());
       r.bounds = inputs.back().bounds;
       r.density_per_ha = sp.at("density_per_ha").as_real();
       auto range = [&](const char* key) {
@@ -271,6 +305,11 @@ class ForestStage final : public Stage {
           sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
                                levels[l].at("epsilon_m").get<double>(),
                                levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false});
+        if (in.has_impostor)
+          sp.levels.push_back(
+              {names[s] + "_impostor.gltf", in.impostor_epsilon_m,
+               switch_distance_m(in.impostor_epsilon_m, sp.pixel_error_px, sp.fov_y_deg, sp.height_px),
+               in.primitives.back(), true});
       } catch (const json::exception& e) {
         throw StageError("input '" + in.node + "': lod.json: " + e.what());
       }
@@ -297,10 +336,14 @@ class ForestStage final : public Stage {
     int level_count = 0;
     for (std::size_t s = 0; s < inputs.size(); ++s) {
       const SpeciesInput& in = inputs[s];
-      level_count = std::max(level_count, int(in.levels.size()));
+      level_count = std::max(level_count, int(f.species[s].levels.size()));
       for (std::size_t l = 0; l < in.levels.size(); ++l) {
         ctx.write_output(f.species[s].levels[l].file, species_level_gltf(in.levels[l]));
         copy(ctx, in.level_bins[l]->path, in.levels[l].bin_name);
+      }
+      if (in.has_impostor) {
+        ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
+        ctx.write_output(in.impostor.source.bin_name, in.impostor.bin);
       }
       for (const ArtifactFile* im : in.images) copy(ctx, im->path, names[s] + "_" + im->name);
     }
@@ -312,8 +355,10 @@ class ForestStage final : public Stage {
       std::string bin;
       for (int l = 0; l < level_count; ++l) {
         std::vector<const LevelSource*> srcs;
-        for (const SpeciesInput& in : inputs)
-          srcs.push_back(&in.levels[std::min<std::size_t>(std::size_t(l), in.levels.size() - 1)]);
+        for (std::size_t s = 0; s < inputs.size(); ++s) {
+          const std::size_t sl = species_level(f.species[s], l, level_count);
+          srcs.push_back(sl < inputs[s].levels.size() ? &inputs[s].levels[sl] : &inputs[s].impostor.source);
+        }
         TileFiles tf;
         try {
           tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin");

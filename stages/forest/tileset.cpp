@@ -45,6 +45,13 @@ std::array<double, 16> enu_to_ecef(const Georeference& g) {
   return {-sl, cl, 0, 0, -sp * cl, -sp * sl, cp, 0, cp * cl, cp * sl, sp, 0, px, py, pz, 1};
 }
 
+std::size_t species_level(const Species& s, int tile_level, int level_count) {
+  const std::size_t last = s.levels.size() - 1;
+  if (tile_level >= level_count - 1) return last;
+  const std::size_t lods = s.levels.back().impostor && last > 0 ? last : last + 1;
+  return std::min<std::size_t>(std::size_t(std::max(tile_level, 0)), lods - 1);
+}
+
 std::string tileset_json(const Forest& forest, int level_count, const Georeference& geo,
                          const std::function<std::string(std::size_t, int)>& content_uri) {
   // The error of drawing none of a subtree's trees: the tallest tree's height.
@@ -58,17 +65,18 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
     double e = 0;
     for (std::uint32_t i : t.instances) {
       const Species& s = forest.species[forest.instances[i].species];
-      const std::size_t l = std::min<std::size_t>(std::size_t(level), s.levels.size() - 1);
-      e = std::max(e, s.levels[l].epsilon_m);
+      e = std::max(e, s.levels[species_level(s, level, level_count)].epsilon_m);
     }
     return e;
   };
   auto chain = [&](std::size_t t) {
     const Tile& tile = forest.tiles[t];
     json node;
+    double error = 0;  // non-decreasing from the finest level up
     for (int level = 0; level < level_count; ++level) {
+      error = std::max(error, level_error(tile, level));
       json n = {{"boundingVolume", box_volume(tile.bounds)},
-                {"geometricError", level_error(tile, level)},
+                {"geometricError", error},
                 {"refine", "REPLACE"},
                 {"content", {{"uri", content_uri(t, level)}}}};
       if (level > 0) n["children"] = json::array({std::move(node)});

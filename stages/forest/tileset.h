@@ -10,10 +10,13 @@
 //
 // Structure: a quadtree over the square tiles (content-less inner nodes), each square tile the
 // top of a chain of single-child tiles, coarsest level first: tile (level N-1) -> (level N-2) ...
-// -> (level 0), each with the tile's trees at that level as its content. refine is REPLACE
-// throughout: a finer level of the same trees replaces the coarser one (ADD would draw both), and
-// the content-less inner nodes have nothing to keep. geometricError: level L's tile = the largest
-// epsilon_L of the tile's species; an inner node = the error of drawing none of its trees, the
+// -> (level 0), each with the tile's trees at that level (species_level) as its content. refine
+// is REPLACE throughout: a finer level of the same trees replaces the coarser one (ADD would draw
+// both), and the content-less inner nodes have nothing to keep. geometricError: level L's tile =
+// the largest epsilon of the tile's species at that level, raised to at least the error of level
+// L - 1 below it (a chain's errors never grow toward its leaves, so a client never refines into
+// a larger error: an impostor whose epsilon is below the coarsest lod level's is shown only from
+// where that level would be); an inner node = the error of drawing none of its trees, the
 // largest tree's height (scaled), so a client always refines into the forest while a tree would
 // cover more than its budget. Coordinates: glTF content is Y-up and 3D Tiles rotates it to Z-up
 // (x, y, z) -> (x, -z, y); the root transform places the forest's frame (east = +x, north = -z,
@@ -32,6 +35,11 @@ namespace sylva::forest {
 struct Georeference {
   double longitude_deg = 0, latitude_deg = 0, height_m = 0;
 };
+
+// The level of species `s` that tile level `tile_level` (of `level_count`, the largest level count
+// of the forest's species) draws: min(tile_level, lod levels - 1), except at the last tile level,
+// which draws every species' last level (its impostor, when it has one).
+std::size_t species_level(const Species& s, int tile_level, int level_count);
 
 // `level_count` levels per chain; content uri of tile t at level L = content_uri(t, L).
 std::string tileset_json(const Forest& forest, int level_count, const Georeference& geo,

@@ -4,11 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "libs/forest/instances.h"
 #include "libs/gltf/writer.h"
+#include "libs/image/png.h"
+#include "libs/impostor/impostor_json.h"
 #include "libs/render/camera.h"
 #include "libs/render/gltf_scene.h"
 #include "stages/forest/forest_stage.h"
@@ -278,6 +281,134 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
   sp["base_rotation_deg"] = Value(Value::List{30.0, 0.0, 0.0});
   shear["species"] = Value(Value::List{Value(sp), Value(species("b", 10))});
   EXPECT_NE(error(shear).find("glTF instancing cannot express"), std::string::npos);
+}
+
+// An impostor artifact as the impostor stage writes one: impostor.glb (one card, embedded image)
+// and impostor.json with epsilon 0.005 + 0.02 + 0.01 = 0.035 m.
+InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& node) {
+  fs::create_directories(dir);
+  gltf::Scene s;
+  gltf::Image im;
+  im.name = "impostor.png";
+  const std::vector<std::uint8_t> png = image::encode_png(image::Image(2, 2, image::Rgba8{40, 90, 30, 255}));
+  im.bytes.assign(png.begin(), png.end());
+  s.images.push_back(im);
+  gltf::Material m;
+  m.name = "impostor";
+  m.unlit = true;
+  m.alpha_mode = gltf::AlphaMode::kBlend;
+  m.base_color_texture.image = 0;
+  s.materials.push_back(m);
+  gltf::Primitive p;
+  const float fh = float(h);
+  p.positions = {-1, 0, 0, 1, 0, 0, 1, fh, 0, -1, fh, 0};
+  p.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  p.texcoords = {0, 1, 1, 1, 1, 0, 0, 0};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.material = 0;
+  gltf::Mesh mesh;
+  mesh.name = "impostor";
+  mesh.primitives.push_back(p);
+  s.meshes.push_back(mesh);
+  gltf::Node n;
+  n.name = "impostor";
+  n.mesh = 0;
+  s.nodes.push_back(n);
+  s.roots = {0};
+  sylva::test::write_file(dir / "impostor.glb", gltf::encode(s));
+  impostor::ImpostorInfo i;
+  i.kind = impostor::Kind::kBillboards;
+  i.frame_px = 64;
+  i.atlas_width_px = i.atlas_height_px = 128;
+  i.padding_px = 8;
+  i.mip_levels = 3;
+  i.bounds_min = {-1, 0, -1};
+  i.bounds_max = {1, h, 1};
+  i.sphere_center = {0, 0.5 * h, 0};
+  i.sphere_radius = h;
+  i.frame_half_extent = h * 64 / 48.0;
+  i.color_map = "impostor_color.png";
+  i.normal_depth_map = "impostor_normal.png";
+  i.pixel_error_px = 0.5;
+  i.error = {0.005, 0.02, 0.01};
+  i.switch_distance_m = 100;
+  i.source_type = "lod";
+  i.source_file = "lod1.gltf";
+  i.source_level = 1;
+  impostor::Card c;
+  c.name = "card0";
+  c.dir = {0, 0, 1};
+  c.right = {1, 0, 0};
+  c.up = {0, 1, 0};
+  c.center = {0, 0.5 * h, 0};
+  c.half_width = c.half_height = h;
+  c.x = 0, c.y = 0, c.w = 64, c.h = 64;
+  c.cutout = {{0.1, 0.9}, {0.9, 0.9}, {0.8, 0.1}, {0.2, 0.1}};
+  i.cards.push_back(c);
+  i.glb_triangles = 2;
+  sylva::test::write_file(dir / "impostor.json", impostor::write_impostor_json(i));
+  InputArtifact in;
+  in.node = node;
+  in.type = "impostor";
+  for (const char* f : {"impostor.glb", "impostor.json"}) in.files.push_back({f, dir / f, "0"});
+  return in;
+}
+
+TEST_F(ForestOutput, ImpostorIsEachSpeciesLastLevel) {
+  inputs_.push_back(fake_impostor(dir_ / "imp_a", 8, "imp_a"));
+  inputs_.push_back(fake_impostor(dir_ / "imp_b", 5, "imp_b"));
+  const Value::Object params = {
+      {"size_m", Value(Value::List{60.0, 60.0})},
+      {"tile_size_m", Value(30.0)},
+      {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})}};
+  const fs::path out = dir_ / "imp";
+  const forest::Forest f = run(out, params);
+  ASSERT_EQ(f.species.size(), 2u);
+  for (const auto& sp : f.species) {
+    ASSERT_EQ(sp.levels.size(), 3u);
+    const forest::Level& l = sp.levels.back();
+    EXPECT_TRUE(l.impostor);
+    EXPECT_EQ(l.file, sp.name + "_impostor.gltf");
+    EXPECT_NEAR(l.epsilon_m, 0.035, 1e-12);
+    // d = epsilon / (delta s(1)), s(1) = 2 tan(22.5 deg) / 1080.
+    EXPECT_NEAR(l.switch_distance_m, 0.035 / (0.5 * 2 * std::tan(M_PI / 8) / 1080), 1e-6);
+    EXPECT_EQ(l.primitives, 2u);
+    EXPECT_TRUE(fs::exists(out / (sp.name + "_impostor.bin")));
+  }
+  // The top tile level instances the impostors; the tileset's chain errors never grow toward the
+  // leaves (the impostor's 0.035 is raised to the coarsest lod level's 0.2).
+  std::vector<fs::path> gltfs;
+  for (const auto& t : f.tiles) {
+    const std::string stem = "tile_" + std::to_string(t.ix) + "_" + std::to_string(t.iz);
+    const auto top = nlohmann::json::parse(sylva::test::read_file(out / (stem + "_lod2.gltf")));
+    bool uses_impostor = false;
+    for (const auto& b : top["buffers"])
+      uses_impostor = uses_impostor || b["uri"].get<std::string>().ends_with("_impostor.bin");
+    EXPECT_TRUE(uses_impostor) << stem;
+    for (int l = 0; l < 3; ++l) gltfs.push_back(out / (stem + "_lod" + std::to_string(l) + ".gltf"));
+  }
+  const auto ts = nlohmann::json::parse(sylva::test::read_file(out / "tileset.json"));
+  std::function<void(const nlohmann::json&, double)> walk = [&](const nlohmann::json& n, double parent) {
+    EXPECT_LE(n["geometricError"].get<double>(), parent);
+    for (const auto& c : n.value("children", nlohmann::json::array()))
+      walk(c, n["geometricError"].get<double>());
+  };
+  walk(ts["root"], ts["geometricError"].get<double>());
+  for (const char* f2 : {"a_impostor.gltf", "b_impostor.gltf"}) gltfs.push_back(out / f2);
+  for (const auto& v : sylva::test::validate_gltf(gltfs)) {
+    if (v.skipped) GTEST_SKIP() << v.skip_reason;
+    EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << v.report;
+  }
+  // One impostor input for two species is an error that says what to do.
+  inputs_.pop_back();
+  try {
+    run(dir_ / "imp_err", params);
+    ADD_FAILURE() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "the node needs 2 lod inputs and 1 impostor inputs: give every species an impostor (the i-th "
+              "impostor input is the i-th lod input's species) or none");
+  }
 }
 
 }  // namespace

@@ -1,0 +1,29 @@
+// A species' impostor as the last level of its chain in the forest (issue 13 "Output": "one file
+// per LOD level of the species ..., the impostor level included"): the impostor artifact's
+// impostor.glb (its cards, one embedded image; docs/stages/impostor.md) split into a .gltf and
+// its .bin, so that the forest's tile files can instance it by reference like every other level,
+// and its switch distance in the species' chain's terms (DESIGN.md "LOD error model").
+#pragma once
+
+#include <string>
+
+#include "stages/forest/tile_gltf.h"
+
+namespace sylva::forest {
+
+struct ImpostorLevel {
+  LevelSource source;  // the GLB's JSON (buffer 0 gets bin_name as its uri when written)
+  std::string bin;     // buffer 0's bytes (exactly its byteLength)
+};
+
+// Splits a GLB (glTF 2.0 binary container: a JSON chunk, then one BIN chunk) into its JSON and its
+// buffer; `name` is the species name (the copies are "<name>_impostor.bin", images stay in the
+// buffer). Throws std::invalid_argument("<what>: ...") when the bytes are not such a GLB or its
+// JSON does not describe one buffer and one mesh.
+ImpostorLevel impostor_level_source(const std::string& glb, const std::string& name, const std::string& what);
+
+// d = epsilon / (delta s(1)), s(1) = 2 tan(phi / 2) / H: where a level of error epsilon_m stays
+// within delta = pixel_error_px for a camera of vertical field of view fov_y_deg and height_px rows.
+double switch_distance_m(double epsilon_m, double pixel_error_px, double fov_y_deg, int height_px);
+
+}  // namespace sylva::forest

@@ -1,0 +1,137 @@
+// The impostor as the species' last level: the GLB split (impostor_level.h), the tile-level
+// mapping (tileset.h species_level) and the stage end to end with impostor inputs.
+#include "stages/forest/impostor_level.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "libs/gltf/writer.h"
+#include "libs/image/png.h"
+#include "stages/forest/tileset.h"
+
+namespace sylva::forest {
+namespace {
+
+// A one-card GLB with an embedded 1x1 PNG, as the impostor stage writes impostor.glb.
+std::string card_glb() {
+  gltf::Scene s;
+  gltf::Image im;
+  im.name = "impostor.png";
+  const std::vector<std::uint8_t> png = image::encode_png(image::Image(2, 2, image::Rgba8{40, 90, 30, 255}));
+  im.bytes.assign(png.begin(), png.end());
+  s.images.push_back(im);
+  gltf::Material m;
+  m.name = "impostor";
+  m.unlit = true;
+  m.base_color_texture = gltf::TextureRef{0};
+  s.materials.push_back(m);
+  gltf::Primitive p;
+  p.positions = {-1, 0, 0, 1, 0, 0, 1, 2, 0, -1, 2, 0};
+  p.texcoords = {0, 1, 1, 1, 1, 0, 0, 0};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.material = 0;
+  gltf::Mesh mesh;
+  mesh.name = "impostor";
+  mesh.primitives.push_back(p);
+  s.meshes.push_back(mesh);
+  gltf::Node n;
+  n.name = "impostor";
+  n.mesh = 0;
+  s.nodes.push_back(n);
+  s.roots = {0};
+  return gltf::encode(s);
+}
+
+TEST(ImpostorLevel, SplitsTheGlbIntoJsonAndItsBuffer) {
+  const std::string glb = card_glb();
+  const ImpostorLevel l = impostor_level_source(glb, "oak", "impostor.glb");
+  EXPECT_EQ(l.source.bin_name, "oak_impostor.bin");
+  EXPECT_EQ(l.source.bin_bytes, l.bin.size());
+  EXPECT_EQ(l.source.gltf["buffers"][0]["byteLength"].get<std::size_t>(), l.bin.size());
+  ASSERT_EQ(l.source.gltf["images"].size(), 1u);
+  EXPECT_TRUE(l.source.gltf["images"][0].contains("bufferView"));
+  // The PNG is inside the buffer, where the image's view says.
+  const auto& view =
+      l.source.gltf["bufferViews"][l.source.gltf["images"][0]["bufferView"].get<std::size_t>()];
+  EXPECT_EQ(l.bin.substr(view.value("byteOffset", std::size_t(0)), 4), "\x89PNG");
+  const nlohmann::json level = nlohmann::json::parse(species_level_gltf(l.source));
+  EXPECT_EQ(level["buffers"][0]["uri"], "oak_impostor.bin");
+}
+
+TEST(ImpostorLevel, RejectsWhatIsNotASingleMeshGlb) {
+  auto message = [](const std::string& bytes) {
+    try {
+      impostor_level_source(bytes, "oak", "in/impostor.glb");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("{\"asset\": {}}"), "in/impostor.glb: not a GLB file (no glTF header)");
+  std::string glb = card_glb();
+  std::string truncated = glb.substr(0, glb.size() - 8);
+  EXPECT_EQ(message(truncated), "in/impostor.glb: the GLB header's length does not match the file's size");
+  std::string v1 = glb;
+  v1[4] = 1;
+  EXPECT_EQ(message(v1), "in/impostor.glb: GLB version 1 (expected 2)");
+}
+
+TEST(ImpostorLevel, SwitchDistanceIsEpsilonOverDeltaTimesPixelSize) {
+  // s(1) = 2 tan(22.5 deg) / 1080; d = eps / (delta s(1)).
+  const double s1 = 2 * std::tan(22.5 * M_PI / 180) / 1080;
+  EXPECT_NEAR(switch_distance_m(0.1, 0.5, 45, 1080), 0.1 / (0.5 * s1), 1e-9);
+  EXPECT_NEAR(switch_distance_m(0.1, 1.0, 45, 540), 0.1 / (1.0 * 2 * s1), 1e-9);
+}
+
+TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {
+  Species with;
+  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false});
+  with.levels.push_back({"imp", 0.5, 9, 2, true});  // 4 levels
+  Species without;
+  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false});
+  const int n = 4;
+  EXPECT_EQ(species_level(with, 0, n), 0u);
+  EXPECT_EQ(species_level(with, 2, n), 2u);
+  EXPECT_EQ(species_level(with, 3, n), 3u);  // the impostor
+  EXPECT_EQ(species_level(without, 1, n), 1u);
+  EXPECT_EQ(species_level(without, 2, n), 1u);
+  EXPECT_EQ(species_level(without, 3, n), 1u);
+  // A forest whose largest chain is longer: the impostor only at the forest's last tile level.
+  EXPECT_EQ(species_level(with, 3, 6), 2u);
+  EXPECT_EQ(species_level(with, 5, 6), 3u);
+}
+
+TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
+  // One species whose impostor (epsilon 0.1) is more accurate than its coarsest lod level (0.3):
+  // the impostor's tile gets 0.3, so a client never refines from it into a larger error.
+  Forest f;
+  f.extent_min = {-10, -10};
+  f.extent_max = {10, 10};
+  f.tile_size_m = 20;
+  Species s;
+  s.name = "a";
+  s.bounds = {{-1, 0, -1}, {1, 5, 1}};
+  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false},
+              {"a_lod1.gltf", 0.3, 600, 5, false},
+              {"a_impostor.gltf", 0.1, 200, 2, true}};
+  f.species = {s};
+  f.instances = {{0, 0, 0, {0, 0, 0}, 0, {1, 1, 1}}};
+  f.tiles = {{0, 0, {{-1, 0, -1}, {1, 5, 1}}, {0}}};
+  const auto ts = nlohmann::json::parse(
+      tileset_json(f, 3, {}, [](std::size_t, int l) { return "t_lod" + std::to_string(l) + ".gltf"; }));
+  const nlohmann::json* n = &ts["root"]["children"][0];
+  std::vector<std::pair<std::string, double>> chain;
+  for (;;) {
+    chain.emplace_back((*n)["content"]["uri"].get<std::string>(), (*n)["geometricError"].get<double>());
+    if (!n->contains("children")) break;
+    n = &(*n)["children"][0];
+  }
+  const std::vector<std::pair<std::string, double>> expected{
+      {"t_lod2.gltf", 0.3}, {"t_lod1.gltf", 0.3}, {"t_lod0.gltf", 0.001}};
+  EXPECT_EQ(chain, expected);
+}
+
+}  // namespace
+}  // namespace sylva::forest
