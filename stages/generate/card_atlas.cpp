@@ -32,7 +32,6 @@ Rgb mix(const tree::Color& a, const tree::Color& b, double t) {
   return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
 }
 Rgb scaled(Rgb c, double s) { return {c.r * s, c.g * s, c.b * s}; }
-Rgb rgb(const tree::Color& c) { return {c.r, c.g, c.b}; }
 
 // One cell being drawn: premultiplied colour and alpha, composited "over" in drawing order.
 class Cell {
@@ -295,35 +294,54 @@ double needle(Cell& cell, P2 a, double angle, double l, double dia, const LeafLo
   return l * dia;
 }
 
-// A pine branchlet: a stem with `shoots` side shoots, each axis ending in a brush of needles
-// (the distal two fifths of it, denser towards the tip) pointing forwards, and a terminal brush.
+// A needle of a radial brush seen from the card's front: it leaves the axis (direction
+// `axis_angle` in the card) at the cone angle `theta` and azimuth `phi` around it, so its
+// projection points at atan2(sin theta cos phi, cos theta) from the axis and is shortened to
+// sqrt(cos^2 theta + sin^2 theta cos^2 phi) of its length (a needle pointing at the viewer is a dot).
+struct Projected {
+  double angle, length;
+};
+Projected brush_needle(double axis_angle, double theta, double phi, double l) {
+  const double along = std::cos(theta), across = std::sin(theta) * std::cos(phi);
+  return {axis_angle + std::atan2(across, along), l * std::sqrt(along * along + across * across)};
+}
+
+// A pine branchlet: a stem with `shoots` side shoots, each axis carrying a bristly bottle brush
+// of needles on its distal 38 % (denser towards the tip) — needles all round the axis at the
+// preset's angle ± 15° forward, drawn as their projection (brush_needle) — and ending in a
+// starburst (30 % of them) radiating up to 80° around the tip; grey-brown twig stems. The
+// needle's projected area counts.
 double draw_tuft(Cell& cell, const CardLook& card, const LeafLook& leaf, const BarkLook& bark, Rng& rng) {
   const double H = cell.height();
   const double nl = card.leaf_length_m, dia = std::max(card.leaf_length_m * card.leaf_width, 1e-4);
-  const Stem main = make_stem(cell, rng, std::max(0.3, 1 - kMargin - 0.55 * nl / H));
+  const Stem main = make_stem(cell, rng, std::max(0.3, 1 - kMargin - 0.9 * nl / H));
   std::vector<Stem> axes{main};
-  for (const Stem& s : side_shoots(cell, main, card.shoots, 0.45, 0.55 * nl, rng)) axes.push_back(s);
+  for (const Stem& s : side_shoots(cell, main, card.shoots, 0.4, 0.9 * nl, rng)) axes.push_back(s);
+  // Twig stems grey-brown (the orange bark is the trunk's and the limbs').
   for (std::size_t k = 0; k < axes.size(); ++k)
-    draw_stem(cell, axes[k], std::max(0.003, (k == 0 ? 1.2 : 0.9) * cell.pixel_m()), std::max(0.0015, 0.7 * cell.pixel_m()),
-              mix(bark.color, bark.dark, 0.3), rgb(bark.color));
+    draw_stem(cell, axes[k], std::max(0.003, (k == 0 ? 1.2 : 0.9) * cell.pixel_m()),
+              std::max(0.0015, 0.7 * cell.pixel_m()), mix(bark.dark, leaf.color, 0.3),
+              mix(bark.dark, leaf.color, 0.5));
   std::vector<double> lengths;
   double total = 0;
   for (const Stem& a : axes) total += lengths.emplace_back(axis_length(a));
   double area = 0;
-  const int n = std::max(4, card.elements);
+  const int n = std::max(8, card.elements);
+  const double theta0 = card.leaf_angle_deg * kPi / 180;
   for (std::size_t k = 0; k < axes.size(); ++k) {
-    const int m = std::max(4, static_cast<int>(std::lround(n * lengths[k] / total)));
+    const int m = std::max(8, static_cast<int>(std::lround(n * lengths[k] / total)));
     for (int i = 0; i < m; ++i) {
-      const bool brush = i >= m * 85 / 100;  // the terminal brush
-      const double t = brush ? 1.0 : 0.6 + 0.4 * std::sqrt(rng.uniform());
+      const bool burst = i >= m * 70 / 100;  // the terminal starburst
+      const double t = burst ? 1.0 : 0.62 + 0.38 * std::sqrt(rng.uniform());
       const double sa = axes[k].angle_at(t);
-      const double side = (i % 2 == 0 ? 1.0 : -1.0);
-      double angle = brush ? sa + 0.6 * rng.signed_unit()
-                           : sa + side * (card.leaf_angle_deg + 15 * rng.signed_unit()) * kPi / 180;
-      double l = nl * (0.85 + 0.25 * rng.uniform()) * (0.5 + 0.5 * rng.uniform());  // seen at an angle
+      const double theta = burst ? (80 * kPi / 180) * std::sqrt(rng.uniform())
+                                 : std::clamp(theta0 + (15 * kPi / 180) * rng.signed_unit(), 0.1, 1.5);
+      const double phi = 2 * kPi * rng.uniform();
+      const Projected pr = brush_needle(sa, theta, phi, nl * (0.85 + 0.3 * rng.uniform()));
+      double angle = pr.angle, l = pr.length;
       const P2 at = axes[k].at(t);
       fit_leaf(cell, at, angle, l, dia, sa);
-      area += needle(cell, at, angle, l, dia, leaf, rng.uniform(0.85, 1.12));
+      area += needle(cell, at, angle, l, dia, leaf, rng.uniform(0.8, 1.15));
     }
   }
   return area;
@@ -365,9 +383,10 @@ double draw_spray(Cell& cell, const CardLook& card, const LeafLook& leaf, const 
     for (int i = 0; i < m; ++i) {
       const double t = (i + 0.5 * rng.uniform()) / m;
       const double sa = axes[k].angle_at(t);
-      const double side = (i % 2 == 0 ? 1.0 : -1.0);
-      double angle = sa + side * (card.leaf_angle_deg + 12 * rng.signed_unit()) * kPi / 180;
-      double l = nl * (0.85 + 0.25 * rng.uniform()) * (0.55 + 0.45 * rng.uniform());
+      const double theta = (card.leaf_angle_deg + 12 * rng.signed_unit()) * kPi / 180;
+      const Projected pr =
+          brush_needle(sa, theta, 2 * kPi * rng.uniform(), nl * (0.85 + 0.25 * rng.uniform()));
+      double angle = pr.angle, l = pr.length;
       const P2 at = axes[k].at(t);
       fit_leaf(cell, at, angle, l, dia, sa);
       area += needle(cell, at, angle, l, dia, leaf, rng.uniform(0.85, 1.12));

@@ -13,11 +13,15 @@
 //     at the preset's leaf angle ± 15°, foreshortened (width x 0.75..1) as leaves seen at an
 //     angle, spread along the axis or gathered at its tip (`cluster`), a terminal leaf per axis;
 //     leaf blades use the species' silhouette (textures.h) at the preset's leaf size.
-//   - tuft (pines): a branchlet, a stem with `shoots` side shoots, each axis ending in a brush of
-//     needles (its distal two fifths, denser towards the tip) at the preset's angle ± 15°, and a
-//     terminal brush; `elements` needles shared by the axes by length.
-//   - spray (spruces): a main axis with `shoots` (+ 0..1) side shoots, needles on both sides of
-//     every axis at the preset's angle ± 12°.
+//   - tuft (pines): a branchlet, a stem with `shoots` side shoots, each axis a bristly bottle
+//     brush of needles on its distal 38 % (denser towards the tip) at the preset's angle ± 15°
+//     all round the axis, ending in a starburst of needles up to 80° around its tip; `elements`
+//     needles shared by the axes by length.
+//   - spray (spruces): a main axis with `shoots` (+ 0..1) side shoots, shorter towards the tip,
+//     needles all round every axis at the preset's angle ± 12° (a comb seen from the side).
+//   - Needles of a brush are drawn as their projection onto the card (a needle at cone angle
+//     theta and azimuth phi around its axis points atan2(sin theta cos phi, cos theta) from it,
+//     shortened accordingly), at least one texel wide; their projected area counts.
 //   - Colours: blades from the leaf colour with a per-leaf tint, midrib and lateral veins in the
 //     vein colour, one half of the blade lighter (a folded leaf); stems from the bark colours.
 //     Fully transparent texels take the cell's mean leaf colour, so filtering never bleeds a

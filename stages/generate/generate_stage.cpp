@@ -28,7 +28,8 @@ class GenerateStage : public Stage {
  public:
   GenerateStage() {
     info_.name = "generate";
-    info_.version = 2;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json
+    info_.version = 3;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json;
+                        // 3: needle brushes drawn as projections (tuft, spray)
     info_.summary = "parametric tree from a species preset (Weber-Penn with da Vinci/Murray rules)";
     info_.output_type = "tree";
     info_.outputs = {"tree.sylt", "stats.json", "bark.png", "leaves.png"};

@@ -76,6 +76,7 @@ class Mesher {
       if (!o_.open_base) {
         emit_projected({base + 3, base + 2, base + 1, base}, ring(b, 0).v, FaceKind::kCap);
         ++st_.base_caps;
+        base_rings_.push_back(base);  // a crease: the foot stays flat on the ground
       }
       walk_.push_back({b, 0});
       while (!walk_.empty()) {
@@ -409,8 +410,11 @@ class Mesher {
   QuadMesh& m_;
   JointStats& st_;
   const int repeat_;
-  std::vector<std::vector<std::uint32_t>> ring_base_;
   std::vector<Segment> walk_;
+
+ public:
+  std::vector<std::vector<std::uint32_t>> ring_base_;  // first vertex of each ring (kNone: none)
+  std::vector<std::uint32_t> base_rings_;              // first vertex of every capped base ring
 };
 
 }  // namespace
@@ -419,7 +423,8 @@ double corner_scale_for_subdivision(int levels) {
   return std::sqrt(std::numbers::pi / subdivided_square_area(std::clamp(levels, 0, 6)));
 }
 
-QuadMesh build_bark_mesh(const MeshSkeleton& skeleton, const BarkOptions& options, JointStats* stats) {
+QuadMesh build_bark_mesh(const MeshSkeleton& skeleton, const BarkOptions& options, JointStats* stats,
+                         std::vector<std::vector<std::uint32_t>>* ring_vertices) {
   QuadMesh m;
   const std::size_t rings = skeleton.ring_count();
   m.positions.reserve(rings * 4 + 64);
@@ -427,7 +432,14 @@ QuadMesh build_bark_mesh(const MeshSkeleton& skeleton, const BarkOptions& option
   m.uvs.reserve(rings * 4 + 64);
   m.kinds.reserve(rings * 4 + 64);
   JointStats local;
-  Mesher(skeleton, options, m, stats ? *stats : local).run();
+  Mesher mesher(skeleton, options, m, stats ? *stats : local);
+  mesher.run();
+  if (ring_vertices) *ring_vertices = mesher.ring_base_;
+  if (!mesher.base_rings_.empty()) {
+    m.crease.assign(m.positions.size(), 0);
+    for (std::uint32_t v : mesher.base_rings_)
+      for (std::uint32_t j = 0; j < 4; ++j) m.crease[v + j] = 1;
+  }
   return m;
 }
 

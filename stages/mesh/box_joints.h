@@ -26,7 +26,8 @@
 //          quads are the box's side faces; every other segment goes to the side whose outward
 //          normal best matches its direction; a side with none stays a face, with one it is
 //          bridged, with more it is handled by Connect (recursion).
-//   - A root's first ring is closed by a base cap unless open_base.
+//   - A root's first ring is closed by a base cap unless open_base; its four edges are marked a
+//     crease (QuadMesh::crease), so subdivision keeps the foot flat and full-width on the ground.
 // The result is, by construction, a closed (or, with open_base, bounded only by the base rings),
 // consistently oriented 2-manifold made of quads only, one connected component per root; each
 // bridge uses the port's edges once in the port's direction.
@@ -40,6 +41,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "stages/mesh/mesh_skeleton.h"
 #include "stages/mesh/quad_mesh.h"
@@ -71,6 +74,9 @@ double corner_scale_for_subdivision(int levels);
 
 // Builds the bark mesh of every branch of `skeleton`. `stats` may be null.
 // Vertices: 4 per ring + 4 per equal-split crotch + 4 per backward box. O(rings).
-QuadMesh build_bark_mesh(const MeshSkeleton& skeleton, const BarkOptions& options, JointStats* stats);
+// `ring_vertices` (may be null) receives, per skeleton branch and ring, the index of the ring's
+// first vertex (its four corners are consecutive).
+QuadMesh build_bark_mesh(const MeshSkeleton& skeleton, const BarkOptions& options, JointStats* stats,
+                         std::vector<std::vector<std::uint32_t>>* ring_vertices = nullptr);
 
 }  // namespace sylva::mesh

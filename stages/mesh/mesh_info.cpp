@@ -5,8 +5,9 @@ namespace sylva {
 namespace {
 // 2: junction collapse, insets, windowed ring frames, ring merging. 3: libs/gltf writes no
 // tangents without a normal map; colours from libs/tree/default_colors.h. 4: cards (atlas cells,
-// card-drawn twigs), no tangents computed, bark tint, LAI statistics.
-constexpr int kVersion = 4;
+// card-drawn twigs), no tangents computed, bark tint, LAI statistics. 5: creased foot, radii
+// pre-compensated for Catmull-Clark, joint swelling correction (docs/stages/mesh.md).
+constexpr int kVersion = 5;
 }  // namespace
 
 StageInfo mesh_stage_info() {

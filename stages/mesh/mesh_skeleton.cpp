@@ -115,6 +115,29 @@ std::uint32_t ring_index(const Work& w, const Hang& h) {
   return ring;
 }
 
+// Ring radii r^ whose cubic B-spline limit (r^_{k-1} + 4 r^_k + r^_{k+1}) / 6 is the skeleton's
+// r_k at every interior ring, the first and last kept (Thomas algorithm; the system is
+// diagonally dominant). Clamped to [min_r, 1.5 r_k] so a radius step (a da Vinci junction) cannot
+// ring into a negative or bulging radius.
+void precompensate(std::vector<Node>& nodes, double min_r) {
+  const std::size_t n = nodes.size();
+  if (n < 3) return;
+  const std::size_t m = n - 2;  // unknowns r^_1 .. r^_{n-2}
+  std::vector<double> c(m), d(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    double rhs = 6 * nodes[i + 1].radius;
+    if (i == 0) rhs -= nodes[0].radius;
+    if (i + 1 == m) rhs -= nodes[n - 1].radius;
+    const double denom = 4 - (i > 0 ? c[i - 1] : 0.0);
+    c[i] = 1 / denom;
+    d[i] = (rhs - (i > 0 ? d[i - 1] : 0.0)) / denom;
+  }
+  std::vector<double> x(m);
+  for (std::size_t i = m; i-- > 0;) x[i] = d[i] - (i + 1 < m ? c[i] * x[i + 1] : 0.0);
+  for (std::size_t i = 0; i < m; ++i)
+    nodes[i + 1].radius = std::clamp(x[i], min_r, 1.5 * std::max(nodes[i + 1].radius, min_r));
+}
+
 }  // namespace
 
 std::size_t MeshSkeleton::ring_count() const {
@@ -340,7 +363,17 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
       fallback_t = tree::normalized(fallback_t);
       initial_normal = tree::transport_frame(*parent_frame, fallback_t).n;
     }
-    const std::vector<Frame> frames = ring_frames(nodes, k, initial_normal, fallback_t);
+    std::vector<Frame> frames = ring_frames(nodes, k, initial_normal, fallback_t);
+    // 7. A root stands on a horizontal first ring (its base cap lies in the ground plane).
+    if (parent < 0 && !frames.empty()) {
+      Frame& f0 = frames[0];
+      f0.t = Vec3{0, 1, 0};
+      Vec3 n0 = f0.n - f0.t * tree::dot(f0.n, f0.t);
+      if (tree::length(n0) < 1e-9) n0 = Vec3{1, 0, 0};
+      f0.n = tree::normalized(n0);
+      f0.b = tree::cross(f0.t, f0.n);
+    }
+    if (options.compensate_smoothing) precompensate(nodes, min_r);
 
     // 6. Texture v.
     out.rings.resize(nodes.size());

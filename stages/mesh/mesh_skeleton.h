@@ -38,6 +38,9 @@
 //   6. v grows with arc length divided by 2*pi*(0.2 r0 + 0.8 r) (r0: radius of the first root's
 //      base), so one texture repeat is square on the trunk; a child continues the v of its
 //      attachment ring plus the length of the joint segment.
+//   7. A root's first ring is horizontal (frame t = +Y), so the foot stands flat on the ground
+//      plane through its base node; with compensate_smoothing the ring radii are pre-compensated
+//      for Catmull–Clark (SkeletonOptions).
 #pragma once
 
 #include <cstdint>
@@ -102,6 +105,11 @@ struct SkeletonOptions {
   std::vector<char> omit;      // per tree branch, 1 = not meshed (twigs their cards draw); empty = none
   double min_radius = 0.001;   // m, > 0
   double corner_scale = 1.0;   // ring corner distance / radius (joint clearance uses it)
+  // Pre-compensate Catmull–Clark's smoothing along each branch (subdivision >= 1): ring radii r^
+  // solve (r^_{k-1} + 4 r^_k + r^_{k+1}) / 6 = r_k, the cubic B-spline limit of the ring
+  // sequence, with the first and last ring kept; so the limit surface passes through the
+  // skeleton's radii (a flared trunk foot keeps its width).
+  bool compensate_smoothing = false;
 };
 
 // Builds the meshing skeleton. Throws MeshError for an empty tree or one that fails

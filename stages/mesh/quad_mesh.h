@@ -40,6 +40,9 @@ struct QuadMesh {
   std::vector<Quad> quads;              // vertex indices, CCW seen from outside
   std::vector<std::array<Uv, 4>> uvs;   // per quad corner; same size as quads
   std::vector<FaceKind> kinds;          // per quad; same size as quads
+  // Per vertex, 1 = on a crease curve (empty = none): an edge between two crease vertices is an
+  // infinitely sharp crease for Catmull–Clark (subdivision.h). The capped base ring of a trunk.
+  std::vector<std::uint8_t> crease;
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t quad_count() const { return quads.size(); }

@@ -122,10 +122,15 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
     const Quad& q = in.quads[f];
     fp[f] = (P[q[0]] + P[q[1]] + P[q[2]] + P[q[3]]) * 0.25;
   });
+  // Creases (Hoppe et al. 1994's sharp edges, as OpenSubdiv's infinitely sharp crease): an edge
+  // between two crease vertices is subdivided as a boundary — edge point at its midpoint, a crease
+  // vertex with two crease edges by the cubic B-spline curve rule.
+  const bool creased = in.crease.size() == nv;
+  auto is_crease = [&](std::size_t h) { return creased && in.crease[from(h)] && in.crease[to(h)]; };
   parallel_for(ne, [&](std::size_t e) {
     const std::uint32_t h = edge_half[e];
     const Vec3 s = P[from(h)] + P[to(h)];
-    ep[e] = opp[h] == kNone ? s * 0.5 : (s + fp[h / 4] + fp[opp[h] / 4]) * 0.25;
+    ep[e] = opp[h] == kNone || is_crease(h) ? s * 0.5 : (s + fp[h / 4] + fp[opp[h] / 4]) * 0.25;
   });
   // Vertex points. Every outgoing half-edge of a vertex belongs to one of its quads and leads to
   // one of its neighbours, so one pass over the half-edges sums both (in half-edge order).
@@ -134,6 +139,9 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
   std::vector<std::uint32_t> valence(nv, 0);
   std::vector<std::uint32_t> bnd_next(nv, kNone), bnd_prev(nv, kNone);
   std::vector<std::uint8_t> bnd_count(nv, 0);
+  // Crease neighbours of a crease vertex (its outgoing crease half-edges lead to both of them).
+  std::vector<std::array<std::uint32_t, 2>> crease_nb(creased ? nv : 0, {kNone, kNone});
+  std::vector<std::uint8_t> crease_count(creased ? nv : 0, 0);
   for (std::size_t h = 0; h < nh; ++h) {
     const std::uint32_t a = from(h), b = to(h);
     fsum[a] += fp[h / 4];
@@ -145,10 +153,18 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
       ++bnd_count[a];
       ++bnd_count[b];
     }
+    if (is_crease(h) && crease_nb[a][0] != b && crease_nb[a][1] != b) {
+      if (crease_count[a] < 2) crease_nb[a][crease_count[a]] = b;
+      ++crease_count[a];
+    }
   }
   parallel_for(nv, [&](std::size_t v) {
     const std::uint32_t n = valence[v];
-    if (bnd_count[v] == 0 && n > 0) {
+    if (creased && in.crease[v] && crease_count[v] == 2 && bnd_count[v] == 0) {
+      vp[v] = P[v] * 0.75 + (P[crease_nb[v][0]] + P[crease_nb[v][1]]) * 0.125;
+    } else if (creased && in.crease[v] && crease_count[v] > 2) {
+      vp[v] = P[v];  // a corner of several creases
+    } else if (bnd_count[v] == 0 && n > 0) {
       // (F + 2R + (n - 3) P) / n with R = (P + mean neighbour) / 2.
       const double dn = n;
       vp[v] = fsum[v] / (dn * dn) + nsum[v] / (dn * dn) + P[v] * ((dn - 2) / dn);
@@ -159,6 +175,12 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
     }
   });
 
+  // Crease flags of the next level: old crease vertices and the edge points of crease edges.
+  if (creased) {
+    outm.crease.assign(nv + ne + nf, 0);
+    for (std::size_t v = 0; v < nv; ++v) outm.crease[v] = in.crease[v];
+    for (std::size_t e = 0; e < ne; ++e) outm.crease[nv + e] = is_crease(edge_half[e]) ? 1 : 0;
+  }
   outm.quads.resize(4 * nf);
   outm.uvs.resize(4 * nf);
   outm.kinds.resize(in.kinds.size() == nf ? 4 * nf : 0);

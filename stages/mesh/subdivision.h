@@ -7,6 +7,9 @@
 // of the edge's two u — we apply the same linear rule to v, and the face point takes the average
 // of the face's corners, so uvs are refined per face and seams stay where they were).
 // Boundary vertices (open_base) use the cubic B-spline curve rule 3/4 P + 1/8 (P_prev + P_next).
+// Creases (QuadMesh::crease; Hoppe et al. 1994, OpenSubdiv's infinitely sharp edges): an edge
+// between two crease vertices is subdivided like a boundary (midpoint; curve rule at a vertex
+// with two crease edges), so a capped trunk base stays a flat B-spline curve on the ground.
 //
 // Two implementations produce the same geometry:
 //   - kNative: array based; the refinement (edges, opposite half-edges) is computed once per
@@ -14,8 +17,9 @@
 //     then one per face; quad 4 f + i is the child of quad f at its corner i. This is the
 //     stage's default: about 10x faster than OpenMesh's on tree meshes (docs/stages/mesh.md).
 //   - kOpenMesh: OpenMesh's CatmullClarkT on a PolyMesh, uvs carried over by the same rule.
-//     Its boundary rule differs ((P + both boundary edge midpoints) / 3), so the two agree on
-//     closed meshes only; it is kept as the reference the tests compare against.
+//     Its boundary rule differs ((P + both boundary edge midpoints) / 3) and it knows no
+//     creases, so the two agree on closed meshes without creases only (the tests compare them
+//     there); it is kept as the reference.
 #pragma once
 
 #include "stages/mesh/quad_mesh.h"

@@ -3,6 +3,8 @@
 #include "stages/mesh/tree_mesh.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <string>
 
 #include "libs/tree/default_colors.h"
@@ -42,6 +44,60 @@ void apply_bark_tint(const tree::Tree& tree, gltf::Primitive& p) {
   }
 }
 
+// Catmull–Clark shrinks a straight tube's square section by the same factor everywhere (its
+// corners move to 3/4 of their distance in the first step; corner_scale undoes that), but near a
+// joint — box faces, bridges to children, inset rims — the section shrinks less (or more), and
+// the bark swells (or thins) there. One correction: the first step's vertex points of every
+// ring's corners are computed on the base mesh; a ring whose corners end farther out than a
+// straight tube's (ratio rho to 3/4, clamped to [0.8, 1.25]) gets its radius divided by
+// rho^0.5 — joints interact, a full step overshoots — and the mesh is built again from the
+// corrected rings; rings that thin out are left (a real taper step). Returns the rings changed.
+constexpr double kShrinkGain = 0.5;  // a square-root step: joints interact, a full step overshoots
+
+std::size_t correct_ring_shrinkage(MeshSkeleton& sk, const QuadMesh& base,
+                                   const std::vector<std::vector<std::uint32_t>>& ring_vertices) {
+  const std::size_t nv = base.positions.size();
+  std::vector<Vec3> fsum(nv, Vec3{}), nsum(nv, Vec3{});
+  std::vector<std::uint32_t> valence(nv, 0);
+  for (const Quad& q : base.quads) {
+    const Vec3 f =
+        (base.positions[q[0]] + base.positions[q[1]] + base.positions[q[2]] + base.positions[q[3]]) * 0.25;
+    for (std::size_t i = 0; i < 4; ++i) {
+      fsum[q[i]] += f;
+      nsum[q[i]] += base.positions[q[(i + 1) % 4]] + base.positions[q[(i + 3) % 4]];
+      ++valence[q[i]];
+    }
+  }
+  auto vertex_point = [&](std::uint32_t v) {
+    const double n = valence[v];
+    const Vec3 favg = fsum[v] / n, navg = nsum[v] / (2 * n);
+    const Vec3 ravg = (base.positions[v] + navg) * 0.5;
+    return (favg + ravg * 2.0 + base.positions[v] * (n - 3)) / n;
+  };
+  std::size_t corrected = 0;
+  for (std::size_t b = 0; b < sk.branches.size(); ++b) {
+    for (std::size_t r = 0; r < sk.branches[b].rings.size(); ++r) {
+      const std::uint32_t first = r < ring_vertices[b].size() ? ring_vertices[b][r] : 0xFFFFFFFFu;
+      if (first == 0xFFFFFFFFu || first + 3 >= nv) continue;
+      if (!base.crease.empty() && base.crease[first]) continue;  // the creased foot is exact
+      Ring& g = sk.branches[b].rings[r];
+      double before = 0, after = 0;
+      for (std::uint32_t j = 0; j < 4; ++j) {
+        if (valence[first + j] < 3) continue;
+        auto perp = [&](Vec3 d) { return tree::length(d - g.frame.t * tree::dot(d, g.frame.t)); };
+        before += perp(base.positions[first + j] - g.center);
+        after += perp(vertex_point(first + j) - g.center);
+      }
+      if (!(before > 0)) continue;
+      const double rho = after / before / 0.75;
+      if (rho < 1.01) continue;  // only swelling is corrected (a thinning ring is a real taper step)
+      g.radius = std::max(1e-6, g.radius / std::pow(std::clamp(rho, 0.8, 1.25), kShrinkGain));
+      ++corrected;
+    }
+  }
+  return corrected;
+}
+
 }  // namespace
 
 TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
@@ -55,11 +111,12 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   so.max_level = options.max_level;
   so.min_radius = options.min_radius;
   so.corner_scale = corner_scale;
+  so.compensate_smoothing = levels > 0;
   if (options.foliage && !options.mesh_card_twigs) {
     so.omit = tree::twigs_drawn_by_cards(tree);
     for (char c : so.omit) st.card_twigs += c ? 1 : 0;
   }
-  const MeshSkeleton skeleton = build_skeleton(tree, so);
+  MeshSkeleton skeleton = build_skeleton(tree, so);
   st.skeleton = skeleton.stats;
   st.branches = skeleton.branches.size();
   st.rings = skeleton.ring_count();
@@ -69,7 +126,15 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   bo.open_base = options.open_base;
   bo.corner_scale = corner_scale;
   bo.bark_repeat = std::clamp(options.bark_repeat, 1, 16);
-  QuadMesh base = build_bark_mesh(skeleton, bo, &st.joints);
+  std::vector<std::vector<std::uint32_t>> ring_vertices;
+  QuadMesh base = build_bark_mesh(skeleton, bo, &st.joints, &ring_vertices);
+  if (levels > 0) {
+    st.corrected_rings = correct_ring_shrinkage(skeleton, base, ring_vertices);
+    if (st.corrected_rings > 0) {
+      st.joints = {};
+      base = build_bark_mesh(skeleton, bo, &st.joints);
+    }
+  }
   st.base_vertices = base.vertex_count();
   st.base_quads = base.quad_count();
 

@@ -49,6 +49,7 @@ struct MeshStats {
   std::size_t gltf_vertices = 0, triangles = 0;   // bark primitive (seams split)
   std::size_t leaves = 0, needles = 0;  // leaf quads (leaves or cards) and needles written
   std::size_t card_twigs = 0;           // twigs left to their cards (not meshed)
+  std::size_t corrected_rings = 0;      // rings whose radius the shrinkage correction changed
   double leaf_area = 0, crown_area = 0, lai = 0;  // libs/tree/foliage.h, of the tree's foliage
   long long self_intersections = -1;  // triangle pairs of the final mesh; -1 = not counted
 };

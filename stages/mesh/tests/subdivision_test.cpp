@@ -54,7 +54,8 @@ TEST(Subdivision, CountsPerLevel) {
 // The native implementation and OpenMesh's CatmullClarkT give the same surface: the same
 // vertex positions and, per quad, the same corner positions and uvs (orders differ).
 TEST(Subdivision, NativeMatchesOpenMesh) {
-  const QuadMesh m0 = joint_mesh();
+  QuadMesh m0 = joint_mesh();
+  m0.crease.clear();  // OpenMesh's CatmullClarkT knows no creases: compare the smooth rules
   for (int levels = 1; levels <= 2; ++levels) {
     const QuadMesh a = subdivide(m0, levels, Subdivider::kNative);
     const QuadMesh b = subdivide(m0, levels, Subdivider::kOpenMesh);
@@ -154,6 +155,53 @@ TEST(Subdivision, OpenBaseStaysOneBoundaryLoop) {
     }
   }
   EXPECT_EQ(base, 16u);
+}
+
+// The capped base ring is a crease: at every level the foot stays in y = 0 (the cap flat, its
+// boundary the B-spline curve of the ring, as wide as the tube above: the section area of a
+// circle of the radius), where the same mesh without the crease lifts its foot off the ground.
+TEST(Subdivision, CreasedBaseStandsOnTheGround) {
+  for (int levels = 1; levels <= 3; ++levels) {
+    const double k = corner_scale_for_subdivision(levels);
+    SkeletonOptions so;
+    so.corner_scale = k;
+    BarkOptions bo;
+    bo.corner_scale = k;
+    const QuadMesh base = build_bark_mesh(build_skeleton(test::straight_trunk(9), so), bo, nullptr);
+    ASSERT_EQ(base.crease.size(), base.positions.size());
+    EXPECT_EQ(std::count(base.crease.begin(), base.crease.end(), 1), 4);
+    const QuadMesh m = subdivide(base, levels);
+    double lowest = 1e9;
+    std::vector<std::pair<double, Vec3>> foot;
+    ASSERT_EQ(m.crease.size(), m.positions.size());
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+      const Vec3& p = m.positions[v];
+      lowest = std::min(lowest, p.y);
+      if (m.crease[v]) {
+        EXPECT_NEAR(p.y, 0, 1e-12);
+        foot.emplace_back(std::atan2(p.z, p.x), p);
+      }
+    }
+    EXPECT_NEAR(lowest, 0, 1e-12) << "level " << levels;
+    ASSERT_EQ(foot.size(), 4u << levels) << "level " << levels;  // the foot's boundary, in y = 0
+    std::sort(foot.begin(), foot.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    double area = 0;
+    for (std::size_t i = 0; i < foot.size(); ++i) {
+      const Vec3& a = foot[i].second;
+      const Vec3& b = foot[(i + 1) % foot.size()].second;
+      area += a.z * b.x - a.x * b.z;
+    }
+    EXPECT_NEAR(std::abs(area) / 2, std::numbers::pi * 0.01, 1e-9) << "level " << levels;
+    QuadMesh smooth = base;
+    smooth.crease.clear();
+    double lifted = 1e9;
+    for (const Vec3& p : subdivide(smooth, levels).positions) lifted = std::min(lifted, p.y);
+    // Without the crease the cap rounds up: from level 2 on nothing is left in y = 0 (at level 1
+    // only the cap's face point is).
+    if (levels >= 2) {
+      EXPECT_GT(lifted, 0.01) << "level " << levels;
+    }
+  }
 }
 
 }  // namespace

@@ -14,11 +14,13 @@
 #include "libs/render/camera.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
+#include "libs/tree/foliage.h"
 #include "stages/generate/card_atlas.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"
 #include "stages/generate/weber_penn.h"
 #include "stages/import/import_file.h"
+#include "stages/mesh/bark_metrics.h"
 #include "stages/mesh/tree_mesh.h"
 
 using namespace sylva;
@@ -94,6 +96,24 @@ int main(int argc, char** argv) {
     const gltf::Scene scene = mesh::make_scene(m, t, bark, leaves, {{"statistics", mesh::stats_json(m.stats)}});
     gltf::write_file(scene, out + ".glb");
     std::printf("%s\nmeshed in %.1f ms -> %s.glb\n", mesh::stats_json(m.stats).dump(1).c_str(), ms, out.c_str());
+    {
+      const std::vector<char> omit = o.foliage ? tree::twigs_drawn_by_cards(t) : std::vector<char>{};
+      const double base = t.branches.front().nodes.front().position.y;
+      for (double h : {0.02, 0.1, 1.3, 3.0, 6.0, 10.0, 15.0})
+        std::printf(
+            "trunk diameter at %.2f m: mesh %.4f skeleton %.4f (%.1f %%)\n", h,
+            mesh::trunk_section_diameter(m.bark, t, base + h), mesh::skeleton_diameter(t, base + h),
+            100 * mesh::trunk_section_diameter(m.bark, t, base + h) / mesh::skeleton_diameter(t, base + h));
+      const double mv = mesh::mesh_volume(m.bark), sv = mesh::skeleton_volume(t, omit),
+                   so = mesh::skeleton_volume(t, omit, true, o.min_radius);
+      double low = 1e9;
+      for (const auto& b : t.branches)
+        for (const auto& nd : b.nodes) low = std::min(low, nd.position.y - nd.radius);
+      std::printf(
+          "volume: mesh %.4f skeleton %.4f (%.1f %%), outside parents %.4f (%.1f %%); lowest point %.4f "
+          "(base %.4f, skeleton %.4f)\n",
+          mv, sv, 100 * mv / sv, so, 100 * mv / so, mesh::lowest_point(m.bark), base, low);
+    }
 
     const render::Scene rs = render::load_gltf_scene(out + ".glb");
     auto renderer = render::Renderer::create_headless();

@@ -1,0 +1,123 @@
+// Crown opacity (crown_opacity.h): the measure itself on drawn images, and every adult preset's
+// crown, generated with twig/shoot cards as the generate stage does (seed 1, 256 px atlas as the
+// default recipe, mip-safe alpha), meshed at the default options and rendered from the side at
+// azimuth 0 and 90 (elevation 0, 512 px, fov 40°, the bounding sphere filling the frame),
+// against a floor per preset (issue 9: goal 0.75 for broadleaves, 0.65 for conifers; the table
+// of measured values is in docs/performance.md, "Trees in leaf").
+#include "stages/mesh/crown_opacity.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <memory>
+
+#include "libs/gltf/writer.h"
+#include "libs/image/png.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/renderer.h"
+#include "stages/generate/card_atlas.h"
+#include "stages/generate/mip_safe_alpha.h"
+#include "stages/generate/preset.h"
+#include "stages/generate/textures.h"
+#include "stages/generate/weber_penn.h"
+#include "stages/mesh/tests/test_trees.h"
+#include "stages/mesh/tree_mesh.h"
+
+namespace sylva::mesh {
+namespace {
+
+image::Image blank(int w, int h) { return image::Image(w, h, image::Rgba8{0, 0, 0, 0}); }
+void fill(image::Image& img, int x0, int x1, int y0, int y1) {
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) img.set(x, y, {10, 80, 10, 255});
+}
+
+TEST(CrownOpacity, FullCrownOnATrunkIsOne) {
+  image::Image img = blank(100, 100);
+  fill(img, 20, 80, 10, 60);  // crown, 60 px wide
+  fill(img, 47, 53, 60, 95);  // trunk, 6 px: not a crown row
+  const CrownOpacity c = crown_opacity(img);
+  EXPECT_EQ(c.tree_width, 60);
+  EXPECT_EQ(c.crown_rows, 50);
+  EXPECT_DOUBLE_EQ(c.opacity, 1.0);
+}
+
+TEST(CrownOpacity, HolesAndGapsCount) {
+  image::Image img = blank(100, 100);
+  // Every other column covered between 20 and 79: 30 of 59 pixels in each row's span.
+  for (int x = 20; x < 80; x += 2) fill(img, x, x + 1, 10, 50);
+  const CrownOpacity c = crown_opacity(img);
+  EXPECT_EQ(c.crown_rows, 40);
+  EXPECT_NEAR(c.opacity, 30.0 / 59.0, 1e-12);
+  // Half-transparent pixels are not covered; an empty image has no crown.
+  image::Image faint = blank(10, 10);
+  for (int x = 0; x < 10; ++x) faint.set(x, 5, {0, 0, 0, 127});
+  EXPECT_EQ(crown_opacity(faint).crown_rows, 0);
+  EXPECT_EQ(crown_opacity(blank(8, 8)).opacity, 0.0);
+}
+
+std::string png_bytes(const generate::Rgba8& px) {
+  image::Image img(px.width, px.height);
+  for (int y = 0; y < px.height; ++y)
+    for (int x = 0; x < px.width; ++x) {
+      const std::uint8_t* p = &px.pixels[(static_cast<std::size_t>(y) * px.width + x) * 4];
+      img.set(x, y, {p[0], p[1], p[2], p[3]});
+    }
+  const auto bytes = image::encode_png(img);
+  return {bytes.begin(), bytes.end()};
+}
+
+// The adult tree of `preset` as the default recipe makes it, as a renderable scene.
+render::Scene adult_scene(const std::filesystem::path& preset) {
+  const generate::SpeciesPreset species = generate::load_species_preset(preset);
+  Rng leaf_rng(1, "leaves"), tree_rng(1, "tree");
+  generate::CardAtlas atlas =
+      generate::make_card_atlas(species.card, species.leaf, species.bark, 256, leaf_rng);
+  generate::GenerateOptions g;
+  g.atlas = {atlas.columns, atlas.rows, atlas.coverage};
+  g.foliage = generate::FoliageMode::kCards;
+  g.max_node_spacing = 0.5;
+  generate::make_mip_safe(atlas.image, atlas.columns, atlas.rows);
+  const tree::Tree t = generate::generate_tree(species.age("adult").params, g, tree_rng);
+  const TreeMesh m = mesh_tree(t, MeshOptions{});
+  const gltf::Scene scene =
+      make_scene(m, t, Texture{"bark.png", ""}, Texture{"leaves.png", png_bytes(atlas.image)}, {});
+  return render::load_gltf_scene_from_memory(gltf::encode(scene), preset.stem().string() + ".glb");
+}
+
+// Floors: the issue's goal (0.75 broadleaves, 0.65 conifers) where the preset meets it; else the
+// measured value less 0.02 (sylva's renderer is llvmpipe, identical on every machine) — those
+// presets do not meet the goal yet (docs/performance.md, "Crown opacity").
+const std::map<std::string, double> kFloor = {
+    {"birch", 0.65}, {"holly", 0.75},      {"mugo_pine", 0.65},      {"norway_spruce", 0.65},
+    {"oak", 0.68},   {"scots_pine", 0.65}, {"weeping_willow", 0.71}, {"white_poplar", 0.75},
+};
+
+TEST(CrownOpacity, EveryAdultPresetMeetsItsFloor) {
+  std::unique_ptr<render::Renderer> renderer;
+  try {
+    renderer = render::Renderer::create_headless();
+  } catch (const render::RenderUnavailableError& e) {
+    GTEST_SKIP() << e.what();
+  }
+  render::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.background = {0, 0, 0, 0};
+  for (const auto& preset : test::species_presets()) {
+    const render::Scene scene = adult_scene(preset);
+    std::vector<render::Camera> cams;
+    for (float az : {0.f, 90.f})
+      cams.push_back(render::resolve({"side", render::OrbitView{az, 0, 1, 0}, 40}, scene.bounds(), 1.f));
+    const auto images = renderer->render_views(scene, cams, ro);
+    const double a = crown_opacity(images[0]).opacity, b = crown_opacity(images[1]).opacity;
+    const std::string name = preset.stem().string();
+    std::printf("[ opacity  ] %s: %.3f (azimuth 0) %.3f (azimuth 90) mean %.3f\n", name.c_str(), a, b,
+                (a + b) / 2);
+    ASSERT_TRUE(kFloor.count(name)) << name;
+    EXPECT_GE((a + b) / 2, kFloor.at(name)) << name;
+    EXPECT_GE(std::min(a, b), kFloor.at(name) - 0.05) << name;
+  }
+}
+
+}  // namespace
+}  // namespace sylva::mesh
