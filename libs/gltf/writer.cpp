@@ -426,7 +426,11 @@ void encode_to(const Scene& scene, std::ostream& out, const WriteOptions& option
   if (options.meshopt && (options.format != FileFormat::kGlb || options.draco.enabled))
     throw GltfError("EXT_meshopt_compression is written to GLB files without Draco only");
   tinygltf::Model model = ModelBuilder(scene, options).build();
-  if (options.meshopt) return detail::encode_meshopt_glb(model);
+  if (options.meshopt) {
+    const std::string bytes = detail::encode_meshopt_glb(model);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return;
+  }
   tinygltf::TinyGLTF writer;
   const bool glb = options.format == FileFormat::kGlb;
   if (!writer.WriteGltfSceneToStream(&model, out, /*prettyPrint=*/!glb, /*writeBinary=*/glb))
