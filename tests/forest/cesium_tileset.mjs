@@ -8,11 +8,18 @@
 //
 // FOREST_DIR is a forest artifact (tileset.json, instances.json, the tile and level glTF files).
 // Two views, both with maximumScreenSpaceError = the forest's pixel error delta, so Cesium's
-// refinement test is sylva's switch-distance test:
-//   - `far`: the forest seen from beyond every species' last switch distance: every tile Cesium
-//     draws must be at the last tile level (the impostors, when the species have them);
+// refinement test is sylva's switch-distance test (a tile of geometricError e is refined when
+// e H / (d 2 tan(fovy/2)) > delta, Cesium's H and fovy):
+//   - `far`: the forest seen from the range where Cesium must draw every tile at one coarse tile
+//     level L and no other: the coarsest level whose range interval [e_L, e_{L+1}) x H / (delta
+//     2 tan(fovy/2)), shrunk by the forest's size on both sides, is not empty and from which the
+//     forest still spans >= 8 pixels (the last level, the impostors, when they are visible at all;
+//     billboards are valid only from tens of km on, where the forest is sub-pixel, so then the lod
+//     levels' coarsest);
 //   - `near`: the eye a few metres above the forest's middle: Cesium must refine the tiles under
 //     it to level 0 (full detail) and draw it.
+// The last tile level's contents must have been requested and loaded (Cesium loads a chain's
+// ancestors on its way down) even when no view shows them.
 // It fails (exit 1) when the tileset or any tile content fails to load, the page logs an error,
 // a view draws nothing, or a view shows the wrong levels. RESULT.json records per view the tile
 // levels drawn, the tiles loaded and the covered pixels; PNG_PREFIX<view>.png are the frames.
@@ -56,25 +63,39 @@ if (!existsSync(path.join(forestDir, 'tileset.json'))) {
   process.stderr.write(`cesium_tileset: ${forestDir}/tileset.json is missing\n`);
   process.exit(1);
 }
-// The forest's delta, its size, and the farthest last-level switch distance of its species.
+// The forest's delta, its trees' height and its tile level count.
 const delta = Math.max(...forest.species.map((s) => s.pixel_error_px));
-let lastSwitch = 0, height = 1, levelCount = 1;
+let height = 1, levelCount = 1;
 for (const s of forest.species) {
   const lv = s.levels;
-  lastSwitch = Math.max(lastSwitch, lv[lv.length - 1].switch_distance_m);
   height = Math.max(height, s.bounds.max[1] - s.bounds.min[1]);
   levelCount = Math.max(levelCount, lv.length);
 }
 const size = Math.max(forest.extent_m.max[0] - forest.extent_m.min[0], forest.extent_m.max[1] - forest.extent_m.min[1]);
+// Per tile level L: the smallest and largest geometricError of the tileset's tiles at L.
+const tileset = JSON.parse(await readFile(path.join(forestDir, 'tileset.json'), 'utf8'));
+const levelErrors = [];
+(function walk(t) {
+  const m = t.content ? /_lod(\d+)\.gltf$/.exec(t.content.uri) : null;
+  if (m) {
+    const l = Number(m[1]);
+    const e = levelErrors[l] ?? { min: Infinity, max: 0 };
+    levelErrors[l] = { min: Math.min(e.min, t.geometricError), max: Math.max(e.max, t.geometricError) };
+  }
+  for (const c of t.children ?? []) walk(c);
+})(tileset.root);
 const job = {
   tileset: `${ORIGIN}/fs${forestDir}/tileset.json`,
   mse: delta,
   width: 480,
   height: 270,
   lastLevel: levelCount - 1,
+  levelErrors,
+  rootError: tileset.root.geometricError,
+  margin: size + height,  // Cesium measures to each tile's box: within this of the forest's centre
+  size,
   views: [
-    // Far enough that every tree is beyond its last switch distance (Cesium measures to the tile's box).
-    { name: 'far', range: 1.5 * lastSwitch + size, pitchDeg: -30, headingDeg: 20 },
+    { name: 'far', level: 'coarsest visible', pitchDeg: -30, headingDeg: 20 },
     { name: 'near', range: Math.max(3, 0.25 * height), pitchDeg: -60, headingDeg: 20 },
   ],
 };
@@ -103,9 +124,26 @@ window.runJob = async (job) => {
   scene.primitives.add(tileset);
   const center = tileset.boundingSphere.center;
   const results = [];
+  widget.resize();
+  widget.render();
   for (const v of job.views) {
+    let range = v.range, expected = null;
+    if (v.level !== undefined) {
+      // Cesium's distance per unit of error at the refinement threshold: d = e H / (delta den).
+      const perError = scene.drawingBufferHeight / (job.mse * scene.camera.frustum.sseDenominator);
+      const rootFrom = job.rootError * perError;  // beyond this Cesium draws nothing (root has no content)
+      for (let l = job.levelErrors.length - 1; l >= 0 && expected === null; --l) {
+        if (!job.levelErrors[l]) continue;
+        const lo = 1.2 * job.levelErrors[l].max * perError + job.margin;
+        const next = l + 1 < job.levelErrors.length ? job.levelErrors[l + 1].min * perError : rootFrom;
+        const hi = 0.8 * Math.min(next, rootFrom) - job.margin;
+        const pixels = job.size * scene.drawingBufferHeight / (lo * scene.camera.frustum.sseDenominator);
+        if (lo < hi && pixels >= 8) { range = lo; expected = l; }
+      }
+      if (expected === null) throw new Error('view ' + v.name + ': no tile level is visible on its own');
+    }
     widget.camera.lookAt(center, new Cesium.HeadingPitchRange(Cesium.Math.toRadians(v.headingDeg),
-                                                              Cesium.Math.toRadians(v.pitchDeg), v.range));
+                                                              Cesium.Math.toRadians(v.pitchDeg), range));
     const shown = new Set();
     const listener = (tile) => { if (tile.content && tile.content.url) shown.add(tile.content.url); };
     let frames = 0;
@@ -128,7 +166,7 @@ window.runJob = async (job) => {
     for (let i = 0; i < px.length; i += 4) if (px[i] + px[i + 1] + px[i + 2] > 12) ++covered;
     const levels = [...shown].map((u) => { const m = /_lod(\\d+)\\.gltf/.exec(u); return m ? Number(m[1]) : -1; });
     results.push({
-      name: v.name, canvas: [canvas.width, canvas.height, canvas.clientWidth, canvas.clientHeight], frames, ms: Date.now() - t0, tiles_loaded: tileset.tilesLoaded,
+      name: v.name, range, expected_level: expected, canvas: [canvas.width, canvas.height, canvas.clientWidth, canvas.clientHeight], frames, ms: Date.now() - t0, tiles_loaded: tileset.tilesLoaded,
       contents_shown: shown.size, levels: [...new Set(levels)].sort((a, b) => a - b), covered_pixels: covered,
       png: canvas.toDataURL('image/png').split(',')[1],
       statistics: { visited: tileset.statistics.visited, selected: tileset.statistics.selected,
@@ -206,10 +244,12 @@ try {
       fail(`view ${v.name}: nothing drawn (${v.contents_shown} contents, ${v.covered_pixels} covered pixels)`);
   }
   const far = out.views.find((v) => v.name === 'far'), near = out.views.find((v) => v.name === 'near');
-  if (far.levels.some((l) => l !== job.lastLevel))
-    fail(`view far: levels ${far.levels.join(',')} drawn beyond every switch distance, expected only ${job.lastLevel}`);
+  if (far.levels.some((l) => l !== far.expected_level))
+    fail(`view far: levels ${far.levels.join(',')} drawn at ${far.range.toFixed(0)} m, expected only ${far.expected_level}`);
+  if (!out.files_requested.some((f) => f.endsWith(`_lod${job.lastLevel}.gltf`)))
+    fail(`the last tile level's contents (_lod${job.lastLevel}.gltf) were never requested`);
   if (!near.levels.includes(0)) fail(`view near: levels ${near.levels.join(',')} drawn, level 0 (full detail) missing`);
-  process.stdout.write(`cesium_tileset: far levels [${far.levels}] (${far.contents_shown} contents, ` +
+  process.stdout.write(`cesium_tileset: far (${far.range.toFixed(0)} m) levels [${far.levels}] (${far.contents_shown} contents, ` +
                        `${far.covered_pixels} px), near levels [${near.levels}] (${near.contents_shown} contents, ` +
                        `${near.covered_pixels} px); ${out.files_requested.length} files requested\n`);
 } catch (e) {
