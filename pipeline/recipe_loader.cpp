@@ -706,6 +706,8 @@ class Loader {
       std::uint64_t combinations = 1;
       for (const MatrixVar* m : used)
         combinations = std::min<std::uint64_t>(combinations * m->values.size(), options_.limits.matrix + 1);
+      // A variable whose every value was refused (reported above) has no values: nothing to expand.
+      if (combinations == 0) continue;
       if (combinations > options_.limits.matrix) {
         err(e.key.loc, "node '" + excerpt(e.key.text, 80) + "' expands to more than " +
                            std::to_string(options_.limits.matrix) +

@@ -189,6 +189,13 @@ TEST_F(RecipeTest, MatrixVariableErrors) {
             "r.yaml:9:19: error: variable '${a}' is used in node 'm' but not in its name, so its expansions would share one name\n");
 }
 
+// Found by fuzz_recipe: a variable whose only value is refused used to expand its node over an
+// empty list (an out-of-range read).
+TEST_F(RecipeTest, MatrixVariableWithNoScalarValueIsAnErrorNotAnExpansion) {
+  EXPECT_FALSE(load("version: 1\nname: r\nmatrix:\n  s: [oak: birch]\nnodes:\n  t_${s}:\n    stage: text\n"));
+  EXPECT_EQ(errors(), "r.yaml:4:7: error: matrix values must be scalars\n");
+}
+
 TEST_F(RecipeTest, NodeLevelMatrixOverrides) {
   auto r = load("version: 1\nname: r\nmatrix: { n: [1, 2, 3] }\nnodes:\n  t${n}:\n    stage: text\n    matrix: { n: [7] }\n");
   ASSERT_TRUE(r) << errors();
