@@ -14,8 +14,12 @@ flat in vec2 v_cell[3];
 flat in vec3 v_weight;
 flat in mat3 v_normal_matrix;
 
-uniform sampler2D u_color;         // atlas.color: sRGB texture (GL_SRGB8_ALPHA8), alpha = coverage
-uniform sampler2D u_normal_depth;  // atlas.normal_depth: linear RGBA8, rgb = normal, a = depth
+// Both maps are uploaded premultiplied by coverage (the PNGs are straight): texture filtering
+// and mip levels then weight every texel by what it covers. Filtering straight colours gives a
+// texel that a twig covers by 5 % the same weight as a leaf texel beside it, so thin twigs' bark
+// colour and lit normals would tint the whole crown.
+uniform sampler2D u_color;         // atlas.color: sRGB texture (GL_SRGB8_ALPHA8) of linear rgb * a, a = coverage
+uniform sampler2D u_normal_depth;  // atlas.normal_depth: linear RGBA8, rgb = (normal * 0.5 + 0.5) * coverage, a = depth
 uniform int u_frames;              // N
 uniform vec3 u_center;             // sphere.center
 uniform float u_radius;            // sphere.radius_m, R
@@ -85,10 +89,10 @@ void main() {
         t_prev = t;
       }
     }
-    vec4 c = textureGrad(u_color, uv, du, dv) * vec4(1.0, 1.0, 1.0, hit);
-    vec3 n = textureGrad(u_normal_depth, uv, du, dv).rgb * 2.0 - 1.0;
-    albedo += v_weight[k] * vec4(c.rgb * c.a, c.a);
-    normal += (v_weight[k] * c.a) * n;
+    vec4 c = textureGrad(u_color, uv, du, dv);                    // premultiplied
+    vec3 n = textureGrad(u_normal_depth, uv, du, dv).rgb * 2.0 - c.a;  // normal * coverage
+    albedo += (v_weight[k] * hit) * c;
+    normal += (v_weight[k] * hit) * n;
   }
   if (albedo.a < 1.0 / 512.0) discard;
   vec3 base = albedo.rgb / albedo.a;
