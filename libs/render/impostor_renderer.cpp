@@ -17,6 +17,7 @@
 #include "libs/render/impostor_renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -240,8 +241,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     GlObjects gl;
     glGetError();
     const DrawTarget target = make_draw_target(gl, o);
-    const GLuint color = upload_atlas(gl, imp.color, true, imp.mip_levels);
-    const GLuint normal = upload_atlas(gl, imp.normal_depth, false, imp.mip_levels);
+    const PremultipliedMaps pm = premultiply(imp.color, imp.normal_depth);
+    const GLuint color = upload_atlas(gl, pm.color, true, imp.mip_levels);
+    const GLuint normal = upload_atlas(gl, pm.normal_depth, false, imp.mip_levels);
 
     // One quad (two triangles), instanced per impostor.
     const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
@@ -658,6 +660,35 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         throw RenderError("cannot create the impostor resolve target");
     }
     return t;
+  }
+
+  // The maps as the reference shader samples them (shaders/octahedral_impostor.frag): colour
+  // rgb = sRGB(linear(rgb) * a), normal rgb = encoded normal * a, alpha and depth unchanged.
+  struct PremultipliedMaps {
+    image::Image color, normal_depth;
+  };
+  static PremultipliedMaps premultiply(const image::Image& color, const image::Image& normal_depth) {
+    PremultipliedMaps out{color, normal_depth};
+    std::array<double, 256> lin{};
+    for (int i = 0; i < 256; ++i) {
+      const double c = i / 255.0;
+      lin[std::size_t(i)] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    }
+    auto srgb8 = [](double c) {
+      c = std::clamp(c, 0.0, 1.0);
+      return std::uint8_t(std::lround(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055)));
+    };
+    auto& cb = out.color.bytes();
+    auto& nb = out.normal_depth.bytes();
+    for (std::size_t i = 0; i < cb.size(); i += 4) {
+      const int a = cb[i + 3];
+      if (a == 255) continue;
+      for (std::size_t c = 0; c < 3; ++c) {
+        cb[i + c] = a == 0 ? 0 : srgb8(lin[cb[i + c]] * a / 255.0);
+        nb[i + c] = std::uint8_t((nb[i + c] * a + 127) / 255);
+      }
+    }
+    return out;
   }
 
   static GLuint upload_atlas(GlObjects& gl, const image::Image& img, bool srgb, int mip_levels) {

@@ -20,9 +20,10 @@
 //
 // Draw: render_octahedral() draws impostor instances with the reference shader
 // (libs/render/shaders/octahedral_impostor.{vert,frag}, shipped for engines): one camera-facing
-// quad per instance, three frames blended by the view direction, each reprojected with its depth
-// (parallax), lit with RenderOptions::lighting like the scene renderer, blended over the
-// background with alpha = coverage. Same determinism and thread-safety contract as Renderer.
+// quad per instance, the maps premultiplied by coverage before upload (the shader's contract),
+// three frames blended by the view direction, each reprojected with its depth (parallax), lit
+// with RenderOptions::lighting like the scene renderer, blended over the background with alpha =
+// coverage. Same determinism and thread-safety contract as Renderer.
 #pragma once
 
 #include <memory>

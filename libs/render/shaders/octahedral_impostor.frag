@@ -14,8 +14,12 @@ flat in vec2 v_cell[3];
 flat in vec3 v_weight;
 flat in mat3 v_normal_matrix;
 
-uniform sampler2D u_color;         // atlas.color: sRGB texture (GL_SRGB8_ALPHA8), alpha = coverage
-uniform sampler2D u_normal_depth;  // atlas.normal_depth: linear RGBA8, rgb = normal, a = depth
+// Both maps are uploaded premultiplied by coverage (the PNGs are straight): texture filtering
+// and mip levels then weight every texel by what it covers. Filtering straight colours gives a
+// texel that a twig covers by 5 % the same weight as a leaf texel beside it, so thin twigs' bark
+// colour and lit normals would tint the whole crown.
+uniform sampler2D u_color;         // atlas.color: sRGB texture (GL_SRGB8_ALPHA8) of linear rgb * a, a = coverage
+uniform sampler2D u_normal_depth;  // atlas.normal_depth: linear RGBA8, rgb = (normal * 0.5 + 0.5) * coverage, a = depth
 uniform int u_frames;              // N
 uniform vec3 u_center;             // sphere.center
 uniform float u_radius;            // sphere.radius_m, R
@@ -57,10 +61,16 @@ void main() {
     // March the ray from the front of the sphere (h = R) to its back (h = -R) and stop at the
     // first sample that lies below the height the frame stored there (relief / parallax
     // occlusion mapping on the depth map); uncovered texels store the back, so the ray passes them.
+    // A texel covered less than half (alpha is the coverage of its whole column, so a twig line
+    // alone in it has nothing behind it there) is seen through: the ray goes on to the first
+    // texel covered at least half, and stops at the first thin one only when it meets nothing
+    // else. Stopping at a thin texel would hide the crown behind it.
     vec2 uv = uv0;
     float hit = 1.0;  // 0 when the ray leaves the sphere without meeting a stored surface
     if (u_parallax_steps > 0) {
       hit = 0.0;
+      vec2 thin_uv = uv0;
+      bool thin = false;
       float t_front = (u_radius - h0) / rd, t_back = (-u_radius - h0) / rd;
       float dt = (t_back - t_front) / float(u_parallax_steps);
       float slab = 2.0 * abs(dt * rd);  // two steps: no slab can be stepped over
@@ -70,25 +80,35 @@ void main() {
         vec2 uvs = atlas_uv(v_eye_obj + ray * t, k);
         // The stored height of the texel itself, unfiltered: filtering would blend a thin
         // branch's height with the empty back behind it and the ray would stop short of both.
-        float stored = (texelFetch(u_normal_depth, ivec2(uvs * u_atlas_px), 0).a * 2.0 - 1.0) * u_radius;
+        ivec2 texel = ivec2(uvs * u_atlas_px);
+        float stored = (texelFetch(u_normal_depth, texel, 0).a * 2.0 - 1.0) * u_radius;
         float gap = (h0 + t * rd) - stored;  // > 0 while the ray is above the stored surface
         // A frame stores the first surface only; behind it may be empty (a twig is not a wall),
         // so a ray more than `slab` below the stored height has passed behind it: keep going.
         if (gap <= 0.0 && gap >= -slab) {
           // Between the last sample above and this one below: where the gap crosses zero.
           float f = s == 0 ? 1.0 : prev_gap / (prev_gap - gap);
-          uv = atlas_uv(v_eye_obj + ray * mix(t_prev, t, f), k);
-          hit = 1.0;
-          break;
+          vec2 at = atlas_uv(v_eye_obj + ray * mix(t_prev, t, f), k);
+          if (texelFetch(u_color, texel, 0).a >= 0.5) {
+            uv = at;
+            hit = 1.0;
+            break;
+          }
+          if (!thin) thin_uv = at;
+          thin = true;
         }
         prev_gap = max(gap, 0.0);
         t_prev = t;
       }
+      if (hit == 0.0 && thin) {
+        uv = thin_uv;
+        hit = 1.0;
+      }
     }
-    vec4 c = textureGrad(u_color, uv, du, dv) * vec4(1.0, 1.0, 1.0, hit);
-    vec3 n = textureGrad(u_normal_depth, uv, du, dv).rgb * 2.0 - 1.0;
-    albedo += v_weight[k] * vec4(c.rgb * c.a, c.a);
-    normal += (v_weight[k] * c.a) * n;
+    vec4 c = textureGrad(u_color, uv, du, dv);                    // premultiplied
+    vec3 n = textureGrad(u_normal_depth, uv, du, dv).rgb * 2.0 - c.a;  // normal * coverage
+    albedo += (v_weight[k] * hit) * c;
+    normal += (v_weight[k] * hit) * n;
   }
   if (albedo.a < 1.0 / 512.0) discard;
   vec3 base = albedo.rgb / albedo.a;
