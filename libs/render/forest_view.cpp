@@ -130,9 +130,9 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
   stats = {};
   stats.trees = forest_.instances.size();
   stats.per_level.assign(o.full_detail ? 1 : max_levels, 0);
-  // worlds[s][l]: the matrices of the trees species s draws at level l.
-  std::vector<std::vector<std::vector<Mat4>>> worlds(ns);
-  for (std::size_t s = 0; s < ns; ++s) worlds[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
+  // drawn[s][l]: (distance, instance) of the trees species s draws at level l.
+  std::vector<std::vector<std::vector<std::pair<double, std::uint32_t>>>> drawn(ns);
+  for (std::size_t s = 0; s < ns; ++s) drawn[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
   for (std::size_t t = 0; t < forest_.tiles.size(); ++t) {
     if (o.cull && outside(planes, tile_bounds_[t])) continue;
     bool any = false;
@@ -140,22 +140,34 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       if (o.cull && outside(planes, tree_bounds_[i])) continue;
       any = true;
       const std::size_t s = forest_.instances[i].species;
-      const std::size_t l = o.full_detail ? 0 : level_for(s, box_distance(tree_bounds_[i], camera.eye), o);
-      worlds[s][l].push_back(tree_matrix_[i]);
+      const double d = box_distance(tree_bounds_[i], camera.eye);
+      const std::size_t l = o.full_detail ? 0 : level_for(s, d, o);
+      drawn[s][l].push_back({d, i});
       ++stats.per_level[l];
       ++stats.trees_drawn;
     }
     stats.tiles_drawn += any ? 1 : 0;
   }
+  // Near to far: the finest levels (the nearest trees) first, each level's trees by distance (ties
+  // by instance), so what is drawn later fails the depth test where nearer trees already stand
+  // and the rasteriser skips shading it. Opaque and masked results do not depend on this order
+  // (depth test) except where two fragments have exactly the same depth; the BLEND pass sorts by
+  // depth itself.
   Scene scene;
   scene.source = "forest";
-  for (std::size_t s = 0; s < ns; ++s)
-    for (std::size_t l = 0; l < worlds[s].size(); ++l) {
-      if (worlds[s][l].empty()) continue;
+  std::size_t max_level = 0;
+  for (std::size_t s = 0; s < ns; ++s) max_level = std::max(max_level, drawn[s].size());
+  for (std::size_t l = 0; l < max_level; ++l)
+    for (std::size_t s = 0; s < ns; ++s) {
+      if (l >= drawn[s].size() || drawn[s][l].empty()) continue;
       if (o.full_detail && full_[s].meshes.empty())
         throw RenderError("forest view: no full-detail model was given for species '" +
                           forest_.species[s].name + "'");
-      append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds[s][l], stats.primitives);
+      std::sort(drawn[s][l].begin(), drawn[s][l].end());
+      std::vector<Mat4> worlds;
+      worlds.reserve(drawn[s][l].size());
+      for (const auto& [d, i] : drawn[s][l]) worlds.push_back(tree_matrix_[i]);
+      append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds, stats.primitives);
     }
   return scene;
 }
