@@ -290,6 +290,43 @@ class ModelBuilder {
     return acc;
   }
 
+  // FLOAT POSITION through the EXPONENTIAL filter with the fewest mantissa bits that keep every
+  // vertex within max_error (QuantizeOptions::float_position_error); min/max of what decodes.
+  int exponential_positions(const std::vector<float>& v, double max_error) {
+    const std::size_t n = v.size() / 3;
+    std::vector<unsigned char> encoded(n * 12);
+    auto decodes_within = [&](int bits) {
+      meshopt_encodeFilterExp(encoded.data(), n, 12, bits, v.data());
+      std::vector<unsigned char> decoded = encoded;
+      meshopt_decodeFilterExp(decoded.data(), n, 12);
+      const float* d = reinterpret_cast<const float*>(decoded.data());
+      for (std::size_t i = 0; i < n; ++i) {
+        double e2 = 0;
+        for (std::size_t c = 0; c < 3; ++c)
+          e2 += (double(d[i * 3 + c]) - v[i * 3 + c]) * (double(d[i * 3 + c]) - v[i * 3 + c]);
+        if (std::sqrt(e2) > max_error) return false;
+      }
+      return true;
+    };
+    int lo = 1, hi = 24;  // 24 bits keep a float's whole mantissa
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      if (decodes_within(mid)) {
+        hi = mid;
+      } else {
+        lo = mid + 1;
+      }
+    }
+    meshopt_encodeFilterExp(encoded.data(), n, 12, lo, v.data());
+    std::vector<float> decoded(n * 3);
+    std::memcpy(decoded.data(), encoded.data(), encoded.size());
+    meshopt_decodeFilterExp(decoded.data(), n, 12);
+    const int view = add_view(encoded.data(), encoded.size(), TINYGLTF_TARGET_ARRAY_BUFFER);
+    m_.bufferViews[std::size_t(view)].byteStride = 12;
+    filters_[view] = "EXPONENTIAL";
+    return float_accessor(decoded, 3, n, view, true);
+  }
+
   // NORMAL: octahedral through meshopt's filter when the file is meshopt-compressed, else
   // per-component snorm; BYTE or SHORT normalized VEC3 padded to 4 components.
   int quantized_normals(const std::vector<float>& v) {
@@ -441,8 +478,13 @@ class ModelBuilder {
     tinygltf::Primitive out;
     const int t = TINYGLTF_TARGET_ARRAY_BUFFER;
     const Grid& grid = grids_[mesh_index_];
-    out.attributes["POSITION"] =
-        grid.bits > 0 ? quantized_positions(p.positions, grid) : float_attribute(p.positions, 3, true, t);
+    const double float_error =
+        quantize_ && o_.meshopt && mesh_index_ < o_.quantize.float_position_error.size()
+            ? o_.quantize.float_position_error[mesh_index_]
+            : 0.0;
+    out.attributes["POSITION"] = grid.bits > 0     ? quantized_positions(p.positions, grid)
+                                 : float_error > 0 ? exponential_positions(p.positions, float_error)
+                                                   : float_attribute(p.positions, 3, true, t);
     if (!p.normals.empty())
       out.attributes["NORMAL"] =
           quantize_ ? quantized_normals(p.normals) : float_attribute(p.normals, 3, false, t);

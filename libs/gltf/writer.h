@@ -70,6 +70,12 @@ struct QuantizeOptions {
   // so world positions stay within step / 2 per axis of the input. A mesh drawn by an
   // EXT_mesh_gpu_instancing node keeps FLOAT positions.
   std::vector<int> position_bits;
+  // Per mesh, for meshes whose positions stay FLOAT (position_bits 0) in a meshopt file: the
+  // largest distance (m) a vertex may move. > 0: POSITION goes through meshoptimizer's EXPONENTIAL
+  // filter (meshopt_encodeFilterExp: per vertex a shared exponent and K-bit mantissas) with the
+  // fewest K (1..24) whose decoded positions are all within this distance of the input (measured
+  // by decoding); min/max are the decoded bounds. 0 or absent: exact floats.
+  std::vector<double> float_position_error;
   // NORMAL, 1..16 bits: with meshopt octahedral (meshopt_encodeFilterOct, filter OCTAHEDRAL) in
   // BYTE (<= 8 bits) or SHORT components; without, meshopt_quantizeSnorm to 8 (<= 8) or 16 bits.
   // Normalized, stride 4 or 8.

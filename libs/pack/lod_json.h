@@ -24,7 +24,8 @@ struct LodLevel {
   std::uint64_t triangles = 0, lines = 0, bytes = 0;
   // KHR_mesh_quantization of the level's positions: the grid's bits (the largest over the
   // level's meshes) and the largest rounding error in metres; position_float when some mesh
-  // keeps float positions (bits 0, error 0 when all do).
+  // keeps float positions (bits 0 when all do; their error is 0 when exact, else the EXPONENTIAL
+  // filter's bound).
   int position_bits = 0;
   double position_error_m = 0;
   bool position_float = false;

@@ -78,9 +78,11 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   w.quantize.enabled = options.quantize && !w.draco.enabled;
   w.quantize.normal_bits = options.normal_bits;
   w.quantize.texcoord_bits = options.texcoord_bits;
-  // `position_bits` has one entry per mesh of the scene being encoded (set by the caller).
-  auto encode = [&](gltf::Scene s, std::vector<int> position_bits) {
+  // `position_bits` (grids) and `float_error` (the bound for float positions, meshopt's EXPONENTIAL
+  // filter) have one entry per mesh of the scene being encoded.
+  auto encode = [&](gltf::Scene s, std::vector<int> position_bits, std::vector<double> float_error) {
     w.quantize.position_bits = std::move(position_bits);
+    w.quantize.float_position_error = std::move(float_error);
     if (options.optimize) gltf::optimize_scene(s);
     nlohmann::json extras = s.extras.is_object() ? s.extras : nlohmann::json::object();
     extras["sylva_stage"] = "pack";
@@ -94,6 +96,8 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   d.species = in.species;
   d.chain = in.species + ".glb";
   std::vector<int> chain_bits(chain.meshes.size(), 0);
+  std::vector<double> chain_float_error(chain.meshes.size(), 0.0);
+  std::vector<double> level_float_error;  // per level: the bound for float positions (EXPONENTIAL)
   std::vector<std::vector<int>> level_bits;
   for (std::size_t i = 0; i < in.levels.size(); ++i) {
     const int node = i == 0 ? chain.roots[0] : ids[i - 1].get<int>();
@@ -116,24 +120,32 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
         bits[m] = g.bits;
         l.position_bits = std::max(l.position_bits, g.bits);
         l.position_error_m = std::max(l.position_error_m, g.max_error_m);
-        if (g.bits == 0) l.position_float = true;
+        if (g.bits == 0) {
+          l.position_float = true;
+          // Float positions: exact, or within position_error x epsilon through the EXPONENTIAL filter.
+          if (w.meshopt)
+            l.position_error_m = std::max(l.position_error_m, options.position_error * l.epsilon_m);
+        }
       }
       if (n.mesh >= 0 && std::size_t(n.mesh) < chain.meshes.size()) {
         const PositionGrid g =
             position_grid(chain.meshes[std::size_t(n.mesh)], l.epsilon_m, options.position_error);
         chain_bits[std::size_t(n.mesh)] = g.bits;
+        chain_float_error[std::size_t(n.mesh)] = options.position_error * l.epsilon_m;
       }
     } else {
       l.position_float = true;
     }
     level_bits.push_back(std::move(bits));
+    level_float_error.push_back(w.quantize.enabled ? options.position_error * l.epsilon_m : 0.0);
     d.levels.push_back(l);
   }
 
   std::vector<PackedFile> out;
-  out.push_back({d.chain, encode(chain, chain_bits), in.chain_inputs});
+  out.push_back({d.chain, encode(chain, chain_bits, chain_float_error), in.chain_inputs});
   for (std::size_t i = 0; i < in.levels.size(); ++i) {
-    std::string bytes = encode(in.levels[i], level_bits[i]);
+    std::string bytes = encode(in.levels[i], level_bits[i],
+                               std::vector<double>(in.levels[i].meshes.size(), level_float_error[i]));
     d.levels[i].bytes = bytes.size();
     out.push_back({d.levels[i].file, std::move(bytes),
                    i < in.level_inputs.size() ? in.level_inputs[i] : std::vector<std::string>{}});

@@ -24,7 +24,9 @@ struct PackOptions {
   // KHR_mesh_quantization (not with Draco, which quantises itself): each level's positions on
   // the coarsest grid whose rounding error (sqrt(3)/2 of a step) is at most position_error x the
   // level's epsilon, so the quantised level stays within a fraction of the error the lod stage
-  // proved; a level that would need more than 16 bits keeps float positions. Normals octahedral
+  // proved; a level that would need more than 16 bits keeps float positions, with meshopt
+  // through its EXPONENTIAL filter within the same bound (gltf::QuantizeOptions::
+  // float_position_error). Normals octahedral
   // with normal_bits, uvs in [0, 1] with texcoord_bits (gltf::QuantizeOptions).
   bool quantize = true;
   double position_error = 0.25;  // (0, 1]

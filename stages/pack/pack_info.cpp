@@ -5,7 +5,7 @@ namespace sylva {
 StageInfo pack_stage_info() {
   StageInfo info;
   info.name = "pack";
-  info.version = 2;
+  info.version = 3;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB, one GLB per level and lod.json, "
       "compressed; manifest.json";

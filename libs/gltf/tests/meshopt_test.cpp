@@ -335,5 +335,52 @@ TEST(GltfQuantize, RefusesBitsOutOfRange) {
   EXPECT_THROW(encode(sample(2), o), GltfError);
 }
 
+// Float positions within a bound: meshopt's EXPONENTIAL filter with the fewest mantissa bits that
+// keep every vertex within it (measured by decoding as a client does).
+TEST(GltfQuantize, FloatPositionsThroughTheExponentialFilterStayWithinTheBound) {
+  Scene s = sample(20);
+  for (auto& prim : s.meshes[0].primitives)
+    for (float& p : prim.positions) p = 30.f * p + 5.f;
+  WriteOptions o;
+  o.meshopt = true;
+  o.quantize.enabled = true;
+  o.quantize.float_position_error = {0.002};
+  const std::string bytes = encode(s, o);
+  const Glb g = parse_glb(bytes);
+  const auto& prim = g.json["meshes"][0]["primitives"][0];
+  const auto& pos = g.json["accessors"][std::size_t(prim["attributes"]["POSITION"])];
+  EXPECT_EQ(pos["componentType"], 5126);  // FLOAT
+  const auto& e =
+      g.json["bufferViews"][std::size_t(pos["bufferView"])]["extensions"]["EXT_meshopt_compression"];
+  EXPECT_EQ(e["filter"], "EXPONENTIAL");
+  const std::size_t count = e["count"];
+  std::vector<float> d(count * 3);
+  ASSERT_EQ(meshopt_decodeVertexBuffer(
+                d.data(), count, 12,
+                reinterpret_cast<const unsigned char*>(g.bin.data()) + std::size_t(e["byteOffset"]),
+                e["byteLength"]),
+            0);
+  meshopt_decodeFilterExp(d.data(), count, 12);
+  const Primitive& in = s.meshes[0].primitives[0];
+  double worst = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    double e2 = 0;
+    for (std::size_t c = 0; c < 3; ++c) e2 += std::pow(double(d[i * 3 + c]) - in.positions[i * 3 + c], 2);
+    worst = std::max(worst, std::sqrt(e2));
+  }
+  EXPECT_LE(worst, 0.002);
+  EXPECT_GT(worst, 0.0002);              // really reduced, not exact
+  for (std::size_t c = 0; c < 3; ++c) {  // min/max are the decoded bounds
+    float lo = 1e9f;
+    for (std::size_t i = 0; i < count; ++i) lo = std::min(lo, d[i * 3 + c]);
+    EXPECT_EQ(float(pos["min"][c]), lo);
+  }
+  test::TempDir dir;
+  test::write_file(dir / "e.glb", bytes);
+  SYLVA_EXPECT_VALID_GLTF(dir / "e.glb");
+  o.quantize.float_position_error = {};
+  EXPECT_LT(bytes.size(), encode(s, o).size());
+}
+
 }  // namespace
 }  // namespace sylva::gltf

@@ -1,7 +1,7 @@
 // A quantised pack level draws like the lod level it came from, within the level's error (issue
 // 14: KHR_mesh_quantization with steps from each level's epsilon). A real third-party tree (the
 // ez-tree aspen: bark mesh and alpha-masked, double-sided leaf cards with a texture) is packed as
-// a two-level chain; each level is rendered by sylva's renderer from its switch distance, once as
+// a three-level chain; each level is rendered by sylva's renderer from its switch distance, once as
 // the lod stage's float geometry and once from the pack GLB (meshopt + quantisation decoded), and
 // the images are compared as `sylva lodcheck` compares (coverage per pixel, delta = 0.5 px), and
 // by colour. A grid far coarser than epsilon must fail the same comparison.
@@ -130,28 +130,34 @@ class PackRender : public ::testing::Test {
 
 TEST_F(PackRender, QuantisedLevelsDrawWithinTheirErrorOfTheLodLevels) {
   const gltf::Scene tree = aspen(*data_ / "meshes/eztree/aspen_small_seed36330.glb");
-  // Two levels of the same geometry: the pack's grid follows epsilon alone.
-  const double eps[2] = {0.02, 0.08};
+  // Three levels of the same geometry: the pack's grid follows epsilon alone. At 2 mm the 39 m
+  // tree would need 18 bits (float positions through the EXPONENTIAL filter), then 13 and 11.
+  const double eps[3] = {0.002, 0.02, 0.08};
   SpeciesInput in;
   in.species = "aspen";
   in.chain = tree;
-  in.chain.meshes = {tree.meshes[0], tree.meshes[0]};
-  in.chain.nodes = {level_node(0, eps[0]), level_node(1, eps[1])};
-  in.chain.nodes[0].extensions = {{"MSFT_lod", {{"ids", {1}}}}};
-  in.chain.nodes[0].extras["MSFT_screencoverage"] = {1.0, 0.2};
+  in.chain.meshes = {tree.meshes[0], tree.meshes[0], tree.meshes[0]};
+  in.chain.nodes = {level_node(0, eps[0]), level_node(1, eps[1]), level_node(2, eps[2])};
+  in.chain.nodes[0].extensions = {{"MSFT_lod", {{"ids", {1, 2}}}}};
+  in.chain.nodes[0].extras["MSFT_screencoverage"] = {1.0, 0.2, 0.05};
   in.chain.roots = {0};
-  in.levels = {tree, tree};
+  in.levels = {tree, tree, tree};
   const std::vector<PackedFile> files = pack_species(in, {});
-  ASSERT_EQ(files.size(), 4u);
-  const nlohmann::json lod = nlohmann::json::parse(files[3].bytes);
-  for (int i = 0; i < 2; ++i) {
+  ASSERT_EQ(files.size(), 5u);
+  const nlohmann::json lod = nlohmann::json::parse(files[4].bytes);
+  EXPECT_TRUE(lod["levels"][0]["position_float"].get<bool>());
+  EXPECT_EQ(lod["levels"][0]["position_bits"], 0);
+  EXPECT_NE(files[1].bytes.find("\"EXPONENTIAL\""), std::string::npos);
+  for (int i = 0; i < 3; ++i) {
     const nlohmann::json& l = lod["levels"][std::size_t(i)];
-    // The grid's rounding error is within a quarter of epsilon, and not needlessly fine.
-    EXPECT_FALSE(l["position_float"].get<bool>()) << i;
+    // The rounding error is within a quarter of epsilon; a grid is not needlessly fine.
     EXPECT_LE(l["position_error_m"].get<double>(), 0.25 * eps[i]) << i;
-    EXPECT_GT(l["position_error_m"].get<double>(), 0.125 * eps[i]) << i;
+    if (i > 0) {
+      EXPECT_FALSE(l["position_float"].get<bool>()) << i;
+      EXPECT_GT(l["position_error_m"].get<double>(), 0.125 * eps[i]) << i;
+    }
     EXPECT_NE(files[std::size_t(i) + 1].bytes.find("KHR_mesh_quantization"), std::string::npos);
-    for (const Diff& d : diffs(tree, files[std::size_t(i) + 1].bytes, eps[i], i == 1 ? "aspen_lod1" : "")) {
+    for (const Diff& d : diffs(tree, files[std::size_t(i) + 1].bytes, eps[i], i == 2 ? "aspen_lod2" : "")) {
       SCOPED_TRACE("level " + std::to_string(i));
       EXPECT_GT(d.footprint, 2000u);
       EXPECT_LE(d.failing_fraction, 0.01);
@@ -164,13 +170,13 @@ TEST_F(PackRender, QuantisedLevelsDrawWithinTheirErrorOfTheLodLevels) {
           i, d.footprint, d.failing_fraction, d.mean_coverage, d.colour_fraction, d.mean_colour);
     }
   }
-  // A grid of 6 bits (a 0.6 m step for this 39 m tree) at level 1's distance is far outside
+  // A grid of 6 bits (a 0.6 m step for this 39 m tree) at level 2's distance is far outside
   // epsilon: the same comparison sees it.
   gltf::WriteOptions coarse;
   coarse.meshopt = true;
   coarse.quantize.enabled = true;
   coarse.quantize.position_bits = {6};
-  const std::vector<Diff> bad = diffs(tree, gltf::encode(tree, coarse), eps[1], "");
+  const std::vector<Diff> bad = diffs(tree, gltf::encode(tree, coarse), eps[2], "");
   std::printf("6-bit grid: failing %.4f, mean coverage %.4f\n", bad[0].failing_fraction,
               bad[0].mean_coverage);
   EXPECT_TRUE(bad[0].failing_fraction > 0.01 || bad[0].mean_coverage > 0.03)
