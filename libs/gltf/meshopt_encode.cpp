@@ -55,8 +55,10 @@ std::vector<ViewUse> classify(const tinygltf::Model& m) {
     if (a.bufferView < 0 || refs[std::size_t(a.bufferView)] != 1 || a.byteOffset != 0 || a.sparse.isSparse)
       return;
     const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
-    const std::size_t size = element_size(a);
-    if (v.byteStride != 0 && v.byteStride != size) return;
+    // Quantised attributes are padded to a stride of 4 or 8 bytes (xyz of 2-byte components
+    // in 8): the element the codecs see is the stride.
+    const std::size_t size = v.byteStride != 0 ? v.byteStride : element_size(a);
+    if (v.byteStride != 0 && v.byteStride < element_size(a)) return;
     if (a.count == 0 || a.count * size != v.byteLength) return;
     // The vertex codec needs a multiple of 4 bytes per element; the index codec 2- or 4-byte
     // indices, whole triangles.
@@ -126,7 +128,7 @@ std::string encode_view(const unsigned char* data, const ViewUse& u) {
 
 }  // namespace
 
-std::string encode_meshopt_glb(tinygltf::Model& model) {
+std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters) {
   // Index codec version 1 (EXT_meshopt_compression decoders read 0 and 1); meshoptimizer keeps
   // the choice in a global, set once.
   static std::once_flag once;
@@ -153,7 +155,11 @@ std::string encode_meshopt_glb(tinygltf::Model& model) {
       throw GltfError("meshopt: a buffer view lies outside the scene's buffer");
     const unsigned char* data = source.data() + view.byteOffset;
     pad4(bin, '\0');
+    const auto filter = filters.find(static_cast<int>(v));
     if (uses[v].kind == Kind::kRaw) {
+      if (filter != filters.end())
+        throw GltfError("meshopt: buffer view " + std::to_string(v) +
+                        " is filtered but cannot be compressed");
       jv["byteOffset"] = bin.size();
       bin.append(reinterpret_cast<const char*>(data), view.byteLength);
       continue;
@@ -168,6 +174,7 @@ std::string encode_meshopt_glb(tinygltf::Model& model) {
                                                {"byteStride", uses[v].stride},
                                                {"count", uses[v].count},
                                                {"mode", mode}};
+    if (filter != filters.end()) jv["extensions"][kMeshopt]["filter"] = filter->second;
     bin += enc;
     jv["buffer"] = 1;
     jv["byteOffset"] = fallback;

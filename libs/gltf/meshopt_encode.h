@@ -1,6 +1,7 @@
 // Private to libs/gltf: a built tinygltf model -> GLB bytes with EXT_meshopt_compression.
 #pragma once
 
+#include <map>
 #include <string>
 
 namespace tinygltf {
@@ -14,7 +15,8 @@ namespace sylva::gltf::detail {
 // INDICES: the index sequence codec for lines and points) into buffer 0, the GLB's binary chunk;
 // the views themselves move to buffer 1, a fallback buffer without data
 // ({"fallback": true}), so the extension is required. Image views stay uncompressed in buffer 0.
-// Deterministic. Throws GltfError.
-std::string encode_meshopt_glb(tinygltf::Model& model);
+// `filters` names the meshopt filter of views whose bytes are already filtered (view index ->
+// "OCTAHEDRAL", ...); such a view must be compressed. Deterministic. Throws GltfError.
+std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters = {});
 
 }  // namespace sylva::gltf::detail

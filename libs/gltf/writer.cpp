@@ -8,9 +8,11 @@
 // implementation: no sylva translation unit defines TINYGLTF_IMPLEMENTATION.
 #include "libs/gltf/writer.h"
 
+#include <meshoptimizer.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -27,6 +29,30 @@ namespace {
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
 constexpr const char* kUnlit = "KHR_materials_unlit";
 constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+constexpr const char* kQuantization = "KHR_mesh_quantization";
+constexpr const char* kTextureTransform = "KHR_texture_transform";
+
+// v in [0, 1] on the grid of `bits`-bit steps inside a `to`-bit normalized integer: k * 2^(to -
+// bits) with k = meshopt_quantizeUnorm(v * (2^to - 1) / (2^to - 2^(to - bits)), bits), so the low
+// bits are zero (the codecs compress them away) and the integer decodes to within half a
+// `bits`-bit step of v (within one step for v in the top step, which clamps to the largest k).
+unsigned on_grid(float v, int bits, int to) {
+  if (bits >= to) return unsigned(meshopt_quantizeUnorm(v, to));
+  const double full = double((1u << to) - 1), top = double((1u << to) - (1u << (to - bits)));
+  return unsigned(meshopt_quantizeUnorm(float(double(v) * full / top), bits)) << (to - bits);
+}
+
+// v rotated by the unit quaternion r (xyzw).
+std::array<double, 3> rotate(const std::array<double, 4>& r, const std::array<double, 3>& v) {
+  const std::array<double, 3> u{r[0], r[1], r[2]};
+  auto cross = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::array<double, 3>{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                 a[0] * b[1] - a[1] * b[0]};
+  };
+  const std::array<double, 3> c1 = cross(u, v), c2 = cross(u, c1);
+  return {v[0] + 2 * (r[3] * c1[0] + c2[0]), v[1] + 2 * (r[3] * c1[1] + c2[1]),
+          v[2] + 2 * (r[3] * c1[2] + c2[2])};
+}
 
 tinygltf::Value to_value(const nlohmann::json& j) {
   switch (j.type()) {
@@ -59,6 +85,13 @@ tinygltf::Value to_value(const nlohmann::json& j) {
 }
 
 class ModelBuilder {
+  // A mesh's position grid (QuantizeOptions::position_bits); bits 0 = FLOAT positions.
+  struct Grid {
+    int bits = 0;
+    std::array<double, 3> lo{0, 0, 0};
+    double extent = 0, step = 1;
+  };
+
  public:
   ModelBuilder(const Scene& scene, const WriteOptions& options) : s_(scene), o_(options) {}
 
@@ -71,14 +104,19 @@ class ModelBuilder {
     external_ = o_.format == FileFormat::kGltfExternal;
     data_.resize(external_ ? std::max<std::size_t>(1, s_.buffer_uris.size()) : 1);
     prune();
-    for (int i : used_materials_) m_.materials.push_back(material(s_.materials[std::size_t(i)]));
-    for (const Mesh& mesh : s_.meshes) {
+    plan_grids();
+    for (int i : used_materials_)
+      m_.materials.push_back(material(s_.materials[std::size_t(i)], std::size_t(i)));
+    for (std::size_t i = 0; i < s_.meshes.size(); ++i) {
+      const Mesh& mesh = s_.meshes[i];
       buffer_ = external_ ? mesh.buffer : 0;
+      mesh_index_ = i;
       m_.meshes.push_back(this->mesh(mesh));
     }
-    for (const Node& n : s_.nodes) {
+    for (std::size_t i = 0; i < s_.nodes.size(); ++i) {
+      const Node& n = s_.nodes[i];
       buffer_ = external_ && n.mesh >= 0 ? s_.meshes[std::size_t(n.mesh)].buffer : 0;
-      m_.nodes.push_back(node(n));
+      m_.nodes.push_back(node(n, i));
     }
     tinygltf::Scene scene;
     scene.nodes = s_.roots;
@@ -132,6 +170,8 @@ class ModelBuilder {
 
   // kGltfExternal: (uri, bytes) of every buffer in order, then of every image file.
   std::vector<EncodedFile> take_resources() { return std::move(resources_); }
+  // The meshopt filter of each view whose bytes are filtered (octahedral normals).
+  const std::map<int, std::string>& view_filters() const { return filters_; }
   const std::vector<std::size_t>& buffer_sizes() const { return buffer_sizes_; }
 
  private:
@@ -156,6 +196,201 @@ class ModelBuilder {
         image_index_[i] = static_cast<int>(used_images_.size());
         used_images_.push_back(static_cast<int>(i));
       }
+  }
+
+  // Quantisation: checks the options and chooses each mesh's position grid (QuantizeOptions).
+  void plan_grids() {
+    grids_.assign(s_.meshes.size(), Grid{});
+    parent_.assign(s_.nodes.size(), -1);
+    for (std::size_t n = 0; n < s_.nodes.size(); ++n)
+      for (int c : s_.nodes[n].children)
+        if (c >= 0 && std::size_t(c) < s_.nodes.size()) parent_[std::size_t(c)] = static_cast<int>(n);
+    quantize_ = o_.quantize.enabled && !o_.draco.enabled;
+    if (!quantize_) return;
+    const QuantizeOptions& q = o_.quantize;
+    for (const auto& [name, bits] : {std::pair<const char*, int>{"normal_bits", q.normal_bits},
+                                     {"texcoord_bits", q.texcoord_bits},
+                                     {"color_bits", q.color_bits}})
+      if (bits < 1 || bits > 16)
+        throw GltfError(std::string("quantize.") + name + " is " + std::to_string(bits) + ", expected 1..16");
+    // Materials whose textures can take the uv grid through KHR_texture_transform: textured, and
+    // every primitive drawn with them has uvs in [0, 1].
+    uv_grid_.assign(s_.materials.size(), 0);
+    for (std::size_t i = 0; i < s_.materials.size(); ++i)
+      uv_grid_[i] =
+          s_.materials[i].base_color_texture.image >= 0 || s_.materials[i].normal_texture.image >= 0;
+    for (const Mesh& mesh : s_.meshes)
+      for (const Primitive& p : mesh.primitives)
+        if (p.material >= 0 && !p.texcoords.empty() && !in_unit_range(p.texcoords))
+          uv_grid_[std::size_t(p.material)] = 0;
+    std::vector<char> instanced(s_.meshes.size(), 0);
+    for (const Node& n : s_.nodes)
+      if (n.mesh >= 0 && !n.instances.empty()) instanced[std::size_t(n.mesh)] = 1;
+    for (std::size_t m = 0; m < s_.meshes.size() && m < q.position_bits.size(); ++m) {
+      const int bits = q.position_bits[m];
+      if (bits < 0 || bits > 16)
+        throw GltfError("quantize.position_bits[" + std::to_string(m) + "] is " + std::to_string(bits) +
+                        ", expected 0..16");
+      if (bits == 0 || instanced[m]) continue;
+      Grid g;
+      g.bits = bits;
+      std::array<double, 3> hi{};
+      g.lo.fill(std::numeric_limits<double>::infinity());
+      hi.fill(-std::numeric_limits<double>::infinity());
+      for (const Primitive& p : s_.meshes[m].primitives)
+        for (std::size_t i = 0; i < p.positions.size(); ++i) {
+          g.lo[i % 3] = std::min<double>(g.lo[i % 3], p.positions[i]);
+          hi[i % 3] = std::max<double>(hi[i % 3], p.positions[i]);
+        }
+      for (int c = 0; c < 3; ++c) g.extent = std::max(g.extent, hi[std::size_t(c)] - g.lo[std::size_t(c)]);
+      g.step = g.extent > 0 ? g.extent / double((1u << bits) - 1) : 1.0;
+      grids_[m] = g;
+    }
+  }
+
+  void mark_quantized() {
+    used_.insert(kQuantization);
+    required_.insert(kQuantization);
+  }
+
+  // An integer vertex attribute: `bytes` holds count elements of `stride` bytes.
+  int integer_attribute(const void* bytes, std::size_t count, std::size_t stride, int component_type,
+                        int components, bool normalized) {
+    const int view = add_view(bytes, count * stride, TINYGLTF_TARGET_ARRAY_BUFFER);
+    m_.bufferViews[std::size_t(view)].byteStride = stride;
+    tinygltf::Accessor a;
+    a.bufferView = view;
+    a.componentType = component_type;
+    a.type = type_for(components);
+    a.count = count;
+    a.normalized = normalized;
+    m_.accessors.push_back(a);
+    mark_quantized();
+    return static_cast<int>(m_.accessors.size() - 1);
+  }
+
+  // POSITION on the mesh's grid: UNSIGNED_SHORT xyz + 2 padding bytes, with integer min/max.
+  int quantized_positions(const std::vector<float>& v, const Grid& g) {
+    const std::size_t n = v.size() / 3;
+    std::vector<std::uint16_t> q(n * 4, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double t = g.extent > 0 ? (double(v[i * 3 + c]) - g.lo[c]) / g.extent : 0.0;
+        q[i * 4 + c] = static_cast<std::uint16_t>(meshopt_quantizeUnorm(float(t), g.bits));
+      }
+    const int acc = integer_attribute(q.data(), n, 8, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 3, false);
+    tinygltf::Accessor& a = m_.accessors[std::size_t(acc)];
+    a.minValues.assign(3, std::numeric_limits<double>::infinity());
+    a.maxValues.assign(3, -std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < 3; ++c) {
+        a.minValues[c] = std::min<double>(a.minValues[c], q[i * 4 + c]);
+        a.maxValues[c] = std::max<double>(a.maxValues[c], q[i * 4 + c]);
+      }
+    return acc;
+  }
+
+  // FLOAT POSITION through the EXPONENTIAL filter with the fewest mantissa bits that keep every
+  // vertex within max_error (QuantizeOptions::float_position_error); min/max of what decodes.
+  int exponential_positions(const std::vector<float>& v, double max_error) {
+    const std::size_t n = v.size() / 3;
+    std::vector<unsigned char> encoded(n * 12);
+    auto decodes_within = [&](int bits) {
+      meshopt_encodeFilterExp(encoded.data(), n, 12, bits, v.data());
+      std::vector<unsigned char> decoded = encoded;
+      meshopt_decodeFilterExp(decoded.data(), n, 12);
+      const float* d = reinterpret_cast<const float*>(decoded.data());
+      for (std::size_t i = 0; i < n; ++i) {
+        double e2 = 0;
+        for (std::size_t c = 0; c < 3; ++c)
+          e2 += (double(d[i * 3 + c]) - v[i * 3 + c]) * (double(d[i * 3 + c]) - v[i * 3 + c]);
+        if (std::sqrt(e2) > max_error) return false;
+      }
+      return true;
+    };
+    int lo = 1, hi = 24;  // 24 bits keep a float's whole mantissa
+    while (lo < hi) {
+      const int mid = (lo + hi) / 2;
+      if (decodes_within(mid)) {
+        hi = mid;
+      } else {
+        lo = mid + 1;
+      }
+    }
+    meshopt_encodeFilterExp(encoded.data(), n, 12, lo, v.data());
+    std::vector<float> decoded(n * 3);
+    std::memcpy(decoded.data(), encoded.data(), encoded.size());
+    meshopt_decodeFilterExp(decoded.data(), n, 12);
+    const int view = add_view(encoded.data(), encoded.size(), TINYGLTF_TARGET_ARRAY_BUFFER);
+    m_.bufferViews[std::size_t(view)].byteStride = 12;
+    filters_[view] = "EXPONENTIAL";
+    return float_accessor(decoded, 3, n, view, true);
+  }
+
+  // NORMAL: octahedral through meshopt's filter when the file is meshopt-compressed, else
+  // per-component snorm; BYTE or SHORT normalized VEC3 padded to 4 components.
+  int quantized_normals(const std::vector<float>& v) {
+    const int bits = o_.quantize.normal_bits;
+    const bool wide = bits > 8;
+    const std::size_t n = v.size() / 3, stride = wide ? 8 : 4;
+    std::vector<unsigned char> out(n * stride, 0);
+    if (o_.meshopt) {
+      std::vector<float> v4(n * 4, 0.f);
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < 3; ++c) v4[i * 4 + c] = v[i * 3 + c];
+      meshopt_encodeFilterOct(out.data(), n, stride, bits, v4.data());
+    } else {
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < 3; ++c) {
+          if (wide) {
+            const auto k = static_cast<std::int16_t>(meshopt_quantizeSnorm(v[i * 3 + c], 16));
+            std::memcpy(out.data() + i * 8 + c * 2, &k, 2);
+          } else {
+            out[i * 4 + c] =
+                static_cast<unsigned char>(static_cast<std::int8_t>(meshopt_quantizeSnorm(v[i * 3 + c], 8)));
+          }
+        }
+    }
+    const int acc = integer_attribute(
+        out.data(), n, stride, wide ? TINYGLTF_COMPONENT_TYPE_SHORT : TINYGLTF_COMPONENT_TYPE_BYTE, 3, true);
+    if (o_.meshopt) filters_[m_.accessors[std::size_t(acc)].bufferView] = "OCTAHEDRAL";
+    return acc;
+  }
+
+  // TEXCOORD_0 of a material with a uv grid: UNSIGNED_SHORT normalized k = meshopt_quantizeUnorm(uv,
+  // B), which the material's KHR_texture_transform scales from k / 65535 to k / (2^B - 1).
+  int grid_texcoords(const std::vector<float>& v) {
+    const int bits = o_.quantize.texcoord_bits;
+    std::vector<std::uint16_t> q(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i)
+      q[i] = static_cast<std::uint16_t>(meshopt_quantizeUnorm(v[i], bits));
+    return integer_attribute(q.data(), v.size() / 2, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, 2, true);
+  }
+
+  // Unsigned normalized values in [0, 1] (texcoords, colours): `bits` bits widened to 8 or 16.
+  int quantized_unorm(const std::vector<float>& v, int components, int bits, bool allow_byte) {
+    const std::size_t n = v.size() / std::size_t(components);
+    const bool byte = allow_byte && bits <= 8;
+    const std::size_t stride = (std::size_t(components) * (byte ? 1 : 2) + 3) / 4 * 4;
+    std::vector<unsigned char> out(n * stride, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t c = 0; c < std::size_t(components); ++c) {
+        const unsigned k = on_grid(v[i * std::size_t(components) + c], bits, byte ? 8 : 16);
+        if (byte) {
+          out[i * stride + c] = static_cast<unsigned char>(k);
+        } else {
+          const auto k16 = static_cast<std::uint16_t>(k);
+          std::memcpy(out.data() + i * stride + c * 2, &k16, 2);
+        }
+      }
+    return integer_attribute(
+        out.data(), n, stride,
+        byte ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE : TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, components,
+        true);
+  }
+
+  static bool in_unit_range(const std::vector<float>& v) {
+    return std::all_of(v.begin(), v.end(), [](float x) { return x >= 0.f && x <= 1.f; });
   }
 
   // Appends bytes at a 4-byte aligned offset of the current buffer; returns the view index.
@@ -242,11 +477,27 @@ class ModelBuilder {
   tinygltf::Primitive plain_primitive(const Primitive& p) {
     tinygltf::Primitive out;
     const int t = TINYGLTF_TARGET_ARRAY_BUFFER;
-    out.attributes["POSITION"] = float_attribute(p.positions, 3, true, t);
-    if (!p.normals.empty()) out.attributes["NORMAL"] = float_attribute(p.normals, 3, false, t);
+    const Grid& grid = grids_[mesh_index_];
+    const double float_error =
+        quantize_ && o_.meshopt && mesh_index_ < o_.quantize.float_position_error.size()
+            ? o_.quantize.float_position_error[mesh_index_]
+            : 0.0;
+    out.attributes["POSITION"] = grid.bits > 0     ? quantized_positions(p.positions, grid)
+                                 : float_error > 0 ? exponential_positions(p.positions, float_error)
+                                                   : float_attribute(p.positions, 3, true, t);
+    if (!p.normals.empty())
+      out.attributes["NORMAL"] =
+          quantize_ ? quantized_normals(p.normals) : float_attribute(p.normals, 3, false, t);
     if (writes_tangents(p)) out.attributes["TANGENT"] = float_attribute(p.tangents, 4, false, t);
-    if (!p.texcoords.empty()) out.attributes["TEXCOORD_0"] = float_attribute(p.texcoords, 2, false, t);
-    if (!p.colors.empty()) out.attributes["COLOR_0"] = float_attribute(p.colors, 4, false, t);
+    if (!p.texcoords.empty())
+      out.attributes["TEXCOORD_0"] = quantize_ && p.material >= 0 && uv_grid_[std::size_t(p.material)]
+                                         ? grid_texcoords(p.texcoords)
+                                     : quantize_ && in_unit_range(p.texcoords)
+                                         ? quantized_unorm(p.texcoords, 2, o_.quantize.texcoord_bits, false)
+                                         : float_attribute(p.texcoords, 2, false, t);
+    if (!p.colors.empty())
+      out.attributes["COLOR_0"] = quantize_ ? quantized_unorm(p.colors, 4, o_.quantize.color_bits, true)
+                                            : float_attribute(p.colors, 4, false, t);
     for (const CustomAttribute* a : sorted_custom(p)) out.attributes[a->name] = float_attribute(a->values, a->components, false, t);
     if (!p.indices.empty()) out.indices = index_accessor(p.indices, p.vertex_count());
     return out;
@@ -336,7 +587,7 @@ class ModelBuilder {
     return tit->second;
   }
 
-  tinygltf::Material material(const Material& in) {
+  tinygltf::Material material(const Material& in, std::size_t index) {
     tinygltf::Material out;
     out.name = in.name;
     out.pbrMetallicRoughness.baseColorFactor.assign(in.base_color.begin(), in.base_color.end());
@@ -345,6 +596,20 @@ class ModelBuilder {
     if (in.base_color_texture.image >= 0)
       out.pbrMetallicRoughness.baseColorTexture.index = texture(in.base_color_texture);
     if (in.normal_texture.image >= 0) out.normalTexture.index = texture(in.normal_texture);
+    if (index < uv_grid_.size() && uv_grid_[index]) {
+      // The material's uvs are integers k / 65535 on the texcoord grid: scale them back to
+      // k / (2^B - 1) (QuantizeOptions::texcoord_bits).
+      const double scale = 65535.0 / double((1u << o_.quantize.texcoord_bits) - 1);
+      tinygltf::Value::Object t;
+      t.emplace("scale",
+                tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(scale), tinygltf::Value(scale)}));
+      const tinygltf::Value v(std::move(t));
+      if (in.base_color_texture.image >= 0)
+        out.pbrMetallicRoughness.baseColorTexture.extensions[kTextureTransform] = v;
+      if (in.normal_texture.image >= 0) out.normalTexture.extensions[kTextureTransform] = v;
+      used_.insert(kTextureTransform);
+      required_.insert(kTextureTransform);
+    }
     switch (in.alpha_mode) {
       case AlphaMode::kOpaque: out.alphaMode = "OPAQUE"; break;
       case AlphaMode::kMask: out.alphaMode = "MASK"; break;
@@ -362,14 +627,29 @@ class ModelBuilder {
     return out;
   }
 
-  tinygltf::Node node(const Node& in) {
+  // A node drawing a quantised mesh M gets M's dequantisation D = T(lo) S(step) after its own
+  // transform (L' = L D); a child of such a node gets D's inverse before its own (C' = D^-1 C),
+  // so world transforms of everything else are unchanged. Both stay TRS: the scale is uniform.
+  tinygltf::Node node(const Node& in, std::size_t index) {
     tinygltf::Node out;
     out.name = in.name;
     out.mesh = in.mesh;
     out.children = in.children;
-    if (in.translation != std::array<double, 3>{0, 0, 0}) out.translation.assign(in.translation.begin(), in.translation.end());
+    std::array<double, 3> t = in.translation, s = in.scale;
+    if (in.mesh >= 0 && grids_[std::size_t(in.mesh)].bits > 0) {
+      const Grid& g = grids_[std::size_t(in.mesh)];
+      const std::array<double, 3> o = rotate(in.rotation, {s[0] * g.lo[0], s[1] * g.lo[1], s[2] * g.lo[2]});
+      for (std::size_t c = 0; c < 3; ++c) t[c] += o[c], s[c] *= g.step;
+    }
+    const int parent = parent_[index];
+    const int parent_mesh = parent >= 0 ? s_.nodes[std::size_t(parent)].mesh : -1;
+    if (parent_mesh >= 0 && grids_[std::size_t(parent_mesh)].bits > 0) {
+      const Grid& g = grids_[std::size_t(parent_mesh)];
+      for (std::size_t c = 0; c < 3; ++c) t[c] = (t[c] - g.lo[c]) / g.step, s[c] /= g.step;
+    }
+    if (t != std::array<double, 3>{0, 0, 0}) out.translation.assign(t.begin(), t.end());
     if (in.rotation != std::array<double, 4>{0, 0, 0, 1}) out.rotation.assign(in.rotation.begin(), in.rotation.end());
-    if (in.scale != std::array<double, 3>{1, 1, 1}) out.scale.assign(in.scale.begin(), in.scale.end());
+    if (s != std::array<double, 3>{1, 1, 1}) out.scale.assign(s.begin(), s.end());
     if (!in.instances.empty()) {
       tinygltf::Value::Object attributes;
       auto add = [&](const char* name, const std::vector<float>& v, int comps) {
@@ -397,6 +677,12 @@ class ModelBuilder {
   const WriteOptions& o_;
   tinygltf::Model m_;
   bool external_ = false;
+  bool quantize_ = false;
+  std::size_t mesh_index_ = 0;  // the mesh being built
+  std::vector<Grid> grids_;     // per mesh
+  std::vector<int> parent_;     // per node, -1 = root
+  std::vector<char> uv_grid_;   // per material: its uvs on the texcoord grid (KHR_texture_transform)
+  std::map<int, std::string> filters_;
   int buffer_ = 0;                                // buffer the next view goes to
   std::vector<std::vector<unsigned char>> data_;  // per buffer
   std::vector<int> used_materials_, used_images_, material_index_, image_index_;
@@ -425,9 +711,10 @@ void encode_to(const Scene& scene, std::ostream& out, const WriteOptions& option
   check_scene(scene);
   if (options.meshopt && (options.format != FileFormat::kGlb || options.draco.enabled))
     throw GltfError("EXT_meshopt_compression is written to GLB files without Draco only");
-  tinygltf::Model model = ModelBuilder(scene, options).build();
+  ModelBuilder builder(scene, options);
+  tinygltf::Model model = builder.build();
   if (options.meshopt) {
-    const std::string bytes = detail::encode_meshopt_glb(model);
+    const std::string bytes = detail::encode_meshopt_glb(model, builder.view_filters());
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     return;
   }

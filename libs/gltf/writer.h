@@ -22,7 +22,10 @@
 //     primitive have no buffer view and count what the Draco decoder will return.
 //   - meshopt (EXT_meshopt_compression, required): every vertex attribute and index buffer view
 //     compressed with meshoptimizer's lossless codecs into the binary chunk, the views in a
-//     fallback buffer without data; images stay uncompressed. Values decode bit for bit.
+//     fallback buffer without data; images stay uncompressed. Values decode bit for bit (with
+//     quantisation: to the quantised values; octahedral normals through the OCTAHEDRAL filter).
+//   - Quantisation (QuantizeOptions, KHR_mesh_quantization): integer attributes, each in its own
+//     view with a byteStride that is a multiple of 4; POSITION min/max are the integer bounds.
 #pragma once
 
 #include <filesystem>
@@ -54,12 +57,49 @@ struct DracoOptions {
   int compression_level = 7;  // 0 (fastest) .. 10 (smallest); Draco speed = 10 - level
 };
 
+// KHR_mesh_quantization (listed as required when used): attributes written as small integers
+// with meshoptimizer's quantisers instead of 32-bit floats. Ignored when Draco is enabled (Draco
+// quantises by its own bits). Tangents, custom and instancing attributes stay FLOAT.
+struct QuantizeOptions {
+  bool enabled = false;
+  // Per mesh (index into Scene::meshes): the bits B (1..16) of its POSITION grid; 0 or absent =
+  // FLOAT positions. lo = the minimum corner of all the mesh's positions, extent = the largest
+  // axis extent, step = extent / (2^B - 1) on every axis; POSITION is UNSIGNED_SHORT
+  // meshopt_quantizeUnorm((x - lo) / extent, B) (stride 8). Every node drawing the mesh gets
+  // translation lo and uniform scale step folded into its transform (its children the inverse),
+  // so world positions stay within step / 2 per axis of the input. A mesh drawn by an
+  // EXT_mesh_gpu_instancing node keeps FLOAT positions.
+  std::vector<int> position_bits;
+  // Per mesh, for meshes whose positions stay FLOAT (position_bits 0) in a meshopt file: the
+  // largest distance (m) a vertex may move. > 0: POSITION goes through meshoptimizer's EXPONENTIAL
+  // filter (meshopt_encodeFilterExp: per vertex a shared exponent and K-bit mantissas) with the
+  // fewest K (1..24) whose decoded positions are all within this distance of the input (measured
+  // by decoding); min/max are the decoded bounds. 0 or absent: exact floats.
+  std::vector<double> float_position_error;
+  // NORMAL, 1..16 bits: with meshopt octahedral (meshopt_encodeFilterOct, filter OCTAHEDRAL) in
+  // BYTE (<= 8 bits) or SHORT components; without, meshopt_quantizeSnorm to 8 (<= 8) or 16 bits.
+  // Normalized, stride 4 or 8.
+  int normal_bits = 8;
+  // TEXCOORD_0, 1..16 bits, UNSIGNED_SHORT normalized, when every coordinate is in [0, 1] (else
+  // FLOAT). A primitive whose material has a texture, and all of whose material's primitives
+  // have uvs in [0, 1], stores k = meshopt_quantizeUnorm(uv, B) and the material's texture
+  // references get KHR_texture_transform (required) with scale 65535 / (2^B - 1), so the uv read
+  // is k / (2^B - 1), within half a step (gltfpack's layout). Other uvs in [0, 1] (no texture) sit
+  // on a grid of B-bit steps with the low 16 - B bits zero (meshopt_quantizeUnorm to B bits,
+  // shifted): within half a B-bit step, one step in the top step (1.0 decodes as
+  // (2^16 - 2^(16-B)) / 65535, 0.99977 for B = 12).
+  int texcoord_bits = 12;
+  // COLOR_0, 1..16 bits: UNSIGNED_BYTE (<= 8) or UNSIGNED_SHORT normalized, on the shifted grid.
+  int color_bits = 8;
+};
+
 struct WriteOptions {
   FileFormat format = FileFormat::kGlb;
   DracoOptions draco;
   // EXT_meshopt_compression (meshopt_encode.h): kGlb only, not with Draco. Every attribute and
   // index view is compressed losslessly with meshoptimizer's codecs; the extension is required.
   bool meshopt = false;
+  QuantizeOptions quantize;
 };
 
 // The file's bytes (kGlb or kGltf; kGltfExternal throws: use encode_external). Throws GltfError.

@@ -14,9 +14,12 @@ std::string write_lod_json(const LodDescription& d) {
                       {"screen_coverage", l.screen_coverage},
                       {"triangles", l.triangles},
                       {"lines", l.lines},
-                      {"bytes", l.bytes}});
+                      {"bytes", l.bytes},
+                      {"position_bits", l.position_bits},
+                      {"position_error_m", l.position_error_m},
+                      {"position_float", l.position_float}});
   const nlohmann::json j = {{"format", "sylva-pack-lod"},
-                            {"version", 1},
+                            {"version", 2},
                             {"species", d.species},
                             {"chain", d.chain},
                             {"levels", std::move(levels)}};

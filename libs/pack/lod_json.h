@@ -1,10 +1,11 @@
 // <species>.lod.json (issue 14; docs/formats.md "Pack lod.json"): the engine-neutral description
 // of a species' shipped LOD chain, for engines that do not read MSFT_lod. One writer, here.
 //
-//   {"format": "sylva-pack-lod", "version": 1, "species": "oak", "chain": "oak.glb",
+//   {"format": "sylva-pack-lod", "version": 2, "species": "oak", "chain": "oak.glb",
 //    "levels": [{"file": "oak_lod0.glb", "epsilon_m": .., "pixel_error_px": ..,
 //                "switch_distance_m": .., "screen_coverage": .., "triangles": .., "lines": ..,
-//                "bytes": ..}, ...]}
+//                "bytes": .., "position_bits": .., "position_error_m": .., "position_float": ..},
+//               ...]}
 // Nearest level first. Level i is proven (at most pixel_error_px of image error) from its switch
 // distance on, and is drawn while the tree's bounding sphere covers at least screen_coverage of
 // the screen height (MSFT_screencoverage); nearer than level 0's switch distance no level is proven.
@@ -21,6 +22,13 @@ struct LodLevel {
   std::string file;
   double epsilon_m = 0, pixel_error_px = 0, switch_distance_m = 0, screen_coverage = 0;
   std::uint64_t triangles = 0, lines = 0, bytes = 0;
+  // KHR_mesh_quantization of the level's positions: the grid's bits (the largest over the
+  // level's meshes) and the largest rounding error in metres; position_float when some mesh
+  // keeps float positions (bits 0 when all do; their error is 0 when exact, else the EXPONENTIAL
+  // filter's bound).
+  int position_bits = 0;
+  double position_error_m = 0;
+  bool position_float = false;
 };
 
 struct LodDescription {

@@ -32,9 +32,11 @@ namespace {
 constexpr const char* kDraco = "KHR_draco_mesh_compression";
 constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
 constexpr const char* kUnlit = "KHR_materials_unlit";
+constexpr const char* kTextureTransform = "KHR_texture_transform";
 
 const std::set<std::string>& supported_required_extensions() {
-  static const std::set<std::string> s = {kDraco, kInstancing, kUnlit, "KHR_mesh_quantization"};
+  static const std::set<std::string> s = {kDraco, kInstancing, kUnlit, "KHR_mesh_quantization",
+                                          kTextureTransform};
   return s;
 }
 
@@ -42,8 +44,14 @@ const std::set<std::string>& supported_required_extensions() {
 // Any other extension a file uses is drawn without its effect, with a warning
 // (Scene::warnings; issue 15: KHR_texture_transform used to be ignored silently).
 const std::set<std::string>& understood_extensions() {
-  static const std::set<std::string> s = {kDraco, kInstancing, kUnlit, "KHR_mesh_quantization", "MSFT_lod",
-                                          "MSFT_texture_dds", "KHR_materials_emissive_strength"};
+  static const std::set<std::string> s = {kDraco,
+                                          kInstancing,
+                                          kUnlit,
+                                          "KHR_mesh_quantization",
+                                          kTextureTransform,
+                                          "MSFT_lod",
+                                          "MSFT_texture_dds",
+                                          "KHR_materials_emissive_strength"};
   return s;
 }
 
@@ -214,6 +222,8 @@ class Loader {
         mat.base_color_texture = it->second;
       }
       texcoord_set_.push_back(gm.pbrMetallicRoughness.baseColorTexture.texCoord);
+      uv_transform_.push_back(
+          texture_transform(gm.pbrMetallicRoughness.baseColorTexture, texcoord_set_.back()));
       if (gm.alphaMode == "MASK") {
         mat.alpha_mode = AlphaMode::kMask;
       } else if (gm.alphaMode == "BLEND") {
@@ -224,6 +234,37 @@ class Loader {
       mat.unlit = gm.extensions.count(kUnlit) > 0;
       scene_.materials.push_back(std::move(mat));
     }
+  }
+
+  // KHR_texture_transform of a texture reference: uv' = offset + R(rotation) (scale * uv), the
+  // spec's translation * rotation * scale (rotation counter-clockwise: u' = c u - s v,
+  // v' = s u + c v); its texCoord replaces the reference's set.
+  struct UvTransform {
+    bool identity = true;
+    float offset[2] = {0, 0}, scale[2] = {1, 1}, rotation = 0;
+    Vec2 apply(Vec2 uv) const {
+      if (identity) return uv;
+      const float u = uv.x() * scale[0], v = uv.y() * scale[1], c = std::cos(rotation),
+                  s = std::sin(rotation);
+      return Vec2(offset[0] + c * u - s * v, offset[1] + s * u + c * v);
+    }
+  };
+  static UvTransform texture_transform(const tinygltf::TextureInfo& info, int& texcoord_set) {
+    UvTransform t;
+    const auto it = info.extensions.find(kTextureTransform);
+    if (it == info.extensions.end() || !it->second.IsObject()) return t;
+    const tinygltf::Value& e = it->second;
+    auto pair = [&](const char* key, float* out) {
+      if (!e.Has(key) || !e.Get(key).IsArray() || e.Get(key).ArrayLen() != 2) return;
+      for (int k = 0; k < 2; ++k) out[k] = float(e.Get(key).Get(k).GetNumberAsDouble());
+    };
+    pair("offset", t.offset);
+    pair("scale", t.scale);
+    if (e.Has("rotation") && e.Get("rotation").IsNumber())
+      t.rotation = float(e.Get("rotation").GetNumberAsDouble());
+    if (e.Has("texCoord") && e.Get("texCoord").IsInt()) texcoord_set = e.Get("texCoord").GetNumberAsInt();
+    t.identity = false;
+    return t;
   }
 
   // ---- 3. Accessors --------------------------------------------------------------------------
@@ -494,7 +535,9 @@ class Loader {
       if (auto uv = fetch(set)) {
         check(*uv, set, {2});
         p.texcoords.resize(n);
-        for (std::size_t i = 0; i < n; ++i) p.texcoords[i] = Vec2(uv->values[i * 2], uv->values[i * 2 + 1]);
+        const UvTransform& t = uv_transform_[std::size_t(p.material)];
+        for (std::size_t i = 0; i < n; ++i)
+          p.texcoords[i] = t.apply(Vec2(uv->values[i * 2], uv->values[i * 2 + 1]));
       }
     }
     if (auto col = fetch("COLOR_0")) {
@@ -647,6 +690,7 @@ class Loader {
   std::filesystem::path base_dir_;
   Scene scene_;
   std::vector<int> texcoord_set_;        // per material: TEXCOORD_n of the base colour texture
+  std::vector<UvTransform> uv_transform_;  // per material: of the base colour texture
   std::map<int, std::size_t> mesh_slot_;  // glTF mesh -> Scene::meshes index
 };
 

@@ -10,6 +10,8 @@
 //    attribute _SIZE (SCALAR float: point diameter in metres, local space);
 //  - KHR_draco_mesh_compression primitives, decoded with the Draco library;
 //  - KHR_mesh_quantization (integer and normalized accessors of any component type);
+//  - KHR_texture_transform on the base colour texture (offset, rotation, scale, texCoord), applied
+//    to the texture coordinates at load;
 //  - materials: pbrMetallicRoughness.baseColorFactor and baseColorTexture (with its sampler),
 //    alphaMode / alphaCutoff, doubleSided, KHR_materials_unlit.
 //

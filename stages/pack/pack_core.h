@@ -21,7 +21,28 @@ enum class Compression { kNone, kMeshopt, kDraco };
 struct PackOptions {
   Compression compression = Compression::kMeshopt;
   bool optimize = true;
+  // KHR_mesh_quantization (not with Draco, which quantises itself): each level's positions on
+  // the coarsest grid whose rounding error (sqrt(3)/2 of a step) is at most position_error x the
+  // level's epsilon, so the quantised level stays within a fraction of the error the lod stage
+  // proved; a level that would need more than 16 bits keeps float positions, with meshopt
+  // through its EXPONENTIAL filter within the same bound (gltf::QuantizeOptions::
+  // float_position_error). Normals octahedral
+  // with normal_bits, uvs in [0, 1] with texcoord_bits (gltf::QuantizeOptions).
+  bool quantize = true;
+  double position_error = 0.25;  // (0, 1]
+  int normal_bits = 8;           // 1..16
+  int texcoord_bits = 12;        // 1..16
 };
+
+// The position grid for a mesh at a level of spatial error `epsilon` (m): the fewest bits B
+// (1..16) whose step extent / (2^B - 1) rounds every coordinate by at most
+// sqrt(3)/2 step <= fraction x epsilon, extent the mesh's largest axis extent; 0 when 16 bits
+// are not enough (or epsilon <= 0). max_error_m is sqrt(3)/2 step (0 for float positions).
+struct PositionGrid {
+  int bits = 0;
+  double max_error_m = 0;
+};
+PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction);
 
 // One output file and the input files it was made from (names in the lod artifact).
 struct PackedFile {

@@ -5,7 +5,7 @@ namespace sylva {
 StageInfo pack_stage_info() {
   StageInfo info;
   info.name = "pack";
-  info.version = 1;
+  info.version = 3;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB, one GLB per level and lod.json, "
       "compressed; manifest.json";
@@ -17,10 +17,19 @@ StageInfo pack_stage_info() {
           .items(1, std::nullopt)
           .describe("the species name of each input, in `needs` order ([a-z0-9_-]+, unique): file names"),
       Param::choice("compression", {"none", "meshopt", "draco"}, "meshopt")
-          .describe(
-              "geometry compression: EXT_meshopt_compression (lossless), KHR_draco_mesh_compression or none"),
+          .describe("geometry compression: EXT_meshopt_compression, KHR_draco_mesh_compression or none"),
       Param::boolean("optimize", true)
           .describe("reorder every mesh for vertex cache, overdraw and vertex fetch (meshoptimizer)"),
+      Param::boolean("quantize", true)
+          .describe("KHR_mesh_quantization: integer positions (grid from each level's epsilon), octahedral "
+                    "normals, 16-bit uvs (not with draco)"),
+      Param::real("position_error", 0.25)
+          .range(0.001, 1)
+          .describe("largest position rounding error, as a fraction of each level's epsilon_m"),
+      Param::integer("normal_bits", 8).range(4, 16).describe("bits per octahedral normal component"),
+      Param::integer("texcoord_bits", 12)
+          .range(8, 16)
+          .describe("bits per texture coordinate (uvs in [0, 1])"),
   };
   return info;
 }

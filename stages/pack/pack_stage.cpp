@@ -31,6 +31,10 @@ class PackStage : public Stage {
                           : c == "draco" ? pack::Compression::kDraco
                                          : pack::Compression::kMeshopt;
     options.optimize = ctx.boolean("optimize");
+    options.quantize = ctx.boolean("quantize");
+    options.position_error = ctx.real("position_error");
+    options.normal_bits = static_cast<int>(ctx.integer("normal_bits"));
+    options.texcoord_bits = static_cast<int>(ctx.integer("texcoord_bits"));
 
     static const std::regex kName("[a-z0-9_-]+");
     std::set<std::string> seen;

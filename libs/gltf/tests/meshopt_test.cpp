@@ -196,5 +196,191 @@ TEST(GltfOptimize, SameTrianglesBetterCacheAndFetchOrder) {
   EXPECT_EQ(lines.colors.size(), 160u);
 }
 
+// KHR_mesh_quantization (QuantizeOptions): the integers decode, through the node's transform,
+// to within half a grid step of every input position; uvs and normals within their bits; the
+// extension is required; with meshopt the normals go through the OCTAHEDRAL filter; every file
+// is validator-clean.
+template <typename T>
+T read_at(const std::string& bin, std::size_t at) {
+  T v;
+  std::memcpy(&v, bin.data() + at, sizeof(T));
+  return v;
+}
+
+TEST(GltfQuantize, PositionsOnTheMeshGridNormalsAndUvs) {
+  Scene s = sample(20);
+  for (auto& prim : s.meshes[0].primitives)
+    for (float& p : prim.positions) p = 3.f * p - 1.f;
+  double extent = 0;  // the largest axis extent over both primitives
+  for (std::size_t c = 0; c < 3; ++c) {
+    double lo = 1e9, hi = -1e9;
+    for (const auto& prim : s.meshes[0].primitives)
+      for (std::size_t i = c; i < prim.positions.size(); i += 3)
+        lo = std::min<double>(lo, prim.positions[i]), hi = std::max<double>(hi, prim.positions[i]);
+    extent = std::max(extent, hi - lo);
+  }
+  WriteOptions o;
+  o.quantize.enabled = true;
+  o.quantize.position_bits = {10};
+  o.quantize.texcoord_bits = 12;
+  const std::string bytes = encode(s, o);
+  const Glb g = parse_glb(bytes);
+  EXPECT_EQ(g.json["extensionsRequired"], nlohmann::json::array({"KHR_mesh_quantization"}));
+  const auto& node = g.json["nodes"][0];
+  const double step = node["scale"][0];
+  EXPECT_DOUBLE_EQ(step, extent / 1023.0);
+  EXPECT_EQ(node["scale"], nlohmann::json::array({step, step, step}));
+  const Primitive& in = s.meshes[0].primitives[0];
+  const auto& prim = g.json["meshes"][0]["primitives"][0];
+  const auto& pos = g.json["accessors"][std::size_t(prim["attributes"]["POSITION"])];
+  EXPECT_EQ(pos["componentType"], 5123);  // UNSIGNED_SHORT
+  EXPECT_FALSE(pos.value("normalized", false));
+  const auto& view = g.json["bufferViews"][std::size_t(pos["bufferView"])];
+  EXPECT_EQ(view["byteStride"], 8);
+  double worst = 0;
+  for (std::size_t i = 0; i < in.vertex_count(); ++i)
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double q =
+          read_at<std::uint16_t>(g.bin, std::size_t(view.value("byteOffset", 0)) + i * 8 + c * 2);
+      const double x = double(node["translation"][c]) + q * step;
+      worst = std::max(worst, std::abs(x - in.positions[i * 3 + c]));
+    }
+  EXPECT_LE(worst, step / 2 * 1.0001);
+  EXPECT_GT(worst, step / 10);  // really on the grid
+  const auto& uv = g.json["accessors"][std::size_t(prim["attributes"]["TEXCOORD_0"])];
+  EXPECT_EQ(uv["componentType"], 5123);
+  EXPECT_TRUE(uv["normalized"].get<bool>());
+  const auto& uv_view = g.json["bufferViews"][std::size_t(uv["bufferView"])];
+  for (std::size_t i = 0; i < in.vertex_count(); ++i)
+    for (std::size_t c = 0; c < 2; ++c) {
+      const double q =
+          read_at<std::uint16_t>(g.bin, std::size_t(uv_view.value("byteOffset", 0)) + i * 4 + c * 2);
+      EXPECT_EQ(int(q) % 16, 0);  // 12-bit grid, low bits zero
+      const double tol = in.texcoords[i * 2 + c] > 65520.0 / 65535 - 8.0 / 65535 ? 16.0 / 65535 : 8.0 / 65535;
+      EXPECT_NEAR(q / 65535.0, in.texcoords[i * 2 + c], tol * 1.0001) << i;
+    }
+  const auto& n = g.json["accessors"][std::size_t(prim["attributes"]["NORMAL"])];
+  EXPECT_EQ(n["componentType"], 5120);  // BYTE
+  EXPECT_TRUE(n["normalized"].get<bool>());
+  const auto& n_view = g.json["bufferViews"][std::size_t(n["bufferView"])];
+  EXPECT_EQ(read_at<std::int8_t>(g.bin, std::size_t(n_view.value("byteOffset", 0)) + 1), 127);  // (0, 1, 0)
+  // The line primitive's colours: UNSIGNED_BYTE normalized.
+  const auto& lines = g.json["meshes"][0]["primitives"][1];
+  EXPECT_EQ(g.json["accessors"][std::size_t(lines["attributes"]["COLOR_0"])]["componentType"], 5121);
+  test::TempDir dir;
+  test::write_file(dir / "q.glb", bytes);
+  SYLVA_EXPECT_VALID_GLTF(dir / "q.glb");
+
+  // meshopt: the same integers, normals octahedral through the filter.
+  o.meshopt = true;
+  const std::string packed = encode(s, o);
+  const Glb m = parse_glb(packed);
+  const auto& mn =
+      m.json["bufferViews"][std::size_t(n["bufferView"])]["extensions"]["EXT_meshopt_compression"];
+  EXPECT_EQ(mn["filter"], "OCTAHEDRAL");
+  EXPECT_EQ(m.json["extensionsRequired"],
+            nlohmann::json::array({"EXT_meshopt_compression", "KHR_mesh_quantization"}));
+  const auto& mp =
+      m.json["bufferViews"][std::size_t(pos["bufferView"])]["extensions"]["EXT_meshopt_compression"];
+  const std::size_t count = mp["count"];
+  std::string decoded(count * 8, '\0');
+  ASSERT_EQ(meshopt_decodeVertexBuffer(
+                decoded.data(), count, 8,
+                reinterpret_cast<const unsigned char*>(m.bin.data()) + std::size_t(mp["byteOffset"]),
+                mp["byteLength"]),
+            0);
+  EXPECT_TRUE(decoded == g.bin.substr(view.value("byteOffset", 0), decoded.size()));
+  test::write_file(dir / "m.glb", packed);
+  SYLVA_EXPECT_VALID_GLTF(dir / "m.glb");
+  // Fewer bytes than lossless meshopt of the float attributes (this regular grid compresses
+  // well as floats too; real trees: docs/performance.md).
+  WriteOptions lossless;
+  lossless.meshopt = true;
+  EXPECT_LT(packed.size(), encode(s, lossless).size());
+}
+
+TEST(GltfQuantize, ChildrenOfAQuantisedNodeKeepTheirPlace) {
+  Scene s = sample(4);
+  s.nodes[0].translation = {1, 2, 3};
+  Node child;
+  child.translation = {0.5, 0, 0};
+  s.nodes.push_back(child);
+  s.nodes[0].children = {1};
+  WriteOptions o;
+  o.quantize.enabled = true;
+  o.quantize.position_bits = {8};
+  const Glb g = parse_glb(encode(s, o));
+  const double step = g.json["nodes"][0]["scale"][0];
+  const auto& t0 = g.json["nodes"][0]["translation"];
+  const auto& t1 = g.json["nodes"][1]["translation"];
+  const auto& s1 = g.json["nodes"][1]["scale"];
+  // parent' * child' = parent * child: the child's world origin and scale are unchanged.
+  EXPECT_NEAR(double(t0[0]) + step * double(t1[0]), 1.5, 1e-9);
+  EXPECT_NEAR(double(t0[1]) + step * double(t1[1]), 2.0, 1e-9);
+  EXPECT_NEAR(step * double(s1[0]), 1.0, 1e-12);
+}
+
+TEST(GltfQuantize, RefusesBitsOutOfRange) {
+  WriteOptions o;
+  o.quantize.enabled = true;
+  o.quantize.position_bits = {17};
+  try {
+    encode(sample(2), o);
+    FAIL();
+  } catch (const GltfError& e) {
+    EXPECT_STREQ(e.what(), "quantize.position_bits[0] is 17, expected 0..16");
+  }
+  o.quantize.position_bits = {};
+  o.quantize.normal_bits = 0;
+  EXPECT_THROW(encode(sample(2), o), GltfError);
+}
+
+// Float positions within a bound: meshopt's EXPONENTIAL filter with the fewest mantissa bits that
+// keep every vertex within it (measured by decoding as a client does).
+TEST(GltfQuantize, FloatPositionsThroughTheExponentialFilterStayWithinTheBound) {
+  Scene s = sample(20);
+  for (auto& prim : s.meshes[0].primitives)
+    for (float& p : prim.positions) p = 30.f * p + 5.f;
+  WriteOptions o;
+  o.meshopt = true;
+  o.quantize.enabled = true;
+  o.quantize.float_position_error = {0.002};
+  const std::string bytes = encode(s, o);
+  const Glb g = parse_glb(bytes);
+  const auto& prim = g.json["meshes"][0]["primitives"][0];
+  const auto& pos = g.json["accessors"][std::size_t(prim["attributes"]["POSITION"])];
+  EXPECT_EQ(pos["componentType"], 5126);  // FLOAT
+  const auto& e =
+      g.json["bufferViews"][std::size_t(pos["bufferView"])]["extensions"]["EXT_meshopt_compression"];
+  EXPECT_EQ(e["filter"], "EXPONENTIAL");
+  const std::size_t count = e["count"];
+  std::vector<float> d(count * 3);
+  ASSERT_EQ(meshopt_decodeVertexBuffer(
+                d.data(), count, 12,
+                reinterpret_cast<const unsigned char*>(g.bin.data()) + std::size_t(e["byteOffset"]),
+                e["byteLength"]),
+            0);
+  meshopt_decodeFilterExp(d.data(), count, 12);
+  const Primitive& in = s.meshes[0].primitives[0];
+  double worst = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    double e2 = 0;
+    for (std::size_t c = 0; c < 3; ++c) e2 += std::pow(double(d[i * 3 + c]) - in.positions[i * 3 + c], 2);
+    worst = std::max(worst, std::sqrt(e2));
+  }
+  EXPECT_LE(worst, 0.002);
+  EXPECT_GT(worst, 0.0002);              // really reduced, not exact
+  for (std::size_t c = 0; c < 3; ++c) {  // min/max are the decoded bounds
+    float lo = 1e9f;
+    for (std::size_t i = 0; i < count; ++i) lo = std::min(lo, d[i * 3 + c]);
+    EXPECT_EQ(float(pos["min"][c]), lo);
+  }
+  test::TempDir dir;
+  test::write_file(dir / "e.glb", bytes);
+  SYLVA_EXPECT_VALID_GLTF(dir / "e.glb");
+  o.quantize.float_position_error = {};
+  EXPECT_LT(bytes.size(), encode(s, o).size());
+}
+
 }  // namespace
 }  // namespace sylva::gltf

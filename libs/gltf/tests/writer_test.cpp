@@ -312,7 +312,9 @@ TEST(GltfWriter, ExternalOutputRefusesBadBuffers) {
   s.buffer_uris = {"tree.bin"};
   s.meshes[0].buffer = 3;
   EXPECT_EQ(validate_scene(s).at(0), "meshes[0]: buffer 3 is not in buffer_uris");
-  EXPECT_THROW(encode(textured_scene(), WriteOptions{FileFormat::kGltfExternal, {}}), GltfError);
+  WriteOptions external;
+  external.format = FileFormat::kGltfExternal;
+  EXPECT_THROW(encode(textured_scene(), external), GltfError);
 }
 
 // Same scene, same bytes; no clock, no addresses.

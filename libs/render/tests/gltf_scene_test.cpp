@@ -9,6 +9,7 @@ namespace sylva::render {
 namespace {
 
 using testing::GltfBuilder;
+using testing::MaterialData;
 using testing::NodeData;
 using testing::PrimitiveData;
 
@@ -166,13 +167,46 @@ TEST(GltfScene, IgnoredExtensionsAreWarnedAbout) {
   test::TempDir dir;
   GltfBuilder b;
   b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f)})}));
-  b.model().extensionsUsed.push_back("KHR_texture_transform");
+  b.model().extensionsUsed.push_back("KHR_materials_clearcoat");
   b.model().extensionsUsed.push_back("KHR_materials_unlit");  // drawn: no warning
   b.write_glb(dir / "tt.glb");
   const Scene s = load_gltf_scene(dir / "tt.glb");
-  EXPECT_EQ(s.warnings, (std::vector<std::string>{(dir / "tt.glb").string() +
-                                                   ": warning: uses glTF extension 'KHR_texture_transform', which "
-                                                   "sylva's renderer ignores: the image may differ from other viewers'"}));
+  EXPECT_EQ(s.warnings,
+            (std::vector<std::string>{(dir / "tt.glb").string() +
+                                      ": warning: uses glTF extension 'KHR_materials_clearcoat', which "
+                                      "sylva's renderer ignores: the image may differ from other viewers'"}));
+}
+
+// KHR_texture_transform on the base colour texture: uv' = offset + R(rotation) (scale * uv).
+TEST(GltfScene, TextureTransformAppliesToTheBaseColourUvs) {
+  test::TempDir dir;
+  GltfBuilder b;
+  MaterialData m;
+  m.texture = b.add_texture(image::Image(2, 2, {255, 0, 0, 255}));
+  const int mat = b.add_material(m);
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, mat)})}));
+  tinygltf::Value::Object t;
+  t.emplace("offset", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.5), tinygltf::Value(0.25)}));
+  t.emplace("scale", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(2.0), tinygltf::Value(3.0)}));
+  t.emplace("rotation", tinygltf::Value(1.5707963267948966));
+  b.model()
+      .materials[std::size_t(mat)]
+      .pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+      tinygltf::Value(std::move(t));
+  b.model().extensionsUsed.push_back("KHR_texture_transform");
+  b.model().extensionsRequired.push_back("KHR_texture_transform");
+  b.write_glb(dir / "t.glb");
+  const Scene s = load_gltf_scene(dir / "t.glb");
+  EXPECT_TRUE(s.warnings.empty());
+  const PrimitiveData q = testing::quad(1.f, mat);
+  const Primitive& p = s.meshes.at(0).primitives.at(0);
+  ASSERT_EQ(p.texcoords.size(), q.texcoords.size());
+  for (std::size_t i = 0; i < q.texcoords.size(); ++i) {
+    // A quarter turn counter-clockwise: (u, v) -> (-v, u) after the scale.
+    const float u = 2 * q.texcoords[i].x(), v = 3 * q.texcoords[i].y();
+    EXPECT_NEAR(p.texcoords[i].x(), 0.5f - v, 1e-5f) << i;
+    EXPECT_NEAR(p.texcoords[i].y(), 0.25f + u, 1e-5f) << i;
+  }
 }
 
 TEST(GltfScene, InvalidContent) {
