@@ -12,15 +12,22 @@ namespace {
 
 using tree::Node;
 
-constexpr double kSnap = 0.1;  // parent_t within 10 % of a node snaps to it (Nystad's 10 % rule)
+constexpr double kSnap = 0.1;              // parent_t within 10 % of a node snaps to it (Nystad's 10 % rule)
 constexpr double kRadiusTolerance = 1e-3;  // relative; "equal" radii (the split case)
 constexpr double kMergeFraction = 0.02;    // rings closer than this many corner distances merge
+// A flat branch's ring corners stay this far above the first root's base: the generator keeps a
+// branch's axis 1.5 r + 2 cm above the ground (docs/stages/generate.md, "Ground"), but a flat
+// square section reaches 1.25 x the (clamped) meshing radius below its axis.
+constexpr double kFlatGroundClearance = 0.021;
+constexpr double kMaxFlatLift = 0.01;  // m
 
 // Where a child hangs on its parent's original polyline: node k, plus t for a virtual ring.
 struct Hang {
   std::uint32_t node = 0;
   double t = 0;  // 0: at the node; (kSnap, 1 - kSnap): virtual ring after node `node`
-  friend bool operator<(const Hang& a, const Hang& b) { return a.node != b.node ? a.node < b.node : a.t < b.t; }
+  friend bool operator<(const Hang& a, const Hang& b) {
+    return a.node != b.node ? a.node < b.node : a.t < b.t;
+  }
   friend bool operator==(const Hang& a, const Hang& b) = default;
 };
 
@@ -38,16 +45,16 @@ Node lerp(const Node& a, const Node& b, double t) {
 
 // Working state of one tree branch.
 struct Work {
-  std::int32_t skel = -1;        // skeleton index, -1 = not meshed
-  bool dropped = false;          // inside its parent: children re-attach to `drop_parent`
+  std::int32_t skel = -1;  // skeleton index, -1 = not meshed
+  bool dropped = false;    // inside its parent: children re-attach to `drop_parent`
   std::int32_t drop_parent = -1;
   std::uint32_t drop_ring = 0;
-  std::vector<Hang> inserts;     // virtual rings requested by children
+  std::vector<Hang> inserts;                 // virtual rings requested by children
   std::vector<std::pair<Hang, bool>> hangs;  // every meshed child: where, and whether it sits
                                              // on a box side (thinner than the continuation)
-  std::vector<std::uint32_t> node_ring;  // original node -> ring index with virtual rings
-  std::vector<std::uint32_t> collapsed;  // that index -> ring index after junction collapse
-  std::uint32_t ring_offset = 0;         // leading rings removed by the clearance rule
+  std::vector<std::uint32_t> node_ring;      // original node -> ring index with virtual rings
+  std::vector<std::uint32_t> collapsed;      // that index -> ring index after junction collapse
+  std::uint32_t ring_offset = 0;             // leading rings removed by the clearance rule
 };
 
 // Frames of the rings. Zhang et al.'s rule (eq. A1, as libs/tree/frames.h) propagates the normal,
@@ -60,7 +67,8 @@ std::vector<Frame> ring_frames(const std::vector<Node>& nodes, double corner_sca
                                Vec3 fallback_t) {
   const std::size_t n = nodes.size();
   std::vector<double> s(n, 0);
-  for (std::size_t i = 1; i < n; ++i) s[i] = s[i - 1] + tree::length(nodes[i].position - nodes[i - 1].position);
+  for (std::size_t i = 1; i < n; ++i)
+    s[i] = s[i - 1] + tree::length(nodes[i].position - nodes[i - 1].position);
   auto at = [&](double x) {
     x = std::clamp(x, 0.0, s.back());
     std::size_t j = static_cast<std::size_t>(std::upper_bound(s.begin(), s.end(), x) - s.begin());
@@ -110,9 +118,49 @@ std::uint32_t ring_index(const Work& w, const Hang& h) {
   std::uint32_t ring = w.node_ring[h.node];
   if (h.t > 0) {
     const auto it = std::lower_bound(w.inserts.begin(), w.inserts.end(), h);
-    ring += 1 + static_cast<std::uint32_t>(it - std::lower_bound(w.inserts.begin(), w.inserts.end(), Hang{h.node, 0}));
+    ring += 1 + static_cast<std::uint32_t>(
+                    it - std::lower_bound(w.inserts.begin(), w.inserts.end(), Hang{h.node, 0}));
   }
   return ring;
+}
+
+// Step 3b: which of `nodes` stay when rings without children are thinned (mesh_skeleton.h,
+// ring_tolerance). Greedy along the branch: a candidate is left out when the segment from the
+// last kept ring to the ring after the candidate passes within the tolerance of the candidate and
+// of every ring left out since that kept ring. At most kMaxRun rings in a row are left out, which
+// bounds the work per ring. Returns a keep flag per node.
+constexpr std::size_t kMaxRun = 32;
+constexpr double kRadiusFraction = 0.02;  // radius error allowed on thick branches (relative)
+constexpr double kThinRadius = 0.03;      // ... and on thin ones, as a fraction of the tolerance
+
+std::vector<char> thin_rings(const std::vector<Node>& nodes, const std::vector<char>& has, double tol) {
+  const std::size_t n = nodes.size();
+  std::vector<char> keep(n, 1);
+  if (!(tol > 0) || n < 3) return keep;
+  auto protected_ring = [&](std::size_t j) {
+    return j == 0 || j + 1 == n || has[j] || has[j - 1] || has[j + 1];
+  };
+  auto fits = [&](std::size_t a, std::size_t b, std::size_t j) {
+    const Vec3 d = nodes[b].position - nodes[a].position;
+    const double len2 = tree::dot(d, d);
+    const double t =
+        len2 > 0 ? std::clamp(tree::dot(nodes[j].position - nodes[a].position, d) / len2, 0.0, 1.0) : 0;
+    const Vec3 p = nodes[a].position + d * t;
+    if (tree::length(nodes[j].position - p) > tol) return false;
+    const double r = nodes[a].radius + (nodes[b].radius - nodes[a].radius) * t;
+    return std::abs(r - nodes[j].radius) <= std::max(kRadiusFraction * nodes[j].radius, kThinRadius * tol);
+  };
+  std::size_t anchor = 0;
+  for (std::size_t j = 1; j + 1 < n; ++j) {
+    bool drop = !protected_ring(j) && j - anchor <= kMaxRun;
+    for (std::size_t i = anchor + 1; drop && i <= j; ++i) drop = fits(anchor, j + 1, i);
+    if (drop) {
+      keep[j] = 0;
+    } else {
+      anchor = j;
+    }
+  }
+  return keep;
 }
 
 // Ring radii r^ whose cubic B-spline limit (r^_{k-1} + 4 r^_k + r^_{k+1}) / 6 is the skeleton's
@@ -176,11 +224,13 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
     const Hang h = hang_of(b, p);
     Work& pw = work[static_cast<std::size_t>(b.parent)];
     if (h.t > 0) pw.inserts.push_back(h);
-    const bool side = h.node + 1 < p.nodes.size() && b.nodes[0].radius < p.nodes[h.node + 1].radius * (1 - kRadiusTolerance);
+    const bool side = h.node + 1 < p.nodes.size() &&
+                      b.nodes[0].radius < p.nodes[h.node + 1].radius * (1 - kRadiusTolerance);
     pw.hangs.emplace_back(h, side);
   }
 
   const double r0 = std::max(tree.branches[0].nodes[0].radius, min_r);
+  const double ground_y = tree.branches[0].nodes[0].position.y;
   const double two_pi = 2 * std::numbers::pi;
   const auto v_per_metre = [&](double r) { return 1.0 / (two_pi * (0.2 * r0 + 0.8 * r)); };
   sk.v_unit = two_pi * r0;
@@ -199,11 +249,15 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
         parent_ring = pw.drop_ring;
       } else {
         parent = pw.skel;
-        const std::uint32_t ring = pw.collapsed[ring_index(pw, hang_of(b, tree.branches[static_cast<std::size_t>(b.parent)]))];
+        const std::uint32_t ring =
+            pw.collapsed[ring_index(pw, hang_of(b, tree.branches[static_cast<std::size_t>(b.parent)]))];
         parent_ring = ring >= pw.ring_offset ? ring - pw.ring_offset : 0;
       }
       if (parent < 0) continue;  // cannot happen for a valid tree; keep the mesher safe
     }
+
+    // Smooth (subdivided) unless thinner than smooth_min_radius.
+    const bool smooth = !(b.nodes[0].radius < options.smooth_min_radius);
 
     // 2.-3. Nodes with virtual rings, radii clamped.
     std::sort(w.inserts.begin(), w.inserts.end());
@@ -272,6 +326,24 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
         previous_has = has[j];
       }
       nodes = std::move(kept);
+      // 3b. Ring thinning: rings without children on a nearly straight, evenly tapering stretch.
+      if (!smooth && options.ring_tolerance > 0 && nodes.size() > 2) {
+        std::vector<char> has_kept(nodes.size(), 0);
+        for (const auto& hs : w.hangs) has_kept[w.collapsed[ring_index(w, hs.first)]] = 1;
+        const std::vector<char> keep = thin_rings(nodes, has_kept, options.ring_tolerance);
+        std::vector<std::uint32_t> remap(nodes.size(), 0);
+        std::vector<Node> thinned;
+        thinned.reserve(nodes.size());
+        for (std::size_t j = 0; j < nodes.size(); ++j) {
+          if (keep[j])
+            thinned.push_back(nodes[j]);
+          else
+            ++sk.stats.thinned_rings;
+          remap[j] = static_cast<std::uint32_t>(thinned.size() - 1);
+        }
+        for (std::uint32_t& c : w.collapsed) c = remap[c];
+        nodes = std::move(thinned);
+      }
     }
 
     std::vector<double> source_radius;
@@ -305,7 +377,9 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
           return normals[best];
         };
         auto required = [&](const Node& nd) { return face + 0.25 * k * nd.radius; };
-        auto clearance = [&](const Node& nd) { return tree::dot(nd.position - pr.center, facing(nd)) - required(nd); };
+        auto clearance = [&](const Node& nd) {
+          return tree::dot(nd.position - pr.center, facing(nd)) - required(nd);
+        };
         auto inside = [&](const Node& nd) { return clearance(nd) < 0; };
         std::size_t first = 0;
         while (first + 1 < nodes.size() && inside(nodes[first + 1])) ++first;
@@ -320,7 +394,8 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
         }
         if (first > 0) {
           nodes.erase(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(first));
-          source_radius.erase(source_radius.begin(), source_radius.begin() + static_cast<std::ptrdiff_t>(first));
+          source_radius.erase(source_radius.begin(),
+                              source_radius.begin() + static_cast<std::ptrdiff_t>(first));
           w.ring_offset = static_cast<std::uint32_t>(first);
           sk.stats.dropped_rings += first;
         }
@@ -328,8 +403,8 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
           if (nodes.size() > 1) {
             // Cut the child where its first segment leaves the box face (the clearance is
             // linear along the segment for a fixed face): the ring keeps the child's direction.
-            const double c0 = clearance(nodes[0]), c1 = tree::dot(nodes[1].position - pr.center, facing(nodes[0])) -
-                                                         required(nodes[1]);
+            const double c0 = clearance(nodes[0]),
+                         c1 = tree::dot(nodes[1].position - pr.center, facing(nodes[0])) - required(nodes[1]);
             const double t = c1 > c0 ? std::clamp(-c0 / (c1 - c0), 0.0, 1.0) : 1.0;
             nodes[0] = lerp(nodes[0], nodes[1], t);
             source_radius[0] += (source_radius[1] - source_radius[0]) * t;
@@ -373,14 +448,26 @@ MeshSkeleton build_skeleton(const tree::Tree& tree, const SkeletonOptions& optio
       f0.n = tree::normalized(n0);
       f0.b = tree::cross(f0.t, f0.n);
     }
-    if (options.compensate_smoothing) precompensate(nodes, min_r);
+    out.smooth = smooth;
+    if (out.smooth) {
+      if (options.compensate_smoothing) precompensate(nodes, min_r);
+    } else {
+      for (Node& nd : nodes) {
+        nd.radius *= options.rough_scale;
+        const double low = nd.position.y - k * nd.radius - (ground_y + kFlatGroundClearance);
+        // Lifted by the few millimetres the square section adds; a real skeleton that goes below
+        // the ground (imported trees) is left where it is.
+        if (low < 0 && low > -kMaxFlatLift) nd.position.y -= low;
+      }
+    }
 
     // 6. Texture v.
     out.rings.resize(nodes.size());
     double v = 0;
     if (parent >= 0) {
       const Ring& pr = sk.branches[static_cast<std::size_t>(parent)].rings[parent_ring];
-      v = pr.v + tree::length(nodes[0].position - pr.center) * v_per_metre(0.5 * (pr.radius + nodes[0].radius));
+      v = pr.v +
+          tree::length(nodes[0].position - pr.center) * v_per_metre(0.5 * (pr.radius + nodes[0].radius));
     }
     for (std::size_t j = 0; j < nodes.size(); ++j) {
       if (j > 0)

@@ -38,6 +38,8 @@
 //   6. v grows with arc length divided by 2*pi*(0.2 r0 + 0.8 r) (r0: radius of the first root's
 //      base), so one texture repeat is square on the trunk; a child continues the v of its
 //      attachment ring plus the length of the joint segment.
+//   3b. Ring thinning (SkeletonOptions::ring_tolerance): rings without a child whose removal
+//      keeps the branch's axis and radius within the tolerance are left out.
 //   7. A root's first ring is horizontal (frame t = +Y), so the foot stands flat on the ground
 //      plane through its base node; with compensate_smoothing the ring radii are pre-compensated
 //      for Catmull–Clark (SkeletonOptions).
@@ -64,30 +66,32 @@ class MeshError : public std::runtime_error {
 
 struct Ring {
   Vec3 center;
-  Frame frame;        // t: branch direction; n, b span the cross-section
-  double radius = 0;  // m, >= min_radius (the geometry)
+  Frame frame;               // t: branch direction; n, b span the cross-section
+  double radius = 0;         // m, >= min_radius (the geometry)
   double source_radius = 0;  // m, the tree's radius (orders segments in a joint; may be 0)
-  double v = 0;       // texture v at this ring (before the bark repeat factor)
+  double v = 0;              // texture v at this ring (before the bark repeat factor)
 };
 
 struct SkeletonBranch {
-  std::uint32_t source = 0;   // index into tree.branches
-  std::int32_t parent = -1;   // index into MeshSkeleton::branches, -1 for a root
+  std::uint32_t source = 0;       // index into tree.branches
+  std::int32_t parent = -1;       // index into MeshSkeleton::branches, -1 for a root
   std::uint32_t parent_ring = 0;  // ring of the parent it grows from
   std::uint32_t level = 0;
-  bool clone = false;         // same level as its parent (a split)
-  std::vector<Ring> rings;    // base to tip, >= 1
+  bool clone = false;       // same level as its parent (a split)
+  bool smooth = true;       // subdivided (SkeletonOptions::smooth_min_radius); else meshed flat
+  std::vector<Ring> rings;  // base to tip, >= 1
 };
 
 struct SkeletonStats {
-  std::size_t branches_in = 0;        // branches of the tree at levels <= max_level
-  std::size_t virtual_rings = 0;      // rings inserted at mid-segment attachments
+  std::size_t branches_in = 0;          // branches of the tree at levels <= max_level
+  std::size_t virtual_rings = 0;        // rings inserted at mid-segment attachments
   std::size_t collapsed_junctions = 0;  // attachment rings removed so the box centres on the child
-  std::size_t merged_rings = 0;       // rings within 2 % of their corner distance of the previous
-  std::size_t clamped_radii = 0;      // node radii raised to min_radius
-  std::size_t dropped_rings = 0;      // child rings inside the parent's joint box
-  std::size_t pushed_rings = 0;       // first child rings moved out of the joint box
-  std::size_t dropped_branches = 0;   // children entirely inside their parent
+  std::size_t merged_rings = 0;         // rings within 2 % of their corner distance of the previous
+  std::size_t clamped_radii = 0;        // node radii raised to min_radius
+  std::size_t dropped_rings = 0;        // child rings inside the parent's joint box
+  std::size_t pushed_rings = 0;         // first child rings moved out of the joint box
+  std::size_t dropped_branches = 0;     // children entirely inside their parent
+  std::size_t thinned_rings = 0;        // rings left out by ring_tolerance
 };
 
 struct MeshSkeleton {
@@ -101,15 +105,29 @@ struct MeshSkeleton {
 };
 
 struct SkeletonOptions {
-  int max_level = -1;          // highest branch level meshed; < 0 = all
-  std::vector<char> omit;      // per tree branch, 1 = not meshed (twigs their cards draw); empty = none
-  double min_radius = 0.001;   // m, > 0
-  double corner_scale = 1.0;   // ring corner distance / radius (joint clearance uses it)
+  int max_level = -1;         // highest branch level meshed; < 0 = all
+  std::vector<char> omit;     // per tree branch, 1 = not meshed (twigs their cards draw); empty = none
+  double min_radius = 0.001;  // m, > 0
+  double corner_scale = 1.0;  // ring corner distance / radius (joint clearance uses it)
   // Pre-compensate Catmull–Clark's smoothing along each branch (subdivision >= 1): ring radii r^
   // solve (r^_{k-1} + 4 r^_k + r^_{k+1}) / 6 = r_k, the cubic B-spline limit of the ring
   // sequence, with the first and last ring kept; so the limit surface passes through the
   // skeleton's radii (a flared trunk foot keeps its width).
   bool compensate_smoothing = false;
+  // Ring thinning of the branches that are not smooth (below) (m; 0 = keep every ring): a ring
+  // with no meshed child, not next to a ring with one and not a branch's first or last is left out while the
+  // straight segment between the kept rings around it passes within `ring_tolerance` of every left-out ring's
+  // centre and the radius interpolated along it is within max(2 % of the ring's, ring_tolerance / 10).
+  // Card-drawn twigs leave their parents' intermediate nodes (Nystad §4.2.2) without a child; on straight
+  // stretches so are the generator's spacing nodes.
+  double ring_tolerance = 0;
+  // Branches whose first node is thinner than this (m; 0 = none) are not smooth: the mesher
+  // leaves their quads unsubdivided (subdivision.h, subdivide_selected), so their rings get
+  // `rough_scale` × the radius (corner_scale_for_subdivision(0) / corner_scale) and no
+  // pre-compensation; a flat ring whose corners would come within 2.1 cm of the first root's
+  // base (the generator keeps axes 1.5 r + 2 cm above it) is lifted by those millimetres.
+  double smooth_min_radius = 0;
+  double rough_scale = 1;
 };
 
 // Builds the meshing skeleton. Throws MeshError for an empty tree or one that fails

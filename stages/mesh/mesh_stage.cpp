@@ -4,9 +4,8 @@
 #include "stages/mesh/mesh_stage.h"
 
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "libs/gltf/writer.h"
 #include "libs/tree/sylt_format.h"
@@ -48,8 +47,8 @@ class MeshStage final : public Stage {
       if (name.empty()) return t;
       const ArtifactFile* f = in.file(name);
       if (!f)
-        throw StageError(sylt->path.string() + ": the tree's " + what + " texture '" + name + "' is not a file of input '" +
-                         in.node + "'");
+        throw StageError(sylt->path.string() + ": the tree's " + what + " texture '" + name +
+                         "' is not a file of input '" + in.node + "'");
       t.bytes = read_bytes(f->path);
       return t;
     };
@@ -64,8 +63,11 @@ class MeshStage final : public Stage {
     o.foliage = ctx.boolean("foliage");
     o.mesh_card_twigs = ctx.boolean("mesh_card_twigs");
     o.min_radius = ctx.real("min_radius_m");
+    o.ring_tolerance = ctx.real("ring_tolerance");
+    o.smooth_radius = ctx.real("smooth_radius");
     o.bark_repeat = static_cast<int>(ctx.integer("bark_repeat"));
-    o.subdivider = ctx.string("subdivider") == "openmesh" ? mesh::Subdivider::kOpenMesh : mesh::Subdivider::kNative;
+    o.subdivider =
+        ctx.string("subdivider") == "openmesh" ? mesh::Subdivider::kOpenMesh : mesh::Subdivider::kNative;
     o.count_self_intersections = ctx.boolean("self_intersections");
     mesh::TreeMesh m;
     gltf::Scene scene;

@@ -36,10 +36,12 @@ enum class FaceKind : std::uint8_t {
 };
 
 struct QuadMesh {
-  std::vector<Vec3> positions;          // m, object space
-  std::vector<Quad> quads;              // vertex indices, CCW seen from outside
-  std::vector<std::array<Uv, 4>> uvs;   // per quad corner; same size as quads
-  std::vector<FaceKind> kinds;          // per quad; same size as quads
+  std::vector<Vec3> positions;  // m, object space
+  // Vertex indices, CCW seen from outside. A triangle (only in the transition between smooth and
+  // flat regions of subdivide_selected) is a quad whose last two corners are equal.
+  std::vector<Quad> quads;
+  std::vector<std::array<Uv, 4>> uvs;  // per quad corner; same size as quads
+  std::vector<FaceKind> kinds;         // per quad; same size as quads
   // Per vertex, 1 = on a crease curve (empty = none): an edge between two crease vertices is an
   // infinitely sharp crease for Catmull–Clark (subdivision.h). The capped base ring of a trunk.
   std::vector<std::uint8_t> crease;

@@ -3,10 +3,11 @@
 // opposites, edge numbering), then apply it to positions and to face-varying uvs.
 #include "stages/mesh/subdivision.h"
 
-#include <stdexcept>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <array>
+#include <stdexcept>
 
 // OpenMesh's subdivider header needs the mesh types declared first.
 #include "stages/mesh/halfedges.h"
@@ -28,9 +29,10 @@ std::size_t to_openmesh(const QuadMesh& in, PolyMesh& out) {
   const bool err_enabled = omerr().is_enabled();
   omerr().disable();  // OpenMesh prints "complex edge" per refused face; we count them instead
   for (const Quad& q : in.quads) {
-    const std::vector<PolyMesh::VertexHandle> vs = {
+    std::vector<PolyMesh::VertexHandle> vs = {
         PolyMesh::VertexHandle(static_cast<int>(q[0])), PolyMesh::VertexHandle(static_cast<int>(q[1])),
         PolyMesh::VertexHandle(static_cast<int>(q[2])), PolyMesh::VertexHandle(static_cast<int>(q[3]))};
+    if (q[2] == q[3]) vs.pop_back();  // a triangle (quad_mesh.h)
     if (!out.add_face(vs).is_valid()) ++refused;
   }
   if (err_enabled) omerr().enable();
@@ -45,9 +47,10 @@ namespace {
 // result does not depend on the thread count or the schedule.
 template <typename Body>
 void parallel_for(std::size_t n, const Body& body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 14),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) body(i);
+                    });
 }
 
 Uv mid(Uv a, Uv b) { return {(a.u + b.u) * 0.5f, (a.v + b.v) * 0.5f}; }
@@ -191,7 +194,8 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
     const Uv c = centre(uv);
     for (std::size_t i = 0; i < 4; ++i) {
       const std::size_t prev = (i + 3) % 4;
-      outm.quads[4 * f + i] = {q[i], ebase + edge[4 * f + i], fbase + static_cast<std::uint32_t>(f), ebase + edge[4 * f + prev]};
+      outm.quads[4 * f + i] = {q[i], ebase + edge[4 * f + i], fbase + static_cast<std::uint32_t>(f),
+                               ebase + edge[4 * f + prev]};
       outm.uvs[4 * f + i] = {uv[i], mid(uv[i], uv[(i + 1) % 4]), c, mid(uv[prev], uv[i])};
       if (!outm.kinds.empty()) outm.kinds[4 * f + i] = in.kinds[f];
     }
@@ -207,7 +211,8 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
       child_opp[base + 1] = static_cast<std::uint32_t>(4 * (4 * f + (i + 1) % 4) + 2);
       child_opp[base + 2] = static_cast<std::uint32_t>(4 * (4 * f + (i + 3) % 4) + 1);
       const std::uint32_t o = opp[4 * f + i];  // q_i -> q_i+1, seen from across
-      child_opp[base + 0] = o == kNone ? kNone : static_cast<std::uint32_t>(4 * (4 * (o / 4) + (o % 4 + 1) % 4) + 3);
+      child_opp[base + 0] =
+          o == kNone ? kNone : static_cast<std::uint32_t>(4 * (4 * (o / 4) + (o % 4 + 1) % 4) + 3);
       const std::uint32_t op = opp[4 * f + (i + 3) % 4];  // q_i-1 -> q_i, seen from across
       child_opp[base + 3] = op == kNone ? kNone : static_cast<std::uint32_t>(4 * (4 * (op / 4) + op % 4) + 0);
     }
@@ -221,7 +226,8 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
 QuadMesh step_openmesh(const QuadMesh& in) {
   detail::PolyMesh m;
   if (detail::to_openmesh(in, m) != 0)
-    throw std::invalid_argument("OpenMesh refused a quad: the mesh is not a consistently oriented 2-manifold");
+    throw std::invalid_argument(
+        "OpenMesh refused a quad: the mesh is not a consistently oriented 2-manifold");
   const std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces();
   std::vector<std::array<std::uint32_t, 2>> ends(ne);
   for (std::size_t e = 0; e < ne; ++e) {
@@ -233,7 +239,8 @@ QuadMesh step_openmesh(const QuadMesh& in) {
   cc.attach(m);
   cc(1);
   cc.detach();
-  if (m.n_vertices() != nv + ne + nf) throw std::logic_error("OpenMesh Catmull-Clark: unexpected vertex numbering");
+  if (m.n_vertices() != nv + ne + nf)
+    throw std::logic_error("OpenMesh Catmull-Clark: unexpected vertex numbering");
   auto uv_in = [&](std::size_t f, std::uint32_t v) {
     for (std::size_t i = 0; i < 4; ++i)
       if (in.quads[f][i] == v) return in.uvs[f][i];
@@ -276,6 +283,87 @@ QuadMesh step_openmesh(const QuadMesh& in) {
 }
 
 }  // namespace
+
+QuadMesh subdivide_selected(const QuadMesh& in, const std::vector<std::uint8_t>& smooth) {
+  const std::size_t nv = in.positions.size(), nf = in.quads.size();
+  if (smooth.size() != nf) throw std::invalid_argument("subdivide_selected: one flag per quad needed");
+  std::vector<std::uint32_t> opp = detail::opposite_halfedges(in);
+  // The full step gives every vertex, edge and face point (vertex points from the whole
+  // neighbourhood); the selection then keeps the ones the smooth quads use.
+  const QuadMesh full = step(in, opp, true);
+  const std::size_t ne = full.positions.size() - nv - nf;
+  constexpr std::uint32_t kNone = detail::kNoHalfedge;
+  auto edge_of = [&](std::size_t f, std::size_t i) {
+    return full.quads[4 * f + i][1] - static_cast<std::uint32_t>(nv);
+  };
+  std::vector<std::uint8_t> touched(nv, 0), split(ne, 0);
+  for (std::size_t f = 0; f < nf; ++f)
+    if (smooth[f])
+      for (std::size_t i = 0; i < 4; ++i) {
+        touched[in.quads[f][i]] = 1;
+        split[edge_of(f, i)] = 1;
+      }
+  QuadMesh out;
+  std::vector<std::uint32_t> id(full.positions.size(), kNone);
+  out.positions.reserve(full.positions.size());
+  for (std::size_t v = 0; v < nv; ++v) {
+    id[v] = static_cast<std::uint32_t>(v);
+    out.positions.push_back(touched[v] ? full.positions[v] : in.positions[v]);
+  }
+  for (std::size_t e = 0; e < ne; ++e)
+    if (split[e]) {
+      id[nv + e] = static_cast<std::uint32_t>(out.positions.size());
+      out.positions.push_back(full.positions[nv + e]);
+    }
+  for (std::size_t f = 0; f < nf; ++f)
+    if (smooth[f]) {
+      id[nv + ne + f] = static_cast<std::uint32_t>(out.positions.size());
+      out.positions.push_back(full.positions[nv + ne + f]);
+    }
+  if (full.crease.size() == full.positions.size()) {
+    out.crease.assign(out.positions.size(), 0);
+    for (std::size_t v = 0; v < full.positions.size(); ++v)
+      if (id[v] != kNone) out.crease[id[v]] = full.crease[v];
+  }
+  const bool kinds = in.kinds.size() == nf;
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (smooth[f]) {
+      for (std::size_t c = 4 * f; c < 4 * f + 4; ++c) {
+        const Quad& q = full.quads[c];
+        out.quads.push_back({id[q[0]], id[q[1]], id[q[2]], id[q[3]]});
+        out.uvs.push_back(full.uvs[c]);
+        if (kinds) out.kinds.push_back(in.kinds[f]);
+      }
+      continue;
+    }
+    // The flat quad's polygon: its corners with the split edges' points between them.
+    std::array<std::uint32_t, 8> pv{};
+    std::array<Uv, 8> pu{};
+    std::size_t n = 0, first_inserted = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < 4; ++i) {
+      pv[n] = in.quads[f][i];
+      pu[n++] = in.uvs[f][i];
+      const std::uint32_t e = edge_of(f, i);
+      if (split[e]) {
+        if (!any) first_inserted = n;
+        any = true;
+        pv[n] = id[nv + e];
+        pu[n++] = mid(in.uvs[f][i], in.uvs[f][(i + 1) % 4]);
+      }
+    }
+    auto emit = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d) {
+      out.quads.push_back({pv[a % n], pv[b % n], pv[c % n], pv[d % n]});
+      out.uvs.push_back({pu[a % n], pu[b % n], pu[c % n], pu[d % n]});
+      if (kinds) out.kinds.push_back(in.kinds[f]);
+    };
+    const std::size_t s = first_inserted;
+    std::size_t k = 1;
+    for (; k + 2 < n; k += 2) emit(s, s + k, s + k + 1, s + k + 2);
+    if (k + 1 < n) emit(s, s + k, s + k + 1, s + k + 1);  // the triangle of an odd polygon
+  }
+  return out;
+}
 
 QuadMesh subdivide(const QuadMesh& mesh, int levels, Subdivider subdivider) {
   QuadMesh m = mesh;

@@ -22,6 +22,9 @@
 //     there); it is kept as the reference.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "stages/mesh/quad_mesh.h"
 
 namespace sylva::mesh {
@@ -32,5 +35,15 @@ enum class Subdivider { kNative, kOpenMesh };
 // input must be a quad mesh whose edges have at most two faces (the bark mesh is). Throws
 // std::invalid_argument for a mesh OpenMesh rejects (kOpenMesh only).
 QuadMesh subdivide(const QuadMesh& mesh, int levels, Subdivider subdivider = Subdivider::kNative);
+
+// One Catmull–Clark step on the quads with smooth[f] != 0 only (native rules, creases as above):
+// a smooth quad becomes its four children; every other quad keeps its corners, and a vertex it
+// shares with a smooth quad takes its Catmull–Clark vertex point, so the two regions meet without
+// cracks. The edge points of the edges a flat quad shares with smooth ones are inserted into it,
+// and the resulting polygon (4 + k corners, k split edges) is fanned into quads from its first
+// inserted point, the last piece a triangle when k is odd — stored as a quad whose last two
+// corners are equal (quad_mesh.h). uvs follow the same per-face rule. Vertex order: the old
+// vertices, the points of split edges, the face points of smooth quads.
+QuadMesh subdivide_selected(const QuadMesh& mesh, const std::vector<std::uint8_t>& smooth);
 
 }  // namespace sylva::mesh

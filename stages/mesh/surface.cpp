@@ -87,7 +87,8 @@ gltf::Primitive to_primitive(const QuadMesh& m) {
   // no id is overwritten before it is read).
   for (std::size_t f = nf; f-- > 0;) {
     const Quad& q = m.quads[f];
-    const std::uint32_t c[4] = {p.indices[4 * f], p.indices[4 * f + 1], p.indices[4 * f + 2], p.indices[4 * f + 3]};
+    const std::uint32_t c[4] = {p.indices[4 * f], p.indices[4 * f + 1], p.indices[4 * f + 2],
+                                p.indices[4 * f + 3]};
     std::uint32_t* idx = &p.indices[6 * f];
     const Vec3 d02 = m.positions[q[2]] - m.positions[q[0]];
     const Vec3 d13 = m.positions[q[3]] - m.positions[q[1]];
@@ -97,6 +98,14 @@ gltf::Primitive to_primitive(const QuadMesh& m) {
       idx[0] = c[0], idx[1] = c[1], idx[2] = c[2], idx[3] = c[0], idx[4] = c[2], idx[5] = c[3];
     }
   }
+  // A triangle stored as a quad (last two corners equal, quad_mesh.h) gave one empty triangle.
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t + 2 < p.indices.size(); t += 3) {
+    const std::uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
+    if (a == b || b == c || a == c) continue;
+    p.indices[kept++] = a, p.indices[kept++] = b, p.indices[kept++] = c;
+  }
+  p.indices.resize(kept);
   return p;
 }
 

@@ -76,6 +76,7 @@ std::size_t correct_ring_shrinkage(MeshSkeleton& sk, const QuadMesh& base,
   };
   std::size_t corrected = 0;
   for (std::size_t b = 0; b < sk.branches.size(); ++b) {
+    if (!sk.branches[b].smooth) continue;  // not subdivided: nothing shrinks
     for (std::size_t r = 0; r < sk.branches[b].rings.size(); ++r) {
       const std::uint32_t first = r < ring_vertices[b].size() ? ring_vertices[b][r] : 0xFFFFFFFFu;
       if (first == 0xFFFFFFFFu || first + 3 >= nv) continue;
@@ -98,6 +99,19 @@ std::size_t correct_ring_shrinkage(MeshSkeleton& sk, const QuadMesh& base,
   return corrected;
 }
 
+// The largest extent of the bounding box of the tree's nodes (m): the size the relative
+// tolerances of MeshOptions refer to.
+double tree_size(const tree::Tree& tree) {
+  if (tree.branches.empty()) return 0;
+  Vec3 lo = tree.branches[0].nodes[0].position, hi = lo;
+  for (const tree::Branch& b : tree.branches)
+    for (const tree::Node& nd : b.nodes) {
+      lo = {std::min(lo.x, nd.position.x), std::min(lo.y, nd.position.y), std::min(lo.z, nd.position.z)};
+      hi = {std::max(hi.x, nd.position.x), std::max(hi.y, nd.position.y), std::max(hi.z, nd.position.z)};
+    }
+  return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+}
+
 }  // namespace
 
 TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
@@ -112,6 +126,15 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   so.min_radius = options.min_radius;
   so.corner_scale = corner_scale;
   so.compensate_smoothing = levels > 0;
+  if (options.ring_tolerance > 0) {
+    so.ring_tolerance = options.ring_tolerance * tree_size(tree);
+    st.ring_tolerance_m = so.ring_tolerance;
+  }
+  if (options.smooth_radius > 0 && levels == 1) {
+    so.smooth_min_radius = options.smooth_radius * tree_size(tree);
+    so.rough_scale = corner_scale_for_subdivision(0) / corner_scale;
+    st.smooth_radius_m = so.smooth_min_radius;
+  }
   if (options.foliage && !options.mesh_card_twigs) {
     so.omit = tree::twigs_drawn_by_cards(tree);
     for (char c : so.omit) st.card_twigs += c ? 1 : 0;
@@ -132,8 +155,24 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
     st.corrected_rings = correct_ring_shrinkage(skeleton, base, ring_vertices);
     if (st.corrected_rings > 0) {
       st.joints = {};
-      base = build_bark_mesh(skeleton, bo, &st.joints);
+      base = build_bark_mesh(skeleton, bo, &st.joints, &ring_vertices);
     }
+  }
+  // Smooth quads: those with no corner on a ring of a flat branch.
+  std::vector<std::uint8_t> smooth;
+  if (so.smooth_min_radius > 0) {
+    std::vector<std::uint8_t> flat_vertex(base.vertex_count(), 0);
+    for (std::size_t b = 0; b < skeleton.branches.size(); ++b) {
+      if (skeleton.branches[b].smooth) continue;
+      ++st.flat_branches;
+      for (std::uint32_t first : ring_vertices[b])
+        for (std::uint32_t j = 0; j < 4 && first + j < flat_vertex.size(); ++j) flat_vertex[first + j] = 1;
+    }
+    smooth.assign(base.quad_count(), 1);
+    for (std::size_t f = 0; f < base.quad_count(); ++f)
+      for (std::uint32_t v : base.quads[f])
+        if (flat_vertex[v]) smooth[f] = 0;
+    for (std::uint8_t s : smooth) st.flat_quads += s ? 0 : 1;
   }
   st.base_vertices = base.vertex_count();
   st.base_quads = base.quad_count();
@@ -147,10 +186,11 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
                     std::to_string(st.topology.boundary_edges) + " boundary edges); please report this tree");
 
   // 4. Subdivision.
-  out.bark = subdivide(base, levels, options.subdivider);
+  out.bark = smooth.empty() ? subdivide(base, levels, options.subdivider) : subdivide_selected(base, smooth);
   st.quads = out.bark.quad_count();
   st.vertices = out.bark.vertex_count();
-  if (options.count_self_intersections) st.self_intersections = static_cast<long long>(count_self_intersections(out.bark));
+  if (options.count_self_intersections)
+    st.self_intersections = static_cast<long long>(count_self_intersections(out.bark));
 
   // 5. Surface for glTF, with the bark tint (libs/tree Materials) as vertex colours.
   out.bark_surface = to_primitive(out.bark);
@@ -172,8 +212,8 @@ TreeMesh mesh_tree(const tree::Tree& tree, const MeshOptions& options) {
   return out;
 }
 
-gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Texture& bark, const Texture& leaves,
-                       const nlohmann::json& sylva) {
+gltf::Scene make_scene(const TreeMesh& mesh, const tree::Tree& tree, const Texture& bark,
+                       const Texture& leaves, const nlohmann::json& sylva) {
   gltf::Scene s;
   auto add_image = [&](const Texture& t) {
     if (t.bytes.empty()) return -1;
@@ -272,7 +312,12 @@ nlohmann::json stats_json(const MeshStats& st) {
                    {"clamped_radii", st.skeleton.clamped_radii},
                    {"dropped_rings", st.skeleton.dropped_rings},
                    {"pushed_rings", st.skeleton.pushed_rings},
-                   {"dropped_branches", st.skeleton.dropped_branches}};
+                   {"dropped_branches", st.skeleton.dropped_branches},
+                   {"thinned_rings", st.skeleton.thinned_rings}};
+  j["ring_tolerance_m"] = st.ring_tolerance_m;
+  j["smooth_radius_m"] = st.smooth_radius_m;
+  j["flat_branches"] = st.flat_branches;
+  j["flat_quads"] = st.flat_quads;
   if (st.self_intersections >= 0) j["self_intersections"] = st.self_intersections;
   return j;
 }

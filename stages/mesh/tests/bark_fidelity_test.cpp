@@ -53,9 +53,16 @@ TEST(BarkFidelity, EveryAdultPreset) {
       // At the default subdivision (1) every preset is within 3 %. At level 2 two keep more bark
       // than their skeleton (docs/stages/mesh.md, "Bark fidelity"): holly 3.2 % (a branch every
       // 12 cm of trunk) and the dwarf mountain pine 4.9 % (its 94 equal-split crotches).
+      // At subdivision 1 the branches thinner than smooth_radius are flat (not subdivided, ring
+      // thinning): the mountain pine's many thin stems keep 3.5 % more bark (their unsmoothed
+      // joints) and the willow's hanging shoots 3.2 % less (docs/stages/mesh.md, "Budget").
+      // The white poplar at level 2: 3.6 % (its 6,500 insets of twigs on thicker branches).
       double tolerance = 0.03;
+      if (sd == 1 && preset.stem() == "mugo_pine") tolerance = 0.04;
+      if (sd == 1 && preset.stem() == "weeping_willow") tolerance = 0.035;
       if (sd == 2 && preset.stem() == "holly") tolerance = 0.035;
       if (sd == 2 && preset.stem() == "mugo_pine") tolerance = 0.055;
+      if (sd == 2 && preset.stem() == "white_poplar") tolerance = 0.04;
       EXPECT_NEAR(f.volume, 1, tolerance) << what;
     }
   }

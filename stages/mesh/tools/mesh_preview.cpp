@@ -45,7 +45,8 @@ std::string png_of(const generate::Rgba8& px, const std::string& path) {
 
 int main(int argc, char** argv) {
   if (argc < 6) {
-    std::fprintf(stderr, "usage: mesh_preview preset|file PATH AGE SEED OUT_PREFIX [SUBDIVISION] [MAX_LEVEL]\n");
+    std::fprintf(stderr,
+                 "usage: mesh_preview preset|file PATH AGE SEED OUT_PREFIX [SUBDIVISION] [MAX_LEVEL]\n");
     return 2;
   }
   try {
@@ -56,6 +57,9 @@ int main(int argc, char** argv) {
     o.max_level = argc > 7 ? std::stoi(argv[7]) : -1;
     o.count_self_intersections = std::getenv("SELF_INTERSECTIONS") != nullptr;
     o.foliage = std::getenv("NOFOLIAGE") == nullptr;
+    if (std::getenv("RING_TOLERANCE")) o.ring_tolerance = std::atof(std::getenv("RING_TOLERANCE"));
+    if (std::getenv("SMOOTH_RADIUS")) o.smooth_radius = std::atof(std::getenv("SMOOTH_RADIUS"));
+    const bool no_render = std::getenv("NORENDER") != nullptr;
     tree::Tree t;
     mesh::Texture bark{"bark.png", ""}, leaves{"leaves.png", ""};
     if (kind == "preset") {
@@ -68,13 +72,15 @@ int main(int argc, char** argv) {
       g.name = species.species + "/" + age;
       Rng brng(seed, "bark"), lrng(seed, "leaves");
       if (cards) {
-        generate::CardAtlas atlas = generate::make_card_atlas(species.card, species.leaf, species.bark, size, lrng);
+        generate::CardAtlas atlas =
+            generate::make_card_atlas(species.card, species.leaf, species.bark, size, lrng);
         leaves.bytes = png_of(atlas.image, out + "_leaves.png");
         g.atlas = {atlas.columns, atlas.rows, atlas.coverage};
         g.foliage = generate::FoliageMode::kCards;
       } else {
         std::vector<float> coverage;
-        leaves.bytes = png_of(generate::make_leaf_atlas(species.leaf, size, lrng, &coverage), out + "_leaves.png");
+        leaves.bytes =
+            png_of(generate::make_leaf_atlas(species.leaf, size, lrng, &coverage), out + "_leaves.png");
         g.atlas = {2, 2, coverage};
       }
       generate::FoliageResult fit;
@@ -82,20 +88,24 @@ int main(int argc, char** argv) {
       Rng rng(seed, "tree");
       const auto t0 = std::chrono::steady_clock::now();
       t = generate::generate_tree(species.age(age).params, g, rng);
-      const double gen_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const double gen_ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       bark.bytes = png_of(generate::make_bark_texture(species.bark, size, brng), out + "_bark.png");
-      std::printf("generated in %.1f ms: %zu foliage elements, card scale %.3f, layers %d, LAI %.3f\n", gen_ms,
-                  fit.elements, fit.card_scale, fit.layers, fit.lai);
+      std::printf("generated in %.1f ms: %zu foliage elements, card scale %.3f, layers %d, LAI %.3f\n",
+                  gen_ms, fit.elements, fit.card_scale, fit.layers, fit.lai);
     } else {
       import::ImportOptions io;
       t = import::import_tree(slurp(path), path, io);
     }
     const auto t0 = std::chrono::steady_clock::now();
     const mesh::TreeMesh m = mesh::mesh_tree(t, o);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    const gltf::Scene scene = mesh::make_scene(m, t, bark, leaves, {{"statistics", mesh::stats_json(m.stats)}});
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const gltf::Scene scene =
+        mesh::make_scene(m, t, bark, leaves, {{"statistics", mesh::stats_json(m.stats)}});
     gltf::write_file(scene, out + ".glb");
-    std::printf("%s\nmeshed in %.1f ms -> %s.glb\n", mesh::stats_json(m.stats).dump(1).c_str(), ms, out.c_str());
+    std::printf("%s\nmeshed in %.1f ms -> %s.glb\n", mesh::stats_json(m.stats).dump(1).c_str(), ms,
+                out.c_str());
     {
       const std::vector<char> omit = o.foliage ? tree::twigs_drawn_by_cards(t) : std::vector<char>{};
       const double base = t.branches.front().nodes.front().position.y;
@@ -115,6 +125,24 @@ int main(int argc, char** argv) {
           mv, sv, 100 * mv / sv, so, 100 * mv / so, mesh::lowest_point(m.bark), base, low);
     }
 
+    if (std::getenv("RING_HISTOGRAM")) {
+      mesh::SkeletonOptions so;
+      so.omit = tree::twigs_drawn_by_cards(t);
+      so.ring_tolerance = m.stats.ring_tolerance_m;
+      so.corner_scale = 1.4472;
+      const mesh::MeshSkeleton sk = mesh::build_skeleton(t, so);
+      const double edges[] = {0.005, 0.01, 0.02, 0.04, 0.08, 1e9};
+      std::size_t rings[6] = {}, branches[6] = {};
+      for (const auto& b : sk.branches) {
+        int c = 0;
+        while (b.rings.front().radius > edges[c]) ++c;
+        rings[c] += b.rings.size();
+        ++branches[c];
+      }
+      for (int c = 0; c < 6; ++c)
+        std::printf("base radius <= %g: %zu branches, %zu rings\n", edges[c], branches[c], rings[c]);
+    }
+    if (no_render) return 0;
     const render::Scene rs = render::load_gltf_scene(out + ".glb");
     auto renderer = render::Renderer::create_headless();
     render::RenderOptions ro;
@@ -130,16 +158,19 @@ int main(int argc, char** argv) {
     views.push_back({"side", {"side", render::OrbitView{90, 20, 1.05f, 0}, 40}});
     const float h = b.max.y() - b.min.y();
     const float span = std::max({h, b.max.x() - b.min.x(), b.max.z() - b.min.z()});
-    views.push_back({"close", {"close", render::LookAtView{render::Vec3(span * 0.12f, h * 0.32f, span * 0.16f),
-                                                           render::Vec3(0, h * 0.28f, 0), render::Vec3::UnitY()},
-                               40}});
+    views.push_back({"close",
+                     {"close",
+                      render::LookAtView{render::Vec3(span * 0.12f, h * 0.32f, span * 0.16f),
+                                         render::Vec3(0, h * 0.28f, 0), render::Vec3::UnitY()},
+                      40}});
     // CLOSE="ex ey ez tx ty tz [fov]" replaces the close-up camera.
     if (const char* c = std::getenv("CLOSE")) {
       float e[7] = {0, 0, 0, 0, 0, 0, 40};
       std::istringstream in(c);
       for (float& x : e) in >> x;
-      views.back().v = {"close", render::LookAtView{render::Vec3(e[0], e[1], e[2]), render::Vec3(e[3], e[4], e[5]),
-                                                     render::Vec3::UnitY()},
+      views.back().v = {"close",
+                        render::LookAtView{render::Vec3(e[0], e[1], e[2]), render::Vec3(e[3], e[4], e[5]),
+                                           render::Vec3::UnitY()},
                         e[6]};
     }
     for (const View& v : views) {
