@@ -48,7 +48,8 @@ extern "C" void on_png_read(png_structp png, png_bytep data, png_size_t n) {
 }
 
 // Returns false (and sets err) on a libpng error; `rows` must stay alive meanwhile.
-bool encode(const Image& img, std::vector<std::uint8_t>& out, std::vector<png_bytep>& rows, PngError& err) {
+bool encode(const Image& img, const PngOptions& o, std::vector<std::uint8_t>& out, std::vector<png_bytep>& rows,
+            PngError& err) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, on_png_error, on_png_warning);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
@@ -58,7 +59,7 @@ bool encode(const Image& img, std::vector<std::uint8_t>& out, std::vector<png_by
     return false;
   }
   png_set_write_fn(png, &sink, on_png_write, on_png_flush);
-  png_set_compression_level(png, 6);
+  png_set_compression_level(png, o.zlib_level);
   // OpenImageIO's choice (libpng would pick Z_FILTERED for filtered rows): same bytes as before.
   png_set_compression_strategy(png, Z_DEFAULT_STRATEGY);
   png_set_IHDR(png, info, static_cast<png_uint_32>(img.width()), static_cast<png_uint_32>(img.height()), 8,
@@ -117,14 +118,17 @@ bool decode(Source& src, std::vector<std::uint8_t>& rgba, Decoded& d, PngError& 
 
 }  // namespace
 
-std::vector<std::uint8_t> encode_png(const Image& img) {
+std::vector<std::uint8_t> encode_png(const Image& img) { return encode_png(img, PngOptions{}); }
+
+std::vector<std::uint8_t> encode_png(const Image& img, const PngOptions& options) {
+  if (options.zlib_level < 0 || options.zlib_level > 9) fail("<png>", "zlib level must be in 0..9");
   if (img.empty()) fail("<png>", "cannot encode an empty image");
   std::vector<png_bytep> rows(static_cast<std::size_t>(img.height()));
   auto* base = const_cast<std::uint8_t*>(img.bytes().data());
   for (int y = 0; y < img.height(); ++y) rows[std::size_t(y)] = base + std::size_t(y) * std::size_t(img.width()) * 4;
   std::vector<std::uint8_t> out;
   PngError err;
-  if (!encode(img, out, rows, err)) fail("<png>", std::string("cannot encode PNG: ") + err.message);
+  if (!encode(img, options, out, rows, err)) fail("<png>", std::string("cannot encode PNG: ") + err.message);
   return out;
 }
 
@@ -149,10 +153,12 @@ Image read_png(const std::filesystem::path& path) {
   return decode_png(bytes, path.string());
 }
 
-void write_png(const Image& img, const std::filesystem::path& path) {
+void write_png(const Image& img, const std::filesystem::path& path) { write_png(img, path, PngOptions{}); }
+
+void write_png(const Image& img, const std::filesystem::path& path, const PngOptions& options) {
   std::vector<std::uint8_t> bytes;
   try {
-    bytes = encode_png(img);
+    bytes = encode_png(img, options);
   } catch (const ImageError& e) {
     const std::string msg = e.what();
     fail(path.string(), msg.substr(msg.find("error: ") + 7));

@@ -29,6 +29,13 @@ class ImageError : public std::runtime_error {
 // The PNG file bytes of `img` (RGBA, 8 bits per channel). Throws ImageError if it is empty.
 std::vector<std::uint8_t> encode_png(const Image& img);
 
+// Encoder settings; the defaults are encode_png(img)'s. Every setting stays deterministic.
+struct PngOptions {
+  int zlib_level = 6;  // 0 (stored) .. 9 (smallest); lower is faster and larger
+};
+// As encode_png(img) with `options`; also throws ImageError for a zlib level outside 0..9.
+std::vector<std::uint8_t> encode_png(const Image& img, const PngOptions& options);
+
 // Decodes PNG bytes (any PNG colour type and bit depth) to 8-bit RGBA: grey is replicated to
 // RGB, a missing alpha channel becomes 255, 16-bit samples keep their high byte, palettes are
 // expanded. `name` only labels errors. Throws ImageError ("<name>: error: <reason>").
@@ -39,5 +46,6 @@ Image read_png(const std::filesystem::path& path);
 
 // Writes encode_png(img) to `path` atomically; creates no directories. Throws ImageError.
 void write_png(const Image& img, const std::filesystem::path& path);
+void write_png(const Image& img, const std::filesystem::path& path, const PngOptions& options);
 
 }  // namespace sylva::image

@@ -197,8 +197,8 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   // every viewer shows what sylva verifies); billboards embed the whole (small) atlas, the
   // octahedral kinds a crop of their card frames, side by side.
   GlbImage img;
-  const image::Image lit = prelit(maps.color, maps.normal_depth);
   if (billboards) {
+    const image::Image lit = prelit(maps.color, maps.normal_depth);
     img.png = to_string(image::encode_png(lit));
     img.width = maps.color.width();
     img.height = maps.color.height();
@@ -211,7 +211,9 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
       GlbCard& g = glb_cards[c];
       g.image_x = int(c % cols) * f;
       g.image_y = int(c / cols) * f;
-      paste(sheet, crop(lit, {g.card.x, g.card.y, g.card.w, g.card.h}), g.image_x, g.image_y);
+      // Only the card frames are lit (4 of 256 frames): the rest of the atlas never shows in the GLB.
+      const PixelRect r{g.card.x, g.card.y, g.card.w, g.card.h};
+      paste(sheet, prelit(crop(maps.color, r), crop(maps.normal_depth, r)), g.image_x, g.image_y);
     }
     img.png = to_string(image::encode_png(sheet));
     img.width = sheet.width();

@@ -59,6 +59,29 @@ TEST(ImageIo, PngBytesAreDeterministic) {
   EXPECT_EQ(files, 2);
 }
 
+// A lower zlib level gives other (here: larger) bytes of the same pixels, deterministically;
+// levels outside 0..9 are refused.
+TEST(ImageIo, PngZlibLevelChangesBytesNotPixels) {
+  test::TempDir dir;
+  Image img(256, 64);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 256; ++x)
+      img.set(x, y, {std::uint8_t((x * x + y) % 251), std::uint8_t(x / 3), std::uint8_t(y * 3), 255});
+  PngOptions fast;
+  fast.zlib_level = 1;
+  const auto a = encode_png(img, fast), b = encode_png(img);
+  EXPECT_NE(a, b);
+  EXPECT_GT(a.size(), b.size());
+  EXPECT_EQ(a, encode_png(img, fast));
+  EXPECT_EQ(b, encode_png(img, PngOptions{}));
+  write_png(img, dir / "fast.png", fast);
+  EXPECT_EQ(test::read_file(dir / "fast.png"), std::string(a.begin(), a.end()));
+  EXPECT_EQ(decode_png(std::string_view(reinterpret_cast<const char*>(a.data()), a.size())), img);
+  PngOptions bad;
+  bad.zlib_level = 10;
+  EXPECT_THROW(encode_png(img, bad), ImageError);
+}
+
 // Reading an RGB file yields opaque RGBA; a grey file is replicated to RGB.
 TEST(ImageIo, RgbAndGreyFilesBecomeOpaqueRgba) {
   test::TempDir dir;
