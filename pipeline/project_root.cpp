@@ -70,7 +70,7 @@ ProjectRoot::ProjectRoot(const std::vector<fs::path>& dirs)
   }
 }
 
-bool ProjectRoot::contains(const fs::path& p) const {
+bool ProjectRoot::contains(const fs::path& p, bool known_not_link) const {
   if (!confined_) return true;
   // resolved(p) costs a getcwd and a readlink per path element. For a plain path whose last
   // element is not a symbolic link (one lstat) it equals resolved(parent) + "/" + name, and
@@ -79,7 +79,7 @@ bool ProjectRoot::contains(const fs::path& p) const {
   // parent names the same directory every time.
   const std::string& s = p.native();
   struct stat st {};
-  if (plain(s) && (::lstat(s.c_str(), &st) != 0 || !S_ISLNK(st.st_mode))) {
+  if (plain(s) && (known_not_link || ::lstat(s.c_str(), &st) != 0 || !S_ISLNK(st.st_mode))) {
     const std::size_t slash = s.rfind('/');
     const std::string parent = slash == std::string::npos ? std::string(".")
                                : slash == 0               ? std::string("/")

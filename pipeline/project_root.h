@@ -28,8 +28,9 @@ class ProjectRoot {
   // part. Each directory is resolved once per ProjectRoot (and its copies): a recipe naming
   // 10,000 files in one directory costs one lstat per file, not a readlink per path element
   // (the working directory must not change while a ProjectRoot is in use).
-  // Thread-safe.
-  bool contains(const std::filesystem::path& p) const;
+  // `known_not_link`: the caller already established (FileSystem::stat_checking_link) that
+  // the last element of `p` is not a symbolic link, saving that lstat. Thread-safe.
+  bool contains(const std::filesystem::path& p, bool known_not_link = false) const;
   // "'P' is outside the project root 'D' (...how to allow it...)", for a diagnostic.
   std::string outside_message(const std::filesystem::path& p) const;
 
