@@ -231,6 +231,11 @@ namespace {
 const GlobalOptions* g_global_options = nullptr;  // those of the command line being run
 }  // namespace
 
+int report_interrupted(const CliIo& io, const char* command) {
+  std::fprintf(io.err, "%s: interrupted; nothing more was written (earlier reports are as they were)\n", command);
+  return kExitInterrupted;
+}
+
 std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
                                             const CliIo& io, const std::string& out_dir) {
   LoadOptions options;

@@ -32,6 +32,13 @@ struct CliIo {
   const std::atomic<bool>* cancel = nullptr;  // set by the SIGINT handler
 };
 
+// True once Ctrl-C or SIGTERM asked the command to stop.
+inline bool cancelled(const CliIo& io) { return io.cancel && io.cancel->load(); }
+// What a long command (lodcheck, impostorcheck, verify, render) does when it stops for Ctrl-C or
+// SIGTERM: one line on io.err ("sylva lodcheck: interrupted; ..."), exit code kExitInterrupted.
+// It has written no partial output (reports are staged, app/report_dir.h).
+int report_interrupted(const CliIo& io, const char* command);
+
 // A subcommand outside the engine (inspect, render, ...), wired by main.cpp so the engine's CLI
 // does not depend on the domain libraries.
 class CliCommand {

@@ -17,6 +17,7 @@
 #include "app/full_detail.h"
 #include "app/gfx_module.h"
 #include "app/recipe_build.h"
+#include "app/report_dir.h"
 #include "libs/image/image_io.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_renderer.h"
@@ -102,6 +103,7 @@ class ImpostorcheckCommand final : public CliCommand {
     std::vector<std::string> targets;
     for (const NodeDecl* n : *selected) targets.push_back(n->name);
     const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva impostorcheck");
+    if (built.exit_code == kExitInterrupted) return report_interrupted(io, "sylva impostorcheck");
     if (built.exit_code != kExitOk) return built.exit_code;
 
     render::Renderer* scene_renderer = nullptr;
@@ -115,9 +117,9 @@ class ImpostorcheckCommand final : public CliCommand {
     }
     bool all_ok = true;
     for (const NodeDecl* node : *selected) {
-      if (io.cancel && io.cancel->load()) return kExitInterrupted;
+      if (cancelled(io)) return report_interrupted(io, "sylva impostorcheck");
       const int rc = check_node(*recipe, *node, built, *scene_renderer, *impostor_renderer, report_root / node->name, io);
-      if (rc == kExitInterrupted) return rc;
+      if (rc == kExitInterrupted) return report_interrupted(io, "sylva impostorcheck");
       all_ok = all_ok && rc == kExitOk;
     }
     return all_ok ? kExitOk : kExitBuildFailed;
@@ -128,8 +130,11 @@ class ImpostorcheckCommand final : public CliCommand {
                  render::ImpostorRenderer& impostor_renderer, const fs::path& report_dir, const CliIo& io) {
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage impostor): %s\n", node.name.c_str(), what.c_str());
+      std::error_code ec;
+      fs::remove_all(report_dir, ec);  // an older run's report must not pass for this one's
       return kExitBuildFailed;
     };
+    std::optional<StagedReportDir> staged;
     impostor::ImpostorCheckResult results;
     impostor::ImpostorSubject subject;
     impostor::ColourBaseline baseline;
@@ -169,23 +174,24 @@ class ImpostorcheckCommand final : public CliCommand {
       full_triangles = full.triangle_count();
       full_lines = full.line_count();
 
-      std::error_code ec;
-      fs::remove_all(report_dir, ec);
-      fs::create_directories(report_dir, ec);
-      if (ec) return fail(report_dir.string() + ": cannot create the report directory: " + ec.message());
-      impostor::ImpostorImageSink sink;
-      if (!no_images_)
-        sink = [&](const impostor::ImpostorViewCheck& c, const image::Image& ref, const image::Image& test,
-                   const image::Image& diff) {
-          if (io.cancel && io.cancel->load()) throw Cancelled();
-          image::write_png(ref, report_dir / ("full_" + c.view + ".png"));
-          image::write_png(test, report_dir / ("impostor_" + c.view + ".png"));
-          image::write_png(diff, report_dir / ("impostor_" + c.view + "_diff.png"));
-        };
+      if (cancelled(io)) throw Cancelled();
+      staged.emplace(report_dir);
+      const fs::path& dir = staged->path();
+      // Called after every rendered view: where Ctrl-C or SIGTERM stops the check.
+      const impostor::ImpostorImageSink sink = [&](const impostor::ImpostorViewCheck& c, const image::Image& ref,
+                                                   const image::Image& test, const image::Image& diff) {
+        if (cancelled(io)) throw Cancelled();
+        if (no_images_) return;
+        image::write_png(ref, dir / ("full_" + c.view + ".png"));
+        image::write_png(test, dir / ("impostor_" + c.view + ".png"));
+        image::write_png(diff, dir / ("impostor_" + c.view + "_diff.png"));
+      };
       if (pixel_threshold_opt_->count() == 0) options_.pixel_threshold = std::min(1.0, subject.info.pixel_error_px);
       results = impostor::check_impostor(scene_renderer, impostor_renderer, full, subject, options_, baseline, sink);
-      write_json(report_dir / "impostorcheck.json", node, subject.info, reference, full_triangles, full_lines, baseline,
+      write_json(dir / "impostorcheck.json", node, subject.info, reference, full_triangles, full_lines, baseline,
                  results);
+      if (cancelled(io)) throw Cancelled();
+      staged->commit();
     } catch (const Cancelled&) {
       return kExitInterrupted;
     } catch (const std::exception& e) {  // unreadable outputs, render failure, unwritable report

@@ -20,6 +20,7 @@
 
 #include "app/full_detail.h"
 #include "app/recipe_build.h"
+#include "app/report_dir.h"
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
@@ -158,6 +159,7 @@ class LodcheckCommand final : public CliCommand {
       for (const auto& need : f->needs) targets.push_back(need);  // lod nodes: their trees are needed too
     }
     const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva lodcheck");
+    if (built.exit_code == kExitInterrupted) return report_interrupted(io, "sylva lodcheck");
     if (built.exit_code != kExitOk) return built.exit_code;
 
     std::unique_ptr<render::Renderer> renderer;
@@ -169,15 +171,15 @@ class LodcheckCommand final : public CliCommand {
     }
     bool all_ok = true;
     for (const NodeDecl* node : *selected) {
-      if (io.cancel && io.cancel->load()) return kExitInterrupted;
+      if (cancelled(io)) return report_interrupted(io, "sylva lodcheck");
       const int rc = check_node(*recipe, *node, built, *renderer, report_root / node->name, io);
-      if (rc == kExitInterrupted) return rc;
+      if (rc == kExitInterrupted) return report_interrupted(io, "sylva lodcheck");
       all_ok = all_ok && rc == kExitOk;
     }
     for (const NodeDecl* f : forests) {
-      if (io.cancel && io.cancel->load()) return kExitInterrupted;
+      if (cancelled(io)) return report_interrupted(io, "sylva lodcheck");
       const int rc = check_forest_node(*recipe, *f, built, *renderer, report_root / f->name, io);
-      if (rc == kExitInterrupted) return rc;
+      if (rc == kExitInterrupted) return report_interrupted(io, "sylva lodcheck");
       all_ok = all_ok && rc == kExitOk;
     }
     return all_ok ? kExitOk : kExitBuildFailed;
@@ -189,8 +191,11 @@ class LodcheckCommand final : public CliCommand {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage lod): %s\n", name, what.c_str());
+      std::error_code ec;
+      fs::remove_all(report_dir, ec);  // an older run's report must not pass for this one's
       return kExitBuildFailed;
     };
+    std::optional<StagedReportDir> staged;
     std::vector<lod::ViewCheck> results;
     lod::ChainOptions chain;
     nlohmann::json summary;
@@ -204,6 +209,7 @@ class LodcheckCommand final : public CliCommand {
       chain = chain_options_from_params(node.params);
       std::string full_glb;
       render::Scene full = full_detail_scene(recipe, built, node, branches_only_, &full_glb);
+      if (cancelled(io)) throw Cancelled();
       if (!write_full_.empty()) {
         RealFileSystem fsys;
         if (!fsys.write_atomic(write_full_, full_glb)) return fail("cannot write " + write_full_);
@@ -236,23 +242,25 @@ class LodcheckCommand final : public CliCommand {
         }
       }
 
-      std::error_code ec;
-      fs::remove_all(report_dir, ec);
-      fs::create_directories(report_dir, ec);
-      if (ec) return fail(report_dir.string() + ": cannot create the report directory: " + ec.message());
-      lod::CheckImageSink sink;
-      if (!no_images_)
-        sink = [&](const lod::ViewCheck& c, const image::Image& ref, const image::Image& test, const image::Image& diff) {
-          if (io.cancel && io.cancel->load()) throw Cancelled();
-          const std::string stem = c.label + "_lod" + std::to_string(c.level) + "_" + c.view;
-          if (c.label == "sylva") image::write_png(ref, report_dir / ("full_lod" + std::to_string(c.level) + "_" + c.view + ".png"));
-          image::write_png(test, report_dir / (stem + ".png"));
-          image::write_png(diff, report_dir / (stem + "_diff.png"));
-        };
+      if (cancelled(io)) throw Cancelled();
+      staged.emplace(report_dir);
+      const fs::path& out = staged->path();
+      // Called after every rendered view: where Ctrl-C or SIGTERM stops the check.
+      const lod::CheckImageSink sink = [&](const lod::ViewCheck& c, const image::Image& ref, const image::Image& test,
+                                           const image::Image& diff) {
+        if (cancelled(io)) throw Cancelled();
+        if (no_images_) return;
+        const std::string stem = c.label + "_lod" + std::to_string(c.level) + "_" + c.view;
+        if (c.label == "sylva") image::write_png(ref, out / ("full_lod" + std::to_string(c.level) + "_" + c.view + ".png"));
+        image::write_png(test, out / (stem + ".png"));
+        image::write_png(diff, out / (stem + "_diff.png"));
+      };
       // An edge moved by delta pixels changes a pixel's coverage by at most delta.
       if (pixel_threshold_opt_->count() == 0) options_.pixel_threshold = std::min(1.0, chain.pixel_error);
       results = lod::check_subjects(renderer, full, subjects, chain.camera, options_, sink);
-      write_json(report_dir / "lodcheck.json", node, summary, chain, full, results);
+      write_json(out / "lodcheck.json", node, summary, chain, full, results);
+      if (cancelled(io)) throw Cancelled();
+      staged->commit();
     } catch (const Cancelled&) {
       return kExitInterrupted;
     } catch (const std::exception& e) {  // unreadable tree or outputs, render failure, unwritable report
@@ -268,8 +276,11 @@ class LodcheckCommand final : public CliCommand {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage forest): %s\n", name, what.c_str());
+      std::error_code ec;
+      fs::remove_all(report_dir, ec);  // an older run's report must not pass for this one's
       return kExitBuildFailed;
     };
+    std::optional<StagedReportDir> staged;
     std::vector<forest::ForestViewCheck> results;
     forest::ForestCheckOptions fo;
     fo.supersample = options_.supersample;
@@ -298,18 +309,18 @@ class LodcheckCommand final : public CliCommand {
       fo.pixel_threshold = pixel_threshold_opt_->count() ? options_.pixel_threshold : std::min(1.0, delta);
       const render::CameraSet set = render::load_camera_set(cams->path);
       const std::vector<render::Camera> cameras = render::forest_cameras(set, view.bounds());
-      std::error_code ec;
-      fs::remove_all(report_dir, ec);
-      fs::create_directories(report_dir, ec);
-      if (ec) return fail(report_dir.string() + ": cannot create the report directory: " + ec.message());
-      forest::ForestCheckSink sink;
-      if (!no_images_)
-        sink = [&](const forest::ForestViewCheck& c, const image::Image& full, const image::Image& lod, const image::Image& diff) {
-          if (io.cancel && io.cancel->load()) throw Cancelled();
-          image::write_png(full, report_dir / ("full_" + c.view + ".png"));
-          image::write_png(lod, report_dir / ("lod_" + c.view + ".png"));
-          image::write_png(diff, report_dir / ("lod_" + c.view + "_diff.png"));
-        };
+      if (cancelled(io)) throw Cancelled();
+      staged.emplace(report_dir);
+      const fs::path& dir = staged->path();
+      // Called after every rendered view: where Ctrl-C or SIGTERM stops the check.
+      const forest::ForestCheckSink sink = [&](const forest::ForestViewCheck& c, const image::Image& full,
+                                               const image::Image& lod, const image::Image& diff) {
+        if (cancelled(io)) throw Cancelled();
+        if (no_images_) return;
+        image::write_png(full, dir / ("full_" + c.view + ".png"));
+        image::write_png(lod, dir / ("lod_" + c.view + ".png"));
+        image::write_png(diff, dir / ("lod_" + c.view + "_diff.png"));
+      };
       results = forest::check_forest(view, renderer, cameras, fo, sink);
       nlohmann::json j;
       j["node"] = node.name;
@@ -337,7 +348,9 @@ class LodcheckCommand final : public CliCommand {
       j["views"] = views;
       j["passed"] = passed;
       RealFileSystem fsys;
-      if (!fsys.write_atomic(report_dir / "lodcheck.json", j.dump(2) + "\n")) return fail("cannot write lodcheck.json");
+      if (!fsys.write_atomic(dir / "lodcheck.json", j.dump(2) + "\n")) return fail("cannot write lodcheck.json");
+      if (cancelled(io)) throw Cancelled();
+      staged->commit();
     } catch (const Cancelled&) {
       return kExitInterrupted;
     } catch (const std::exception& e) {

@@ -104,19 +104,28 @@ class RenderCommand final : public CliCommand {
         const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
         render::ForestViewOptions fo;
         fo.pixel_error_px = pixel_error_;
-        std::vector<render::ForestViewStats> stats;
-        std::vector<image::Image> imgs = fv.render(*renderer, cams, render::options_for(set), fo, &stats);
+        // One view at a time: Ctrl-C or SIGTERM stops between views, before anything is written.
         for (std::size_t i = 0; i < cams.size(); ++i) {
+          if (cancelled(io)) return report_interrupted(io, "sylva render");
+          std::vector<render::ForestViewStats> stats;
+          std::vector<image::Image> imgs =
+              fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1), render::options_for(set), fo, &stats);
           std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn, %zu primitives\n", cams[i].name.c_str(),
-                       stats[i].trees_drawn, stats[i].trees, stats[i].primitives);
-          images.push_back({cams[i], std::move(imgs[i])});
+                       stats[0].trees_drawn, stats[0].trees, stats[0].primitives);
+          images.push_back({cams[i], std::move(imgs[0])});
         }
       } else {
         const render::Scene scene = render::load_gltf_scene(file_);
         for (const auto& w : scene.warnings) std::fprintf(io.err, "%s\n", w.c_str());
         auto renderer = render::Renderer::create_headless();
-        images = render::render_camera_set(*renderer, scene, set);
+        for (const auto& view : set.views) {
+          if (cancelled(io)) return report_interrupted(io, "sylva render");
+          render::CameraSet one = set;
+          one.views = {view};
+          for (auto& v : render::render_camera_set(*renderer, scene, one)) images.push_back(std::move(v));
+        }
       }
+      if (cancelled(io)) return report_interrupted(io, "sylva render");
     } catch (const std::exception& e) {  // SceneLoadError, RenderUnavailableError, RenderError: one line each
       print_error(io.err, e.what());
       return kExitBuildFailed;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/recipe_build.h"
+#include "app/report_dir.h"
 #include "libs/render/camera.h"
 #include "stages/verify/report.h"
 #include "stages/verify/verify_core.h"
@@ -64,14 +65,15 @@ class VerifyCommand final : public CliCommand {
     for (const NodeDecl* n : *selected)
       for (const auto& up : n->needs) targets.push_back(up);
     const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva verify");
+    if (built.exit_code == kExitInterrupted) return report_interrupted(io, "sylva verify");
     if (built.exit_code != kExitOk) return built.exit_code;
 
     // 3. Verify each node; 4. accept new images when asked.
     bool all_ok = true;
     for (const NodeDecl* node : *selected) {
-      if (io.cancel && io.cancel->load()) return kExitInterrupted;
+      if (cancelled(io)) return report_interrupted(io, "sylva verify");
       const int rc = verify_node(*recipe, *node, built, report_root / node->name, io);
-      if (rc == kExitInterrupted) return rc;
+      if (rc == kExitInterrupted) return report_interrupted(io, "sylva verify");
       all_ok = all_ok && rc == kExitOk;
     }
     return all_ok ? kExitOk : kExitBuildFailed;
@@ -83,8 +85,11 @@ class VerifyCommand final : public CliCommand {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage verify): %s\n", name, what.c_str());
+      std::error_code ec;
+      fs::remove_all(report_dir, ec);  // an older run's report must not pass for this one's
       return kExitBuildFailed;
     };
+    std::optional<StagedReportDir> staged;
     // The node's inputs, exactly as the executor hands them to the stage.
     std::vector<InputArtifact> inputs;
     for (const auto& up : node.needs) {
@@ -96,16 +101,16 @@ class VerifyCommand final : public CliCommand {
     try {
       const render::CameraSet cameras = render::load_camera_set(node.files.at("cameras"));
       const std::vector<verify::Asset> assets = verify::assets_from_inputs(inputs);
-      std::error_code ec;
-      fs::remove_all(report_dir, ec);
-      fs::create_directories(report_dir, ec);
-      if (ec) return fail(report_dir.string() + ": cannot create the report directory: " + ec.message());
-      const auto output_path = [&](const std::string& file) { return report_dir / file; };
+      if (cancelled(io)) throw Cancelled();
+      staged.emplace(report_dir);
+      const auto output_path = [&](const std::string& file) { return staged->path() / file; };
       const verify::RunEnv env{verify::shared_renderer(), output_path, [&] {
-                                 if (io.cancel && io.cancel->load()) throw Cancelled();
+                                 if (cancelled(io)) throw Cancelled();
                                }};
       report = verify::run_verification(assets, cameras, references, verify::thresholds_from_params(node.params), env);
       verify::write_reports(report, output_path);
+      if (cancelled(io)) throw Cancelled();
+      staged->commit();
     } catch (const Cancelled&) {
       return kExitInterrupted;
     } catch (const std::exception& e) {  // camera set, inputs, no EGL, unwritable outputs
@@ -116,6 +121,7 @@ class VerifyCommand final : public CliCommand {
     std::size_t open = 0, updated = 0;
     std::vector<std::string> updated_files;
     RealFileSystem fsys;
+    if (update_refs_ && cancelled(io)) return kExitInterrupted;  // references untouched
     for (const auto& c : report.cases) {
       if (c.status == verify::CaseStatus::kPassed) continue;
       // Renderings exist for failed, missing and unreadable-reference cases, not for broken assets.

@@ -65,28 +65,29 @@ struct Reader {
     ok = false;
     return 0;
   }
-  std::string str() {
+  std::string_view view() {
     const std::uint64_t n = uint();
     if (!ok || s.size() - at < n) {
       ok = false;
       return {};
     }
-    std::string v(s.substr(at, n));
+    std::string_view v = s.substr(at, n);
     at += n;
     return v;
   }
-  std::string hash() {
-    if (at >= s.size()) return ok = false, std::string();
-    if (s[at++] == '\0') return {};
-    if (s.size() - at < 32) return ok = false, std::string();
-    std::string hex(64, '0');
-    for (std::size_t i = 0; i < 32; ++i) {
-      const auto b = static_cast<unsigned char>(s[at + i]);
-      hex[2 * i] = kHex[b >> 4];
-      hex[2 * i + 1] = kHex[b & 15];
-    }
+  std::string str() { return std::string(view()); }
+  // The 32 raw bytes of a hash, or nullptr if absent (or damaged: then ok is false).
+  const char* raw_hash() {
+    if (at >= s.size()) return ok = false, nullptr;
+    if (s[at++] == '\0') return nullptr;
+    if (s.size() - at < 32) return ok = false, nullptr;
+    const char* h = s.data() + at;
     at += 32;
-    return hex;
+    return h;
+  }
+  std::string hash() {
+    const char* h = raw_hash();
+    return h ? hex_of(h) : std::string();
   }
   FileInfo stat() {
     FileInfo st;
@@ -101,7 +102,51 @@ struct Reader {
     st.dev = uint();
     return st;
   }
+  static std::string hex_of(const char* raw) {
+    std::string hex(64, '0');
+    for (std::size_t i = 0; i < 32; ++i) {
+      const auto b = static_cast<unsigned char>(raw[i]);
+      hex[2 * i] = kHex[b >> 4];
+      hex[2 * i + 1] = kHex[b & 15];
+    }
+    return hex;
+  }
 };
+
+// True if the 32 raw bytes `raw` are the 64-digit lowercase hex `hex`.
+bool raw_equals_hex(const char* raw, const std::string& hex) {
+  if (hex.size() != 64) return false;
+  for (std::size_t i = 0; i < 32; ++i) {
+    const auto b = static_cast<unsigned char>(raw[i]);
+    if (hex[2 * i] != kHex[b >> 4] || hex[2 * i + 1] != kHex[b & 15]) return false;
+  }
+  return true;
+}
+
+// One node record after its name: key, cache root, directory stat, explain-record key, outputs.
+// `out` may be null (validation only: nothing is allocated). False if damaged.
+bool read_node(Reader& r, PublishedNode* out) {
+  const char* key = r.raw_hash();
+  const std::string_view root = r.view();
+  const FileInfo dir = r.stat();
+  const char* record_key = r.raw_hash();
+  const std::uint64_t outputs = r.uint();
+  if (out) {
+    out->tag = (key ? Reader::hex_of(key) : std::string()) + " " + std::string(root);
+    out->dir = dir;
+    out->record_key = record_key ? Reader::hex_of(record_key) : std::string();
+    out->outputs.clear();
+    out->outputs.reserve(std::min<std::uint64_t>(outputs, 1024));
+  }
+  for (std::uint64_t k = 0; k < outputs && r.ok; ++k) {
+    const std::string_view name = r.view();
+    const char* hash = r.raw_hash();
+    const std::uint64_t size = r.uint();
+    if (!hash) r.ok = false;
+    if (out && r.ok) out->outputs.push_back({std::string(name), Digest{Reader::hex_of(hash), size}});
+  }
+  return r.ok && key != nullptr;
+}
 
 }  // namespace
 
@@ -121,44 +166,74 @@ bool DigestCache::same_file(const FileInfo& a, const FileInfo& b) {
 void DigestCache::load() {
   auto text = fs_.read(file_);
   std::lock_guard lock(mu_);
+  text_.clear();
+  base_.clear();
+  base_nodes_.clear();
   entries_.clear();
   nodes_.clear();
+  dirty_ = false;
   if (!text || text->size() < sizeof kMagic || std::memcmp(text->data(), kMagic, sizeof kMagic) != 0) return;
-  Reader r{*text, sizeof kMagic};
+  text_ = std::move(*text);
+  // Every record is checked here (without allocating); a damaged or unsorted file is an empty
+  // cache, as if it were missing.
+  Reader r{text_, sizeof kMagic};
   const std::uint64_t n = r.uint();
-  entries_.reserve(std::min<std::uint64_t>(n, text->size()));
+  base_.reserve(std::min<std::uint64_t>(n, text_.size()));
   for (std::uint64_t i = 0; i < n && r.ok; ++i) {
-    std::string path = r.str();
-    Entry e;
+    const std::size_t begin = r.at;
+    BaseEntry e{};
+    e.path = r.view();
     e.stat = r.stat();
-    e.digest.hash = r.hash();
-    e.digest.size = r.uint();
-    if (r.ok && !e.digest.hash.empty()) entries_.emplace(std::move(path), std::move(e));
+    e.hash = r.raw_hash();
+    e.size = r.uint();
+    e.begin = begin;
+    e.end = r.at;
+    if (!r.ok || !e.hash) continue;
+    if (!base_.empty() && !(base_.back().path < e.path)) r.ok = false;
+    base_.push_back(e);
   }
   const std::uint64_t m = r.uint();
-  nodes_.reserve(std::min<std::uint64_t>(m, text->size()));
+  base_nodes_.reserve(std::min<std::uint64_t>(m, text_.size()));
   for (std::uint64_t i = 0; i < m && r.ok; ++i) {
-    std::string name = r.str();
-    PublishedNode p;
-    const std::string key = r.hash();
-    p.tag = key + " " + r.str();
-    p.dir = r.stat();
-    p.record_key = r.hash();
-    const std::uint64_t outputs = r.uint();
-    for (std::uint64_t k = 0; k < outputs && r.ok; ++k) {
-      OutputEntry o;
-      o.name = r.str();
-      o.digest.hash = r.hash();
-      o.digest.size = r.uint();
-      if (o.digest.hash.empty()) r.ok = false;
-      p.outputs.push_back(std::move(o));
-    }
-    if (r.ok && key.size() == 64) nodes_.emplace(std::move(name), std::move(p));
+    const std::size_t begin = r.at;
+    const std::string_view name = r.view();
+    const bool good = read_node(r, nullptr);
+    if (!r.ok || !good) continue;
+    if (!base_nodes_.empty() && !(base_nodes_.back().name < name)) r.ok = false;
+    base_nodes_.push_back({name, begin, r.at});
   }
   if (!r.ok) {  // damaged: start afresh
-    entries_.clear();
-    nodes_.clear();
+    text_.clear();
+    base_.clear();
+    base_nodes_.clear();
   }
+}
+
+const DigestCache::BaseEntry* DigestCache::find_base(std::string_view path) const {
+  auto it = std::lower_bound(base_.begin(), base_.end(), path,
+                             [](const BaseEntry& e, std::string_view p) { return e.path < p; });
+  return it == base_.end() || it->path != path ? nullptr : &*it;
+}
+
+std::optional<DigestCache::Entry> DigestCache::find_entry(const std::string& path) const {
+  if (auto it = entries_.find(path); it != entries_.end()) return it->second;
+  const BaseEntry* e = find_base(path);
+  if (!e) return std::nullopt;
+  return Entry{e->stat, Digest{Reader::hex_of(e->hash), e->size}};
+}
+
+bool DigestCache::find_node(const std::string& node, PublishedNode* out) const {
+  if (auto it = nodes_.find(node); it != nodes_.end()) {
+    if (it->second && out) *out = *it->second;
+    return it->second.has_value();
+  }
+  auto it = std::lower_bound(base_nodes_.begin(), base_nodes_.end(), std::string_view(node),
+                             [](const BaseNode& e, std::string_view p) { return e.name < p; });
+  if (it == base_nodes_.end() || it->name != node) return false;
+  if (!out) return true;
+  Reader r{text_, it->begin};
+  r.view();
+  return read_node(r, out);
 }
 
 bool DigestCache::save(std::string* error) {
@@ -166,55 +241,75 @@ bool DigestCache::save(std::string* error) {
   {
     std::lock_guard lock(mu_);
     if (!dirty_) return true;
-    // Sorted, so the same records always give the same bytes.
-    std::vector<const std::pair<const std::string, Entry>*> sorted;
-    sorted.reserve(entries_.size());
-    for (const auto& kv : entries_) sorted.push_back(&kv);
-    std::sort(sorted.begin(), sorted.end(), [](auto* a, auto* b) { return a->first < b->first; });
+    // Sorted, so the same records always give the same bytes. A loaded record nobody changed
+    // is copied as it was; the others are encoded again.
+    std::vector<std::pair<std::string_view, std::string>> records;
+    records.reserve(base_.size() + entries_.size());
+    for (const auto& e : base_)
+      if (!entries_.count(std::string(e.path)))
+        records.emplace_back(e.path, std::string(text_, e.begin, e.end - e.begin));
+    for (const auto& [path, e] : entries_) {
+      if (!e) continue;
+      std::string rec;
+      put_str(rec, path);
+      put_stat(rec, e->stat);
+      put_hash(rec, e->digest.hash);
+      put_uint(rec, e->digest.size);
+      records.emplace_back(path, std::move(rec));
+    }
+    std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     out.assign(kMagic, sizeof kMagic);
-    put_uint(out, sorted.size());
-    for (const auto* kv : sorted) {
-      put_str(out, kv->first);
-      put_stat(out, kv->second.stat);
-      put_hash(out, kv->second.digest.hash);
-      put_uint(out, kv->second.digest.size);
-    }
-    std::vector<const std::pair<const std::string, PublishedNode>*> nodes;
-    nodes.reserve(nodes_.size());
-    for (const auto& kv : nodes_) nodes.push_back(&kv);
-    std::sort(nodes.begin(), nodes.end(), [](auto* a, auto* b) { return a->first < b->first; });
-    put_uint(out, nodes.size());
-    for (const auto* kv : nodes) {
-      const PublishedNode& p = kv->second;
-      put_str(out, kv->first);
+    put_uint(out, records.size());
+    for (const auto& rec : records) out += rec.second;
+
+    records.clear();
+    for (const auto& e : base_nodes_)
+      if (!nodes_.count(std::string(e.name)))
+        records.emplace_back(e.name, std::string(text_, e.begin, e.end - e.begin));
+    for (const auto& [name, node] : nodes_) {
+      if (!node) continue;
+      const PublishedNode& p = *node;
+      std::string rec;
+      put_str(rec, name);
       const std::size_t space = p.tag.find(' ');
-      put_hash(out, p.tag.substr(0, space));
-      put_str(out, space == std::string::npos ? std::string_view() : std::string_view(p.tag).substr(space + 1));
-      put_stat(out, p.dir);
-      put_hash(out, p.record_key);
-      put_uint(out, p.outputs.size());
+      put_hash(rec, p.tag.substr(0, space));
+      put_str(rec,
+              space == std::string::npos ? std::string_view() : std::string_view(p.tag).substr(space + 1));
+      put_stat(rec, p.dir);
+      put_hash(rec, p.record_key);
+      put_uint(rec, p.outputs.size());
       for (const auto& o : p.outputs) {
-        put_str(out, o.name);
-        put_hash(out, o.digest.hash);
-        put_uint(out, o.digest.size);
+        put_str(rec, o.name);
+        put_hash(rec, o.digest.hash);
+        put_uint(rec, o.digest.size);
       }
+      records.emplace_back(name, std::move(rec));
     }
+    std::sort(records.begin(), records.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    put_uint(out, records.size());
+    for (const auto& rec : records) out += rec.second;
     dirty_ = false;
   }
-  if (fs_.write_atomic(file_, out, /*durable=*/false, error)) return true;  // a cache: losing it costs hashing
+  if (fs_.write_atomic(file_, out, /*durable=*/false, error))
+    return true;  // a cache: losing it costs hashing
   std::lock_guard lock(mu_);
   dirty_ = true;
   return false;
 }
 
 bool DigestCache::holds(const fs::path& p, const Digest& d) {
-  const std::string key = p.string();
+  const std::string& key = p.native();
   FileInfo recorded;
   {
     std::lock_guard lock(mu_);
-    auto it = entries_.find(key);
-    if (it == entries_.end() || !(it->second.digest == d)) return false;
-    recorded = it->second.stat;
+    if (auto it = entries_.find(key); it != entries_.end()) {
+      if (!it->second || !(it->second->digest == d)) return false;
+      recorded = it->second->stat;
+    } else {
+      const BaseEntry* e = find_base(key);
+      if (!e || e->size != d.size || !raw_equals_hex(e->hash, d.hash)) return false;
+      recorded = e->stat;
+    }
   }
   auto st = fs_.stat(p);
   return st && same_file(*st, recorded);
@@ -223,44 +318,54 @@ bool DigestCache::holds(const fs::path& p, const Digest& d) {
 void DigestCache::record(const fs::path& p, const Digest& d, std::int64_t known_at) {
   auto st = fs_.stat(p);
   std::lock_guard lock(mu_);
-  const std::string key = p.string();
+  const std::string& key = p.native();
+  const std::optional<Entry> now = find_entry(key);
   if (!st || !settled(st->mtime_ns, known_at) || st->is_dir || st->is_other) {
-    if (entries_.erase(key)) dirty_ = true;
+    if (now) {
+      entries_[key] = std::nullopt;
+      dirty_ = true;
+    }
     return;
   }
-  auto [it, inserted] = entries_.try_emplace(key);
-  if (inserted || !same_file(it->second.stat, *st) || !(it->second.digest == d)) {
-    it->second = Entry{*st, d};
+  if (!now || !same_file(now->stat, *st) || !(now->digest == d)) {
+    entries_[key] = Entry{*st, d};
     dirty_ = true;
   }
 }
 
 void DigestCache::forget(const fs::path& p) {
   std::lock_guard lock(mu_);
-  if (entries_.erase(p.string())) dirty_ = true;
+  if (find_entry(p.native())) {
+    entries_[p.native()] = std::nullopt;
+    dirty_ = true;
+  }
 }
 
 std::optional<PublishedNode> DigestCache::published(const std::string& node) {
   std::lock_guard lock(mu_);
-  auto it = nodes_.find(node);
-  if (it == nodes_.end()) return std::nullopt;
-  return it->second;
+  PublishedNode p;
+  if (!find_node(node, &p)) return std::nullopt;
+  return p;
 }
 
 void DigestCache::set_published(const std::string& node, PublishedNode p) {
   std::lock_guard lock(mu_);
-  auto [it, inserted] = nodes_.try_emplace(node);
-  if (!inserted && it->second == p) return;
-  it->second = std::move(p);
+  PublishedNode now;
+  if (find_node(node, &now) && now == p) return;
+  nodes_[node] = std::move(p);
   dirty_ = true;
 }
 
 void DigestCache::forget_published(const std::string& node) {
   std::lock_guard lock(mu_);
-  if (nodes_.erase(node)) dirty_ = true;
+  if (find_node(node, nullptr)) {
+    nodes_[node] = std::nullopt;
+    dirty_ = true;
+  }
 }
 
-std::optional<Digest> DigestCache::digest(const fs::path& p, std::string* error, const std::optional<FileInfo>& known) {
+std::optional<Digest> DigestCache::digest(const fs::path& p, std::string* error,
+                                          const std::optional<FileInfo>& known) {
   auto st = known ? known : fs_.stat(p);
   if (!st) {
     if (error) *error = "No such file or directory";
@@ -268,8 +373,8 @@ std::optional<Digest> DigestCache::digest(const fs::path& p, std::string* error,
   }
   {
     std::lock_guard lock(mu_);
-    auto it = entries_.find(p.string());
-    if (it != entries_.end() && same_file(it->second.stat, *st)) return it->second.digest;
+    auto e = find_entry(p.native());
+    if (e && same_file(e->stat, *st)) return std::move(e->digest);
   }
   const std::int64_t known_at = fs_.now_ns();
   auto d = fs_.digest(p, error);

@@ -21,6 +21,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -77,11 +78,33 @@ class DigestCache {
     FileInfo stat;
     Digest digest;
   };
+  // The records as loaded, never copied out of the file's bytes (text_): a 10,000-node no-op
+  // looks up ~20,000 of them once each, so building a map of them cost more than the lookups.
+  // The file is written sorted, so they are found by binary search; each is decoded when asked.
+  struct BaseEntry {
+    std::string_view path;
+    FileInfo stat;
+    const char* hash;  // 32 raw bytes inside text_
+    std::uint64_t size;
+    std::size_t begin, end;  // the record's bytes in text_ (copied verbatim by save())
+  };
+  struct BaseNode {
+    std::string_view name;
+    std::size_t begin, end;
+  };
+  const BaseEntry* find_base(std::string_view path) const;            // mu_ held
+  std::optional<Entry> find_entry(const std::string& path) const;     // mu_ held
+  bool find_node(const std::string& node, PublishedNode* out) const;  // mu_ held
+
   FileSystem& fs_;
   std::filesystem::path file_;
-  std::mutex mu_;
-  std::unordered_map<std::string, Entry> entries_;
-  std::unordered_map<std::string, PublishedNode> nodes_;
+  mutable std::mutex mu_;
+  std::string text_;
+  std::vector<BaseEntry> base_;
+  std::vector<BaseNode> base_nodes_;
+  // Changes since load(), by key; nullopt = removed. They shadow the base records.
+  std::unordered_map<std::string, std::optional<Entry>> entries_;
+  std::unordered_map<std::string, std::optional<PublishedNode>> nodes_;
   bool dirty_ = false;
 };
 

@@ -118,7 +118,8 @@ fs::path unique_temp_path(const fs::path& p) {
                   std::to_string(counter.fetch_add(1)));
 }
 
-std::optional<std::string> RealFileSystem::read(const fs::path& p, std::string* error, std::uint64_t max_bytes) {
+std::optional<std::string> RealFileSystem::read(const fs::path& p, std::string* error,
+                                                std::uint64_t max_bytes) {
   struct stat st {};
   int fd = open_regular(p, &st, error);
   if (fd < 0) return std::nullopt;
@@ -150,8 +151,10 @@ std::optional<std::string> RealFileSystem::read(const fs::path& p, std::string* 
   return out;
 }
 
-bool RealFileSystem::write_atomic(const fs::path& p, std::string_view bytes, bool durable, std::string* error) {
-  return atomic_replace(p, [&](int fd) { return write_all(fd, bytes.data(), bytes.size()); }, durable, error);
+bool RealFileSystem::write_atomic(const fs::path& p, std::string_view bytes, bool durable,
+                                  std::string* error) {
+  return atomic_replace(
+      p, [&](int fd) { return write_all(fd, bytes.data(), bytes.size()); }, durable, error);
 }
 
 bool RealFileSystem::copy_atomic(const fs::path& from, const fs::path& to, std::string* error) {
@@ -177,9 +180,8 @@ bool RealFileSystem::copy_atomic(const fs::path& from, const fs::path& to, std::
   return ok;
 }
 
-std::optional<FileInfo> RealFileSystem::stat(const fs::path& p) {
-  struct stat st {};
-  if (::stat(p.c_str(), &st) != 0) return std::nullopt;
+namespace {
+FileInfo info_of(const struct stat& st) {
   FileInfo info;
   info.is_dir = S_ISDIR(st.st_mode);
   info.is_other = !info.is_dir && !S_ISREG(st.st_mode);
@@ -189,6 +191,24 @@ std::optional<FileInfo> RealFileSystem::stat(const fs::path& p) {
   info.ino = static_cast<std::uint64_t>(st.st_ino);
   info.dev = static_cast<std::uint64_t>(st.st_dev);
   return info;
+}
+}  // namespace
+
+std::optional<FileInfo> RealFileSystem::stat(const fs::path& p) {
+  struct stat st {};
+  if (::stat(p.c_str(), &st) != 0) return std::nullopt;
+  return info_of(st);
+}
+
+std::optional<FileInfo> RealFileSystem::stat_checking_link(const fs::path& p, bool* not_link) {
+  struct stat st {};
+  if (::lstat(p.c_str(), &st) != 0) {
+    *not_link = true;  // nothing there, not even a dangling link
+    return std::nullopt;
+  }
+  *not_link = !S_ISLNK(st.st_mode);
+  if (*not_link) return info_of(st);
+  return stat(p);
 }
 
 bool RealFileSystem::remove(const fs::path& p) {
@@ -239,7 +259,9 @@ std::unique_ptr<FileLock> flock_path(const fs::path& p, int how) {
 
 std::unique_ptr<FileLock> RealFileSystem::lock(const fs::path& p) { return flock_path(p, LOCK_EX); }
 std::unique_ptr<FileLock> RealFileSystem::lock_shared(const fs::path& p) { return flock_path(p, LOCK_SH); }
-std::unique_ptr<FileLock> RealFileSystem::try_lock(const fs::path& p) { return flock_path(p, LOCK_EX | LOCK_NB); }
+std::unique_ptr<FileLock> RealFileSystem::try_lock(const fs::path& p) {
+  return flock_path(p, LOCK_EX | LOCK_NB);
+}
 
 void RealFileSystem::make_read_only(const fs::path& p) { ::chmod(p.c_str(), 0444); }
 
@@ -285,7 +307,8 @@ std::optional<Digest> RealFileSystem::digest(const fs::path& p, std::string* err
   return Digest{h.finish_hex(), total};
 }
 
-bool RealFileSystem::link_or_copy(const fs::path& from, const fs::path& to, bool* linked, std::string* error) {
+bool RealFileSystem::link_or_copy(const fs::path& from, const fs::path& to, bool* linked,
+                                  std::string* error) {
   std::error_code ec;
   if (to.has_parent_path()) fs::create_directories(to.parent_path(), ec);
   const fs::path tmp = unique_temp_path(to);

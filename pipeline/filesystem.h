@@ -57,8 +57,15 @@ class FileSystem {
   // Copies `from` to `to` atomically (temp + fsync + rename). False on failure.
   virtual bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) = 0;
   virtual std::optional<FileInfo> stat(const fs::path& p) = 0;
-  virtual bool remove(const fs::path& p) = 0;          // file or empty dir; true if gone
-  virtual bool remove_all(const fs::path& p) = 0;      // recursive; true if gone
+  // stat(p), and *not_link = true if this call also established, on the real disk, that `p`
+  // itself is not a symbolic link (or does not exist), which ProjectRoot::contains would
+  // otherwise check with an lstat of its own. The default establishes nothing (false).
+  virtual std::optional<FileInfo> stat_checking_link(const fs::path& p, bool* not_link) {
+    *not_link = false;
+    return stat(p);
+  }
+  virtual bool remove(const fs::path& p) = 0;      // file or empty dir; true if gone
+  virtual bool remove_all(const fs::path& p) = 0;  // recursive; true if gone
   virtual bool make_dirs(const fs::path& p, std::string* error = nullptr) = 0;
   virtual std::vector<std::string> list(const fs::path& dir) = 0;  // entry names, sorted
   // Blocks until an exclusive advisory lock on `p` (created if needed) is held.
@@ -120,9 +127,12 @@ class RealFileSystem final : public FileSystem {
  public:
   std::optional<std::string> read(const fs::path& p, std::string* error = nullptr,
                                   std::uint64_t max_bytes = UINT64_MAX) override;
-  bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true, std::string* error = nullptr) override;
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true,
+                    std::string* error = nullptr) override;
   bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) override;
   std::optional<FileInfo> stat(const fs::path& p) override;
+  // One lstat; a second call (stat) only for a symbolic link.
+  std::optional<FileInfo> stat_checking_link(const fs::path& p, bool* not_link) override;
   bool remove(const fs::path& p) override;
   bool remove_all(const fs::path& p) override;
   bool make_dirs(const fs::path& p, std::string* error = nullptr) override;
@@ -132,7 +142,8 @@ class RealFileSystem final : public FileSystem {
   void touch(const fs::path& p) override;
   std::optional<double> age_seconds(const fs::path& p) override;
   std::optional<Digest> digest(const fs::path& p, std::string* error = nullptr) override;
-  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr, std::string* error = nullptr) override;
+  bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr,
+                    std::string* error = nullptr) override;
   bool sync(const fs::path& p, std::string* error = nullptr) override;
   bool rename(const fs::path& from, const fs::path& to, std::string* error = nullptr) override;
   void set_mtime(const fs::path& p, std::int64_t mtime_ns) override;
@@ -140,7 +151,8 @@ class RealFileSystem final : public FileSystem {
   std::unique_ptr<FileLock> try_lock(const fs::path& p) override;
   std::int64_t now_ns() override;
   std::optional<std::uint64_t> free_bytes(const fs::path& p) override;
-  bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced, std::string* error = nullptr) override;
+  bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
+                   std::string* error = nullptr) override;
   bool sync_fs(const fs::path& p, std::string* error = nullptr) override;
   std::optional<fs::path> real_path(const fs::path& p) override;
 };

@@ -145,5 +145,77 @@ TEST(DigestCacheTest, RecordsRoundTripAndDamageIsForgotten) {
   EXPECT_EQ(c3.digest("/d/x"), d);  // hashed again
 }
 
+// Loaded records are looked up in the file's own bytes and written back as they were; changed
+// ones shadow them. Whatever mix of loaded and changed records, the saved bytes are those of a
+// cache that recorded the same state from scratch (sorted, deterministic), and an unsorted or
+// duplicated file (not one sylva wrote) is an empty cache.
+TEST(DigestCacheTest, ChangesOverLoadedRecordsSaveTheSameBytesAsAFreshCache) {
+  test::FakeFileSystem fs;
+  for (const char* f : {"/d/a", "/d/b", "/d/c", "/d/e"}) fs.put(f, std::string("bytes of ") + f);
+  fs.now += kMs;
+  auto node = [&](char k, const Digest& d) {
+    return PublishedNode{std::string(64, k) + " /c", {{"out.txt", d}}, *fs.stat("/d/a"), std::string(64, k)};
+  };
+  DigestCache first(fs, "/o/digests");
+  for (const char* f : {"/d/a", "/d/b", "/d/c"}) ASSERT_TRUE(first.digest(f));
+  const Digest da = *first.digest("/d/a");
+  first.set_published("n1", node('1', da));
+  first.set_published("n2", node('2', da));
+  first.set_published("n3", node('3', da));
+  ASSERT_TRUE(first.save());
+
+  // Load, then: forget b, record e, re-record a (unchanged: stays clean), replace n2, drop n3.
+  DigestCache second(fs, "/o/digests");
+  second.load();
+  fs.reads.clear();
+  EXPECT_EQ(second.digest("/d/a"), da);
+  EXPECT_TRUE(fs.reads.empty());
+  EXPECT_TRUE(second.holds("/d/a", da));
+  EXPECT_FALSE(second.holds("/d/a", Digest{std::string(64, 'f'), da.size}));
+  EXPECT_FALSE(second.holds("/d/b", da));
+  EXPECT_EQ(second.published("n1"), node('1', da));
+  second.forget("/d/b");
+  ASSERT_TRUE(second.digest("/d/e"));
+  second.set_published("n2", node('9', da));
+  second.forget_published("n3");
+  EXPECT_FALSE(second.published("n3"));
+  EXPECT_EQ(second.published("n2"), node('9', da));
+  ASSERT_TRUE(second.save());
+  const std::string merged = fs.files.at("/o/digests");
+
+  DigestCache fresh(fs, "/o/fresh");
+  for (const char* f : {"/d/e", "/d/c", "/d/a"}) ASSERT_TRUE(fresh.digest(f));
+  fresh.set_published("n2", node('9', da));
+  fresh.set_published("n1", node('1', da));
+  ASSERT_TRUE(fresh.save());
+  EXPECT_EQ(fs.files.at("/o/fresh"), merged);
+
+  DigestCache third(fs, "/o/digests");
+  third.load();
+  fs.reads.clear();
+  for (const char* f : {"/d/a", "/d/c", "/d/e"}) EXPECT_TRUE(third.digest(f));
+  EXPECT_TRUE(fs.reads.empty());
+  EXPECT_TRUE(third.digest("/d/b"));
+  EXPECT_EQ(fs.reads, std::vector<std::string>{"/d/b"});  // forgotten: hashed again
+  EXPECT_FALSE(third.published("n3"));
+
+  // The same two records in the wrong order: not a file sylva wrote, so nothing is trusted.
+  DigestCache two(fs, "/o/two");
+  ASSERT_TRUE(two.digest("/d/a"));
+  ASSERT_TRUE(two.digest("/d/c"));
+  ASSERT_TRUE(two.save());
+  std::string bytes = fs.files.at("/o/two");
+  const std::size_t a = bytes.find("/d/a") - 1, c = bytes.find("/d/c") - 1;
+  ASSERT_LT(a, c);
+  const std::string rec_a = bytes.substr(a, c - a), rec_c = bytes.substr(c, bytes.size() - 1 - c);
+  bytes.replace(a, rec_a.size() + rec_c.size(), rec_c + rec_a);
+  fs.files["/o/two"] = bytes;
+  DigestCache swapped(fs, "/o/two");
+  swapped.load();
+  fs.reads.clear();
+  EXPECT_TRUE(swapped.digest("/d/a"));
+  EXPECT_EQ(fs.reads, std::vector<std::string>{"/d/a"});
+}
+
 }  // namespace
 }  // namespace sylva

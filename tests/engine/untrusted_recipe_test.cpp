@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <string>
 
+#include "pipeline/project_root.h"
 #include "pipeline/recipe_loader.h"
 #include "tests/engine/test_stages.h"
 #include "tests/support/test_support.h"
@@ -73,6 +74,41 @@ TEST_F(UntrustedRecipeTest, PathsOutsideTheProjectRootAreRefused) {
   EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: readfile\n    with: { file: link.txt }\n"));
   EXPECT_EQ(errors(), "T/project/r.yaml:6:19: error: parameter 'file': 'T/project/link.txt' is outside the "
                       "project root 'T/project" + std::string(kHow) + "\n");
+}
+
+// Directories are resolved once per recipe (a 10,000-file recipe costs one lstat per file):
+// a linked directory is judged by where it points for every file in it, a linked file among
+// plain ones by its own target, and ".." after a link by the real path.
+TEST_F(UntrustedRecipeTest, LinkedDirectoriesAndFilesAreJudgedByTheirTargets) {
+  fs::create_directories(dir_ / "outside");
+  fs::create_directories(dir_ / "project/in");
+  for (const char* f : {"outside/a.txt", "outside/b.txt", "project/in/a.txt", "project/in/b.txt"})
+    test::write_file(dir_ / f, "data\n");
+  fs::create_directory_symlink(dir_ / "outside", dir_ / "project/ext");  // inside by name only
+  fs::create_symlink(dir_ / "secret.txt", dir_ / "project/in/c.txt");
+  fs::create_directories(dir_ / "project/deep");
+  fs::create_directory_symlink(dir_ / "project/in", dir_ / "project/deep/up");  // stays inside
+  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n"
+                    "  a:\n    stage: readfile\n    with: { file: in/a.txt }\n"
+                    "  b:\n    stage: readfile\n    with: { file: ext/a.txt }\n"
+                    "  c:\n    stage: readfile\n    with: { file: in/b.txt }\n"
+                    "  d:\n    stage: readfile\n    with: { file: ext/b.txt }\n"
+                    "  e:\n    stage: readfile\n    with: { file: in/c.txt }\n"
+                    "  f:\n    stage: readfile\n    with: { file: deep/up/a.txt }\n"));
+  const std::string outside = "' is outside the project root 'T/project" + std::string(kHow) + "\n";
+  EXPECT_EQ(errors(), "T/project/r.yaml:9:19: error: parameter 'file': 'T/project/ext/a.txt" + outside +
+                          "T/project/r.yaml:15:19: error: parameter 'file': 'T/project/ext/b.txt" + outside +
+                          "T/project/r.yaml:18:19: error: parameter 'file': 'T/project/in/c.txt" + outside);
+  const ProjectRoot root(dir_ / "project");
+  EXPECT_TRUE(root.contains(dir_ / "project/in/a.txt"));
+  EXPECT_FALSE(root.contains(dir_ / "project/ext/a.txt"));
+  EXPECT_FALSE(root.contains(dir_ / "project/ext/missing.txt"));
+  EXPECT_TRUE(root.contains(dir_ / "project/in/missing.txt"));
+  EXPECT_TRUE(root.contains(dir_ / "project/deep/up/../in/a.txt"));   // deep/up -> in, ".." -> project
+  EXPECT_FALSE(root.contains(dir_ / "project/ext/../../secret.txt"));  // ext -> outside, ".." -> T
+  EXPECT_FALSE(root.contains(dir_ / "project/../secret.txt"));
+  EXPECT_TRUE(root.contains(dir_ / "project"));
+  EXPECT_FALSE(root.contains(dir_ / "projectile/a.txt"));
 }
 
 TEST_F(UntrustedRecipeTest, TheRootCanBeDeclaredBoundedOrLifted) {

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 
 #include <cstdlib>
 #include <filesystem>
@@ -335,6 +338,62 @@ TEST_F(LodcheckCli, PassesAndReports) {
   EXPECT_EQ(image::read_image(report_ / "sylva_lod1_az0.png").height(), 200);
   EXPECT_TRUE(fs::exists(dir_ / "full.glb"));
   SYLVA_EXPECT_VALID_GLTF(dir_ / "full.glb");
+}
+
+// Issue 15: SIGTERM (as Ctrl-C) stops lodcheck between rendered views, even with --no-images,
+// with exit 130 and one line; the report directory is staged beside its final place, so the
+// previous complete report stays exactly as it was (here marked by a file of our own) and no
+// staging directory is left behind.
+TEST_F(LodcheckCli, SigtermStopsBetweenViewsAndKeepsThePreviousReport) {
+  ASSERT_EQ(lodcheck("--no-images").code, 0);
+  test::write_file(report_ / "marker.txt", "previous run\n");
+  const std::string before = test::read_file(report_ / "lodcheck.json");
+  // 24 azimuths x 3 levels: long enough that the signal lands while views are being rendered.
+  std::string args = "--no-images";
+  for (int a = 0; a < 360; a += 15) args += " --azimuth " + std::to_string(a);
+  const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+  const std::string cmd = std::string("exec ") + SYLVA_BINARY + " --allow-outside-root --out " + out_.string() +
+                          " lodcheck " + recipe_.string() + " " + args + " >" + out.string() + " 2>" + err.string();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // The staging directory appears once the build is done and the renders begin.
+  auto staging = [&] {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(report_.parent_path(), ec))
+      if (e.path().filename().string().rfind(".lod_birch.tmp.", 0) == 0) return true;
+    return false;
+  };
+  int status = 0;
+  bool exited = false;
+  for (int i = 0; i < 6000 && !staging(); ++i) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited = true;
+      break;
+    }
+    ::usleep(10000);
+  }
+  ASSERT_FALSE(exited) << "lodcheck ended before its renders began: " << test::read_file(err);
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  for (int i = 0; i < 3000 && !exited; ++i) {  // one view renders in well under 30 s
+    exited = ::waitpid(pid, &status, WNOHANG) == pid;
+    if (!exited) ::usleep(10000);
+  }
+  if (!exited) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+    FAIL() << "lodcheck did not stop within 30 s of SIGTERM";
+  }
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_EQ(test::read_file(err),
+            "sylva lodcheck: interrupted; nothing more was written (earlier reports are as they were)\n");
+  EXPECT_EQ(test::read_file(report_ / "marker.txt"), "previous run\n");
+  EXPECT_EQ(test::read_file(report_ / "lodcheck.json"), before);
+  EXPECT_FALSE(staging());
 }
 
 // The per-pixel threshold follows the node's pixel error delta unless given.
