@@ -3,7 +3,6 @@
 #include "app/cli.h"
 
 #include <CLI/CLI.hpp>
-
 #include <cstdlib>
 #include <memory>
 #include <optional>
@@ -36,8 +35,11 @@ std::string type_text(const ParamSpec& p) {
   }
   if (p.min || p.max) {
     const bool integral = p.type == ParamType::kInt || p.type == ParamType::kIntList;
-    auto num = [&](double d) { return integral ? std::to_string(static_cast<long long>(d)) : format_real(d); };
-    t += " [" + (p.min ? num(*p.min) : std::string("-inf")) + ", " + (p.max ? num(*p.max) : std::string("inf")) + "]";
+    auto num = [&](double d) {
+      return integral ? std::to_string(static_cast<long long>(d)) : format_real(d);
+    };
+    t += " [" + (p.min ? num(*p.min) : std::string("-inf")) + ", " +
+         (p.max ? num(*p.max) : std::string("inf")) + "]";
   }
   return t;
 }
@@ -47,7 +49,8 @@ void print_params(std::FILE* out, const std::vector<ParamSpec>& params, const st
     std::fprintf(out, "%s%-22s %-28s %s%s\n", indent.c_str(), p.name.c_str(), type_text(p).c_str(),
                  p.required() ? "(required) " : ("= " + p.default_value.canonical() + "  ").c_str(),
                  p.doc.c_str());
-    if (p.type == ParamType::kObject || p.type == ParamType::kObjectList) print_params(out, p.fields, indent + "  ");
+    if (p.type == ParamType::kObject || p.type == ParamType::kObjectList)
+      print_params(out, p.fields, indent + "  ");
   }
 }
 
@@ -57,17 +60,20 @@ int cmd_stages(const StageRegistry& reg, const CliIo& io) {
     std::string in;
     for (const auto& t : i.inputs.types) in += (in.empty() ? "" : "|") + t;
     const std::string count = i.inputs.max < 0 ? std::to_string(i.inputs.min) + "+"
-                              : i.inputs.min == i.inputs.max ? std::to_string(i.inputs.min)
-                                                             : std::to_string(i.inputs.min) + "-" + std::to_string(i.inputs.max);
+                              : i.inputs.min == i.inputs.max
+                                  ? std::to_string(i.inputs.min)
+                                  : std::to_string(i.inputs.min) + "-" + std::to_string(i.inputs.max);
     std::fprintf(io.out, "%s (v%d): %s\n  inputs: %s  output: %s\n", i.name.c_str(), i.version,
-                 i.summary.c_str(), in.empty() ? "none" : (count + " x " + in).c_str(), i.output_type.c_str());
+                 i.summary.c_str(), in.empty() ? "none" : (count + " x " + in).c_str(),
+                 i.output_type.c_str());
     print_params(io.out, i.params, "    ");
   }
   if (reg.all().empty()) std::fprintf(io.out, "no stages registered\n");
   return kExitOk;
 }
 
-int cmd_graph(const std::string& file, bool dot, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
+int cmd_graph(const std::string& file, bool dot, const StageRegistry& reg, FileSystem& fsys,
+              const CliIo& io) {
   auto recipe = load_recipe_or_report(file, reg, fsys, io);
   if (!recipe) return kExitUsage;
   BuildGraph g(*recipe);
@@ -103,10 +109,14 @@ std::optional<std::uint64_t> parse_size(const std::string& text) {
   }
   const std::string unit = text.substr(used);
   double scale = 1;
-  if (unit == "K" || unit == "KiB") scale = 1024.0;
-  else if (unit == "M" || unit == "MiB") scale = 1024.0 * 1024;
-  else if (unit == "G" || unit == "GiB") scale = 1024.0 * 1024 * 1024;
-  else if (!unit.empty() && unit != "B") return std::nullopt;
+  if (unit == "K" || unit == "KiB")
+    scale = 1024.0;
+  else if (unit == "M" || unit == "MiB")
+    scale = 1024.0 * 1024;
+  else if (unit == "G" || unit == "GiB")
+    scale = 1024.0 * 1024 * 1024;
+  else if (!unit.empty() && unit != "B")
+    return std::nullopt;
   if (v < 0) return std::nullopt;
   return static_cast<std::uint64_t>(v * scale);
 }
@@ -149,8 +159,10 @@ int cmd_clean_all(const Common& c, FileSystem& fsys, const CliIo& io) {
     }
     if (p.lexically_normal() == cache.lexically_normal()) continue;  // judged above
     auto marker = fsys.stat(p / ".sylva");
-    if (name == ".sylva-parse" || (marker && marker->is_dir)) fsys.remove_all(p);
-    else ++kept;
+    if (name == ".sylva-parse" || (marker && marker->is_dir))
+      fsys.remove_all(p);
+    else
+      ++kept;
   }
   if (fsys.list(out).empty()) fsys.remove(out);
   if (kept > 0)
@@ -159,7 +171,8 @@ int cmd_clean_all(const Common& c, FileSystem& fsys, const CliIo& io) {
   return kExitOk;
 }
 
-int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys, const CliIo& io) {
+int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys,
+              const CliIo& io) {
   auto recipe = load_recipe_or_report(a.recipe, reg, fsys, io, c.out_dir);
   if (!recipe) return kExitUsage;
   Cache cache(fsys, c.cache_root());
@@ -173,7 +186,8 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
   opt.dry_run = a.dry_run;
   opt.targets = a.targets;
   std::string limit = a.cache_max;
-  if (const char* env_limit = std::getenv("SYLVA_CACHE_MAX_SIZE"); limit.empty() && env_limit) limit = env_limit;
+  if (const char* env_limit = std::getenv("SYLVA_CACHE_MAX_SIZE"); limit.empty() && env_limit)
+    limit = env_limit;
   if (!limit.empty()) {
     opt.cache_max_bytes = parse_size(limit);
     if (!opt.cache_max_bytes) {
@@ -192,7 +206,8 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
   for (const auto& e : s.errors) std::fprintf(io.err, "error: %s\n", e.c_str());
   if (s.evicted.actions_removed > 0)
     std::fprintf(io.err, "sylva: cache above its limit: evicted %llu least recently used results (%s)\n",
-                 static_cast<unsigned long long>(s.evicted.actions_removed), human_bytes(s.evicted.bytes_freed).c_str());
+                 static_cast<unsigned long long>(s.evicted.actions_removed),
+                 human_bytes(s.evicted.bytes_freed).c_str());
   std::fprintf(io.err, "sylva: %s; outputs in %s/\n", summary_line(s).c_str(), out_dir.c_str());
   if (s.interrupted()) return kExitInterrupted;
   return s.ok() ? kExitOk : kExitBuildFailed;
@@ -218,10 +233,14 @@ int cmd_explain(const std::string& file, const std::string& node, const Common& 
 
 std::string human_bytes(std::uint64_t b) {
   char buf[32];
-  if (b >= (1ull << 30)) std::snprintf(buf, sizeof buf, "%.2f GiB", static_cast<double>(b) / (1ull << 30));
-  else if (b >= (1ull << 20)) std::snprintf(buf, sizeof buf, "%.2f MiB", static_cast<double>(b) / (1ull << 20));
-  else if (b >= 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(b) / 1024);
-  else std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b));
+  if (b >= (1ull << 30))
+    std::snprintf(buf, sizeof buf, "%.2f GiB", static_cast<double>(b) / (1ull << 30));
+  else if (b >= (1ull << 20))
+    std::snprintf(buf, sizeof buf, "%.2f MiB", static_cast<double>(b) / (1ull << 20));
+  else if (b >= 1024)
+    std::snprintf(buf, sizeof buf, "%.1f KiB", static_cast<double>(b) / 1024);
+  else
+    std::snprintf(buf, sizeof buf, "%llu B", static_cast<unsigned long long>(b));
   return buf;
 }
 
@@ -232,12 +251,13 @@ const GlobalOptions* g_global_options = nullptr;  // those of the command line b
 }  // namespace
 
 int report_interrupted(const CliIo& io, const char* command) {
-  std::fprintf(io.err, "%s: interrupted; nothing more was written (earlier reports are as they were)\n", command);
+  std::fprintf(io.err, "%s: interrupted; nothing more was written (earlier reports are as they were)\n",
+               command);
   return kExitInterrupted;
 }
 
-std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
-                                            const CliIo& io, const std::string& out_dir) {
+std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry,
+                                            FileSystem& fsys, const CliIo& io, const std::string& out_dir) {
   LoadOptions options;
   if (!out_dir.empty()) options.parse_cache_dir = fs::path(out_dir) / ".sylva-parse";
   if (const GlobalOptions* g = g_global_options) {
@@ -271,8 +291,9 @@ void add_global_options(CLI::App& app, GlobalOptions& g) {
   app.add_flag("--allow-outside-root", g.allow_outside_root,
                "let recipes name files outside their project root (trusted recipes only; docs/recipes.md)");
   app.add_option("--root", g.root, "confine every recipe to this directory, whatever its 'root:' key says");
-  app.add_option("--limit", g.limits,
-                 "raise a recipe limit: file-bytes, yaml-nodes, include-depth, matrix, nodes, errors (NAME=N)")
+  app.add_option(
+         "--limit", g.limits,
+         "raise a recipe limit: file-bytes, yaml-nodes, include-depth, matrix, nodes, errors (NAME=N)")
       ->allow_extra_args(false);
   g_global_options = &g;
 }
@@ -335,7 +356,8 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   auto* cs = cache_cmd->add_subcommand("stats", "count blobs, bytes and action results");
   double max_gib = 0;
   auto* cg = cache_cmd->add_subcommand("gc", "delete unreferenced blobs and stale temp files");
-  cg->add_option("--max-size-gib", max_gib, "also evict least recently used results above this size")->check(CLI::NonNegativeNumber);
+  cg->add_option("--max-size-gib", max_gib, "also evict least recently used results above this size")
+      ->check(CLI::NonNegativeNumber);
   auto* cv = cache_cmd->add_subcommand("verify", "re-hash every blob, delete corrupt ones");
 
   std::string clean_recipe;
@@ -360,8 +382,9 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
       Cache cache(fsys, common.cache_root());
       const CacheStats s = cache.stats();
       std::fprintf(io.out, "cache %s: %llu blobs (%s), %llu action results, %llu temp entries\n",
-                   cache.root().c_str(), static_cast<unsigned long long>(s.blobs), human_bytes(s.blob_bytes).c_str(),
-                   static_cast<unsigned long long>(s.actions), static_cast<unsigned long long>(s.tmp_entries));
+                   cache.root().c_str(), static_cast<unsigned long long>(s.blobs),
+                   human_bytes(s.blob_bytes).c_str(), static_cast<unsigned long long>(s.actions),
+                   static_cast<unsigned long long>(s.tmp_entries));
       return kExitOk;
     }
     if (cg->parsed()) {
@@ -369,8 +392,9 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
       auto gc_lock = cache.lock_for_gc();  // waits for running builds; they wait for it
       const GcResult r = cache.gc(static_cast<std::uint64_t>(max_gib * (1ull << 30)));
       std::fprintf(io.out, "removed %llu action results, %llu blobs (%s), %llu temp entries\n",
-                   static_cast<unsigned long long>(r.actions_removed), static_cast<unsigned long long>(r.blobs_removed),
-                   human_bytes(r.bytes_freed).c_str(), static_cast<unsigned long long>(r.tmp_removed));
+                   static_cast<unsigned long long>(r.actions_removed),
+                   static_cast<unsigned long long>(r.blobs_removed), human_bytes(r.bytes_freed).c_str(),
+                   static_cast<unsigned long long>(r.tmp_removed));
       return kExitOk;
     }
     if (cv->parsed()) {

@@ -5,14 +5,13 @@
 // output operation failed); 2 usage or recipe error (nothing was built); 130 interrupted.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "pipeline/filesystem.h"
 #include "pipeline/recipe.h"
@@ -55,8 +54,9 @@ class CliCommand {
 // the output root, whose .sylva-parse/ keeps parsed YAML between runs (pipeline/yaml_tree.h).
 // The project root and limits are those of the global options (--allow-outside-root, --root,
 // --limit) of the command line being run (add_global_options).
-std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry, FileSystem& fsys,
-                                            const CliIo& io, const std::string& out_dir = "");
+std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry,
+                                            FileSystem& fsys, const CliIo& io,
+                                            const std::string& out_dir = "");
 
 // The cache directory: `cache_dir` when given (--cache), else $SYLVA_CACHE, else <out_dir>/cache.
 std::filesystem::path cache_root_for(const std::string& out_dir, const std::string& cache_dir);
@@ -64,7 +64,7 @@ std::filesystem::path cache_root_for(const std::string& out_dir, const std::stri
 // The options every subcommand inherits (`sylva --out DIR --cache DIR <command> ...`).
 struct GlobalOptions {
   std::string out_dir = "out";
-  std::string cache_dir;  // default: $SYLVA_CACHE or <out>/cache
+  std::string cache_dir;            // default: $SYLVA_CACHE or <out>/cache
   bool allow_outside_root = false;  // recipes may name any path (trusted recipes only)
   std::string root;                 // bounds every recipe's project root (untrusted recipes)
   std::vector<std::string> limits;  // "name=N" (pipeline/recipe_loader.h, LoadLimits)

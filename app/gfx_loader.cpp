@@ -23,7 +23,8 @@ std::filesystem::path module_path(const std::string& file, const std::string& en
 
 class GfxCommand final : public CliCommand {
  public:
-  GfxCommand(GfxCommandInfo info, GfxLoader& loader, int argc, const char* const* argv, const StageRegistry& registry)
+  GfxCommand(GfxCommandInfo info, GfxLoader& loader, int argc, const char* const* argv,
+             const StageRegistry& registry)
       : info_(info), loader_(loader), argc_(argc), argv_(argv), registry_(registry) {}
 
   CLI::App* add_to(CLI::App& app) override {
@@ -85,10 +86,12 @@ const Stage& ModuleLoader::resolve(std::string_view name) {
   return *s;
 }
 
-std::vector<std::unique_ptr<CliCommand>> make_gfx_commands(GfxLoader& loader, int argc, const char* const* argv,
-                                                          const StageRegistry& registry) {
+std::vector<std::unique_ptr<CliCommand>> make_gfx_commands(GfxLoader& loader, int argc,
+                                                           const char* const* argv,
+                                                           const StageRegistry& registry) {
   std::vector<std::unique_ptr<CliCommand>> out;
-  for (const auto& info : kGfxCommands) out.push_back(std::make_unique<GfxCommand>(info, loader, argc, argv, registry));
+  for (const auto& info : kGfxCommands)
+    out.push_back(std::make_unique<GfxCommand>(info, loader, argc, argv, registry));
   return out;
 }
 

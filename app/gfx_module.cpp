@@ -57,4 +57,6 @@ const GfxModule kModule{kGfxModuleAbi, &find_stage, &run_command};
 
 }  // namespace sylva
 
-extern "C" __attribute__((visibility("default"))) const sylva::GfxModule* sylva_gfx_module() { return &sylva::kModule; }
+extern "C" __attribute__((visibility("default"))) const sylva::GfxModule* sylva_gfx_module() {
+  return &sylva::kModule;
+}

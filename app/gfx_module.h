@@ -29,7 +29,8 @@ struct GfxModule {
   const Stage* (*find_stage)(const char* name) = nullptr;
   // Runs a heavy command: argv is the whole command line (`sylva [--out D] render ...`);
   // `registry` is the binary's (commands that build recipes use it). Returns the exit code.
-  int (*run_command)(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io) = nullptr;
+  int (*run_command)(int argc, const char* const* argv, const StageRegistry& registry,
+                     const CliIo& io) = nullptr;
 };
 
 // The commands the module runs, with the one-line summary `sylva --help` prints without loading
@@ -40,8 +41,10 @@ struct GfxCommandInfo {
 };
 inline constexpr GfxCommandInfo kGfxCommands[] = {
     {"impostorcheck",
-     "render each impostor at its switch distance against the full-detail tree from views between its frames"},
-    {"lodcheck", "render each LOD level at its switch distance against the full-detail tree and report the image error"},
+     "render each impostor at its switch distance against the full-detail tree from views between its "
+     "frames"},
+    {"lodcheck",
+     "render each LOD level at its switch distance against the full-detail tree and report the image error"},
     {"render", "render a .glb/.gltf file from the views of a camera set to PNG"},
     {"verify", "build a recipe's verify nodes' inputs, compare renderings with references, report"},
 };

@@ -7,12 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "app/full_detail.h"
 #include "app/gfx_module.h"
@@ -44,10 +43,13 @@ class ImpostorcheckCommand final : public CliCommand {
     parent_ = &app;
     auto* sub = app.add_subcommand("impostorcheck", gfx_command_summary("impostorcheck"));
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
-    sub->add_option("--node", nodes_, "check only this impostor node (repeatable; default: every node of stage impostor)")
+    sub->add_option("--node", nodes_,
+                    "check only this impostor node (repeatable; default: every node of stage impostor)")
         ->allow_extra_args(false);
-    sub->add_option("-j,--jobs", jobs_, "parallel nodes while building (default: all cores)")->check(CLI::Range(1, 1024));
-    sub->add_option("--report-dir", report_root_, "where reports and images go (default: <out>/<recipe>/impostorcheck)");
+    sub->add_option("-j,--jobs", jobs_, "parallel nodes while building (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    sub->add_option("--report-dir", report_root_,
+                    "where reports and images go (default: <out>/<recipe>/impostorcheck)");
     pixel_threshold_opt_ = sub->add_option("--pixel-threshold", options_.pixel_threshold,
                                            "a pixel fails when its coverage changes by more than this (0..1; "
                                            "default: the node's pixel_error delta, at most 1)")
@@ -56,30 +58,36 @@ class ImpostorcheckCommand final : public CliCommand {
                     "a view passes while at most this fraction of the tree's pixels fail (0..1)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
-    sub->add_option("--max-coverage-error", options_.max_coverage_error,
-                    "a view passes while the mean coverage change over the tree's pixels is at most this (0..1)")
+    sub->add_option(
+           "--max-coverage-error", options_.max_coverage_error,
+           "a view passes while the mean coverage change over the tree's pixels is at most this (0..1)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
-    sub->add_option("--max-colour-error", options_.max_colour_error,
-                    "a view passes while the mean colour difference where both cover the pixel is at most this (0..1)")
+    sub->add_option(
+           "--max-colour-error", options_.max_colour_error,
+           "a view passes while the mean colour difference where both cover the pixel is at most this (0..1)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     sub->add_option("--azimuth", azimuths_, "view azimuths in degrees (repeatable; default: 7.5 + 30 k)")
         ->check(CLI::Range(-360.0, 360.0));
     sub->add_option("--elevation", elevations_, "view elevations in degrees (repeatable; default: 4, 33, 73)")
         ->check(CLI::Range(-90.0, 90.0));
-    sub->add_option("--supersample", options_.supersample, "render at this multiple and average down (1 = off)")
+    sub->add_option("--supersample", options_.supersample,
+                    "render at this multiple and average down (1 = off)")
         ->capture_default_str()
         ->check(CLI::Range(1, 8));
-    sub->add_option("--distance-scale", options_.distance_scale,
-                    "check at this multiple of the switch distance (1 = the proof; < 1 shows where it breaks)")
+    sub->add_option(
+           "--distance-scale", options_.distance_scale,
+           "check at this multiple of the switch distance (1 = the proof; < 1 shows where it breaks)")
         ->capture_default_str()
         ->check(CLI::Range(0.01, 100.0));
-    sub->add_option("--parallax-steps", options_.parallax_steps,
-                    "ray-march steps of the reference shader through each frame's depth map (0 = flat frames)")
+    sub->add_option(
+           "--parallax-steps", options_.parallax_steps,
+           "ray-march steps of the reference shader through each frame's depth map (0 = flat frames)")
         ->capture_default_str()
         ->check(CLI::Range(0, 64));
-    sub->add_flag("--no-images", no_images_, "do not write the renders and heat maps (impostorcheck.json only)");
+    sub->add_flag("--no-images", no_images_,
+                  "do not write the renders and heat maps (impostorcheck.json only)");
     return sub;
   }
 
@@ -87,22 +95,26 @@ class ImpostorcheckCommand final : public CliCommand {
     RealFileSystem fsys;
     auto recipe = load_recipe_or_report(recipe_, registry_, fsys, io);
     if (!recipe) return kExitUsage;
-    const auto selected = select_stage_nodes(*recipe, recipe_, kImpostorStage, nodes_, "docs/stages/impostor.md", io);
+    const auto selected =
+        select_stage_nodes(*recipe, recipe_, kImpostorStage, nodes_, "docs/stages/impostor.md", io);
     if (!selected) return kExitUsage;
     if (!azimuths_.empty()) options_.azimuths_deg = azimuths_;
     if (!elevations_.empty()) options_.elevations_deg = elevations_;
     const std::string out_root = global_option(parent_, "--out").value_or("out");
     const fs::path out_dir = fs::path(out_root) / recipe->name;
     if (report_root_.empty() && recipe->find(kReportsDir)) {
-      std::fprintf(io.err, "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
-                   "choose another directory with --report-dir\n", recipe->name.c_str(), kReportsDir);
+      std::fprintf(io.err,
+                   "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
+                   "choose another directory with --report-dir\n",
+                   recipe->name.c_str(), kReportsDir);
       return kExitUsage;
     }
     const fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);
 
     std::vector<std::string> targets;
     for (const NodeDecl* n : *selected) targets.push_back(n->name);
-    const RecipeBuild built = build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva impostorcheck");
+    const RecipeBuild built =
+        build_recipe_targets(*recipe, targets, parent_, jobs_, io, "sylva impostorcheck");
     if (built.exit_code == kExitInterrupted) return report_interrupted(io, "sylva impostorcheck");
     if (built.exit_code != kExitOk) return built.exit_code;
 
@@ -118,7 +130,8 @@ class ImpostorcheckCommand final : public CliCommand {
     bool all_ok = true;
     for (const NodeDecl* node : *selected) {
       if (cancelled(io)) return report_interrupted(io, "sylva impostorcheck");
-      const int rc = check_node(*recipe, *node, built, *scene_renderer, *impostor_renderer, report_root / node->name, io);
+      const int rc = check_node(*recipe, *node, built, *scene_renderer, *impostor_renderer,
+                                report_root / node->name, io);
       if (rc == kExitInterrupted) return report_interrupted(io, "sylva impostorcheck");
       all_ok = all_ok && rc == kExitOk;
     }
@@ -126,8 +139,9 @@ class ImpostorcheckCommand final : public CliCommand {
   }
 
  private:
-  int check_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, render::Renderer& scene_renderer,
-                 render::ImpostorRenderer& impostor_renderer, const fs::path& report_dir, const CliIo& io) {
+  int check_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built,
+                 render::Renderer& scene_renderer, render::ImpostorRenderer& impostor_renderer,
+                 const fs::path& report_dir, const CliIo& io) {
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage impostor): %s\n", node.name.c_str(), what.c_str());
       std::error_code ec;
@@ -151,7 +165,8 @@ class ImpostorcheckCommand final : public CliCommand {
       const NodeDecl* src = recipe.find(source);
       render::Scene full;
       if (src && src->stage && src->stage->info().name == "lod") {
-        full = render::load_gltf_scene_from_memory(lod_full_detail_glb(recipe, built, *src), source + " (full detail)");
+        full = render::load_gltf_scene_from_memory(lod_full_detail_glb(recipe, built, *src),
+                                                   source + " (full detail)");
         reference = source + " (lod chain at epsilon 0)";
         // The chain's coarsest level, which the impostor replaces: the colour baseline.
         const InputArtifact lod = input_artifact(recipe, built, source);
@@ -159,7 +174,8 @@ class ImpostorcheckCommand final : public CliCommand {
         if (!summary) return fail("input '" + source + "' has no lod.json");
         const auto levels = impostor::parse_lod_levels(read_text(summary->path), summary->path.string());
         const ArtifactFile* last = lod.file(levels.back().file);
-        if (!last) return fail("input '" + source + "' lacks " + levels.back().file + ", which its lod.json lists");
+        if (!last)
+          return fail("input '" + source + "' lacks " + levels.back().file + ", which its lod.json lists");
         baseline_scene = render::load_gltf_scene(last->path);
         baseline.scene = &baseline_scene;
         baseline.label = levels.back().file;
@@ -178,18 +194,21 @@ class ImpostorcheckCommand final : public CliCommand {
       staged.emplace(report_dir);
       const fs::path& dir = staged->path();
       // Called after every rendered view: where Ctrl-C or SIGTERM stops the check.
-      const impostor::ImpostorImageSink sink = [&](const impostor::ImpostorViewCheck& c, const image::Image& ref,
-                                                   const image::Image& test, const image::Image& diff) {
+      const impostor::ImpostorImageSink sink = [&](const impostor::ImpostorViewCheck& c,
+                                                   const image::Image& ref, const image::Image& test,
+                                                   const image::Image& diff) {
         if (cancelled(io)) throw Cancelled();
         if (no_images_) return;
         image::write_png(ref, dir / ("full_" + c.view + ".png"));
         image::write_png(test, dir / ("impostor_" + c.view + ".png"));
         image::write_png(diff, dir / ("impostor_" + c.view + "_diff.png"));
       };
-      if (pixel_threshold_opt_->count() == 0) options_.pixel_threshold = std::min(1.0, subject.info.pixel_error_px);
-      results = impostor::check_impostor(scene_renderer, impostor_renderer, full, subject, options_, baseline, sink);
-      write_json(dir / "impostorcheck.json", node, subject.info, reference, full_triangles, full_lines, baseline,
-                 results);
+      if (pixel_threshold_opt_->count() == 0)
+        options_.pixel_threshold = std::min(1.0, subject.info.pixel_error_px);
+      results = impostor::check_impostor(scene_renderer, impostor_renderer, full, subject, options_, baseline,
+                                         sink);
+      write_json(dir / "impostorcheck.json", node, subject.info, reference, full_triangles, full_lines,
+                 baseline, results);
       if (cancelled(io)) throw Cancelled();
       staged->commit();
     } catch (const Cancelled&) {
@@ -197,48 +216,58 @@ class ImpostorcheckCommand final : public CliCommand {
     } catch (const std::exception& e) {  // unreadable outputs, render failure, unwritable report
       return fail(e.what());
     }
-    return print_table(node, subject.info, reference, full_triangles, full_lines, baseline, results, report_dir, io);
+    return print_table(node, subject.info, reference, full_triangles, full_lines, baseline, results,
+                       report_dir, io);
   }
 
   int print_table(const NodeDecl& node, const impostor::ImpostorInfo& info, const std::string& reference,
-                  std::size_t full_triangles, std::size_t full_lines, const impostor::ColourBaseline& baseline,
-                  const impostor::ImpostorCheckResult& result, const fs::path& report_dir, const CliIo& io) const {
+                  std::size_t full_triangles, std::size_t full_lines,
+                  const impostor::ColourBaseline& baseline, const impostor::ImpostorCheckResult& result,
+                  const fs::path& report_dir, const CliIo& io) const {
     const std::vector<impostor::ImpostorViewCheck>& results = result.views;
     const impostor::ErrorTerms& e = info.error;
-    std::fprintf(io.out,
-                 "impostorcheck %s: %s, %s; epsilon %.4f m (source %.4f + texel %.4f + view %.4f), delta %.3g px, "
-                 "switch distance %.1f m%s\n",
-                 node.name.c_str(), impostor::kind_name(info.kind), grid_text(info).c_str(), e.epsilon_m(), e.source_m,
-                 e.texel_m, e.view_m, info.pixel_error_px, info.switch_distance_m,
-                 options_.distance_scale != 1 ? (" (checked at x" + number(options_.distance_scale) + ")").c_str() : "");
-    std::fprintf(io.out, "  full detail: %s, %zu triangles, %zu lines; a view passes when <= %.2f%% of the tree's pixels "
-                 "change coverage by > %.3g, the mean coverage change is <= %.3g and the colour change is <= %s\n",
-                 reference.c_str(), full_triangles, full_lines, 100 * options_.max_failing_fraction,
-                 options_.pixel_threshold, options_.max_coverage_error,
-                 baseline.scene ? ("max(" + number(options_.max_colour_error) + ", " + number(options_.colour_ratio) + " x " +
-                                   baseline.label + "'s in the view)").c_str()
-                                : number(options_.max_colour_error).c_str());
+    std::fprintf(
+        io.out,
+        "impostorcheck %s: %s, %s; epsilon %.4f m (source %.4f + texel %.4f + view %.4f), delta %.3g px, "
+        "switch distance %.1f m%s\n",
+        node.name.c_str(), impostor::kind_name(info.kind), grid_text(info).c_str(), e.epsilon_m(), e.source_m,
+        e.texel_m, e.view_m, info.pixel_error_px, info.switch_distance_m,
+        options_.distance_scale != 1 ? (" (checked at x" + number(options_.distance_scale) + ")").c_str()
+                                     : "");
+    std::fprintf(
+        io.out,
+        "  full detail: %s, %zu triangles, %zu lines; a view passes when <= %.2f%% of the tree's pixels "
+        "change coverage by > %.3g, the mean coverage change is <= %.3g and the colour change is <= %s\n",
+        reference.c_str(), full_triangles, full_lines, 100 * options_.max_failing_fraction,
+        options_.pixel_threshold, options_.max_coverage_error,
+        baseline.scene ? ("max(" + number(options_.max_colour_error) + ", " + number(options_.colour_ratio) +
+                          " x " + baseline.label + "'s in the view)")
+                             .c_str()
+                       : number(options_.max_colour_error).c_str());
     if (baseline.scene)
-      std::fprintf(io.out,
-                   "  %s (the level the impostor replaces) from the same cameras: colour change mean %.4f, max %.4f; "
-                   "the impostor's mean may exceed it by %.3g\n",
-                   baseline.label.c_str(), result.baseline_colour_mean, result.baseline_colour_max,
-                   options_.colour_tolerance);
-    std::fprintf(io.out, "  %-14s %6s %6s %8s %9s %10s %9s %7s %8s %8s %8s %8s  %s\n", "view", "az", "el", "frame", "dist_m",
-                 "primitives", "footprint", "fail%", "cov_mean", "cov_bias", "colour", "allowed", "verdict");
+      std::fprintf(
+          io.out,
+          "  %s (the level the impostor replaces) from the same cameras: colour change mean %.4f, max %.4f; "
+          "the impostor's mean may exceed it by %.3g\n",
+          baseline.label.c_str(), result.baseline_colour_mean, result.baseline_colour_max,
+          options_.colour_tolerance);
+    std::fprintf(io.out, "  %-14s %6s %6s %8s %9s %10s %9s %7s %8s %8s %8s %8s  %s\n", "view", "az", "el",
+                 "frame", "dist_m", "primitives", "footprint", "fail%", "cov_mean", "cov_bias", "colour",
+                 "allowed", "verdict");
     std::size_t failed = 0;
     for (const auto& c : results) {
       failed += c.passed ? 0 : 1;
       std::fprintf(io.out, "  %-14s %6.1f %6.1f %7.1f° %9.1f %10zu %9zu %7.3f %8.5f %+8.5f %8.5f %8.5f  %s\n",
-                   c.view.c_str(), c.azimuth_deg, c.elevation_deg, c.frame_angle_deg, c.distance, c.primitives,
-                   c.footprint_pixels, 100 * c.coverage_failing_fraction, c.coverage_mean_error, c.coverage_bias,
-                   c.shade_mean_error, c.colour_bound, c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
+                   c.view.c_str(), c.azimuth_deg, c.elevation_deg, c.frame_angle_deg, c.distance,
+                   c.primitives, c.footprint_pixels, 100 * c.coverage_failing_fraction, c.coverage_mean_error,
+                   c.coverage_bias, c.shade_mean_error, c.colour_bound,
+                   c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
     }
     std::fprintf(io.out, "  mean colour change over the views: %.4f%s\n", result.colour_mean,
                  result.failure.empty() ? "" : ("  FAIL: " + result.failure).c_str());
     const bool ok = result.passed();
-    std::fprintf(io.out, "sylva impostorcheck: node '%s' %s (%zu/%zu views passed); report: %s\n", node.name.c_str(),
-                 ok ? "passed" : "FAILED", results.size() - failed, results.size(),
+    std::fprintf(io.out, "sylva impostorcheck: node '%s' %s (%zu/%zu views passed); report: %s\n",
+                 node.name.c_str(), ok ? "passed" : "FAILED", results.size() - failed, results.size(),
                  (report_dir / "impostorcheck.json").c_str());
     return ok ? kExitOk : kExitBuildFailed;
   }
@@ -262,19 +291,22 @@ class ImpostorcheckCommand final : public CliCommand {
     if (info.kind == impostor::Kind::kBillboards) {
       std::snprintf(buf, sizeof buf, "%zu cards of %d px", info.cards.size(), info.frame_px);
     } else {
-      std::snprintf(buf, sizeof buf, "%dx%d frames of %d px", info.frames_per_side, info.frames_per_side, info.frame_px);
+      std::snprintf(buf, sizeof buf, "%dx%d frames of %d px", info.frames_per_side, info.frames_per_side,
+                    info.frame_px);
     }
     return buf;
   }
 
   void write_json(const fs::path& file, const NodeDecl& node, const impostor::ImpostorInfo& info,
                   const std::string& reference, std::size_t full_triangles, std::size_t full_lines,
-                  const impostor::ColourBaseline& baseline, const impostor::ImpostorCheckResult& result) const {
+                  const impostor::ColourBaseline& baseline,
+                  const impostor::ImpostorCheckResult& result) const {
     const std::vector<impostor::ImpostorViewCheck>& results = result.views;
     nlohmann::json j;
     j["node"] = node.name;
     j["kind"] = impostor::kind_name(info.kind);
-    j["camera"] = {{"fov_y_deg", info.camera.fov_y_rad * 180 / std::numbers::pi}, {"height_px", info.camera.height_px}};
+    j["camera"] = {{"fov_y_deg", info.camera.fov_y_rad * 180 / std::numbers::pi},
+                   {"height_px", info.camera.height_px}};
     j["pixel_error_px"] = info.pixel_error_px;
     j["epsilon_m"] = {{"source", info.error.source_m},
                       {"texel", info.error.texel_m},

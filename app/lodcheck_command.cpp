@@ -4,21 +4,19 @@
 // the full-detail model is the one the stage's levels were simplified from.
 #include "app/lodcheck_command.h"
 
-#include "app/gfx_module.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "app/full_detail.h"
+#include "app/gfx_module.h"
 #include "app/recipe_build.h"
 #include "app/report_dir.h"
 #include "libs/image/image_io.h"
@@ -27,8 +25,8 @@
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
 #include "pipeline/filesystem.h"
-#include "stages/lod/chain.h"
 #include "stages/forest/check/forestcheck.h"
+#include "stages/lod/chain.h"
 #include "stages/lod/check/lodcheck.h"
 #include "stages/lod/lod_stage.h"
 
@@ -50,12 +48,14 @@ std::string read_bytes(const fs::path& p) {
 }
 
 // JSON has no infinity: identical images have PSNR +inf.
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json finite_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 // The full-detail model of lod node `node` (app/full_detail.h) as a scene; `glb` receives the
 // encoded file when not null.
-render::Scene full_detail_scene(const Recipe& recipe, const RecipeBuild& built, const NodeDecl& node, bool branches_only,
-                                std::string* glb = nullptr) {
+render::Scene full_detail_scene(const Recipe& recipe, const RecipeBuild& built, const NodeDecl& node,
+                                bool branches_only, std::string* glb = nullptr) {
   std::string full_glb = lod_full_detail_glb(recipe, built, node, branches_only);
   if (glb) *glb = full_glb;
   render::Scene full = render::load_gltf_scene_from_memory(std::move(full_glb), node.name + " (full detail)");
@@ -71,10 +71,13 @@ class LodcheckCommand final : public CliCommand {
     parent_ = &app;
     auto* sub = app.add_subcommand("lodcheck", gfx_command_summary("lodcheck"));
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
-    sub->add_option("--node", nodes_, "check only this lod node (repeatable; default: every node of stage lod)")
+    sub->add_option("--node", nodes_,
+                    "check only this lod node (repeatable; default: every node of stage lod)")
         ->allow_extra_args(false);
-    sub->add_option("-j,--jobs", jobs_, "parallel nodes while building (default: all cores)")->check(CLI::Range(1, 1024));
-    sub->add_option("--report-dir", report_root_, "where reports and images go (default: <out>/<recipe>/lodcheck)");
+    sub->add_option("-j,--jobs", jobs_, "parallel nodes while building (default: all cores)")
+        ->check(CLI::Range(1, 1024));
+    sub->add_option("--report-dir", report_root_,
+                    "where reports and images go (default: <out>/<recipe>/lodcheck)");
     pixel_threshold_opt_ = sub->add_option("--pixel-threshold", options_.pixel_threshold,
                                            "a pixel fails when its coverage changes by more than this (0..1; "
                                            "default: the node's pixel_error delta, at most 1)")
@@ -83,8 +86,9 @@ class LodcheckCommand final : public CliCommand {
                     "a view passes while at most this fraction of the tree's pixels fail (0..1)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
-    sub->add_option("--max-coverage-error", options_.max_coverage_error,
-                    "a view passes while the mean coverage change over the tree's pixels is at most this (0..1)")
+    sub->add_option(
+           "--max-coverage-error", options_.max_coverage_error,
+           "a view passes while the mean coverage change over the tree's pixels is at most this (0..1)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     sub->add_option("--supersample", options_.supersample,
@@ -93,11 +97,15 @@ class LodcheckCommand final : public CliCommand {
         ->check(CLI::Range(1, 8));
     sub->add_option("--azimuth", azimuths_, "view azimuths in degrees (repeatable; default: 0 and 90)")
         ->check(CLI::Range(-360.0, 360.0));
-    sub->add_flag("--branches-only", branches_only_, "draw bark and branch lines only (no leaves or needles)");
-    sub->add_option("--candidates", candidates_dir_,
-                    "also measure another simplifier's models DIR/lod<i>.glb or .gltf (reported, not judged)");
-    sub->add_option("--candidate-label", candidate_label_, "name of the candidates in the report (default: DIR's name)");
-    sub->add_option("--write-full", write_full_, "write the full-detail model as a GLB (with exactly one node)");
+    sub->add_flag("--branches-only", branches_only_,
+                  "draw bark and branch lines only (no leaves or needles)");
+    sub->add_option(
+        "--candidates", candidates_dir_,
+        "also measure another simplifier's models DIR/lod<i>.glb or .gltf (reported, not judged)");
+    sub->add_option("--candidate-label", candidate_label_,
+                    "name of the candidates in the report (default: DIR's name)");
+    sub->add_option("--write-full", write_full_,
+                    "write the full-detail model as a GLB (with exactly one node)");
     sub->add_option("--forest-height", forest_height_px_,
                     "forest nodes: the check image's height in pixels (16:9; levels chosen for it)")
         ->capture_default_str()
@@ -134,8 +142,10 @@ class LodcheckCommand final : public CliCommand {
     }
     if (!selected) return kExitUsage;
     if ((!write_full_.empty() || !candidates_dir_.empty()) && selected->size() != 1) {
-      std::fprintf(io.err, "error: --write-full and --candidates need exactly one lod node (--node NODE); %zu selected\n",
-                   selected->size());
+      std::fprintf(
+          io.err,
+          "error: --write-full and --candidates need exactly one lod node (--node NODE); %zu selected\n",
+          selected->size());
       return kExitUsage;
     }
     if (!candidates_dir_.empty() && !fs::is_directory(candidates_dir_)) {
@@ -146,8 +156,10 @@ class LodcheckCommand final : public CliCommand {
     const std::string out_root = global_option(parent_, "--out").value_or("out");
     const fs::path out_dir = fs::path(out_root) / recipe->name;
     if (report_root_.empty() && recipe->find(kReportsDir)) {
-      std::fprintf(io.err, "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
-                   "choose another directory with --report-dir\n", recipe->name.c_str(), kReportsDir);
+      std::fprintf(io.err,
+                   "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
+                   "choose another directory with --report-dir\n",
+                   recipe->name.c_str(), kReportsDir);
       return kExitUsage;
     }
     const fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);
@@ -186,8 +198,8 @@ class LodcheckCommand final : public CliCommand {
   }
 
  private:
-  int check_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, render::Renderer& renderer,
-                 const fs::path& report_dir, const CliIo& io) {
+  int check_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built,
+                 render::Renderer& renderer, const fs::path& report_dir, const CliIo& io) {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage lod): %s\n", name, what.c_str());
@@ -225,8 +237,8 @@ class LodcheckCommand final : public CliCommand {
         const std::string file = l.at("file").get<std::string>();
         const ArtifactFile* f = lod_out.file(file);
         if (!f) return fail("the node wrote no " + file + " though lod.json lists it");
-        lod::CheckSubject s{"sylva", i, l.at("epsilon_m").get<double>(), l.at("switch_distance_m").get<double>(),
-                            render::load_gltf_scene(f->path)};
+        lod::CheckSubject s{"sylva", i, l.at("epsilon_m").get<double>(),
+                            l.at("switch_distance_m").get<double>(), render::load_gltf_scene(f->path)};
         if (branches_only_) s.scene = lod::branches_only(s.scene);
         subjects.push_back(std::move(s));
       }
@@ -236,7 +248,8 @@ class LodcheckCommand final : public CliCommand {
           fs::path f = fs::path(candidates_dir_) / ("lod" + std::to_string(i) + ".glb");
           if (!fs::exists(f)) f.replace_extension(".gltf");
           if (!fs::exists(f)) continue;
-          lod::CheckSubject s{cand_label, i, subjects[i].epsilon, subjects[i].distance, render::load_gltf_scene(f)};
+          lod::CheckSubject s{cand_label, i, subjects[i].epsilon, subjects[i].distance,
+                              render::load_gltf_scene(f)};
           if (branches_only_) s.scene = lod::branches_only(s.scene);
           subjects.push_back(std::move(s));
         }
@@ -246,12 +259,13 @@ class LodcheckCommand final : public CliCommand {
       staged.emplace(report_dir);
       const fs::path& out = staged->path();
       // Called after every rendered view: where Ctrl-C or SIGTERM stops the check.
-      const lod::CheckImageSink sink = [&](const lod::ViewCheck& c, const image::Image& ref, const image::Image& test,
-                                           const image::Image& diff) {
+      const lod::CheckImageSink sink = [&](const lod::ViewCheck& c, const image::Image& ref,
+                                           const image::Image& test, const image::Image& diff) {
         if (cancelled(io)) throw Cancelled();
         if (no_images_) return;
         const std::string stem = c.label + "_lod" + std::to_string(c.level) + "_" + c.view;
-        if (c.label == "sylva") image::write_png(ref, out / ("full_lod" + std::to_string(c.level) + "_" + c.view + ".png"));
+        if (c.label == "sylva")
+          image::write_png(ref, out / ("full_lod" + std::to_string(c.level) + "_" + c.view + ".png"));
         image::write_png(test, out / (stem + ".png"));
         image::write_png(diff, out / (stem + "_diff.png"));
       };
@@ -271,8 +285,8 @@ class LodcheckCommand final : public CliCommand {
 
   // A forest (stages/forest/check/forestcheck.h): its LOD-selected views against every tree at
   // full detail, from its own cameras at the check's size, judged with this command's thresholds.
-  int check_forest_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, render::Renderer& renderer,
-                        const fs::path& report_dir, const CliIo& io) {
+  int check_forest_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built,
+                        render::Renderer& renderer, const fs::path& report_dir, const CliIo& io) {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage forest): %s\n", name, what.c_str());
@@ -305,7 +319,8 @@ class LodcheckCommand final : public CliCommand {
         delta = chain_options_from_params(lod->params).pixel_error;
         ++s;
       }
-      if (s != view.forest().species.size()) return fail("its lod inputs do not match the species of instances.json");
+      if (s != view.forest().species.size())
+        return fail("its lod inputs do not match the species of instances.json");
       fo.pixel_threshold = pixel_threshold_opt_->count() ? options_.pixel_threshold : std::min(1.0, delta);
       const render::CameraSet set = render::load_camera_set(cams->path);
       const std::vector<render::Camera> cameras = render::forest_cameras(set, view.bounds());
@@ -324,7 +339,10 @@ class LodcheckCommand final : public CliCommand {
       results = forest::check_forest(view, renderer, cameras, fo, sink);
       nlohmann::json j;
       j["node"] = node.name;
-      j["image"] = {{"width", fo.width_px}, {"height", fo.height_px}, {"supersample", fo.supersample}, {"msaa", fo.msaa}};
+      j["image"] = {{"width", fo.width_px},
+                    {"height", fo.height_px},
+                    {"supersample", fo.supersample},
+                    {"msaa", fo.msaa}};
       j["thresholds"] = {{"pixel_threshold", fo.pixel_threshold},
                          {"max_failing_fraction", fo.max_failing_fraction},
                          {"max_coverage_error", fo.max_coverage_error}};
@@ -348,7 +366,8 @@ class LodcheckCommand final : public CliCommand {
       j["views"] = views;
       j["passed"] = passed;
       RealFileSystem fsys;
-      if (!fsys.write_atomic(dir / "lodcheck.json", j.dump(2) + "\n")) return fail("cannot write lodcheck.json");
+      if (!fsys.write_atomic(dir / "lodcheck.json", j.dump(2) + "\n"))
+        return fail("cannot write lodcheck.json");
       if (cancelled(io)) throw Cancelled();
       staged->commit();
     } catch (const Cancelled&) {
@@ -357,35 +376,44 @@ class LodcheckCommand final : public CliCommand {
       return fail(e.what());
     }
     std::fprintf(io.out,
-                 "lodcheck %s (forest): %dx%d px, a view passes when <= %.2f%% of the forest's pixels change coverage by "
+                 "lodcheck %s (forest): %dx%d px, a view passes when <= %.2f%% of the forest's pixels change "
+                 "coverage by "
                  "> %.3g and the mean coverage change is <= %.3g\n",
-                 name, fo.width_px, fo.height_px, 100 * fo.max_failing_fraction, fo.pixel_threshold, fo.max_coverage_error);
-    std::fprintf(io.out, "  %-10s %6s %12s %12s %8s %9s %7s %8s %8s  %s\n", "view", "trees", "lod_prims", "full_prims",
-                 "prims%", "footprint", "fail%", "cov_mean", "cov_bias", "verdict");
+                 name, fo.width_px, fo.height_px, 100 * fo.max_failing_fraction, fo.pixel_threshold,
+                 fo.max_coverage_error);
+    std::fprintf(io.out, "  %-10s %6s %12s %12s %8s %9s %7s %8s %8s  %s\n", "view", "trees", "lod_prims",
+                 "full_prims", "prims%", "footprint", "fail%", "cov_mean", "cov_bias", "verdict");
     std::size_t failed = 0;
     for (const auto& c : results) {
       failed += c.passed ? 0 : 1;
-      const double pct = c.full_primitives ? 100.0 * (double(c.lod_primitives) - double(c.full_primitives)) / double(c.full_primitives) : 0;
-      std::fprintf(io.out, "  %-10s %6zu %12zu %12zu %+7.1f%% %9zu %7.3f %8.5f %+8.5f  %s\n", c.view.c_str(), c.trees_drawn,
-                   c.lod_primitives, c.full_primitives, pct, c.footprint_pixels, 100 * c.coverage_failing_fraction,
-                   c.coverage_mean_error, c.coverage_bias, c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
+      const double pct = c.full_primitives ? 100.0 * (double(c.lod_primitives) - double(c.full_primitives)) /
+                                                 double(c.full_primitives)
+                                           : 0;
+      std::fprintf(io.out, "  %-10s %6zu %12zu %12zu %+7.1f%% %9zu %7.3f %8.5f %+8.5f  %s\n", c.view.c_str(),
+                   c.trees_drawn, c.lod_primitives, c.full_primitives, pct, c.footprint_pixels,
+                   100 * c.coverage_failing_fraction, c.coverage_mean_error, c.coverage_bias,
+                   c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
     }
     std::fprintf(io.out, "sylva lodcheck: node '%s' %s (%zu/%zu views passed); report: %s\n", name,
-                 failed ? "FAILED" : "passed", results.size() - failed, results.size(), (report_dir / "lodcheck.json").c_str());
+                 failed ? "FAILED" : "passed", results.size() - failed, results.size(),
+                 (report_dir / "lodcheck.json").c_str());
     return failed ? kExitBuildFailed : kExitOk;
   }
 
-  int print_table(const NodeDecl& node, const lod::ChainOptions& chain, const std::pair<std::size_t, std::size_t>& full,
-                  const std::vector<lod::ViewCheck>& results, const fs::path& report_dir, const CliIo& io) const {
+  int print_table(const NodeDecl& node, const lod::ChainOptions& chain,
+                  const std::pair<std::size_t, std::size_t>& full, const std::vector<lod::ViewCheck>& results,
+                  const fs::path& report_dir, const CliIo& io) const {
     std::fprintf(io.out,
-                 "lodcheck %s: camera %.4g deg, %d px, delta %.3g px; a view passes when <= %.2f%% of the tree's pixels "
+                 "lodcheck %s: camera %.4g deg, %d px, delta %.3g px; a view passes when <= %.2f%% of the "
+                 "tree's pixels "
                  "change coverage by > %.3g and the mean coverage change is <= %.3g%s\n",
                  node.name.c_str(), chain.camera.fov_y_rad * 180 / std::numbers::pi, chain.camera.height_px,
                  chain.pixel_error, 100 * options_.max_failing_fraction, options_.pixel_threshold,
                  options_.max_coverage_error, branches_only_ ? " (branches only)" : "");
     std::fprintf(io.out, "  full detail: %zu triangles, %zu lines\n", full.first, full.second);
-    std::fprintf(io.out, "  %-10s %5s %9s %9s %6s %10s %9s %7s %8s %8s %6s  %s\n", "model", "level", "eps_m", "dist_m",
-                 "view", "primitives", "footprint", "fail%", "cov_mean", "cov_bias", "rgb_mean", "verdict");
+    std::fprintf(io.out, "  %-10s %5s %9s %9s %6s %10s %9s %7s %8s %8s %6s  %s\n", "model", "level", "eps_m",
+                 "dist_m", "view", "primitives", "footprint", "fail%", "cov_mean", "cov_bias", "rgb_mean",
+                 "verdict");
     std::size_t failed = 0, judged = 0;
     for (const auto& c : results) {
       const bool is_sylva = c.label == "sylva";
@@ -393,13 +421,17 @@ class LodcheckCommand final : public CliCommand {
         ++judged;
         failed += c.passed ? 0 : 1;
       }
-      std::fprintf(io.out, "  %-10s %5zu %9.4f %9.2f %6s %10zu %9zu %7.3f %8.5f %+8.5f %8.5f  %s\n", c.label.c_str(),
-                   c.level, c.epsilon, c.distance, c.view.c_str(), c.primitives, c.footprint_pixels,
-                   100 * c.coverage_failing_fraction, c.coverage_mean_error, c.coverage_bias, c.colour_mean_error,
-                   !is_sylva ? "-" : c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
+      std::fprintf(io.out, "  %-10s %5zu %9.4f %9.2f %6s %10zu %9zu %7.3f %8.5f %+8.5f %8.5f  %s\n",
+                   c.label.c_str(), c.level, c.epsilon, c.distance, c.view.c_str(), c.primitives,
+                   c.footprint_pixels, 100 * c.coverage_failing_fraction, c.coverage_mean_error,
+                   c.coverage_bias, c.colour_mean_error,
+                   !is_sylva  ? "-"
+                   : c.passed ? "ok"
+                              : ("FAIL: " + c.failure).c_str());
     }
-    std::fprintf(io.out, "sylva lodcheck: node '%s' %s (%zu/%zu views passed); report: %s\n", node.name.c_str(),
-                 failed ? "FAILED" : "passed", judged - failed, judged, (report_dir / "lodcheck.json").c_str());
+    std::fprintf(io.out, "sylva lodcheck: node '%s' %s (%zu/%zu views passed); report: %s\n",
+                 node.name.c_str(), failed ? "FAILED" : "passed", judged - failed, judged,
+                 (report_dir / "lodcheck.json").c_str());
     return failed ? kExitBuildFailed : kExitOk;
   }
 
@@ -409,7 +441,8 @@ class LodcheckCommand final : public CliCommand {
     nlohmann::json j;
     j["node"] = node.name;
     j["tree"] = summary.value("tree", "");
-    j["camera"] = {{"fov_y_deg", chain.camera.fov_y_rad * 180 / std::numbers::pi}, {"height_px", chain.camera.height_px}};
+    j["camera"] = {{"fov_y_deg", chain.camera.fov_y_rad * 180 / std::numbers::pi},
+                   {"height_px", chain.camera.height_px}};
     j["pixel_error_px"] = chain.pixel_error;
     j["thresholds"] = {{"pixel_threshold", options_.pixel_threshold},
                        {"max_failing_fraction", options_.max_failing_fraction},

@@ -1,8 +1,9 @@
 // Library plus main(): the only place the real stages, the real disk and the real signals meet.
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
-#include <unistd.h>
 
 #include "app/cli.h"
 #include "app/gfx_loader.h"

@@ -50,7 +50,8 @@ void ProgressPrinter::on_finish(const NodeReport& r) {
   if (r.status == NodeStatus::kFailed) {
     std::fprintf(out_, "error: node '%s' (stage %s): %s\n", r.name.c_str(), r.stage.c_str(), r.error.c_str());
   } else if (!live_) {
-    std::fprintf(out_, "[%zu/%zu] %s %s %.2fs\n", done_, total_, status_name(r.status), r.name.c_str(), r.seconds);
+    std::fprintf(out_, "[%zu/%zu] %s %s %.2fs\n", done_, total_, status_name(r.status), r.name.c_str(),
+                 r.seconds);
   }
   if (live_) redraw_locked();
   std::fflush(out_);
@@ -73,7 +74,8 @@ void ProgressPrinter::redraw_locked() {
   if (ran_ > 0 && total_ > done_) {
     // Average time of nodes that actually ran, times what is left, shared by the workers busy now.
     const double avg = run_seconds_ / static_cast<double>(ran_);
-    const double eta = avg * static_cast<double>(total_ - done_) / std::max<double>(1, static_cast<double>(running_.size()));
+    const double eta =
+        avg * static_cast<double>(total_ - done_) / std::max<double>(1, static_cast<double>(running_.size()));
     char buf[32];
     std::snprintf(buf, sizeof buf, " ETA %.0fs", eta);
     line += buf;

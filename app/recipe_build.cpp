@@ -27,7 +27,8 @@ const NodeReport* RecipeBuild::report(const std::string& node) const {
   return nullptr;
 }
 
-std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& recipe, const std::string& recipe_file,
+std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& recipe,
+                                                               const std::string& recipe_file,
                                                                const std::string& stage,
                                                                const std::vector<std::string>& names,
                                                                const std::string& doc_page, const CliIo& io) {
@@ -38,22 +39,22 @@ std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& rec
   for (const auto& name : names.empty() ? of_stage : names) {
     const NodeDecl* n = recipe.find(name);
     if (!n || n->stage->info().name != stage) {
-      std::fprintf(io.err, "error: no node '%s' of stage '%s' in recipe '%s'%s\n", name.c_str(), stage.c_str(),
-                   recipe.name.c_str(), did_you_mean(name, of_stage).c_str());
+      std::fprintf(io.err, "error: no node '%s' of stage '%s' in recipe '%s'%s\n", name.c_str(),
+                   stage.c_str(), recipe.name.c_str(), did_you_mean(name, of_stage).c_str());
       return std::nullopt;
     }
     if (std::find(selected.begin(), selected.end(), n) == selected.end()) selected.push_back(n);
   }
   if (selected.empty()) {
-    std::fprintf(io.err, "error: recipe '%s' (%s) has no node of stage '%s'; add one (%s)\n", recipe.name.c_str(),
-                 recipe_file.c_str(), stage.c_str(), doc_page.c_str());
+    std::fprintf(io.err, "error: recipe '%s' (%s) has no node of stage '%s'; add one (%s)\n",
+                 recipe.name.c_str(), recipe_file.c_str(), stage.c_str(), doc_page.c_str());
     return std::nullopt;
   }
   return selected;
 }
 
-RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets, const CLI::App* parent,
-                                 int jobs, const CliIo& io, const char* command) {
+RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets,
+                                 const CLI::App* parent, int jobs, const CliIo& io, const char* command) {
   RecipeBuild b;
   const std::string out_root = global_option(parent, "--out").value_or("out");
   b.out_dir = fs::path(out_root) / recipe.name;
@@ -86,7 +87,8 @@ InputArtifact input_artifact(const Recipe& recipe, const RecipeBuild& built, con
   const NodeDecl* n = recipe.find(node);
   InputArtifact a{node, n ? n->stage->info().output_type : std::string(), {}};
   if (const NodeReport* r = built.report(node))
-    for (const auto& o : r->outputs) a.files.push_back({o.name, built.out_dir / node / o.name, o.digest.hash});
+    for (const auto& o : r->outputs)
+      a.files.push_back({o.name, built.out_dir / node / o.name, o.digest.hash});
   return a;
 }
 

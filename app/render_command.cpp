@@ -3,8 +3,6 @@
 // checks (options, camera set, the asset) come before creating the EGL context.
 #include "app/render_command.h"
 
-#include "app/gfx_module.h"
-
 #include <algorithm>
 #include <cctype>
 #include <chrono>
@@ -12,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/gfx_module.h"
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
@@ -25,8 +24,10 @@ namespace fs = std::filesystem;
 
 // Library errors already read "path: error: reason"; everything else gets the usual prefix.
 void print_error(std::FILE* err, const std::string& what) {
-  if (what.find(": error: ") != std::string::npos) std::fprintf(err, "%s\n", what.c_str());
-  else std::fprintf(err, "error: %s\n", what.c_str());
+  if (what.find(": error: ") != std::string::npos)
+    std::fprintf(err, "%s\n", what.c_str());
+  else
+    std::fprintf(err, "error: %s\n", what.c_str());
 }
 
 bool has_png_extension(const std::string& path) {
@@ -40,14 +41,18 @@ class RenderCommand final : public CliCommand {
   CLI::App* add_to(CLI::App& app) override {
     auto* sub = app.add_subcommand("render", gfx_command_summary("render"));
     sub->add_option("file", file_, "the .glb or .gltf file, or a forest's instances.json")->required();
-    sub->add_option("--camera", camera_,
-                    "camera set (default: configs/cameras/default.yaml; a forest's own cameras.yaml for a forest)");
-    sub->add_option("--pixel-error", pixel_error_, "forest: the view's pixel error delta (default: each species' chain delta)")
+    sub->add_option(
+        "--camera", camera_,
+        "camera set (default: configs/cameras/default.yaml; a forest's own cameras.yaml for a forest)");
+    sub->add_option("--pixel-error", pixel_error_,
+                    "forest: the view's pixel error delta (default: each species' chain delta)")
         ->check(CLI::Range(0.01, 1000.0));
 
-    sub->add_option("--view", views_, "render only this view (repeatable; default: every view, or the first for -o FILE.png)")
+    sub->add_option("--view", views_,
+                    "render only this view (repeatable; default: every view, or the first for -o FILE.png)")
         ->allow_extra_args(false);
-    sub->add_option("-o,--output", output_, "a .png file (one view) or a directory (one <view>.png per view)")->required();
+    sub->add_option("-o,--output", output_, "a .png file (one view) or a directory (one <view>.png per view)")
+        ->required();
     return sub;
   }
 
@@ -55,7 +60,8 @@ class RenderCommand final : public CliCommand {
     // A forest (instances.json) is drawn with its LOD levels per tree (libs/render/forest_view.h)
     // and, unless --camera says otherwise, its own camera set.
     const bool forest = fs::path(file_).filename() == "instances.json";
-    if (forest && camera_ == kDefaultCameras) camera_ = (fs::path(file_).parent_path() / "cameras.yaml").string();
+    if (forest && camera_ == kDefaultCameras)
+      camera_ = (fs::path(file_).parent_path() / "cameras.yaml").string();
     // 1. The camera set.
     render::CameraSet set;
     try {
@@ -70,25 +76,31 @@ class RenderCommand final : public CliCommand {
     // 2. The views: --view names, in the order given; unknown names are usage errors.
     std::vector<render::CameraView> chosen;
     for (const auto& name : views_) {
-      auto it = std::find_if(set.views.begin(), set.views.end(), [&](const auto& v) { return v.name == name; });
+      auto it =
+          std::find_if(set.views.begin(), set.views.end(), [&](const auto& v) { return v.name == name; });
       if (it == set.views.end()) {
         std::string names;
         for (const auto& v : set.views) names += (names.empty() ? "" : ", ") + v.name;
-        std::fprintf(io.err, "error: no view '%s' in %s (its views: %s)\n", name.c_str(), camera_.c_str(), names.c_str());
+        std::fprintf(io.err, "error: no view '%s' in %s (its views: %s)\n", name.c_str(), camera_.c_str(),
+                     names.c_str());
         return kExitUsage;
       }
-      if (std::none_of(chosen.begin(), chosen.end(), [&](const auto& v) { return v.name == name; })) chosen.push_back(*it);
+      if (std::none_of(chosen.begin(), chosen.end(), [&](const auto& v) { return v.name == name; }))
+        chosen.push_back(*it);
     }
 
     // 3. One file or a directory.
     std::error_code ec;
     const bool single = has_png_extension(output_) && !fs::is_directory(output_, ec);
     if (chosen.empty()) {
-      if (single) chosen.push_back(set.views.front());
-      else chosen = set.views;
+      if (single)
+        chosen.push_back(set.views.front());
+      else
+        chosen = set.views;
     }
     if (single && chosen.size() > 1) {
-      std::fprintf(io.err, "error: -o %s is one image but %zu views were chosen; give -o a directory for several\n",
+      std::fprintf(io.err,
+                   "error: -o %s is one image but %zu views were chosen; give -o a directory for several\n",
                    output_.c_str(), chosen.size());
       return kExitUsage;
     }
@@ -108,10 +120,10 @@ class RenderCommand final : public CliCommand {
         for (std::size_t i = 0; i < cams.size(); ++i) {
           if (cancelled(io)) return report_interrupted(io, "sylva render");
           std::vector<render::ForestViewStats> stats;
-          std::vector<image::Image> imgs =
-              fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1), render::options_for(set), fo, &stats);
-          std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn, %zu primitives\n", cams[i].name.c_str(),
-                       stats[0].trees_drawn, stats[0].trees, stats[0].primitives);
+          std::vector<image::Image> imgs = fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1),
+                                                     render::options_for(set), fo, &stats);
+          std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn, %zu primitives\n",
+                       cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].primitives);
           images.push_back({cams[i], std::move(imgs[0])});
         }
       } else {
@@ -136,7 +148,8 @@ class RenderCommand final : public CliCommand {
       if (!single) {
         fs::create_directories(output_, ec);
         if (ec) {
-          std::fprintf(io.err, "%s: error: cannot create the directory: %s\n", output_.c_str(), ec.message().c_str());
+          std::fprintf(io.err, "%s: error: cannot create the directory: %s\n", output_.c_str(),
+                       ec.message().c_str());
           return kExitBuildFailed;
         }
       }

@@ -3,13 +3,12 @@
 // reading as stage `verify` (stages/verify/verify_stage.h), so the command and the stage agree.
 #include "app/verify_command.h"
 
-#include "app/gfx_module.h"
-
 #include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "app/gfx_module.h"
 #include "app/recipe_build.h"
 #include "app/report_dir.h"
 #include "libs/render/camera.h"
@@ -33,13 +32,16 @@ class VerifyCommand final : public CliCommand {
     parent_ = &app;
     auto* sub = app.add_subcommand("verify", gfx_command_summary("verify"));
     sub->add_option("recipe", recipe_, "recipe file (default: configs/default.yaml)");
-    sub->add_option("--node", nodes_, "verify only this node (repeatable; default: every node of stage verify)")
+    sub->add_option("--node", nodes_,
+                    "verify only this node (repeatable; default: every node of stage verify)")
         ->allow_extra_args(false);
-    sub->add_flag("--update-refs", update_refs_,
-                  "copy the new renderings of views that failed or had no reference into the references directory");
+    sub->add_flag(
+        "--update-refs", update_refs_,
+        "copy the new renderings of views that failed or had no reference into the references directory");
     sub->add_option("-j,--jobs", jobs_, "parallel nodes while building the inputs (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    sub->add_option("--report-dir", report_root_, "where reports go (default: <out>/<recipe>/verify-reports)");
+    sub->add_option("--report-dir", report_root_,
+                    "where reports go (default: <out>/<recipe>/verify-reports)");
     return sub;
   }
 
@@ -50,13 +52,16 @@ class VerifyCommand final : public CliCommand {
     // 1. Load the recipe and pick the verify nodes.
     auto recipe = load_recipe_or_report(recipe_, registry_, fsys, io);
     if (!recipe) return kExitUsage;
-    const auto selected = select_stage_nodes(*recipe, recipe_, kVerifyStage, nodes_, "docs/stages/verify.md", io);
+    const auto selected =
+        select_stage_nodes(*recipe, recipe_, kVerifyStage, nodes_, "docs/stages/verify.md", io);
     if (!selected) return kExitUsage;
     const fs::path out_dir = fs::path(out_root) / recipe->name;
     fs::path report_root = report_root_.empty() ? out_dir / kReportsDir : fs::path(report_root_);
     if (report_root_.empty() && recipe->find(kReportsDir)) {
-      std::fprintf(io.err, "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
-                   "choose another directory with --report-dir\n", recipe->name.c_str(), kReportsDir);
+      std::fprintf(io.err,
+                   "error: recipe '%s' has a node named '%s', whose outputs would mix with the reports; "
+                   "choose another directory with --report-dir\n",
+                   recipe->name.c_str(), kReportsDir);
       return kExitUsage;
     }
 
@@ -80,8 +85,8 @@ class VerifyCommand final : public CliCommand {
   }
 
  private:
-  int verify_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built, const fs::path& report_dir,
-                  const CliIo& io) {
+  int verify_node(const Recipe& recipe, const NodeDecl& node, const RecipeBuild& built,
+                  const fs::path& report_dir, const CliIo& io) {
     const char* name = node.name.c_str();
     auto fail = [&](const std::string& what) {
       std::fprintf(io.err, "error: node '%s' (stage verify): %s\n", name, what.c_str());
@@ -107,7 +112,8 @@ class VerifyCommand final : public CliCommand {
       const verify::RunEnv env{verify::shared_renderer(), output_path, [&] {
                                  if (cancelled(io)) throw Cancelled();
                                }};
-      report = verify::run_verification(assets, cameras, references, verify::thresholds_from_params(node.params), env);
+      report = verify::run_verification(assets, cameras, references,
+                                        verify::thresholds_from_params(node.params), env);
       verify::write_reports(report, output_path);
       if (cancelled(io)) throw Cancelled();
       staged->commit();
@@ -135,17 +141,20 @@ class VerifyCommand final : public CliCommand {
         std::fprintf(io.err, "error: cannot write %s\n", (references / c.image_file).c_str());
       }
       ++open;
-      std::fprintf(io.err, "%s %s/%s: %s\n", c.status == verify::CaseStatus::kError ? "ERROR" : "FAIL", c.asset.c_str(),
-                   c.view.c_str(), c.message.c_str());
+      std::fprintf(io.err, "%s %s/%s: %s\n", c.status == verify::CaseStatus::kError ? "ERROR" : "FAIL",
+                   c.asset.c_str(), c.view.c_str(), c.message.c_str());
     }
     for (const auto& u : report.unused_references)
-      std::fprintf(io.err, "note: %s in %s is not used by any view of node '%s' (delete it if the view is gone)\n",
+      std::fprintf(io.err,
+                   "note: %s in %s is not used by any view of node '%s' (delete it if the view is gone)\n",
                    u.c_str(), references.c_str(), name);
     const std::size_t total = report.cases.size();
     const std::size_t passed = report.count(verify::CaseStatus::kPassed);
     const char* verdict = open ? "FAILED" : updated ? "updated" : "passed";
     std::string counts = std::to_string(passed) + "/" + std::to_string(total) + " views passed";
-    if (updated) counts += ", " + std::to_string(updated) + " reference" + (updated == 1 ? "" : "s") + " updated in " + references.string();
+    if (updated)
+      counts += ", " + std::to_string(updated) + " reference" + (updated == 1 ? "" : "s") + " updated in " +
+                references.string();
     if (open) counts += ", " + std::to_string(open) + " did not pass";
     std::fprintf(io.out, "sylva verify: node '%s' %s (%s); report: %s\n", name, verdict, counts.c_str(),
                  (report_dir / "report.html").c_str());

@@ -22,9 +22,11 @@ using namespace sylva;
 std::string recipe_1000() {
   std::string y = "version: 1\nname: bench\nnodes:\n";
   for (int i = 0; i < 500; ++i)
-    y += "  n" + std::to_string(i) + ":\n    stage: text\n    with: { text: t" + std::to_string(i) + ", count: 10, seed: " + std::to_string(i) + " }\n";
+    y += "  n" + std::to_string(i) + ":\n    stage: text\n    with: { text: t" + std::to_string(i) +
+         ", count: 10, seed: " + std::to_string(i) + " }\n";
   for (int i = 0; i < 499; ++i)
-    y += "  c" + std::to_string(i) + ":\n    stage: concat\n    needs: [n" + std::to_string(i) + ", n" + std::to_string(i + 1) + "]\n";
+    y += "  c" + std::to_string(i) + ":\n    stage: concat\n    needs: [n" + std::to_string(i) + ", n" +
+         std::to_string(i + 1) + "]\n";
   y += "  all:\n    stage: concat\n    needs: 'c*'\n";
   return y;
 }

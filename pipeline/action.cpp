@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 
 namespace sylva {
 
@@ -69,7 +69,8 @@ std::string ActionRecord::to_json() const {
   j["inputs"] = json::array();
   for (const auto& in : inputs) {
     json ji{{"node", in.node}, {"type", in.type}, {"files", json::array()}};
-    for (const auto& [n, d] : in.files) ji["files"].push_back({{"name", n}, {"hash", d.hash}, {"size", d.size}});
+    for (const auto& [n, d] : in.files)
+      ji["files"].push_back({{"name", n}, {"hash", d.hash}, {"size", d.size}});
     j["inputs"].push_back(ji);
   }
   j["files"] = json::object();
@@ -120,9 +121,12 @@ std::vector<std::string> explain_difference(const ActionRecord& before, const Ac
     if (now.files.count(k) || before.files.count(k)) continue;  // reported as a file below
     auto b = before.params.find(k);
     auto n = now.params.find(k);
-    if (b == before.params.end()) out.push_back("parameter '" + k + "' added: " + n->second);
-    else if (n == now.params.end()) out.push_back("parameter '" + k + "' removed (was " + b->second + ")");
-    else if (b->second != n->second) out.push_back("parameter '" + k + "' changed: " + b->second + " -> " + n->second);
+    if (b == before.params.end())
+      out.push_back("parameter '" + k + "' added: " + n->second);
+    else if (n == now.params.end())
+      out.push_back("parameter '" + k + "' removed (was " + b->second + ")");
+    else if (b->second != n->second)
+      out.push_back("parameter '" + k + "' changed: " + b->second + " -> " + n->second);
   }
   if (before.inputs.size() != now.inputs.size())
     out.push_back("number of inputs changed: " + std::to_string(before.inputs.size()) + " -> " +
@@ -132,24 +136,30 @@ std::vector<std::string> explain_difference(const ActionRecord& before, const Ac
     const auto& n = now.inputs[i];
     if (b.type != n.type || b.files != n.files) {
       std::string what = "input '" + n.node + "' changed";
-      if (b.node != n.node) what = "input " + std::to_string(i) + " changed: '" + b.node + "' -> '" + n.node + "'";
+      if (b.node != n.node)
+        what = "input " + std::to_string(i) + " changed: '" + b.node + "' -> '" + n.node + "'";
       for (const auto& [name, d] : n.files) {
-        auto it = std::find_if(b.files.begin(), b.files.end(), [&key = name](const auto& x) { return x.first == key; });
-        if (it == b.files.end()) what += "; new file " + name;
-        else if (!(it->second == d)) what += "; " + name + " " + short_hash(it->second.hash) + " -> " + short_hash(d.hash);
+        auto it = std::find_if(b.files.begin(), b.files.end(),
+                               [&key = name](const auto& x) { return x.first == key; });
+        if (it == b.files.end())
+          what += "; new file " + name;
+        else if (!(it->second == d))
+          what += "; " + name + " " + short_hash(it->second.hash) + " -> " + short_hash(d.hash);
       }
       for (const auto& [name, d] : b.files)
-        if (std::none_of(n.files.begin(), n.files.end(), [&key = name](const auto& x) { return x.first == key; }))
+        if (std::none_of(n.files.begin(), n.files.end(),
+                         [&key = name](const auto& x) { return x.first == key; }))
           what += "; file " + name + " gone";
       out.push_back(what);
     }
   }
   for (const auto& [k, f] : now.files) {
     auto b = before.files.find(k);
-    if (b == before.files.end()) out.push_back("file parameter '" + k + "' added: " + f.path);
+    if (b == before.files.end())
+      out.push_back("file parameter '" + k + "' added: " + f.path);
     else if (!(b->second.digest == f.digest))
-      out.push_back("file '" + f.path + "' (parameter '" + k + "') changed: " +
-                    short_hash(b->second.digest.hash) + " -> " + short_hash(f.digest.hash) +
+      out.push_back("file '" + f.path + "' (parameter '" + k +
+                    "') changed: " + short_hash(b->second.digest.hash) + " -> " + short_hash(f.digest.hash) +
                     (b->second.path != f.path ? " (was " + b->second.path + ")" : ""));
   }
   for (const auto& [k, f] : before.files)

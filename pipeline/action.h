@@ -22,8 +22,8 @@ namespace sylva {
 inline constexpr const char* kActionSalt = "sylva-action-v1";
 
 struct ActionInput {
-  std::string node;                                // not hashed
-  std::string type;                                // hashed
+  std::string node;                                   // not hashed
+  std::string type;                                   // hashed
   std::vector<std::pair<std::string, Digest>> files;  // name -> digest, sorted by name; hashed
 };
 
@@ -37,7 +37,7 @@ struct ActionRecord {
   int version = 0;
   std::map<std::string, std::string> params;  // name -> canonical value (files: "sha256:<hash>")
   std::vector<ActionInput> inputs;
-  std::map<std::string, ActionFile> files;    // parameter name -> file
+  std::map<std::string, ActionFile> files;  // parameter name -> file
 
   std::string key_text() const;  // the exact text hashed
   std::string key() const;       // hex SHA-256 of key_text()

@@ -29,7 +29,8 @@ std::optional<ActionResult> ActionResult::from_json(const std::string& text, con
   };
   try {
     json j = json::parse(text);
-    if (!j.is_object() || !j.contains("key") || j.at("key") != key) return bad("it does not name its own key");
+    if (!j.is_object() || !j.contains("key") || j.at("key") != key)
+      return bad("it does not name its own key");
     ActionResult r;
     for (const auto& o : j.at("outputs")) {
       OutputEntry e{o.at("name").get<std::string>(),
@@ -37,7 +38,8 @@ std::optional<ActionResult> ActionResult::from_json(const std::string& text, con
       // The same rule as a stage's output names: never a path, never "." or "..".
       if (!is_valid_name(e.name)) return bad("it names an invalid output file");
       if (!is_hex_digest(e.digest.hash)) return bad("it names an invalid digest");
-      if (!r.outputs.empty() && !(r.outputs.back().name < e.name)) return bad("its outputs are not sorted and unique");
+      if (!r.outputs.empty() && !(r.outputs.back().name < e.name))
+        return bad("its outputs are not sorted and unique");
       r.outputs.push_back(std::move(e));
     }
     if (r.outputs.empty()) return bad("it lists no outputs");
@@ -56,13 +58,9 @@ bool output_name_declared(const std::string& name, const std::vector<std::string
 
 Cache::Cache(FileSystem& fs, fs::path root) : fs_(fs), root_(std::move(root)) {}
 
-fs::path Cache::blob_path(const std::string& hash) const {
-  return root_ / "cas" / hash.substr(0, 2) / hash;
-}
+fs::path Cache::blob_path(const std::string& hash) const { return root_ / "cas" / hash.substr(0, 2) / hash; }
 
-fs::path Cache::action_path(const std::string& key) const {
-  return root_ / "ac" / key.substr(0, 2) / key;
-}
+fs::path Cache::action_path(const std::string& key) const { return root_ / "ac" / key.substr(0, 2) / key; }
 
 std::optional<ActionResult> Cache::lookup(const std::string& key, const std::vector<std::string>& outputs) {
   const fs::path p = action_path(key);
@@ -83,12 +81,13 @@ std::optional<ActionResult> Cache::lookup(const std::string& key, const std::vec
   return result;
 }
 
-bool Cache::store_action(const std::string& key, const ActionResult& result, bool durable, std::string* error) {
+bool Cache::store_action(const std::string& key, const ActionResult& result, bool durable,
+                         std::string* error) {
   return fs_.write_atomic(action_path(key), result.to_json(key), durable, error);
 }
 
-std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at, bool durable, std::string* error,
-                                      const std::optional<Digest>& known) {
+std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at, bool durable,
+                                      std::string* error, const std::optional<Digest>& known) {
   const std::int64_t now = fs_.now_ns();
   auto d = known ? known : fs_.digest(file, error);
   if (!d) return std::nullopt;
@@ -207,9 +206,8 @@ GcResult Cache::gc(std::uint64_t max_bytes) {
       actions.push_back({p, fs_.age_seconds(p).value_or(0), std::move(*res)});
     }
   // Most recently used first; keep results while their blobs fit in the budget.
-  std::sort(actions.begin(), actions.end(), [](const Entry& a, const Entry& b) {
-    return a.age != b.age ? a.age < b.age : a.path < b.path;
-  });
+  std::sort(actions.begin(), actions.end(),
+            [](const Entry& a, const Entry& b) { return a.age != b.age ? a.age < b.age : a.path < b.path; });
   std::set<std::string> live;
   std::uint64_t live_bytes = 0;
   for (const auto& a : actions) {
@@ -251,7 +249,8 @@ VerifyResult Cache::verify_all() {
     for (const auto& k : fs_.list(root_ / "ac" / fan)) {
       const fs::path p = root_ / "ac" / fan / k;
       auto text = fs_.read(p, nullptr, kMaxActionBytes);
-      auto res = text && is_hex_digest(k) && fan == k.substr(0, 2) ? ActionResult::from_json(*text, k) : std::nullopt;
+      auto res = text && is_hex_digest(k) && fan == k.substr(0, 2) ? ActionResult::from_json(*text, k)
+                                                                   : std::nullopt;
       bool ok = res.has_value();
       if (ok)
         for (const auto& o : res->outputs) {

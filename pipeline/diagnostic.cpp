@@ -79,7 +79,8 @@ std::string Diagnostic::pretty() const {
     const std::string_view line = source_line;
     const std::size_t col = std::min(static_cast<std::size_t>(loc.col - 1), line.size());
     const std::size_t from = col > kContextBytes ? char_start(line, col - kContextBytes) : 0;
-    const std::size_t to = line.size() - col > kContextBytes ? char_start(line, col + kContextBytes) : line.size();
+    const std::size_t to =
+        line.size() - col > kContextBytes ? char_start(line, col + kContextBytes) : line.size();
     std::string before = from > 0 ? "..." : "";
     append_escaped(before, line.substr(from, col - from));
     std::string shown = before;
@@ -143,7 +144,8 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
   for (const auto& c : candidates) {  // first of equally close candidates wins: deterministic
     std::size_t d = edit_distance(word, c);
     // A word that is a prefix of a candidate (`fov_y` for `fov_y_deg`) is a likely slip.
-    if (word.size() >= 3 && c.size() > word.size() && c.compare(0, word.size(), word) == 0) d = std::min(d, limit);
+    if (word.size() >= 3 && c.size() > word.size() && c.compare(0, word.size(), word) == 0)
+      d = std::min(d, limit);
     if (d < best_d) {
       best_d = d;
       best = &c;

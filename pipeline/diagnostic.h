@@ -16,7 +16,8 @@ struct SourceLoc {
   SourceLoc(std::string file, int line = 0, int col = 0)
       : file_(std::make_shared<const std::string>(std::move(file))), line(line), col(col) {}
   // Locations in one file share its name (a 10,000-node recipe has ~50,000 of them).
-  SourceLoc(std::shared_ptr<const std::string> file, int line, int col) : file_(std::move(file)), line(line), col(col) {}
+  SourceLoc(std::shared_ptr<const std::string> file, int line, int col)
+      : file_(std::move(file)), line(line), col(col) {}
 
   // As the user named it (relative paths stay relative); "" if unknown.
   const std::string& file() const {
@@ -29,8 +30,8 @@ struct SourceLoc {
   std::shared_ptr<const std::string> file_;
 
  public:
-  int line = 0;  // 1-based; 0 = unknown
-  int col = 0;   // 1-based; 0 = unknown
+  int line = 0;                // 1-based; 0 = unknown
+  int col = 0;                 // 1-based; 0 = unknown
   std::string prefix() const;  // "file:line:col" (omits unknown parts)
 };
 
@@ -53,7 +54,7 @@ class Diagnostics {
   void error(SourceLoc loc, std::string message, std::string source_line = {});
   bool empty() const { return list_.empty(); }
   std::size_t size() const { return list_.size() + dropped_; }  // every error, kept or not
-  bool full() const { return list_.size() >= max_kept_; }        // callers may stop looking
+  bool full() const { return list_.size() >= max_kept_; }       // callers may stop looking
   const std::vector<Diagnostic>& all() const { return list_; }
   std::string str() const;     // every kept diagnostic's str(), one per line
   std::string pretty() const;  // every kept diagnostic's pretty()

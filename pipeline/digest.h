@@ -38,7 +38,8 @@ struct Digest {
   friend bool operator==(const Digest&, const Digest&) = default;
 };
 
-// Streams the file through SHA-256 (256 KiB reads, one reused buffer per thread). nullopt if it cannot be read.
+// Streams the file through SHA-256 (256 KiB reads, one reused buffer per thread). nullopt if it cannot be
+// read.
 std::optional<Digest> digest_file(const std::filesystem::path& path);
 Digest digest_bytes(std::string_view bytes);
 

@@ -34,7 +34,8 @@ void DurableBatch::run() {
     } else {
       for (Item& item : batch) {
         if (!cache_.store_action(item.key, item.result, /*durable=*/false, &why))
-          errors.push_back("cannot write action result " + cache_.action_path(item.key).string() + ": " + why);
+          errors.push_back("cannot write action result " + cache_.action_path(item.key).string() + ": " +
+                           why);
       }
     }
     batch.clear();  // releases the action locks

@@ -86,7 +86,8 @@ struct BuildSummary {
   std::size_t count(NodeStatus s) const;
   bool interrupted() const { return count(NodeStatus::kInterrupted) > 0; }
   bool ok() const {
-    return count(NodeStatus::kFailed) == 0 && count(NodeStatus::kSkipped) == 0 && !interrupted() && errors.empty();
+    return count(NodeStatus::kFailed) == 0 && count(NodeStatus::kSkipped) == 0 && !interrupted() &&
+           errors.empty();
   }
 };
 

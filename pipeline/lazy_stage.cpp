@@ -19,8 +19,8 @@ class LazyStage final : public Stage {
     // declared would store results under the wrong key.
     if (real.info().name != info_.name || real.info().version != info_.version)
       throw std::logic_error("stage '" + info_.name + "' v" + std::to_string(info_.version) +
-                             " resolved to '" + real.info().name + "' v" + std::to_string(real.info().version) +
-                             " (the module comes from another build)");
+                             " resolved to '" + real.info().name + "' v" +
+                             std::to_string(real.info().version) + " (the module comes from another build)");
     real.run(ctx);
   }
 

@@ -4,19 +4,32 @@ namespace sylva {
 
 const char* param_type_name(ParamType t) {
   switch (t) {
-    case ParamType::kBool: return "bool";
-    case ParamType::kInt: return "int";
-    case ParamType::kReal: return "real";
-    case ParamType::kString: return "string";
-    case ParamType::kEnum: return "enum";
-    case ParamType::kPath: return "path";
-    case ParamType::kDir: return "directory";
-    case ParamType::kIntList: return "list of int";
-    case ParamType::kRealList: return "list of real";
-    case ParamType::kStringList: return "list of string";
-    case ParamType::kObject: return "object";
-    case ParamType::kMap: return "map of real";
-    case ParamType::kObjectList: return "list of object";
+    case ParamType::kBool:
+      return "bool";
+    case ParamType::kInt:
+      return "int";
+    case ParamType::kReal:
+      return "real";
+    case ParamType::kString:
+      return "string";
+    case ParamType::kEnum:
+      return "enum";
+    case ParamType::kPath:
+      return "path";
+    case ParamType::kDir:
+      return "directory";
+    case ParamType::kIntList:
+      return "list of int";
+    case ParamType::kRealList:
+      return "list of real";
+    case ParamType::kStringList:
+      return "list of string";
+    case ParamType::kObject:
+      return "object";
+    case ParamType::kMap:
+      return "map of real";
+    case ParamType::kObjectList:
+      return "list of object";
   }
   return "?";
 }
@@ -35,9 +48,7 @@ Value opt(const std::optional<T>& v) {
 }
 }  // namespace
 
-ParamSpec Param::boolean(std::string name, bool def) {
-  return make(std::move(name), ParamType::kBool, def);
-}
+ParamSpec Param::boolean(std::string name, bool def) { return make(std::move(name), ParamType::kBool, def); }
 ParamSpec Param::integer(std::string name, std::optional<std::int64_t> def) {
   return make(std::move(name), ParamType::kInt, opt(def));
 }
@@ -47,8 +58,7 @@ ParamSpec Param::real(std::string name, std::optional<double> def) {
 ParamSpec Param::string(std::string name, std::optional<std::string> def) {
   return make(std::move(name), ParamType::kString, opt(def));
 }
-ParamSpec Param::choice(std::string name, std::vector<std::string> choices,
-                        std::optional<std::string> def) {
+ParamSpec Param::choice(std::string name, std::vector<std::string> choices, std::optional<std::string> def) {
   auto s = make(std::move(name), ParamType::kEnum, opt(def));
   s.choices = std::move(choices);
   return s;
@@ -69,8 +79,10 @@ ParamSpec Param::object(std::string name, std::vector<ParamSpec> fields) {
   Value::Object def;
   bool complete = true;
   for (const auto& f : fields) {
-    if (f.required()) complete = false;
-    else def.emplace(f.name, f.default_value);
+    if (f.required())
+      complete = false;
+    else
+      def.emplace(f.name, f.default_value);
   }
   auto s = make(std::move(name), ParamType::kObject, complete ? Value(std::move(def)) : Value());
   s.fields = std::move(fields);

@@ -19,9 +19,9 @@ enum class ParamType {
   kInt,
   kReal,
   kString,
-  kEnum,        // string restricted to `choices`
-  kPath,        // a file the node reads; relative to the YAML file that names it; hashed by content
-  kDir,         // a directory the node reads (every regular file below it is hashed by content)
+  kEnum,  // string restricted to `choices`
+  kPath,  // a file the node reads; relative to the YAML file that names it; hashed by content
+  kDir,   // a directory the node reads (every regular file below it is hashed by content)
   kIntList,
   kRealList,
   kStringList,
@@ -35,11 +35,11 @@ const char* param_type_name(ParamType t);
 struct ParamSpec {
   std::string name;
   ParamType type = ParamType::kReal;
-  Value default_value;                 // null => required
-  std::optional<double> min, max;      // inclusive; applies to numbers and to list elements
-  std::vector<std::string> choices;    // kEnum only
+  Value default_value;                              // null => required
+  std::optional<double> min, max;                   // inclusive; applies to numbers and to list elements
+  std::vector<std::string> choices;                 // kEnum only
   std::optional<std::size_t> min_items, max_items;  // list types only
-  std::vector<ParamSpec> fields;       // kObject and kObjectList only
+  std::vector<ParamSpec> fields;                    // kObject and kObjectList only
   std::string doc;
   // Constraints the recipe loader checks (at file:line:col, before any node runs).
   bool power_of_two = false;  // kInt: 1, 2, 4, 8, ...
@@ -49,14 +49,27 @@ struct ParamSpec {
 
   // Chainable modifiers, used on the temporaries Param:: returns.
   ParamSpec range(std::optional<double> lo, std::optional<double> hi) && {
-    min = lo; max = hi; return std::move(*this);
+    min = lo;
+    max = hi;
+    return std::move(*this);
   }
   ParamSpec items(std::optional<std::size_t> lo, std::optional<std::size_t> hi) && {
-    min_items = lo; max_items = hi; return std::move(*this);
+    min_items = lo;
+    max_items = hi;
+    return std::move(*this);
   }
-  ParamSpec describe(std::string text) && { doc = std::move(text); return std::move(*this); }
-  ParamSpec require_power_of_two() && { power_of_two = true; return std::move(*this); }
-  ParamSpec require_increasing() && { increasing = true; return std::move(*this); }
+  ParamSpec describe(std::string text) && {
+    doc = std::move(text);
+    return std::move(*this);
+  }
+  ParamSpec require_power_of_two() && {
+    power_of_two = true;
+    return std::move(*this);
+  }
+  ParamSpec require_increasing() && {
+    increasing = true;
+    return std::move(*this);
+  }
 };
 
 // Fluent builders keep stage declarations short and readable:

@@ -21,8 +21,8 @@
 namespace sylva {
 
 struct NodeDecl {
-  std::string name;    // [A-Za-z0-9_.-]+, not "." or "..": safe as a directory name
-  SourceLoc loc;       // the node's key in the recipe
+  std::string name;  // [A-Za-z0-9_.-]+, not "." or "..": safe as a directory name
+  SourceLoc loc;     // the node's key in the recipe
   const Stage* stage = nullptr;
   std::vector<std::string> needs;  // upstream node names: pattern order, matches sorted, unique
   Value::Object params;            // complete (defaults filled), typed

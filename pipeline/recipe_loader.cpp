@@ -7,11 +7,12 @@
 //   6. prove the graph acyclic (graph.cpp), printing a cycle when there is one.
 #include "pipeline/recipe_loader.h"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fnmatch.h>
 #include <set>
 #include <unordered_map>
 
@@ -24,8 +25,8 @@ namespace sylva {
 bool is_valid_name(std::string_view name) {
   if (name.empty() || name.size() > 128 || name == "." || name == "..") return false;
   return std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == '-' || c == '.';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
   });
 }
 
@@ -99,8 +100,8 @@ std::string substitute_text(const std::string& text, const std::map<std::string,
 }
 
 // `dollar` is set if any scalar contains '$' (then substitution can change text: "$$" -> "$").
-void collect_vars(const RawNode& n, std::vector<VarRef>& out, const SourceFiles& src,
-                  Diagnostics& diags, bool* dollar) {
+void collect_vars(const RawNode& n, std::vector<VarRef>& out, const SourceFiles& src, Diagnostics& diags,
+                  bool* dollar) {
   if (n.is_scalar() && n.text.find('$') != std::string::npos) {
     *dollar = true;
     bool malformed = false;
@@ -176,7 +177,8 @@ class ParamChecker {
         if (!i) return wrong(spec, raw, what);
         if (!in_range(spec, static_cast<double>(*i), raw, what)) return std::nullopt;
         if (spec.power_of_two && (*i <= 0 || (*i & (*i - 1)) != 0)) {
-          src_.error(diags_, raw.loc, "value out of range: " + what + " must be a power of two, got " + raw.text);
+          src_.error(diags_, raw.loc,
+                     "value out of range: " + what + " must be a power of two, got " + raw.text);
           return std::nullopt;
         }
         return Value(*i);
@@ -217,13 +219,16 @@ class ParamChecker {
         }
         const bool want_dir = spec.type == ParamType::kDir;
         if (st && st->is_other) {  // a FIFO or device would block or never end
-          src_.error(diags_, raw.loc, what + " names '" + excerpt(p.string(), 200) + "', which is not a regular file");
+          src_.error(diags_, raw.loc,
+                     what + " names '" + excerpt(p.string(), 200) + "', which is not a regular file");
           return std::nullopt;
         }
         if (!st || st->is_dir != want_dir) {
           src_.error(diags_, raw.loc,
-                     "missing input: " + what + " names " + (want_dir ? "directory" : "file") +
-                         " '" + excerpt(p.string(), 200) + "', which " + (st ? "is not a " + std::string(want_dir ? "directory" : "file") : std::string("does not exist")));
+                     "missing input: " + what + " names " + (want_dir ? "directory" : "file") + " '" +
+                         excerpt(p.string(), 200) + "', which " +
+                         (st ? "is not a " + std::string(want_dir ? "directory" : "file")
+                             : std::string("does not exist")));
           return std::nullopt;
         }
         if (files) {
@@ -239,8 +244,7 @@ class ParamChecker {
         if ((spec.min_items && raw.items.size() < *spec.min_items) ||
             (spec.max_items && raw.items.size() > *spec.max_items)) {
           src_.error(diags_, raw.loc,
-                     what + " must have " + items_text(spec) + ", got " +
-                         std::to_string(raw.items.size()));
+                     what + " must have " + items_text(spec) + ", got " + std::to_string(raw.items.size()));
           return std::nullopt;
         }
         ParamSpec elem = spec;
@@ -251,17 +255,19 @@ class ParamChecker {
         bool ok = true;
         for (std::size_t i = 0; i < raw.items.size(); ++i) {
           auto v = convert(elem, raw.items[i], what + "[" + std::to_string(i) + "]", nullptr);
-          if (v) out.push_back(std::move(*v));
-          else ok = false;
+          if (v)
+            out.push_back(std::move(*v));
+          else
+            ok = false;
         }
         if (!ok) return std::nullopt;
         if (spec.increasing)
           for (std::size_t i = 1; i < out.size(); ++i)
             if (!(out[i].as_real() > out[i - 1].as_real())) {
               src_.error(diags_, raw.items[i].loc,
-                         "value out of range: " + what + " must be increasing, but item " + std::to_string(i) +
-                             " (" + raw.items[i].text + ") is not greater than item " + std::to_string(i - 1) +
-                             " (" + raw.items[i - 1].text + ")");
+                         "value out of range: " + what + " must be increasing, but item " +
+                             std::to_string(i) + " (" + raw.items[i].text + ") is not greater than item " +
+                             std::to_string(i - 1) + " (" + raw.items[i - 1].text + ")");
               return std::nullopt;
             }
         return Value(std::move(out));
@@ -288,8 +294,10 @@ class ParamChecker {
             continue;
           }
           auto cv = convert(*f, v, what + "." + k.text, files);
-          if (cv) out.emplace(k.text, std::move(*cv));
-          else ok = false;
+          if (cv)
+            out.emplace(k.text, std::move(*cv));
+          else
+            ok = false;
         }
         for (const auto& f : spec.fields) {
           if (out.count(f.name)) continue;
@@ -317,8 +325,10 @@ class ParamChecker {
         bool ok = true;
         for (std::size_t i = 0; i < raw.items.size(); ++i) {
           auto v = convert(elem, raw.items[i], what + "[" + std::to_string(i) + "]", nullptr);
-          if (v) out.push_back(std::move(*v));
-          else ok = false;
+          if (v)
+            out.push_back(std::move(*v));
+          else
+            ok = false;
         }
         if (!ok) return std::nullopt;
         return Value(std::move(out));
@@ -331,7 +341,8 @@ class ParamChecker {
         bool ok = true;
         for (const auto& [k, v] : raw.entries) {
           auto cv = convert(elem, v, what + "." + k.text, nullptr);
-          if (!cv) ok = false;
+          if (!cv)
+            ok = false;
           else if (!out.emplace(k.text, std::move(*cv)).second) {
             src_.error(diags_, k.loc, "duplicate key '" + k.text + "' in " + what);
             ok = false;
@@ -398,7 +409,8 @@ class ParamChecker {
   }
 
   std::optional<Value> wrong(const ParamSpec& spec, const RawNode& raw, const std::string& what) {
-    const std::string got = raw.is_scalar() ? "'" + excerpt(raw.text) + "'" : std::string("a ") + raw.kind_name();
+    const std::string got =
+        raw.is_scalar() ? "'" + excerpt(raw.text) + "'" : std::string("a ") + raw.kind_name();
     src_.error(diags_, raw.loc,
                "wrong type: " + what + " expects " + param_type_name(spec.type) + ", got " + got);
     return std::nullopt;
@@ -487,7 +499,8 @@ class Loader {
     std::vector<fs::path> roots;
     if (declared) {
       std::vector<const RawNode*> items;
-      if (declared->is_scalar()) items.push_back(declared);
+      if (declared->is_scalar())
+        items.push_back(declared);
       else if (declared->is_seq())
         for (const auto& i : declared->items) items.push_back(&i);
       bool ok = !items.empty();
@@ -531,10 +544,10 @@ class Loader {
                         " must be a map, got a " + root.kind_name());
       return;
     }
-    static const std::vector<std::string> kRootKeys = {"version",  "name",   "description", "root",
-                                                       "include",  "defaults", "matrix",    "nodes"};
-    static const std::vector<std::string> kFragmentKeys = {"description", "include", "defaults",
-                                                           "matrix", "nodes"};
+    static const std::vector<std::string> kRootKeys = {"version", "name",     "description", "root",
+                                                       "include", "defaults", "matrix",      "nodes"};
+    static const std::vector<std::string> kFragmentKeys = {"description", "include", "defaults", "matrix",
+                                                           "nodes"};
     const auto& allowed = is_root ? kRootKeys : kFragmentKeys;
     std::set<std::string> seen;
     bool have_version = false, have_name = false;
@@ -556,7 +569,9 @@ class Loader {
       if (k.text == "version") {
         have_version = true;
         if (!v.is_scalar() || v.text != "1")
-          err(v.loc, "unsupported recipe version '" + (v.is_scalar() ? excerpt(v.text) : std::string(v.kind_name())) + "' (this sylva reads version 1)");
+          err(v.loc, "unsupported recipe version '" +
+                         (v.is_scalar() ? excerpt(v.text) : std::string(v.kind_name())) +
+                         "' (this sylva reads version 1)");
       } else if (k.text == "root") {
         // chosen before anything was read (choose_root)
       } else if (k.text == "name") {
@@ -564,9 +579,10 @@ class Loader {
         if (!v.is_scalar() || !is_valid_name(v.text))
           err(v.loc, "invalid recipe name '" + excerpt(v.text) + "': use letters, digits, '_', '-' and '.'");
         else if (reserved_recipe_name(v.text))
-          err(v.loc, "reserved recipe name '" + v.text +
-                         "': out/cache, out/build, out/npm, out/test-images, out/tmp and names starting with '.' "
-                         "belong to sylva and the build; choose another name");
+          err(v.loc,
+              "reserved recipe name '" + v.text +
+                  "': out/cache, out/build, out/npm, out/test-images, out/tmp and names starting with '.' "
+                  "belong to sylva and the build; choose another name");
         else
           recipe_.name = v.text;
       } else if (k.text == "include") {
@@ -590,8 +606,10 @@ class Loader {
 
   void read_includes(const RawNode& v, std::vector<std::string> stack) {
     std::vector<RawNode> list;
-    if (v.is_scalar()) list.push_back(v);
-    else if (v.is_seq()) list = v.items;
+    if (v.is_scalar())
+      list.push_back(v);
+    else if (v.is_seq())
+      list = v.items;
     else {
       err(v.loc, "'include' must be a file name or a list of file names");
       return;
@@ -647,7 +665,8 @@ class Loader {
       return;
     }
     for (const auto& [k, val] : v.entries) {
-      if (std::any_of(out.begin(), out.end(), [&key = k](const MatrixVar& m) { return m.name == key.text; })) {
+      if (std::any_of(out.begin(), out.end(),
+                      [&key = k](const MatrixVar& m) { return m.name == key.text; })) {
         err(k.loc, "duplicate matrix variable '" + k.text + "'");
         continue;
       }
@@ -657,8 +676,10 @@ class Loader {
       }
       MatrixVar m{k.text, {}, k.loc};
       for (const auto& item : val.items) {
-        if (!item.is_scalar()) err(item.loc, "matrix values must be scalars");
-        else m.values.push_back(item.text);
+        if (!item.is_scalar())
+          err(item.loc, "matrix values must be scalars");
+        else
+          m.values.push_back(item.text);
       }
       out.push_back(std::move(m));
     }
@@ -682,8 +703,10 @@ class Loader {
           for (auto& m : vars) {
             auto g = std::find_if(local_matrix.begin(), local_matrix.end(),
                                   [&](const MatrixVar& x) { return x.name == m.name; });
-            if (g != local_matrix.end()) *g = m;
-            else local_matrix.push_back(m);
+            if (g != local_matrix.end())
+              *g = m;
+            else
+              local_matrix.push_back(m);
           }
           local = e.body;
           local.entries.erase(local.entries.begin() + static_cast<std::ptrdiff_t>(k));
@@ -705,7 +728,8 @@ class Loader {
       std::vector<const MatrixVar*> used;  // in matrix declaration order
       bool ok = true;
       for (const auto& ref : name_vars) {
-        auto m = std::find_if(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == ref.name; });
+        auto m = std::find_if(matrix.begin(), matrix.end(),
+                              [&](const MatrixVar& x) { return x.name == ref.name; });
         if (m == matrix.end()) {
           std::vector<std::string> names;
           for (const auto& x : matrix) names.push_back(x.name);
@@ -714,12 +738,15 @@ class Loader {
         }
       }
       for (const auto& m : matrix)
-        if (std::any_of(name_vars.begin(), name_vars.end(), [&](const VarRef& r) { return r.name == m.name; }))
+        if (std::any_of(name_vars.begin(), name_vars.end(),
+                        [&](const VarRef& r) { return r.name == m.name; }))
           used.push_back(&m);
       for (const auto& ref : body_vars) {
-        const bool in_name = std::any_of(name_vars.begin(), name_vars.end(), [&](const VarRef& r) { return r.name == ref.name; });
+        const bool in_name = std::any_of(name_vars.begin(), name_vars.end(),
+                                         [&](const VarRef& r) { return r.name == ref.name; });
         if (in_name) continue;
-        const bool known = std::any_of(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == ref.name; });
+        const bool known =
+            std::any_of(matrix.begin(), matrix.end(), [&](const MatrixVar& x) { return x.name == ref.name; });
         err(ref.loc, known ? "variable '${" + ref.name + "}' is used in node '" + e.key.text +
                                  "' but not in its name, so its expansions would share one name"
                            : "unknown variable '${" + ref.name + "}'");
@@ -750,7 +777,10 @@ class Loader {
           --i;
           if (++idx[i] < used[i]->values.size()) break;
           idx[i] = 0;
-          if (i == 0) { i = used.size() + 1; break; }
+          if (i == 0) {
+            i = used.size() + 1;
+            break;
+          }
         }
         if (used.empty() || i == used.size() + 1) break;
       }
@@ -762,7 +792,7 @@ class Loader {
     if (node_loc_.size() < options_.limits.nodes) return false;
     if (!nodes_reported_)
       err({recipe_.file.string(), 1, 1}, "the recipe has more than " + std::to_string(options_.limits.nodes) +
-                                            " nodes; raise the limit with --limit nodes=N");
+                                             " nodes; raise the limit with --limit nodes=N");
     nodes_reported_ = true;
     return true;
   }
@@ -796,13 +826,19 @@ class Loader {
     const RawNode* needs = nullptr;
     for (const auto& [k, v] : body.entries) {
       if (std::find(kNodeKeys.begin(), kNodeKeys.end(), k.text) == kNodeKeys.end()) {
-        err(k.loc, "unknown key '" + excerpt(k.text) + "' in node '" + node.name + "'" + did_you_mean(k.text, kNodeKeys));
+        err(k.loc, "unknown key '" + excerpt(k.text) + "' in node '" + node.name + "'" +
+                       did_you_mean(k.text, kNodeKeys));
         continue;
       }
-      const RawNode** slot = k.text == "stage" ? &stage : k.text == "with" ? &with : k.text == "needs" ? &needs : nullptr;
+      const RawNode** slot = k.text == "stage"   ? &stage
+                             : k.text == "with"  ? &with
+                             : k.text == "needs" ? &needs
+                                                 : nullptr;
       if (!slot) continue;
-      if (*slot) err(k.loc, "duplicate key '" + k.text + "' in node '" + node.name + "'");
-      else *slot = &v;
+      if (*slot)
+        err(k.loc, "duplicate key '" + k.text + "' in node '" + node.name + "'");
+      else
+        *slot = &v;
     }
     if (!stage) {
       err(key.loc, "node '" + node.name + "' has no 'stage'");
@@ -817,7 +853,8 @@ class Loader {
     }
     node.stage = reg_.find(stage->text);
     if (!node.stage) {
-      err(stage->loc, "unknown stage '" + excerpt(stage->text) + "'" + did_you_mean(stage->text, reg_.names()));
+      err(stage->loc,
+          "unknown stage '" + excerpt(stage->text) + "'" + did_you_mean(stage->text, reg_.names()));
       return;
     }
     const StageInfo& info = node.stage->info();
@@ -834,7 +871,8 @@ class Loader {
         for (const auto& [k, v] : with->entries) {
           const ParamSpec* spec = find_param(info, k.text);
           if (!spec) {
-            err(k.loc, "unknown parameter '" + excerpt(k.text) + "' for stage '" + info.name + "'" + did_you_mean(k.text, param_names()));
+            err(k.loc, "unknown parameter '" + excerpt(k.text) + "' for stage '" + info.name + "'" +
+                           did_you_mean(k.text, param_names()));
             continue;
           }
           if (!given.insert(k.text).second) {
@@ -853,7 +891,8 @@ class Loader {
         if (auto val = params_.convert(spec, d->second.second, "default '" + spec.name + "'", &node))
           node.params.emplace(spec.name, std::move(*val));
       } else if (spec.required()) {
-        err(key.loc, "node '" + node.name + "' (stage '" + info.name + "') is missing required parameter '" + spec.name + "'");
+        err(key.loc, "node '" + node.name + "' (stage '" + info.name + "') is missing required parameter '" +
+                         spec.name + "'");
       } else {
         node.params.emplace(spec.name, spec.default_value);
       }
@@ -896,9 +935,12 @@ class Loader {
       SourceLoc where = node.loc;
       if (it != needs_raw_.end()) {
         where = it->second.loc;
-        if (it->second.is_scalar()) patterns.push_back(it->second);
-        else if (it->second.is_seq()) patterns = it->second.items;
-        else if (!it->second.is_null()) err(it->second.loc, "'needs' must be a node name, a pattern or a list of them");
+        if (it->second.is_scalar())
+          patterns.push_back(it->second);
+        else if (it->second.is_seq())
+          patterns = it->second.items;
+        else if (!it->second.is_null())
+          err(it->second.loc, "'needs' must be a node name, a pattern or a list of them");
       }
       for (const auto& p : patterns) {
         if (!p.is_scalar()) {
@@ -918,8 +960,8 @@ class Loader {
           if (!glob && p.text == node.name)
             err(p.loc, "dependency cycle: " + node.name + " -> " + node.name);
           else
-            err(p.loc, "missing input: " + std::string(glob ? "no node matches '" : "no node named '") + p.text + "'" +
-                           (glob ? "" : did_you_mean(p.text, names)));
+            err(p.loc, "missing input: " + std::string(glob ? "no node matches '" : "no node named '") +
+                           p.text + "'" + (glob ? "" : did_you_mean(p.text, names)));
         }
         for (auto& m : matches)
           if (std::find(node.needs.begin(), node.needs.end(), m) == node.needs.end()) node.needs.push_back(m);
@@ -927,7 +969,7 @@ class Loader {
       const InputSpec& in = node.stage->info().inputs;
       const int count = static_cast<int>(node.needs.size());
       if (count < in.min || (in.max >= 0 && count > in.max)) {
-        std::string want = in.max < 0 ? "at least " + std::to_string(in.min)
+        std::string want = in.max < 0         ? "at least " + std::to_string(in.min)
                            : in.min == in.max ? std::to_string(in.min)
                                               : std::to_string(in.min) + " to " + std::to_string(in.max);
         err(where, "node '" + node.name + "' (stage '" + node.stage->info().name + "') needs " + want +
@@ -940,8 +982,8 @@ class Loader {
           std::string accepted;
           for (const auto& t : in.types) accepted += (accepted.empty() ? "" : ", ") + t;
           err(where, "node '" + node.name + "' cannot take '" + up + "' as input: stage '" +
-                         node.stage->info().name + "' accepts " + (accepted.empty() ? "no inputs" : accepted) +
-                         ", but '" + up + "' makes a " + type);
+                         node.stage->info().name + "' accepts " +
+                         (accepted.empty() ? "no inputs" : accepted) + ", but '" + up + "' makes a " + type);
         }
       }
     }
@@ -973,8 +1015,8 @@ std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& reg
   return loader.load(file);
 }
 
-std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& registry,
-                                  FileSystem& fs, Diagnostics& diags, const fs::path& parse_cache_dir) {
+std::optional<Recipe> load_recipe(const fs::path& file, const StageRegistry& registry, FileSystem& fs,
+                                  Diagnostics& diags, const fs::path& parse_cache_dir) {
   LoadOptions options;
   options.parse_cache_dir = parse_cache_dir;
   return load_recipe(file, registry, fs, diags, options);

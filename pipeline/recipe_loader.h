@@ -17,11 +17,11 @@ namespace sylva {
 // What one recipe may cost to load (docs/recipes.md, "Limits"): each exceeded limit is one
 // clear error, never a hang or an exhausted memory. Raised with `--limit NAME=N`.
 struct LoadLimits {
-  std::uint64_t file_bytes = 16u << 20;  // file-bytes: each recipe or included file
-  std::uint64_t yaml_nodes = 1'000'000;  // yaml-nodes: nodes of one file, aliases expanded
-  std::uint64_t include_depth = 16;      // include-depth: nested `include:` / `!include`
-  std::uint64_t matrix = 10'000;         // matrix: nodes one matrix entry expands to
-  std::uint64_t nodes = 100'000;         // nodes: nodes of the whole recipe
+  std::uint64_t file_bytes = 16u << 20;                 // file-bytes: each recipe or included file
+  std::uint64_t yaml_nodes = 1'000'000;                 // yaml-nodes: nodes of one file, aliases expanded
+  std::uint64_t include_depth = 16;                     // include-depth: nested `include:` / `!include`
+  std::uint64_t matrix = 10'000;                        // matrix: nodes one matrix entry expands to
+  std::uint64_t nodes = 100'000;                        // nodes: nodes of the whole recipe
   std::uint64_t errors = Diagnostics::kDefaultMaxKept;  // errors: errors reported
 };
 

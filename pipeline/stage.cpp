@@ -24,8 +24,7 @@ std::vector<const ArtifactFile*> InputArtifact::files_with_suffix(std::string_vi
 const Value& StageContext::param(std::string_view name) const {
   const auto& p = params();
   auto it = p.find(std::string(name));
-  if (it == p.end())
-    throw std::logic_error("stage read undeclared parameter '" + std::string(name) + "'");
+  if (it == p.end()) throw std::logic_error("stage read undeclared parameter '" + std::string(name) + "'");
   return it->second;
 }
 
@@ -33,13 +32,16 @@ namespace {
 
 class FileOutputStream final : public OutputStream {
  public:
-  explicit FileOutputStream(const std::filesystem::path& p) : path_(p), out_(p, std::ios::binary | std::ios::trunc) {
-    if (!out_) throw StageError("cannot create output " + p.filename().string() + ": " + std::strerror(errno));
+  explicit FileOutputStream(const std::filesystem::path& p)
+      : path_(p), out_(p, std::ios::binary | std::ios::trunc) {
+    if (!out_)
+      throw StageError("cannot create output " + p.filename().string() + ": " + std::strerror(errno));
   }
   std::ostream& stream() override { return out_; }
   void close() override {
     out_.close();
-    if (!out_) throw StageError("cannot write output " + path_.filename().string() + ": " + std::strerror(errno));
+    if (!out_)
+      throw StageError("cannot write output " + path_.filename().string() + ": " + std::strerror(errno));
   }
 
  private:

@@ -53,9 +53,9 @@ struct InputSpec {
 };
 
 struct StageInfo {
-  std::string name;        // recipe `stage:` value; [a-z_]+
-  int version = 1;         // implementation version, part of the action key
-  std::string summary;     // one line for `sylva stages`
+  std::string name;     // recipe `stage:` value; [a-z_]+
+  int version = 1;      // implementation version, part of the action key
+  std::string summary;  // one line for `sylva stages`
   std::vector<ParamSpec> params;
   InputSpec inputs;
   std::string output_type;  // artifact type of this stage's output, e.g. "tree", "mesh"
@@ -73,8 +73,8 @@ struct ArtifactFile {
 };
 
 struct InputArtifact {
-  std::string node;  // upstream node name (for messages only: it is not part of the key)
-  std::string type;  // upstream stage's output_type
+  std::string node;                 // upstream node name (for messages only: it is not part of the key)
+  std::string type;                 // upstream stage's output_type
   std::vector<ArtifactFile> files;  // sorted by name
 
   // The file with this name, or nullptr.

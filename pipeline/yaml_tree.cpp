@@ -1,12 +1,12 @@
 #include "pipeline/yaml_tree.h"
-#include "pipeline/digest.h"
-
-#include <cstring>
-#include <string_view>
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cstring>
+#include <string_view>
+
+#include "pipeline/digest.h"
 
 namespace sylva {
 
@@ -14,10 +14,14 @@ RawNode::RawNode() = default;
 
 const char* RawNode::kind_name() const {
   switch (kind) {
-    case Kind::kNull: return "null";
-    case Kind::kScalar: return "scalar";
-    case Kind::kSeq: return "list";
-    case Kind::kMap: return "map";
+    case Kind::kNull:
+      return "null";
+    case Kind::kScalar:
+      return "scalar";
+    case Kind::kSeq:
+      return "list";
+    case Kind::kMap:
+      return "map";
   }
   return "?";
 }

@@ -23,8 +23,8 @@ namespace sylva {
 struct RawNode {
   enum class Kind { kNull, kScalar, kSeq, kMap };
   Kind kind = Kind::kNull;
-  std::string text;                                 // kScalar
-  std::vector<RawNode> items;                       // kSeq
+  std::string text;                                  // kScalar
+  std::vector<RawNode> items;                        // kSeq
   std::vector<std::pair<RawNode, RawNode>> entries;  // kMap, in file order (duplicates kept)
   SourceLoc loc;
   bool include = false;  // a `!include` scalar not yet replaced (only inside YamlReader)
@@ -68,9 +68,13 @@ struct YamlLimits {
 
 class YamlReader {
  public:
-  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags, std::filesystem::path parse_cache_dir = {},
-             YamlLimits limits = {})
-      : fs_(fs), sources_(sources), diags_(diags), parse_cache_dir_(std::move(parse_cache_dir)), limits_(limits) {}
+  YamlReader(FileSystem& fs, SourceFiles& sources, Diagnostics& diags,
+             std::filesystem::path parse_cache_dir = {}, YamlLimits limits = {})
+      : fs_(fs),
+        sources_(sources),
+        diags_(diags),
+        parse_cache_dir_(std::move(parse_cache_dir)),
+        limits_(limits) {}
 
   // Every `!include` target must lie inside `root` (not owned; default: unconfined).
   void set_root(const ProjectRoot* root) { root_ = root; }

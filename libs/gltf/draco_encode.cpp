@@ -49,7 +49,8 @@ DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options, bool 
   }
 
   DracoEncoded out;
-  auto add = [&](const char* name, draco::GeometryAttribute::Type type, int comps, const std::vector<float>& v) {
+  auto add = [&](const char* name, draco::GeometryAttribute::Type type, int comps,
+                 const std::vector<float>& v) {
     if (v.empty()) return;
     const draco::PointAttribute* att = add_attribute(mesh, type, comps, v, points);
     out.attribute_ids.emplace_back(name, static_cast<int>(att->unique_id()));
@@ -62,7 +63,8 @@ DracoEncoded encode_draco(const Primitive& p, const DracoOptions& options, bool 
   std::vector<const CustomAttribute*> custom;
   for (const CustomAttribute& a : p.custom) custom.push_back(&a);
   std::sort(custom.begin(), custom.end(), [](auto* a, auto* b) { return a->name < b->name; });
-  for (const CustomAttribute* a : custom) add(a->name.c_str(), draco::GeometryAttribute::GENERIC, a->components, a->values);
+  for (const CustomAttribute* a : custom)
+    add(a->name.c_str(), draco::GeometryAttribute::GENERIC, a->components, a->values);
 
   draco::Encoder encoder;
   encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, clamp_bits(options.position_bits));

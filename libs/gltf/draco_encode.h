@@ -11,7 +11,7 @@
 namespace sylva::gltf::detail {
 
 struct DracoEncoded {
-  std::string bytes;  // the bitstream for the extension's buffer view
+  std::string bytes;       // the bitstream for the extension's buffer view
   std::size_t points = 0;  // vertex count the decoder returns (accessor counts)
   std::size_t faces = 0;   // triangle count the decoder returns
   // glTF attribute name -> Draco attribute unique id, in glTF attribute order.

@@ -40,7 +40,8 @@ bool check_size(Checker& c, const std::string& where, const char* name, const st
   if (values.empty()) return false;
   if (values.size() != components * vertices) {
     c.fail(where, std::string(name) + " has " + std::to_string(values.size()) + " values, expected " +
-                      std::to_string(components) + " per vertex (" + std::to_string(components * vertices) + ")");
+                      std::to_string(components) + " per vertex (" + std::to_string(components * vertices) +
+                      ")");
     return false;
   }
   if (!all_finite(values)) {
@@ -53,7 +54,8 @@ bool check_size(Checker& c, const std::string& where, const char* name, const st
 void check_unit(Checker& c, const std::string& where, const char* name, const std::vector<float>& v,
                 std::size_t stride) {
   for (std::size_t i = 0; i + 2 < v.size(); i += stride) {
-    const double len = std::sqrt(double(v[i]) * v[i] + double(v[i + 1]) * v[i + 1] + double(v[i + 2]) * v[i + 2]);
+    const double len =
+        std::sqrt(double(v[i]) * v[i] + double(v[i + 1]) * v[i + 1] + double(v[i + 2]) * v[i + 2]);
     if (std::abs(len - 1.0) > kUnitTolerance) {
       c.fail(where, std::string(name) + " of vertex " + std::to_string(i / stride) + " has length " +
                         std::to_string(len) + ", expected 1");
@@ -90,7 +92,8 @@ void check_primitive(Checker& c, const Scene& s, const Primitive& p, const std::
   }
   std::set<std::string> names;
   for (const CustomAttribute& a : p.custom) {
-    if (a.name.size() < 2 || a.name[0] != '_') c.fail(where, "custom attribute '" + a.name + "' must start with '_'");
+    if (a.name.size() < 2 || a.name[0] != '_')
+      c.fail(where, "custom attribute '" + a.name + "' must start with '_'");
     if (!names.insert(a.name).second) c.fail(where, "custom attribute '" + a.name + "' appears twice");
     if (a.components < 1 || a.components > 4) {
       c.fail(where, "custom attribute '" + a.name + "' has " + std::to_string(a.components) + " components");
@@ -100,7 +103,8 @@ void check_primitive(Checker& c, const Scene& s, const Primitive& p, const std::
       c.fail(where, "custom attribute '" + a.name + "' has no values");
       continue;
     }
-    check_size(c, where, ("custom attribute '" + a.name + "'").c_str(), a.values, std::size_t(a.components), n);
+    check_size(c, where, ("custom attribute '" + a.name + "'").c_str(), a.values, std::size_t(a.components),
+               n);
   }
   const std::size_t per = p.mode == PrimitiveMode::kTriangles ? 3 : p.mode == PrimitiveMode::kLines ? 2 : 1;
   const std::size_t elements = p.indices.empty() ? n : p.indices.size();
@@ -109,8 +113,8 @@ void check_primitive(Checker& c, const Scene& s, const Primitive& p, const std::
                       " does not fit the mode (a non-zero multiple of " + std::to_string(per) + ")");
   for (std::size_t i = 0; i < p.indices.size(); ++i)
     if (p.indices[i] >= n) {
-      c.fail(where, "index " + std::to_string(i) + " is " + std::to_string(p.indices[i]) + ", but there are " +
-                        std::to_string(n) + " vertices");
+      c.fail(where, "index " + std::to_string(i) + " is " + std::to_string(p.indices[i]) +
+                        ", but there are " + std::to_string(n) + " vertices");
       break;
     }
   if (p.buffer < -1 || (p.buffer > 0 && p.buffer >= static_cast<int>(s.buffer_uris.size())))
@@ -163,7 +167,8 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
     const std::string where = "materials[" + std::to_string(i) + "]";
     for (float x : m.base_color)
       if (!unit_interval(x)) c.fail(where, "base_color has a value outside [0, 1]");
-    if (!unit_interval(m.metallic) || !unit_interval(m.roughness)) c.fail(where, "metallic/roughness outside [0, 1]");
+    if (!unit_interval(m.metallic) || !unit_interval(m.roughness))
+      c.fail(where, "metallic/roughness outside [0, 1]");
     if (!(m.alpha_cutoff >= 0.0f)) c.fail(where, "alpha_cutoff must be >= 0");
     for (const int t : {m.base_color_texture.image, m.normal_texture.image})
       if (t < -1 || t >= static_cast<int>(s.images.size()))
@@ -186,7 +191,8 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
   for (int i = 0; i < node_count && !c.full(); ++i) {
     const Node& n = s.nodes[static_cast<std::size_t>(i)];
     const std::string where = "nodes[" + std::to_string(i) + "]";
-    if (n.mesh < -1 || n.mesh >= static_cast<int>(s.meshes.size())) c.fail(where, "mesh " + std::to_string(n.mesh) + " does not exist");
+    if (n.mesh < -1 || n.mesh >= static_cast<int>(s.meshes.size()))
+      c.fail(where, "mesh " + std::to_string(n.mesh) + " does not exist");
     for (int ch : n.children) {
       if (ch < 0 || ch >= node_count || ch == i) {
         c.fail(where, "child " + std::to_string(ch) + " is not another node");
@@ -220,8 +226,10 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
       per_instance(in.rotations, 4, "rotations");
       per_instance(in.scales, 3, "scales");
       for (std::size_t k = 0; k + 3 < in.rotations.size(); k += 4) {
-        const double l = std::sqrt(double(in.rotations[k]) * in.rotations[k] + double(in.rotations[k + 1]) * in.rotations[k + 1] +
-                                   double(in.rotations[k + 2]) * in.rotations[k + 2] + double(in.rotations[k + 3]) * in.rotations[k + 3]);
+        const double l = std::sqrt(double(in.rotations[k]) * in.rotations[k] +
+                                   double(in.rotations[k + 1]) * in.rotations[k + 1] +
+                                   double(in.rotations[k + 2]) * in.rotations[k + 2] +
+                                   double(in.rotations[k + 3]) * in.rotations[k + 3]);
         if (std::abs(l - 1.0) > kUnitTolerance) {
           c.fail(where, "instance rotation " + std::to_string(k / 4) + " is not a unit quaternion");
           break;
@@ -229,12 +237,14 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
       }
     }
     if (!n.extras.is_null() && !n.extras.is_object()) c.fail(where, "extras must be a JSON object");
-    if (!n.extensions.is_null() && !n.extensions.is_object()) c.fail(where, "extensions must be a JSON object");
+    if (!n.extensions.is_null() && !n.extensions.is_object())
+      c.fail(where, "extensions must be a JSON object");
     if (n.extensions.is_object() && n.extensions.contains("EXT_mesh_gpu_instancing"))
       c.fail(where, "EXT_mesh_gpu_instancing is written from `instances`, not `extensions`");
   }
   for (int i = 0; i < node_count; ++i)
-    if (parents[static_cast<std::size_t>(i)] > 1) c.fail("nodes[" + std::to_string(i) + "]", "has more than one parent");
+    if (parents[static_cast<std::size_t>(i)] > 1)
+      c.fail("nodes[" + std::to_string(i) + "]", "has more than one parent");
   std::vector<char> is_root(s.nodes.size(), 0);
   for (int r : s.roots) {
     if (r < 0 || r >= node_count) {

@@ -23,11 +23,10 @@
 
 #include <array>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace sylva::gltf {
 
@@ -61,8 +60,8 @@ struct Material {
   std::array<float, 4> base_color{1, 1, 1, 1};  // linear RGBA factor, each in [0, 1]
   TextureRef base_color_texture;
   TextureRef normal_texture;  // tangent-space normal map (normalTexture); TANGENT is written only with one
-  float metallic = 0;   // [0, 1]
-  float roughness = 1;  // [0, 1]
+  float metallic = 0;         // [0, 1]
+  float roughness = 1;        // [0, 1]
   AlphaMode alpha_mode = AlphaMode::kOpaque;
   float alpha_cutoff = 0.5f;  // used with kMask only, >= 0
   bool double_sided = false;
@@ -79,11 +78,11 @@ struct CustomAttribute {
 
 struct Primitive {
   PrimitiveMode mode = PrimitiveMode::kTriangles;
-  std::vector<float> positions;  // xyz per vertex (required)
-  std::vector<float> normals;    // xyz per vertex or empty
-  std::vector<float> tangents;   // xyzw per vertex or empty
-  std::vector<float> texcoords;  // uv per vertex or empty (TEXCOORD_0)
-  std::vector<float> colors;     // rgba per vertex or empty (COLOR_0)
+  std::vector<float> positions;         // xyz per vertex (required)
+  std::vector<float> normals;           // xyz per vertex or empty
+  std::vector<float> tangents;          // xyzw per vertex or empty
+  std::vector<float> texcoords;         // uv per vertex or empty (TEXCOORD_0)
+  std::vector<float> colors;            // rgba per vertex or empty (COLOR_0)
   std::vector<CustomAttribute> custom;  // written in name order
   std::vector<std::uint32_t> indices;   // empty = non-indexed
   int material = -1;                    // index into Scene::materials or -1 (glTF default material)
@@ -133,8 +132,8 @@ struct Scene {
   std::vector<Mesh> meshes;
   std::vector<Material> materials;
   std::vector<Image> images;
-  std::string generator = "sylva";  // asset.generator; no version or date, so bytes stay stable
-  nlohmann::json extras;            // written as asset.extras (sylva metadata, docs/gltf.md)
+  std::string generator = "sylva";               // asset.generator; no version or date, so bytes stay stable
+  nlohmann::json extras;                         // written as asset.extras (sylva metadata, docs/gltf.md)
   std::vector<std::string> extensions_required;  // names of Node::extensions a reader must know
   // FileFormat::kGltfExternal only: the file name of each buffer (plain names as Image::uri).
   // Buffer b holds, in mesh and primitive order, the data of every primitive assigned to b

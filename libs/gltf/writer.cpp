@@ -410,15 +410,20 @@ class ModelBuilder {
 
   static int type_for(int components) {
     switch (components) {
-      case 1: return TINYGLTF_TYPE_SCALAR;
-      case 2: return TINYGLTF_TYPE_VEC2;
-      case 3: return TINYGLTF_TYPE_VEC3;
-      default: return TINYGLTF_TYPE_VEC4;
+      case 1:
+        return TINYGLTF_TYPE_SCALAR;
+      case 2:
+        return TINYGLTF_TYPE_VEC2;
+      case 3:
+        return TINYGLTF_TYPE_VEC3;
+      default:
+        return TINYGLTF_TYPE_VEC4;
     }
   }
 
   // A FLOAT accessor; with `view` < 0 it has no buffer view (Draco).
-  int float_accessor(const std::vector<float>& values, int components, std::size_t count, int view, bool min_max) {
+  int float_accessor(const std::vector<float>& values, int components, std::size_t count, int view,
+                     bool min_max) {
     tinygltf::Accessor a;
     a.bufferView = view;
     a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
@@ -439,7 +444,8 @@ class ModelBuilder {
 
   int float_attribute(const std::vector<float>& values, int components, bool min_max, int target) {
     const int view = add_view(values.data(), values.size() * sizeof(float), target);
-    return float_accessor(values, components, values.size() / static_cast<std::size_t>(components), view, min_max);
+    return float_accessor(values, components, values.size() / static_cast<std::size_t>(components), view,
+                          min_max);
   }
 
   static bool short_indices(std::size_t vertex_count) { return vertex_count <= 0xFFFF; }
@@ -498,7 +504,8 @@ class ModelBuilder {
     if (!p.colors.empty())
       out.attributes["COLOR_0"] = quantize_ ? quantized_unorm(p.colors, 4, o_.quantize.color_bits, true)
                                             : float_attribute(p.colors, 4, false, t);
-    for (const CustomAttribute* a : sorted_custom(p)) out.attributes[a->name] = float_attribute(a->values, a->components, false, t);
+    for (const CustomAttribute* a : sorted_custom(p))
+      out.attributes[a->name] = float_attribute(a->values, a->components, false, t);
     if (!p.indices.empty()) out.indices = index_accessor(p.indices, p.vertex_count());
     return out;
   }
@@ -551,8 +558,8 @@ class ModelBuilder {
     const int mesh_buffer = buffer_;
     for (const Primitive& p : in.primitives) {
       buffer_ = external_ && p.buffer >= 0 ? p.buffer : mesh_buffer;
-      tinygltf::Primitive gp = o_.draco.enabled && p.mode == PrimitiveMode::kTriangles ? draco_primitive(p)
-                                                                                       : plain_primitive(p);
+      tinygltf::Primitive gp =
+          o_.draco.enabled && p.mode == PrimitiveMode::kTriangles ? draco_primitive(p) : plain_primitive(p);
       gp.mode = static_cast<int>(p.mode);
       gp.material = p.material >= 0 ? material_index_[std::size_t(p.material)] : -1;
       if (!p.extras.is_null()) gp.extras = to_value(p.extras);
@@ -611,9 +618,15 @@ class ModelBuilder {
       required_.insert(kTextureTransform);
     }
     switch (in.alpha_mode) {
-      case AlphaMode::kOpaque: out.alphaMode = "OPAQUE"; break;
-      case AlphaMode::kMask: out.alphaMode = "MASK"; break;
-      case AlphaMode::kBlend: out.alphaMode = "BLEND"; break;
+      case AlphaMode::kOpaque:
+        out.alphaMode = "OPAQUE";
+        break;
+      case AlphaMode::kMask:
+        out.alphaMode = "MASK";
+        break;
+      case AlphaMode::kBlend:
+        out.alphaMode = "BLEND";
+        break;
     }
     // tinygltf writes alphaCutoff whenever it differs from the default 0.5; glTF allows it with
     // MASK only.
@@ -648,7 +661,8 @@ class ModelBuilder {
       for (std::size_t c = 0; c < 3; ++c) t[c] = (t[c] - g.lo[c]) / g.step, s[c] /= g.step;
     }
     if (t != std::array<double, 3>{0, 0, 0}) out.translation.assign(t.begin(), t.end());
-    if (in.rotation != std::array<double, 4>{0, 0, 0, 1}) out.rotation.assign(in.rotation.begin(), in.rotation.end());
+    if (in.rotation != std::array<double, 4>{0, 0, 0, 1})
+      out.rotation.assign(in.rotation.begin(), in.rotation.end());
     if (s != std::array<double, 3>{1, 1, 1}) out.scale.assign(s.begin(), s.end());
     if (!in.instances.empty()) {
       tinygltf::Value::Object attributes;

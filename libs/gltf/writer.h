@@ -49,11 +49,11 @@ enum class FileFormat { kGlb, kGltf, kGltfExternal };
 
 struct DracoOptions {
   bool enabled = false;
-  int position_bits = 14;   // 1..30; max position error = extent / (2^bits - 1) / 2 per axis
-  int normal_bits = 10;     // 1..30 (octahedral)
-  int texcoord_bits = 12;   // 1..30
-  int color_bits = 10;      // 1..30
-  int generic_bits = 12;    // 1..30: tangents and custom attributes
+  int position_bits = 14;     // 1..30; max position error = extent / (2^bits - 1) / 2 per axis
+  int normal_bits = 10;       // 1..30 (octahedral)
+  int texcoord_bits = 12;     // 1..30
+  int color_bits = 10;        // 1..30
+  int generic_bits = 12;      // 1..30: tangents and custom attributes
   int compression_level = 7;  // 0 (fastest) .. 10 (smallest); Draco speed = 10 - level
 };
 

@@ -53,7 +53,8 @@ Image half(const Image& src, std::vector<double>& alpha) {
       if (a > 0) {
         o.r = linear_to_srgb(r / a), o.g = linear_to_srgb(g / a), o.b = linear_to_srgb(b / a);
       } else {
-        o.r = linear_to_srgb(plain_r / n), o.g = linear_to_srgb(plain_g / n), o.b = linear_to_srgb(plain_b / n);
+        o.r = linear_to_srgb(plain_r / n), o.g = linear_to_srgb(plain_g / n),
+        o.b = linear_to_srgb(plain_b / n);
       }
       alpha[static_cast<std::size_t>(y) * w + x] = a / n;
       o.a = static_cast<std::uint8_t>(std::lround(std::clamp(a / n, 0.0, 1.0) * 255));

@@ -58,15 +58,14 @@ CompareResult compare_images(const Image& ref, const Image& test, const CompareO
   r.max_error = cr.maxerror;
   r.max_x = cr.maxx;
   r.max_y = cr.maxy;
-  r.psnr = cr.rms_error > 0 ? 20.0 * std::log10(1.0 / cr.rms_error)
-                            : std::numeric_limits<double>::infinity();
+  r.psnr = cr.rms_error > 0 ? 20.0 * std::log10(1.0 / cr.rms_error) : std::numeric_limits<double>::infinity();
   // cr.error only mirrors nfail != 0 for two in-memory UINT8 buffers of equal size.
   r.passed = double(r.failing_pixels) <= options.max_failing_fraction * double(r.pixels);
   if (!r.passed) {
     char thr[32];
     std::snprintf(thr, sizeof thr, "%g", options.pixel_threshold);
-    r.failure = percent(r.failing_fraction) + " of pixels differ by more than " + thr +
-                " (allowed " + percent(options.max_failing_fraction) + ")";
+    r.failure = percent(r.failing_fraction) + " of pixels differ by more than " + thr + " (allowed " +
+                percent(options.max_failing_fraction) + ")";
   }
   return r;
 }

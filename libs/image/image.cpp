@@ -5,8 +5,7 @@
 
 namespace sylva::image {
 
-Image::Image(int width, int height, Rgba8 fill)
-    : width_(std::max(width, 0)), height_(std::max(height, 0)) {
+Image::Image(int width, int height, Rgba8 fill) : width_(std::max(width, 0)), height_(std::max(height, 0)) {
   rgba_.resize(pixel_count() * 4);
   for (std::size_t i = 0; i < pixel_count(); ++i) {
     rgba_[i * 4 + 0] = fill.r;

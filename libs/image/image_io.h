@@ -20,5 +20,4 @@ namespace sylva::image {
 // Throws ImageError naming the file when it cannot be opened or decoded.
 Image read_image(const std::filesystem::path& path);
 
-
 }  // namespace sylva::image

@@ -4,8 +4,8 @@
 #include "libs/image/png.h"
 
 #include <png.h>
-#include <zlib.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <atomic>
 #include <csetjmp>
@@ -48,8 +48,8 @@ extern "C" void on_png_read(png_structp png, png_bytep data, png_size_t n) {
 }
 
 // Returns false (and sets err) on a libpng error; `rows` must stay alive meanwhile.
-bool encode(const Image& img, const PngOptions& o, std::vector<std::uint8_t>& out, std::vector<png_bytep>& rows,
-            PngError& err) {
+bool encode(const Image& img, const PngOptions& o, std::vector<std::uint8_t>& out,
+            std::vector<png_bytep>& rows, PngError& err) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, on_png_error, on_png_warning);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
@@ -63,7 +63,8 @@ bool encode(const Image& img, const PngOptions& o, std::vector<std::uint8_t>& ou
   // OpenImageIO's choice (libpng would pick Z_FILTERED for filtered rows): same bytes as before.
   png_set_compression_strategy(png, Z_DEFAULT_STRATEGY);
   png_set_IHDR(png, info, static_cast<png_uint_32>(img.width()), static_cast<png_uint_32>(img.height()), 8,
-               PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+               PNG_COLOR_TYPE_RGB_ALPHA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
   // The oFFs chunk OpenImageIO always wrote (origin 0, 0): kept so PNG bytes did not change
   // when sylva moved from OpenImageIO to libpng for PNG files.
   png_set_oFFs(png, info, 0, 0, PNG_OFFSET_PIXEL);
@@ -105,7 +106,8 @@ bool decode(Source& src, std::vector<std::uint8_t>& rgba, Decoded& d, PngError& 
   if (png_get_rowbytes(png, info) != std::size_t(d.width) * 4) png_error(png, "unsupported PNG layout");
   rgba.resize(std::size_t(d.width) * std::size_t(d.height) * 4);
   rows.resize(d.height);
-  for (png_uint_32 y = 0; y < d.height; ++y) rows[y] = rgba.data() + std::size_t(y) * std::size_t(d.width) * 4;
+  for (png_uint_32 y = 0; y < d.height; ++y)
+    rows[y] = rgba.data() + std::size_t(y) * std::size_t(d.width) * 4;
   png_read_image(png, rows.data());
   png_read_end(png, nullptr);
   png_destroy_read_struct(&png, &info, nullptr);
@@ -125,7 +127,8 @@ std::vector<std::uint8_t> encode_png(const Image& img, const PngOptions& options
   if (img.empty()) fail("<png>", "cannot encode an empty image");
   std::vector<png_bytep> rows(static_cast<std::size_t>(img.height()));
   auto* base = const_cast<std::uint8_t*>(img.bytes().data());
-  for (int y = 0; y < img.height(); ++y) rows[std::size_t(y)] = base + std::size_t(y) * std::size_t(img.width()) * 4;
+  for (int y = 0; y < img.height(); ++y)
+    rows[std::size_t(y)] = base + std::size_t(y) * std::size_t(img.width()) * 4;
   std::vector<std::uint8_t> out;
   PngError err;
   if (!encode(img, options, out, rows, err)) fail("<png>", std::string("cannot encode PNG: ") + err.message);

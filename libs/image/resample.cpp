@@ -15,12 +15,15 @@ Image downsample(const Image& img, int factor) {
   if (factor < 1) throw std::invalid_argument("downsample: factor must be >= 1");
   if (factor == 1) return img;
   if (img.width() % factor != 0 || img.height() % factor != 0)
-    throw std::invalid_argument("downsample: " + std::to_string(img.width()) + "x" + std::to_string(img.height()) +
-                                " is not a multiple of " + std::to_string(factor));
+    throw std::invalid_argument("downsample: " + std::to_string(img.width()) + "x" +
+                                std::to_string(img.height()) + " is not a multiple of " +
+                                std::to_string(factor));
   const OIIO::ImageSpec spec(img.width(), img.height(), 4, OIIO::TypeDesc::UINT8);
   OIIO::ImageBuf src(spec, const_cast<std::uint8_t*>(img.bytes().data()));
-  OIIO::ImageBuf linear(OIIO::ImageSpec(img.width(), img.height(), 4, OIIO::TypeDesc::FLOAT));  // no 8-bit linear banding
-  OIIO::ImageBufAlgo::colorconvert(linear, src, "sRGB", "linear", /*unpremult=*/false, "", "", nullptr, {}, 1);
+  OIIO::ImageBuf linear(
+      OIIO::ImageSpec(img.width(), img.height(), 4, OIIO::TypeDesc::FLOAT));  // no 8-bit linear banding
+  OIIO::ImageBufAlgo::colorconvert(linear, src, "sRGB", "linear", /*unpremult=*/false, "", "", nullptr, {},
+                                   1);
   // Straight alpha: a pixel's colour counts by its coverage (premultiply, average, divide), or
   // the transparent pixels' black would darken every partly covered pixel of the result.
   OIIO::ImageBuf weighted(OIIO::ImageSpec(img.width(), img.height(), 4, OIIO::TypeDesc::FLOAT));

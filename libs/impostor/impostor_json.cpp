@@ -5,10 +5,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 namespace sylva::impostor {
 
@@ -41,16 +40,20 @@ class Reader {
   }
   double real(const Json& obj, const char* key, const std::string& path, double lo, double hi) const {
     const Json& v = at(obj, key, path);
-    if (!v.is_number() || !std::isfinite(v.get<double>())) fail("'" + join(path, key) + "' must be a finite number");
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      fail("'" + join(path, key) + "' must be a finite number");
     const double x = v.get<double>();
-    if (x < lo || x > hi) fail("'" + join(path, key) + "' = " + v.dump() + " is outside [" + num(lo) + ", " + num(hi) + "]");
+    if (x < lo || x > hi)
+      fail("'" + join(path, key) + "' = " + v.dump() + " is outside [" + num(lo) + ", " + num(hi) + "]");
     return x;
   }
   int integer(const Json& obj, const char* key, const std::string& path, int lo, int hi) const {
     const Json& v = at(obj, key, path);
     if (!v.is_number_integer()) fail("'" + join(path, key) + "' must be an integer");
     const auto x = v.get<long long>();
-    if (x < lo || x > hi) fail("'" + join(path, key) + "' = " + v.dump() + " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (x < lo || x > hi)
+      fail("'" + join(path, key) + "' = " + v.dump() + " is outside [" + std::to_string(lo) + ", " +
+           std::to_string(hi) + "]");
     return int(x);
   }
   bool boolean(const Json& obj, const char* key, const std::string& path) const {
@@ -75,7 +78,9 @@ class Reader {
     return out;
   }
 
-  static std::string join(const std::string& path, const char* key) { return path.empty() ? key : path + "." + key; }
+  static std::string join(const std::string& path, const char* key) {
+    return path.empty() ? key : path + "." + key;
+  }
 
  private:
   static std::string num(double x) {
@@ -103,9 +108,12 @@ double unit_check(const Reader& r, const Vec3d& v, const std::string& what) {
 
 const char* kind_name(Kind k) {
   switch (k) {
-    case Kind::kOctahedral: return "octahedral";
-    case Kind::kBillboards: return "billboards";
-    default: return "hemi_octahedral";
+    case Kind::kOctahedral:
+      return "octahedral";
+    case Kind::kBillboards:
+      return "billboards";
+    default:
+      return "hemi_octahedral";
   }
 }
 
@@ -113,7 +121,8 @@ const char* const kFrameDirectionFormula =
     "frame (i, j), column i left to right, row j top to bottom, N = frames_per_side: "
     "p = (2 i / (N - 1) - 1, 2 j / (N - 1) - 1); "
     "hemi: x = (p.x + p.y) / 2, z = (p.x - p.y) / 2, q = (x, 1 - |x| - |z|, z); "
-    "full: q = (p.x, 1 - |p.x| - |p.y|, p.y), if q.y < 0 then (q.x, q.z) = ((1 - |p.y|) sgn p.x, (1 - |p.x|) sgn p.y); "
+    "full: q = (p.x, 1 - |p.x| - |p.y|, p.y), if q.y < 0 then (q.x, q.z) = ((1 - |p.y|) sgn p.x, (1 - |p.x|) "
+    "sgn p.y); "
     "direction (centre toward viewer) = q / |q|; "
     "basis: right = normalize(Y x d) (+X when |d.y| > 1 - 1e-6), up = d x right; "
     "a point X maps to frame uv ((X - c).right / (2 W) + 1/2, 1/2 - (X - c).up / (2 W)); "
@@ -121,8 +130,10 @@ const char* const kFrameDirectionFormula =
     "lower-left triangle when frac(g).x + frac(g).y <= 1, with barycentric weights";
 
 const char* const kDepthEncoding =
-    "normal map alpha a = 1/2 + h / (2 R), h = (X - c).d the signed distance of the surface point X from the plane "
-    "through the centre c facing the frame direction d (toward the viewer), R = sphere radius; 1 = nearest the viewer";
+    "normal map alpha a = 1/2 + h / (2 R), h = (X - c).d the signed distance of the surface point X from the "
+    "plane "
+    "through the centre c facing the frame direction d (toward the viewer), R = sphere radius; 1 = nearest "
+    "the viewer";
 
 std::string write_impostor_json(const ImpostorInfo& info) {
   Json j;
@@ -130,7 +141,8 @@ std::string write_impostor_json(const ImpostorInfo& info) {
   j["version"] = kFormatVersion;
   j["kind"] = kind_name(info.kind);
   j["hemi"] = info.hemi;
-  j["axes"] = {{"up", vec({0, 1, 0})}, {"azimuth_zero", vec({0, 0, 1})}, {"handedness", "right"}, {"units", "m"}};
+  j["axes"] = {
+      {"up", vec({0, 1, 0})}, {"azimuth_zero", vec({0, 0, 1})}, {"handedness", "right"}, {"units", "m"}};
   j["atlas"] = {{"width_px", info.atlas_width_px},
                 {"height_px", info.atlas_height_px},
                 {"frames_per_side", info.frames_per_side},
@@ -144,12 +156,13 @@ std::string write_impostor_json(const ImpostorInfo& info) {
   j["bounds"] = {{"min", vec(info.bounds_min)}, {"max", vec(info.bounds_max)}};
   j["sphere"] = {{"center", vec(info.sphere_center)}, {"radius_m", info.sphere_radius}};
   j["frame_half_extent_m"] = info.frame_half_extent;
-  j["error"] = {{"camera", {{"fov_y_deg", to_deg(info.camera.fov_y_rad)}, {"height_px", info.camera.height_px}}},
-                {"pixel_error_px", info.pixel_error_px},
-                {"source_epsilon_m", info.error.source_m},
-                {"texel_m", info.error.texel_m},
-                {"view_epsilon_m", info.error.view_m},
-                {"epsilon_m", info.error.epsilon_m()}};
+  j["error"] = {
+      {"camera", {{"fov_y_deg", to_deg(info.camera.fov_y_rad)}, {"height_px", info.camera.height_px}}},
+      {"pixel_error_px", info.pixel_error_px},
+      {"source_epsilon_m", info.error.source_m},
+      {"texel_m", info.error.texel_m},
+      {"view_epsilon_m", info.error.view_m},
+      {"epsilon_m", info.error.epsilon_m()}};
   j["switch_distance_m"] = info.switch_distance_m;
   j["source"] = {{"type", info.source_type}, {"file", info.source_file}, {"level", info.source_level}};
   Json cards = Json::array();
@@ -179,14 +192,17 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
     r.fail(std::string("invalid JSON: ") + e.what());
   }
   if (!j.is_object()) r.fail("the top level must be an object");
-  if (r.string(j, "format", "") != kFormatName) r.fail(std::string("'format' must be \"") + kFormatName + "\"");
+  if (r.string(j, "format", "") != kFormatName)
+    r.fail(std::string("'format' must be \"") + kFormatName + "\"");
   const int version = r.integer(j, "version", "", 0, 1 << 20);
   if (version != kFormatVersion)
-    r.fail("unsupported version " + std::to_string(version) + " (this reader knows " + std::to_string(kFormatVersion) + ")");
+    r.fail("unsupported version " + std::to_string(version) + " (this reader knows " +
+           std::to_string(kFormatVersion) + ")");
   ImpostorInfo info;
   info.kind = parse_kind(r, r.string(j, "kind", ""));
   info.hemi = r.boolean(j, "hemi", "");
-  if (info.hemi != (info.kind == Kind::kHemiOctahedral)) r.fail("'hemi' must be true exactly for kind hemi_octahedral");
+  if (info.hemi != (info.kind == Kind::kHemiOctahedral))
+    r.fail("'hemi' must be true exactly for kind hemi_octahedral");
   const Json& a = r.at(j, "atlas", "");
   info.atlas_width_px = r.integer(a, "width_px", "atlas", 1, 16384);
   info.atlas_height_px = r.integer(a, "height_px", "atlas", 1, 16384);
@@ -219,7 +235,8 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
   info.switch_distance_m = r.real(j, "switch_distance_m", "", 0, 1e12);
   const Json& src = r.at(j, "source", "");
   info.source_type = r.string(src, "type", "source");
-  if (info.source_type != "mesh" && info.source_type != "lod") r.fail("'source.type' must be \"mesh\" or \"lod\"");
+  if (info.source_type != "mesh" && info.source_type != "lod")
+    r.fail("'source.type' must be \"mesh\" or \"lod\"");
   info.source_file = r.string(src, "file", "source");
   info.source_level = r.integer(src, "level", "source", -1, 64);
   const Json& glb = r.at(j, "glb", "");
@@ -250,15 +267,18 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
       v[q] = rect[q].get<int>();
     }
     c.x = v[0], c.y = v[1], c.w = v[2], c.h = v[3];
-    if (c.x < 0 || c.y < 0 || c.w < 1 || c.h < 1 || c.x + c.w > info.atlas_width_px || c.y + c.h > info.atlas_height_px)
+    if (c.x < 0 || c.y < 0 || c.w < 1 || c.h < 1 || c.x + c.w > info.atlas_width_px ||
+        c.y + c.h > info.atlas_height_px)
       r.fail("'" + path + ".rect_px' lies outside the atlas");
     const Json& poly = r.at(cj, "cutout_uv", path);
-    if (!poly.is_array() || poly.size() < 3 || poly.size() > 16) r.fail("'" + path + ".cutout_uv' must list 3..16 points");
+    if (!poly.is_array() || poly.size() < 3 || poly.size() > 16)
+      r.fail("'" + path + ".cutout_uv' must list 3..16 points");
     for (const Json& p : poly) {
       if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
         r.fail("'" + path + ".cutout_uv' points must be [u, v]");
       const double u = p[0].get<double>(), w = p[1].get<double>();
-      if (!(u >= -1e-9 && u <= 1 + 1e-9 && w >= -1e-9 && w <= 1 + 1e-9)) r.fail("'" + path + ".cutout_uv' points must lie in [0, 1]^2");
+      if (!(u >= -1e-9 && u <= 1 + 1e-9 && w >= -1e-9 && w <= 1 + 1e-9))
+        r.fail("'" + path + ".cutout_uv' points must lie in [0, 1]^2");
       c.cutout.push_back({u, w});
     }
     info.cards.push_back(std::move(c));

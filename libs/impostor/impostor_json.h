@@ -6,8 +6,9 @@
 // nlohmann::json prints doubles: shortest round-trip); parse_impostor_json(write(x)) == x.
 // parse_impostor_json checks every field's presence, type and range and throws
 // ImpostorFormatError("<source>: error: <what>") on the first problem; it never crashes on bad
-// input. The camera fov round-trips through degrees (to within one ulp). Units: metres, radians only where a name says _rad (angles in the file are degrees,
-// named _deg); object space is glTF's (Y up, right-handed, azimuth 0 = from +Z).
+// input. The camera fov round-trips through degrees (to within one ulp). Units: metres, radians only where a
+// name says _rad (angles in the file are degrees, named _deg); object space is glTF's (Y up, right-handed,
+// azimuth 0 = from +Z).
 #pragma once
 
 #include <array>
@@ -57,8 +58,8 @@ struct ImpostorInfo {
   bool hemi = false;   // kind == kHemiOctahedral
   // Geometry (object space of the source asset).
   Vec3d bounds_min{}, bounds_max{};
-  Vec3d sphere_center{};     // frames are centred here
-  double sphere_radius = 0;  // every vertex is within this distance of the centre
+  Vec3d sphere_center{};         // frames are centred here
+  double sphere_radius = 0;      // every vertex is within this distance of the centre
   double frame_half_extent = 0;  // W: a frame spans [-W, W]^2 around the centre (= R F / (F - 2 padding))
   // Maps (PNG files beside impostor.json).
   std::string color_map;         // sRGB base colour (unlit albedo), straight alpha = coverage

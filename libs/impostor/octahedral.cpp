@@ -117,7 +117,8 @@ double max_blend_angle(int n, bool hemi, int samples) {
   double worst = 0;
   for_each_view(n, hemi, samples, [&](const Vec3& v, const FrameBlend& b) {
     for (int k = 0; k < 3; ++k)
-      if (b.weight[k] > 0) worst = std::max(worst, angle_between(v, frame_direction(b.i[k], b.j[k], n, hemi)));
+      if (b.weight[k] > 0)
+        worst = std::max(worst, angle_between(v, frame_direction(b.i[k], b.j[k], n, hemi)));
   });
   return worst;
 }

@@ -29,10 +29,9 @@
 //    orbit cameras).
 #pragma once
 
-#include <array>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 
 namespace sylva::impostor {
 

@@ -6,7 +6,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -139,14 +138,16 @@ class Parser {
     if (!root["version"]) {
       error(root.Mark(), "missing key 'version' (must be 1)");
     } else if (version && *version != 1) {
-      error(root["version"].Mark(), "unsupported camera set version " + std::to_string(*version) + " (must be 1)");
+      error(root["version"].Mark(),
+            "unsupported camera set version " + std::to_string(*version) + " (must be 1)");
     }
     auto size = [&](const char* key, int& dst) {
       if (!root[key]) {
         error(root.Mark(), std::string("missing key '") + key + "'");
       } else if (auto v = integer(root, key, top)) {
         if (*v < 1 || *v > 16384) {
-          error(root[key].Mark(), std::string("'") + key + "' must be between 1 and 16384, got " + std::to_string(*v));
+          error(root[key].Mark(),
+                std::string("'") + key + "' must be between 1 and 16384, got " + std::to_string(*v));
         } else {
           dst = *v;
         }
@@ -232,7 +233,8 @@ class Parser {
     if (orbit) {
       const YAML::Node o = node["orbit"];
       const std::string owhat = "orbit of " + what;
-      if (!check_map(o, owhat, {"azimuth_deg", "elevation_deg", "distance_factor", "distance_m"})) return std::nullopt;
+      if (!check_map(o, owhat, {"azimuth_deg", "elevation_deg", "distance_factor", "distance_m"}))
+        return std::nullopt;
       OrbitView ov;
       if (auto v = number(o, "azimuth_deg", owhat)) ov.azimuth_deg = float(*v);
       if (auto v = number(o, "elevation_deg", owhat)) {
@@ -277,7 +279,8 @@ class Parser {
         error(node["eye"].Mark(), what + ": 'eye' and 'target' are the same point");
         ok = false;
       } else if (lv.up.norm() < 1e-6f || dir.normalized().cross(lv.up.normalized()).norm() < 1e-4f) {
-        error((node["up"] ? node["up"] : node["eye"]).Mark(), what + ": 'up' is parallel to the viewing direction");
+        error((node["up"] ? node["up"] : node["eye"]).Mark(),
+              what + ": 'up' is parallel to the viewing direction");
         ok = false;
       }
       view.placement = lv;

@@ -1,10 +1,10 @@
 // EGL without a window: an OpenGL (desktop, 3.3 core) context made current with no surface
 // (EGL_KHR_surfaceless_context), on a display from EGL_EXT_platform_device or
 // EGL_MESA_platform_surfaceless. Rendering goes to framebuffer objects only.
-#include "libs/render/gl_context.h"
-
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+
+#include "libs/render/gl_context.h"
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 
@@ -29,17 +29,28 @@ bool has_extension(const char* list, const char* name) {
 
 std::string egl_error_name(EGLint e) {
   switch (e) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    case EGL_BAD_SURFACE:
+      return "EGL_BAD_SURFACE";
     default: {
       char buf[32];
       std::snprintf(buf, sizeof buf, "EGL error 0x%x", unsigned(e));
@@ -93,7 +104,8 @@ std::unique_ptr<EglContext> try_display(EGLDisplay display, std::string& why) {
     return nullptr;
   }
   EGLConfig config = EGL_NO_CONFIG_KHR;
-  if (!has_extension(exts, "EGL_KHR_no_config_context") && !has_extension(exts, "EGL_MESA_configless_context")) {
+  if (!has_extension(exts, "EGL_KHR_no_config_context") &&
+      !has_extension(exts, "EGL_MESA_configless_context")) {
     const EGLint attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
     EGLint n = 0;
     if (!eglChooseConfig(display, attribs, &config, 1, &n) || n < 1) {
@@ -102,8 +114,13 @@ std::unique_ptr<EglContext> try_display(EGLDisplay display, std::string& why) {
       return nullptr;
     }
   }
-  const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                3,
+                                EGL_CONTEXT_MINOR_VERSION,
+                                3,
+                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                EGL_NONE};
   EGLContext ctx = eglCreateContext(display, config, EGL_NO_CONTEXT, ctx_attribs);
   if (ctx == EGL_NO_CONTEXT) {
     why = "cannot create an OpenGL 3.3 core context (" + egl_error_name(eglGetError()) + ")";
@@ -151,7 +168,8 @@ std::unique_ptr<GlContext> create_egl_context() {
     }
   }
   auto is_software = [&](EGLDeviceEXT d) {
-    return query_device_string && has_extension(query_device_string(d, EGL_EXTENSIONS), "EGL_MESA_device_software");
+    return query_device_string &&
+           has_extension(query_device_string(d, EGL_EXTENSIONS), "EGL_MESA_device_software");
   };
 
   std::string why;
@@ -163,7 +181,8 @@ std::unique_ptr<GlContext> create_egl_context() {
   }
   // 2. The surfaceless platform.
   if (platform_base && has_extension(client, "EGL_MESA_platform_surfaceless")) {
-    if (auto ctx = try_display(get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr), why))
+    if (auto ctx = try_display(
+            get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr), why))
       return ctx;
     attempts.push_back("surfaceless platform: " + why);
   } else {

@@ -13,8 +13,8 @@ namespace sylva::render::detail {
 class GlContext {
  public:
   virtual ~GlContext() = default;
-  virtual void make_current() = 0;  // on the calling thread; throws RenderError on failure
-  virtual void release() = 0;       // detaches from the calling thread
+  virtual void make_current() = 0;              // on the calling thread; throws RenderError on failure
+  virtual void release() = 0;                   // detaches from the calling thread
   virtual std::string description() const = 0;  // "GL_RENDERER; GL_VERSION"
 };
 

@@ -10,13 +10,12 @@
 //
 // Determinism: nothing depends on timing or on hash-table order; every sort is a stable sort
 // with an index tie-break; llvmpipe rasterises deterministically.
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <mutex>
 #include <numeric>
-
-#include <Eigen/Geometry>
 
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
@@ -129,7 +128,15 @@ void main() {
 )";
 
 // Vertex attribute locations (see the shader).
-enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3, kSize = 4, kModel = 5, kNormalMatrix = 9 };
+enum : GLuint {
+  kPosition = 0,
+  kNormal = 1,
+  kTexcoord = 2,
+  kColor = 3,
+  kSize = 4,
+  kModel = 5,
+  kNormalMatrix = 9
+};
 constexpr int kInstanceFloats = 16 + 9;
 
 using detail::check_gl;
@@ -270,7 +277,8 @@ class GlRenderer final : public Renderer {
     attach(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, o.msaa);
     attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw RenderError("cannot create a " + std::to_string(o.width) + "x" + std::to_string(o.height) + " framebuffer");
+      throw RenderError("cannot create a " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                        " framebuffer");
     t.resolve_fbo = t.draw_fbo;
     if (o.msaa > 1) {
       t.resolve_fbo = gl.framebuffer();
@@ -302,13 +310,15 @@ class GlRenderer final : public Renderer {
         GpuPrimitive gp;
         gp.source = &p;
         gp.index_count = GLsizei(p.indices.size());
-        gp.blend = p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        gp.blend =
+            p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
         VertexBuffers vb;
         vb.position = upload_array(gl, GL_ARRAY_BUFFER, p.positions);
         if (!p.normals.empty()) vb.normal = upload_array(gl, GL_ARRAY_BUFFER, p.normals);
         if (!p.texcoords.empty()) vb.texcoord = upload_array(gl, GL_ARRAY_BUFFER, p.texcoords);
         if (!p.colors.empty()) vb.color = upload_array(gl, GL_ARRAY_BUFFER, p.colors);
-        if (!p.sizes.empty() && p.topology == Topology::kPoints) vb.size = upload_array(gl, GL_ARRAY_BUFFER, p.sizes);
+        if (!p.sizes.empty() && p.topology == Topology::kPoints)
+          vb.size = upload_array(gl, GL_ARRAY_BUFFER, p.sizes);
         if (!gp.blend) {
           gp.vao_instanced = gl.vertex_array();
           glBindVertexArray(gp.vao_instanced);
@@ -317,25 +327,29 @@ class GlRenderer final : public Renderer {
           const GLsizei stride = kInstanceFloats * sizeof(float);
           for (GLuint c = 0; c < 4; ++c) {
             glEnableVertexAttribArray(kModel + c);
-            glVertexAttribPointer(kModel + c, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(std::uintptr_t(c * 4 * sizeof(float))));
+            glVertexAttribPointer(kModel + c, 4, GL_FLOAT, GL_FALSE, stride,
+                                  reinterpret_cast<const void*>(std::uintptr_t(c * 4 * sizeof(float))));
             glVertexAttribDivisor(kModel + c, 1);
           }
           for (GLuint c = 0; c < 3; ++c) {
             glEnableVertexAttribArray(kNormalMatrix + c);
-            glVertexAttribPointer(kNormalMatrix + c, 3, GL_FLOAT, GL_FALSE, stride,
-                                  reinterpret_cast<const void*>(std::uintptr_t((16 + c * 3) * sizeof(float))));
+            glVertexAttribPointer(
+                kNormalMatrix + c, 3, GL_FLOAT, GL_FALSE, stride,
+                reinterpret_cast<const void*>(std::uintptr_t((16 + c * 3) * sizeof(float))));
             glVertexAttribDivisor(kNormalMatrix + c, 1);
           }
           const GLuint ebo = gl.buffer();
           glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)), p.indices.data(), GL_STATIC_DRAW);
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)),
+                       p.indices.data(), GL_STATIC_DRAW);
         } else {
           gp.vao_single = gl.vertex_array();
           glBindVertexArray(gp.vao_single);
           attach_vertex_buffers(vb);
           gp.sorted_indices = gl.buffer();
           glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gp.sorted_indices);
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)), nullptr, GL_STREAM_DRAW);
+          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)), nullptr,
+                       GL_STREAM_DRAW);
         }
         glBindVertexArray(0);
         gm.primitives.push_back(gp);
@@ -348,7 +362,9 @@ class GlRenderer final : public Renderer {
   // The GL side trusts these; load_gltf_scene guarantees them, hand-built scenes are checked.
   static void check_primitive(const Scene& scene, const Primitive& p) {
     const std::size_t n = p.positions.size();
-    auto bad = [&](const std::string& what) { throw RenderError("invalid primitive in scene '" + scene.source + "': " + what); };
+    auto bad = [&](const std::string& what) {
+      throw RenderError("invalid primitive in scene '" + scene.source + "': " + what);
+    };
     if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
         (!p.colors.empty() && p.colors.size() != n) || (!p.sizes.empty() && p.sizes.size() != n))
       bad("attribute arrays differ in length from positions");
@@ -401,7 +417,9 @@ class GlRenderer final : public Renderer {
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, up.textures[std::size_t(m.base_color_texture)]);
     }
-    glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2);
+    glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0
+                              : m.alpha_mode == AlphaMode::kMask ? 1
+                                                                 : 2);
     glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
     const bool has_normals = !p.normals.empty();
     // LINES are unlit, as three.js draws them (GLTFLoader: LineBasicMaterial = base colour x
@@ -431,13 +449,17 @@ class GlRenderer final : public Renderer {
 
   static GLenum gl_mode(Topology t) {
     switch (t) {
-      case Topology::kLines: return GL_LINES;
-      case Topology::kPoints: return GL_POINTS;
-      default: return GL_TRIANGLES;
+      case Topology::kLines:
+        return GL_LINES;
+      case Topology::kPoints:
+        return GL_POINTS;
+      default:
+        return GL_TRIANGLES;
     }
   }
 
-  void draw(const Scene& scene, const Uploaded& up, const Camera& cam, const RenderOptions& o, const Target& t) const {
+  void draw(const Scene& scene, const Uploaded& up, const Camera& cam, const RenderOptions& o,
+            const Target& t) const {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, o.width, o.height);
     const bool transparent = o.background.a == 0;
@@ -472,7 +494,8 @@ class GlRenderer final : public Renderer {
     glUniform1i(u.texture, 0);
     glUniform3fv(u.ambient, 1, o.lighting.ambient.data());
     glUniform3fv(u.light_color, 1, o.lighting.light_color.data());
-    const Vec3 l = o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
+    const Vec3 l =
+        o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
     glUniform3fv(u.light_dir, 1, l.data());
 
     // Pass 1: opaque and masked, one instanced draw per primitive.
@@ -499,15 +522,15 @@ class GlRenderer final : public Renderer {
         }
         set_primitive_state(scene, up, u, *gp.source, gm.mirrored);
         glBindVertexArray(gp.vao_instanced);
-        glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr, GLsizei(instances));
+        glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr,
+                                GLsizei(instances));
       }
     }
 
     // Pass 2: blended, far to near (Zhang et al. 2017, 6.1), depth test on, depth write off.
     if (!blended.empty()) {
-      std::stable_sort(blended.begin(), blended.end(), [](const BlendDraw& a, const BlendDraw& b) {
-        return a.depth > b.depth;
-      });
+      std::stable_sort(blended.begin(), blended.end(),
+                       [](const BlendDraw& a, const BlendDraw& b) { return a.depth > b.depth; });
       glEnable(GL_BLEND);
       glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       glDepthMask(GL_FALSE);
@@ -520,7 +543,8 @@ class GlRenderer final : public Renderer {
         sort_elements(p, view * model, keys, sorted);
         glBindVertexArray(d.prim->vao_single);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d.prim->sorted_indices);
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(sorted.size() * sizeof(std::uint32_t)), sorted.data());
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(sorted.size() * sizeof(std::uint32_t)),
+                        sorted.data());
         const float* inst = &d.mesh->instance_data[d.instance * kInstanceFloats];
         for (GLuint c = 0; c < 4; ++c) glVertexAttrib4fv(kModel + c, inst + c * 4);
         for (GLuint c = 0; c < 3; ++c) glVertexAttrib3fv(kNormalMatrix + c, inst + 16 + c * 3);
@@ -534,7 +558,8 @@ class GlRenderer final : public Renderer {
 
   // The primitive's elements ordered far to near (view depth of their centroid; ties keep file
   // order), written as an index list into `out`.
-  static void sort_elements(const Primitive& p, const Mat4& model_view, std::vector<std::pair<float, std::uint32_t>>& keys,
+  static void sort_elements(const Primitive& p, const Mat4& model_view,
+                            std::vector<std::pair<float, std::uint32_t>>& keys,
                             std::vector<std::uint32_t>& out) {
     const std::size_t per = p.topology == Topology::kTriangles ? 3 : p.topology == Topology::kLines ? 2 : 1;
     const std::size_t n = p.indices.size() / per;
@@ -546,10 +571,12 @@ class GlRenderer final : public Renderer {
       c /= float(per);
       keys[e] = {-(row * c.homogeneous())(0), std::uint32_t(e)};
     }
-    std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::stable_sort(keys.begin(), keys.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
     out.resize(n * per);
     for (std::size_t e = 0; e < n; ++e)
-      for (std::size_t k = 0; k < per; ++k) out[e * per + k] = p.indices[std::size_t(keys[e].second) * per + k];
+      for (std::size_t k = 0; k < per; ++k)
+        out[e * per + k] = p.indices[std::size_t(keys[e].second) * per + k];
   }
 
   image::Image read_back(const Target& t, const RenderOptions& o) const {
@@ -573,7 +600,8 @@ class GlRenderer final : public Renderer {
       for (std::size_t i = 0; i < px.size(); i += 4) {
         const int a = px[i + 3];
         if (a == 0 || a == 255) continue;
-        for (int c = 0; c < 3; ++c) px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
+        for (int c = 0; c < 3; ++c)
+          px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
       }
     }
     return img;

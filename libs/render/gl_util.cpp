@@ -48,12 +48,18 @@ namespace {
 
 std::string gl_error_name(GLenum e) {
   switch (e) {
-    case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-    case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-    case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    default: return "GL error " + std::to_string(e);
+    case GL_INVALID_ENUM:
+      return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+      return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+      return "GL_INVALID_OPERATION";
+    case GL_OUT_OF_MEMORY:
+      return "GL_OUT_OF_MEMORY";
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+      return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    default:
+      return "GL error " + std::to_string(e);
   }
 }
 
@@ -67,7 +73,8 @@ GLuint compile(GLenum type, const char* source, const std::string& name) {
     char log[4096] = {};
     glGetShaderInfoLog(s, sizeof log, nullptr, log);
     glDeleteShader(s);
-    throw RenderUnavailableError("headless OpenGL is not available: shader compilation failed (" + name + "): " + log);
+    throw RenderUnavailableError("headless OpenGL is not available: shader compilation failed (" + name +
+                                 "): " + log);
   }
   return s;
 }
@@ -76,7 +83,8 @@ GLuint compile(GLenum type, const char* source, const std::string& name) {
 
 void check_gl(const char* where) {
   const GLenum e = glGetError();
-  if (e != GL_NO_ERROR) throw RenderError(std::string("OpenGL error during ") + where + ": " + gl_error_name(e));
+  if (e != GL_NO_ERROR)
+    throw RenderError(std::string("OpenGL error during ") + where + ": " + gl_error_name(e));
 }
 
 GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& name) {
@@ -94,16 +102,20 @@ GLuint link_program(const char* vertex_source, const char* fragment_source, cons
     char log[4096] = {};
     glGetProgramInfoLog(program, sizeof log, nullptr, log);
     glDeleteProgram(program);
-    throw RenderUnavailableError("headless OpenGL is not available: shader linking failed (" + name + "): " + log);
+    throw RenderUnavailableError("headless OpenGL is not available: shader linking failed (" + name +
+                                 "): " + log);
   }
   return program;
 }
 
 GLint gl_wrap(Wrap w) {
   switch (w) {
-    case Wrap::kClampToEdge: return GL_CLAMP_TO_EDGE;
-    case Wrap::kMirroredRepeat: return GL_MIRRORED_REPEAT;
-    default: return GL_REPEAT;
+    case Wrap::kClampToEdge:
+      return GL_CLAMP_TO_EDGE;
+    case Wrap::kMirroredRepeat:
+      return GL_MIRRORED_REPEAT;
+    default:
+      return GL_REPEAT;
   }
 }
 
@@ -114,10 +126,12 @@ GLuint upload_texture(GlObjects& gl, const Texture& t) {
   glBindTexture(GL_TEXTURE_2D, id);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   // sRGB storage: sampling returns linear values, as the lighting expects.
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, t.rgba.data());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8_ALPHA8, t.width, t.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               t.rgba.data());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, gl_wrap(t.wrap_s));
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, gl_wrap(t.wrap_t));
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, t.mag_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER,
+                  t.mag_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR);
   GLint min = t.min_filter == Filter::kNearest ? GL_NEAREST : GL_LINEAR;
   if (t.mipmaps) {
     min = t.min_filter == Filter::kNearest ? GL_NEAREST_MIPMAP_LINEAR : GL_LINEAR_MIPMAP_LINEAR;

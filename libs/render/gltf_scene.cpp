@@ -9,20 +9,19 @@
 #include "libs/render/gltf_scene.h"
 
 #include <draco/compression/decode.h>
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cctype>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <sstream>
-#include <limits>
 
 #include "libs/render/meshopt_decode.h"
 
@@ -93,9 +92,7 @@ class Loader {
   }
 
  private:
-  [[noreturn]] void fail(const std::string& why) const {
-    throw SceneLoadError(file_ + ": error: " + why);
-  }
+  [[noreturn]] void fail(const std::string& why) const { throw SceneLoadError(file_ + ": error: " + why); }
 
   // ---- 1. Whole-file checks ------------------------------------------------------------------
 
@@ -153,9 +150,12 @@ class Loader {
 
   static Wrap to_wrap(int w) {
     switch (w) {
-      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::kClampToEdge;
-      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::kMirroredRepeat;
-      default: return Wrap::kRepeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return Wrap::kClampToEdge;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return Wrap::kMirroredRepeat;
+      default:
+        return Wrap::kRepeat;
     }
   }
 
@@ -165,7 +165,8 @@ class Loader {
       fail("texture " + std::to_string(texture_index) + " has no valid image source");
     const tinygltf::Image& img = m_.images[std::size_t(t.source)];
     Texture out;
-    out.name = !img.uri.empty() ? img.uri : (!img.name.empty() ? img.name : "image " + std::to_string(t.source));
+    out.name =
+        !img.uri.empty() ? img.uri : (!img.name.empty() ? img.name : "image " + std::to_string(t.source));
     out.width = img.width;
     out.height = img.height;
     const int comps = img.component;
@@ -194,11 +195,23 @@ class Loader {
       out.wrap_t = to_wrap(s.wrapT);
       out.mag_filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::kNearest : Filter::kLinear;
       switch (s.minFilter) {
-        case TINYGLTF_TEXTURE_FILTER_NEAREST: out.min_filter = Filter::kNearest; out.mipmaps = false; break;
-        case TINYGLTF_TEXTURE_FILTER_LINEAR: out.min_filter = Filter::kLinear; out.mipmaps = false; break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST:
+          out.min_filter = Filter::kNearest;
+          out.mipmaps = false;
+          break;
+        case TINYGLTF_TEXTURE_FILTER_LINEAR:
+          out.min_filter = Filter::kLinear;
+          out.mipmaps = false;
+          break;
         case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
-        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR: out.min_filter = Filter::kNearest; out.mipmaps = true; break;
-        default: out.min_filter = Filter::kLinear; out.mipmaps = true; break;
+        case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+          out.min_filter = Filter::kNearest;
+          out.mipmaps = true;
+          break;
+        default:
+          out.min_filter = Filter::kLinear;
+          out.mipmaps = true;
+          break;
       }
     }
     return out;
@@ -271,22 +284,36 @@ class Loader {
 
   static float component(const unsigned char* p, int type, bool normalized) {
     switch (type) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: { const float v = float(*p); return normalized ? v / 255.f : v; }
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        const float v = float(*p);
+        return normalized ? v / 255.f : v;
+      }
       case TINYGLTF_COMPONENT_TYPE_BYTE: {
         const float v = float(std::int8_t(*p));
         return normalized ? std::max(v / 127.f, -1.f) : v;
       }
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        std::uint16_t v; std::memcpy(&v, p, 2);
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
         return normalized ? float(v) / 65535.f : float(v);
       }
       case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        std::int16_t v; std::memcpy(&v, p, 2);
+        std::int16_t v;
+        std::memcpy(&v, p, 2);
         return normalized ? std::max(float(v) / 32767.f, -1.f) : float(v);
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { std::uint32_t v; std::memcpy(&v, p, 4); return float(v); }
-      default: return 0.f;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return float(v);
+      }
+      default:
+        return 0.f;
     }
   }
 
@@ -318,7 +345,8 @@ class Loader {
     const tinygltf::Accessor& acc = m_.accessors[std::size_t(index)];
     const int ncomp = tinygltf::GetNumComponentsInType(std::uint32_t(acc.type));
     const int csize = tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType));
-    if (ncomp <= 0 || csize <= 0 || ncomp > 16) fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
+    if (ncomp <= 0 || csize <= 0 || ncomp > 16)
+      fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
     const std::size_t elem = std::size_t(ncomp) * std::size_t(csize);
     // Check the data range before allocating: a corrupt count must not allocate gigabytes.
     const unsigned char* base = nullptr;
@@ -327,7 +355,8 @@ class Loader {
       if (buffer_view(acc.bufferView, what).byteStride) stride = buffer_view(acc.bufferView, what).byteStride;
       base = view_data(acc.bufferView, acc.byteOffset, acc.count, stride, elem, what);
     } else if (acc.count > (std::size_t(1) << 28)) {
-      fail(what + ": accessor " + std::to_string(index) + " has an implausible count " + std::to_string(acc.count));
+      fail(what + ": accessor " + std::to_string(index) + " has an implausible count " +
+           std::to_string(acc.count));
     }
     AttributeData out;
     out.components = ncomp;
@@ -344,10 +373,11 @@ class Loader {
       const int itype = acc.sparse.indices.componentType;
       const int isize = tinygltf::GetComponentSizeInBytes(std::uint32_t(itype));
       if (isize <= 0) fail(what + ": sparse accessor has invalid index type");
-      const unsigned char* idx = view_data(acc.sparse.indices.bufferView, std::size_t(acc.sparse.indices.byteOffset),
-                                           n, std::size_t(isize), std::size_t(isize), what);
-      const unsigned char* val = view_data(acc.sparse.values.bufferView, std::size_t(acc.sparse.values.byteOffset),
-                                           n, elem, elem, what);
+      const unsigned char* idx =
+          view_data(acc.sparse.indices.bufferView, std::size_t(acc.sparse.indices.byteOffset), n,
+                    std::size_t(isize), std::size_t(isize), what);
+      const unsigned char* val = view_data(acc.sparse.values.bufferView,
+                                           std::size_t(acc.sparse.values.byteOffset), n, elem, elem, what);
       for (std::size_t k = 0; k < n; ++k) {
         const auto target = std::size_t(component(idx + k * std::size_t(isize), itype, false));
         if (target >= acc.count) fail(what + ": sparse index out of range");
@@ -361,10 +391,9 @@ class Loader {
 
   std::vector<std::uint32_t> read_indices(int index, const std::string& what) const {
     const tinygltf::Accessor& acc = m_.accessors.at(std::size_t(index));
-    if (acc.type != TINYGLTF_TYPE_SCALAR ||
-        (acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-         acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-         acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+    if (acc.type != TINYGLTF_TYPE_SCALAR || (acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                             acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                             acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
       fail(what + ": indices must be unsigned byte, short or int scalars");
     // UNSIGNED_INT values above 2^24 do not survive a float; read integers directly.
     const int csize = tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType));
@@ -374,14 +403,19 @@ class Loader {
       for (std::size_t i = 0; i < out.size(); ++i) out[i] = std::uint32_t(a.values[i]);
       return out;
     }
-    const std::size_t stride = buffer_view(acc.bufferView, what).byteStride ? buffer_view(acc.bufferView, what).byteStride : std::size_t(csize);
-    const unsigned char* base = view_data(acc.bufferView, acc.byteOffset, acc.count, stride, std::size_t(csize), what);
+    const std::size_t stride = buffer_view(acc.bufferView, what).byteStride
+                                   ? buffer_view(acc.bufferView, what).byteStride
+                                   : std::size_t(csize);
+    const unsigned char* base =
+        view_data(acc.bufferView, acc.byteOffset, acc.count, stride, std::size_t(csize), what);
     for (std::size_t i = 0; i < acc.count; ++i) {
       const unsigned char* p = base + i * stride;
       if (csize == 1) {
         out[i] = *p;
       } else if (csize == 2) {
-        std::uint16_t v; std::memcpy(&v, p, 2); out[i] = v;
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        out[i] = v;
       } else {
         std::memcpy(&out[i], p, 4);
       }
@@ -488,21 +522,29 @@ class Loader {
   Primitive load_primitive(const tinygltf::Primitive& gp, const std::string& what) const {
     Primitive p;
     switch (gp.mode) {
-      case TINYGLTF_MODE_POINTS: p.topology = Topology::kPoints; break;
+      case TINYGLTF_MODE_POINTS:
+        p.topology = Topology::kPoints;
+        break;
       case TINYGLTF_MODE_LINE:
       case TINYGLTF_MODE_LINE_LOOP:
-      case TINYGLTF_MODE_LINE_STRIP: p.topology = Topology::kLines; break;
+      case TINYGLTF_MODE_LINE_STRIP:
+        p.topology = Topology::kLines;
+        break;
       case TINYGLTF_MODE_TRIANGLES:
       case TINYGLTF_MODE_TRIANGLE_STRIP:
-      case TINYGLTF_MODE_TRIANGLE_FAN: p.topology = Topology::kTriangles; break;
-      default: fail(what + ": unknown primitive mode " + std::to_string(gp.mode));
+      case TINYGLTF_MODE_TRIANGLE_FAN:
+        p.topology = Topology::kTriangles;
+        break;
+      default:
+        fail(what + ": unknown primitive mode " + std::to_string(gp.mode));
     }
     if (gp.material >= 0 && std::size_t(gp.material) >= m_.materials.size())
       fail(what + ": material " + std::to_string(gp.material) + " does not exist");
     p.material = gp.material;
 
     std::optional<DracoData> draco;
-    if (auto it = gp.extensions.find(kDraco); it != gp.extensions.end()) draco = decode_draco(it->second, what);
+    if (auto it = gp.extensions.find(kDraco); it != gp.extensions.end())
+      draco = decode_draco(it->second, what);
 
     // An attribute from the Draco block if it is there, else from its accessor.
     auto fetch = [&](const std::string& name) -> std::optional<AttributeData> {
@@ -519,16 +561,20 @@ class Loader {
     if (pos->components != 3) fail(what + ": POSITION must be VEC3");
     const std::size_t n = pos->count;
     auto check = [&](const AttributeData& a, const std::string& name, std::initializer_list<int> comps) {
-      if (a.count != n) fail(what + ": " + name + " has " + std::to_string(a.count) + " elements, POSITION has " + std::to_string(n));
+      if (a.count != n)
+        fail(what + ": " + name + " has " + std::to_string(a.count) + " elements, POSITION has " +
+             std::to_string(n));
       if (std::find(comps.begin(), comps.end(), a.components) == comps.end())
         fail(what + ": " + name + " has " + std::to_string(a.components) + " components per element");
     };
     p.positions.resize(n);
-    for (std::size_t i = 0; i < n; ++i) p.positions[i] = Vec3(pos->values[i * 3], pos->values[i * 3 + 1], pos->values[i * 3 + 2]);
+    for (std::size_t i = 0; i < n; ++i)
+      p.positions[i] = Vec3(pos->values[i * 3], pos->values[i * 3 + 1], pos->values[i * 3 + 2]);
     if (auto nrm = fetch("NORMAL")) {
       check(*nrm, "NORMAL", {3});
       p.normals.resize(n);
-      for (std::size_t i = 0; i < n; ++i) p.normals[i] = Vec3(nrm->values[i * 3], nrm->values[i * 3 + 1], nrm->values[i * 3 + 2]);
+      for (std::size_t i = 0; i < n; ++i)
+        p.normals[i] = Vec3(nrm->values[i * 3], nrm->values[i * 3 + 1], nrm->values[i * 3 + 2]);
     }
     if (p.material >= 0 && scene_.materials[std::size_t(p.material)].base_color_texture >= 0) {
       const std::string set = "TEXCOORD_" + std::to_string(texcoord_set_[std::size_t(p.material)]);
@@ -545,7 +591,8 @@ class Loader {
       p.colors.resize(n);
       const auto c = std::size_t(col->components);
       for (std::size_t i = 0; i < n; ++i)
-        p.colors[i] = Vec4(col->values[i * c], col->values[i * c + 1], col->values[i * c + 2], c == 4 ? col->values[i * c + 3] : 1.f);
+        p.colors[i] = Vec4(col->values[i * c], col->values[i * c + 1], col->values[i * c + 2],
+                           c == 4 ? col->values[i * c + 3] : 1.f);
     }
     if (p.topology == Topology::kPoints) {
       if (auto size = fetch(kPointSizeAttribute)) {
@@ -565,7 +612,8 @@ class Loader {
       for (std::size_t i = 0; i < n; ++i) raw[i] = std::uint32_t(i);
     }
     for (std::uint32_t i : raw)
-      if (i >= n) fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
+      if (i >= n)
+        fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
     p.indices = expand(draco && draco->has_faces ? TINYGLTF_MODE_TRIANGLES : gp.mode, raw);
     return p;
   }
@@ -575,7 +623,8 @@ class Loader {
   std::vector<int> root_nodes() const {
     std::vector<int> roots;
     if (!m_.scenes.empty()) {
-      const int s = m_.defaultScene >= 0 && std::size_t(m_.defaultScene) < m_.scenes.size() ? m_.defaultScene : 0;
+      const int s =
+          m_.defaultScene >= 0 && std::size_t(m_.defaultScene) < m_.scenes.size() ? m_.defaultScene : 0;
       roots = m_.scenes[std::size_t(s)].nodes;
     } else {
       std::vector<bool> is_child(m_.nodes.size(), false);
@@ -603,10 +652,12 @@ class Loader {
     }
     Vec3 t = Vec3::Zero(), s = Vec3::Ones();
     Eigen::Quaternionf r = Eigen::Quaternionf::Identity();
-    if (node.translation.size() == 3) t = Vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2]));
+    if (node.translation.size() == 3)
+      t = Vec3(float(node.translation[0]), float(node.translation[1]), float(node.translation[2]));
     if (node.scale.size() == 3) s = Vec3(float(node.scale[0]), float(node.scale[1]), float(node.scale[2]));
     if (node.rotation.size() == 4)
-      r = Eigen::Quaternionf(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]), float(node.rotation[2]));
+      r = Eigen::Quaternionf(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
+                             float(node.rotation[2]));
     return trs(t, r, s);
   }
 
@@ -636,19 +687,25 @@ class Loader {
       const Vec3 ti = t ? Vec3(t->values[i * 3], t->values[i * 3 + 1], t->values[i * 3 + 2]) : Vec3::Zero();
       const Vec3 si = s ? Vec3(s->values[i * 3], s->values[i * 3 + 1], s->values[i * 3 + 2]) : Vec3::Ones();
       Eigen::Quaternionf ri = Eigen::Quaternionf::Identity();
-      if (r) ri = Eigen::Quaternionf(r->values[i * 4 + 3], r->values[i * 4], r->values[i * 4 + 1], r->values[i * 4 + 2]);
+      if (r)
+        ri = Eigen::Quaternionf(r->values[i * 4 + 3], r->values[i * 4], r->values[i * 4 + 1],
+                                r->values[i * 4 + 2]);
       out.push_back(trs(ti, ri, si));
     }
     return out;
   }
 
   void visit(int index, const Mat4& parent, std::size_t depth) {
-    if (index < 0 || std::size_t(index) >= m_.nodes.size()) fail("node " + std::to_string(index) + " does not exist");
-    if (depth > m_.nodes.size()) fail("the node hierarchy contains a cycle (at node " + std::to_string(index) + ")");
+    if (index < 0 || std::size_t(index) >= m_.nodes.size())
+      fail("node " + std::to_string(index) + " does not exist");
+    if (depth > m_.nodes.size())
+      fail("the node hierarchy contains a cycle (at node " + std::to_string(index) + ")");
     const tinygltf::Node& node = m_.nodes[std::size_t(index)];
     const Mat4 world = parent * local_matrix(node);
     if (node.mesh >= 0) {
-      if (std::size_t(node.mesh) >= m_.meshes.size()) fail("node " + std::to_string(index) + " names mesh " + std::to_string(node.mesh) + ", which does not exist");
+      if (std::size_t(node.mesh) >= m_.meshes.size())
+        fail("node " + std::to_string(index) + " names mesh " + std::to_string(node.mesh) +
+             ", which does not exist");
       Mesh& mesh = mesh_for(node.mesh);
       for (const Mat4& inst : instance_matrices(node, "node " + std::to_string(index)))
         mesh.instances.push_back(world * inst);
@@ -662,9 +719,11 @@ class Loader {
       const tinygltf::Mesh& gm = m_.meshes[std::size_t(gltf_mesh)];
       Mesh mesh;
       mesh.name = gm.name;
-      const std::string label = "mesh " + std::to_string(gltf_mesh) + (gm.name.empty() ? "" : " '" + gm.name + "'");
+      const std::string label =
+          "mesh " + std::to_string(gltf_mesh) + (gm.name.empty() ? "" : " '" + gm.name + "'");
       for (std::size_t i = 0; i < gm.primitives.size(); ++i)
-        mesh.primitives.push_back(load_primitive(gm.primitives[i], label + " primitive " + std::to_string(i)));
+        mesh.primitives.push_back(
+            load_primitive(gm.primitives[i], label + " primitive " + std::to_string(i)));
       scene_.meshes.push_back(std::move(mesh));
     }
     return scene_.meshes[it->second];
@@ -689,9 +748,9 @@ class Loader {
   std::string file_;
   std::filesystem::path base_dir_;
   Scene scene_;
-  std::vector<int> texcoord_set_;        // per material: TEXCOORD_n of the base colour texture
+  std::vector<int> texcoord_set_;          // per material: TEXCOORD_n of the base colour texture
   std::vector<UvTransform> uv_transform_;  // per material: of the base colour texture
-  std::map<int, std::size_t> mesh_slot_;  // glTF mesh -> Scene::meshes index
+  std::map<int, std::size_t> mesh_slot_;   // glTF mesh -> Scene::meshes index
 };
 
 // Debian's tinygltf 2.7.0 rejects a primitive whose `indices` accessor has no bufferView
@@ -702,14 +761,18 @@ class Loader {
 // the JSON does not parse (tinygltf then reports the error).
 std::optional<std::string> without_draco_index_accessors(const std::string& text) {
   nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return std::nullopt;
-  const nlohmann::json* accessors = doc.contains("accessors") && doc["accessors"].is_array() ? &doc["accessors"] : nullptr;
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array())
+    return std::nullopt;
+  const nlohmann::json* accessors =
+      doc.contains("accessors") && doc["accessors"].is_array() ? &doc["accessors"] : nullptr;
   bool changed = false;
   for (auto& mesh : doc["meshes"]) {
     if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
     for (auto& prim : mesh["primitives"]) {
       if (!prim.is_object() || !prim.contains("indices") || !prim["indices"].is_number_integer()) continue;
-      if (!prim.contains("extensions") || !prim["extensions"].is_object() || !prim["extensions"].contains(kDraco)) continue;
+      if (!prim.contains("extensions") || !prim["extensions"].is_object() ||
+          !prim["extensions"].contains(kDraco))
+        continue;
       const auto index = prim["indices"].get<long long>();
       if (!accessors || index < 0 || std::size_t(index) >= accessors->size()) continue;
       const nlohmann::json& acc = (*accessors)[std::size_t(index)];
@@ -753,7 +816,9 @@ void patch_glb(std::string& bytes) {
 
 Scene load_gltf_scene(const std::filesystem::path& path) {
   const std::string file = path.string();
-  auto fail = [&](const std::string& why) -> SceneLoadError { return SceneLoadError(file + ": error: " + why); };
+  auto fail = [&](const std::string& why) -> SceneLoadError {
+    return SceneLoadError(file + ": error: " + why);
+  };
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw fail("no such file");
   if (!std::filesystem::is_regular_file(path, ec)) throw fail("not a regular file");
@@ -768,9 +833,12 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
   return load_gltf_scene_from_memory(std::move(bytes), file, path.parent_path());
 }
 
-Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name, const std::filesystem::path& base_dir_path) {
+Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
+                                  const std::filesystem::path& base_dir_path) {
   const std::string& file = name;
-  auto fail = [&](const std::string& why) -> SceneLoadError { return SceneLoadError(file + ": error: " + why); };
+  auto fail = [&](const std::string& why) -> SceneLoadError {
+    return SceneLoadError(file + ": error: " + why);
+  };
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (binary) {
     try {

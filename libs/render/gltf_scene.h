@@ -45,6 +45,7 @@ Scene load_gltf_scene(const std::filesystem::path& path);
 
 // The same from the bytes of a .glb or .gltf held in memory (a file just encoded, say). `name`
 // stands for the file in messages; external uris resolve against `base_dir`.
-Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name, const std::filesystem::path& base_dir = {});
+Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
+                                  const std::filesystem::path& base_dir = {});
 
 }  // namespace sylva::render

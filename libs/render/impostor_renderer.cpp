@@ -16,16 +16,15 @@
 // Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
 #include "libs/render/impostor_renderer.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <thread>
-
-#include <Eigen/Geometry>
 
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
@@ -149,15 +148,20 @@ struct BakePrimitive {
 
 GLenum gl_mode(Topology t) {
   switch (t) {
-    case Topology::kLines: return GL_LINES;
-    case Topology::kPoints: return GL_POINTS;
-    default: return GL_TRIANGLES;
+    case Topology::kLines:
+      return GL_LINES;
+    case Topology::kPoints:
+      return GL_POINTS;
+    default:
+      return GL_TRIANGLES;
   }
 }
 
 void check_bake_primitive(const Scene& scene, const Primitive& p) {
   const std::size_t n = p.positions.size();
-  auto bad = [&](const std::string& what) { throw RenderError("invalid primitive in scene '" + scene.source + "': " + what); };
+  auto bad = [&](const std::string& what) {
+    throw RenderError("invalid primitive in scene '" + scene.source + "': " + what);
+  };
   if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
       (!p.colors.empty() && p.colors.size() != n))
     bad("attribute arrays differ in length from positions");
@@ -177,8 +181,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   explicit GlImpostorRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
     bake_program_ = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
-    draw_program_ = detail::link_program(octahedral_impostor_vertex_shader(), octahedral_impostor_fragment_shader(),
-                                         "octahedral impostor");
+    draw_program_ = detail::link_program(octahedral_impostor_vertex_shader(),
+                                         octahedral_impostor_fragment_shader(), "octahedral impostor");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
@@ -211,7 +215,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     // Rows are independent: each context draws every threads-th row (its own copy of the scene),
     // into its own rows of the maps. A row's pixels do not depend on which context drew it.
     const int threads = std::clamp(o.threads, 1, int(rows.size() > 0 ? rows.size() : 1));
-    while (int(workers_.size()) < threads - 1) workers_.push_back(std::make_unique<Worker>(detail::create_egl_context()));
+    while (int(workers_.size()) < threads - 1)
+      workers_.push_back(std::make_unique<Worker>(detail::create_egl_context()));
     std::vector<std::exception_ptr> errors(static_cast<std::size_t>(threads), nullptr);
     auto run = [&](int t) {
       try {
@@ -234,7 +239,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   std::vector<image::Image> render_octahedral(const OctahedralImpostor& imp, std::span<const Camera> cameras,
-                                              const RenderOptions& o, const ImpostorDrawOptions& draw) override {
+                                              const RenderOptions& o,
+                                              const ImpostorDrawOptions& draw) override {
     std::lock_guard<std::mutex> lock(mutex_);
     CurrentContext current(*ctx_);
     validate_draw(imp, o);
@@ -275,7 +281,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glUniform1f(u("u_atlas_px"), float(imp.frames_per_side * imp.frame_px));
     glUniform3fv(u("u_ambient"), 1, o.lighting.ambient.data());
     glUniform3fv(u("u_light_color"), 1, o.lighting.light_color.data());
-    const Vec3 l = o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
+    const Vec3 l =
+        o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
     glUniform3fv(u("u_light_dir"), 1, l.data());
     glUniform1i(u("u_color"), 0);
     glUniform1i(u("u_normal_depth"), 1);
@@ -303,7 +310,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glEnable(GL_BLEND);
       glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       glDepthMask(GL_FALSE);
-      if (o.msaa > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
+      if (o.msaa > 1)
+        glEnable(GL_MULTISAMPLE);
+      else
+        glDisable(GL_MULTISAMPLE);
       glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, cam.view_matrix().data());
       glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, cam.projection_matrix(aspect).data());
       glUniform3fv(u("u_eye"), 1, cam.eye.data());
@@ -326,9 +336,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
-    return {u("u_model"), u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"), u("u_texture"),
-            u("u_has_texture"), u("u_alpha_mode"), u("u_alpha_cutoff"), u("u_has_normals"), u("u_two_sided"),
-            u("u_mirrored"), u("u_line"), u("u_alpha_scale")};
+    return {u("u_model"),       u("u_normal_matrix"), u("u_views[0]"),   u("u_base_color"),
+            u("u_texture"),     u("u_has_texture"),   u("u_alpha_mode"), u("u_alpha_cutoff"),
+            u("u_has_normals"), u("u_two_sided"),     u("u_mirrored"),   u("u_line"),
+            u("u_alpha_scale")};
   }
 
   struct BakeTarget {
@@ -368,8 +379,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         const float cx = (bv.x + 0.5f * bv.w) / float(o.atlas_width) * 2 - 1;
         const float hw = float(bv.w) / float(o.atlas_width);
         const float hh = float(bv.h) / float(row.h);  // the row fills its band's height
-        const float vals[20] = {bv.center.x(), bv.center.y(), bv.center.z(), 0, r.x(), r.y(), r.z(), 0,
-                                u.x(), u.y(), u.z(), 0, d.x(), d.y(), d.z(), 0, cx, 0.f, hw, hh};
+        const float vals[20] = {
+            bv.center.x(), bv.center.y(), bv.center.z(), 0, r.x(), r.y(), r.z(), 0, u.x(), u.y(), u.z(), 0,
+            d.x(),         d.y(),         d.z(),         0, cx,    0.f,   hw,    hh};
         row.uniforms.insert(row.uniforms.end(), vals, vals + 20);
       }
       rows.push_back(std::move(row));
@@ -379,7 +391,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
   // Rows first, first + stride, ... of `rows`, with `program` on the current context.
   void bake_rows(GLuint program, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
-                 const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride, BakedMaps& out) const {
+                 const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride,
+                 BakedMaps& out) const {
     (void)views;
     GlObjects gl;
     glGetError();
@@ -394,7 +407,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     for (std::size_t r = first; r < rows.size(); r += stride) {
       const BakeRow& row = rows[r];
       auto it = targets.find(row.h);
-      if (it == targets.end()) it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
+      if (it == targets.end())
+        it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
       glUniform4fv(un.views, GLsizei(row.views.size() * 5), row.uniforms.data());
       draw_bake_row(scene, prims, textures, un, GLsizei(row.views.size()), it->second, o);
       read_bake_row(it->second, row.y, out);
@@ -467,7 +481,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         bp.source = &p;
         bp.mesh = &mesh;
         bp.index_count = GLsizei(p.indices.size());
-        bp.blend = p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        bp.blend =
+            p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
         bp.vao = gl.vertex_array();
         glBindVertexArray(bp.vao);
         auto attach = [&](GLuint location, GLuint buffer, GLint comps) {
@@ -489,8 +504,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     return out;
   }
 
-  void draw_bake_row(const Scene& scene, const std::vector<BakePrimitive>& prims, const std::vector<GLuint>& textures,
-                     const BakeUniforms& u, GLsizei count, const BakeTarget& t, const BakeOptions& o) const {
+  void draw_bake_row(const Scene& scene, const std::vector<BakePrimitive>& prims,
+                     const std::vector<GLuint>& textures, const BakeUniforms& u, GLsizei count,
+                     const BakeTarget& t, const BakeOptions& o) const {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, t.width, t.height);
     glClearColor(0, 0, 0, 0);
@@ -501,7 +517,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glDepthFunc(GL_LESS);
     glCullFace(GL_BACK);
     glDisable(GL_BLEND);
-    if (o.msaa > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
+    if (o.msaa > 1)
+      glEnable(GL_MULTISAMPLE);
+    else
+      glDisable(GL_MULTISAMPLE);
     glLineWidth(std::clamp(o.line_width_px, line_width_range_[0], line_width_range_[1]));
     bool blending = false;
     for (const BakePrimitive& bp : prims) {
@@ -521,13 +540,16 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, textures[std::size_t(m.base_color_texture)]);
       }
-      glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2);
+      glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0
+                                : m.alpha_mode == AlphaMode::kMask ? 1
+                                                                   : 2);
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
       glUniform1i(u.has_normals, !p.normals.empty());
       const bool triangles = p.topology == Topology::kTriangles;
       glUniform1i(u.two_sided, triangles && m.double_sided);
       glUniform1i(u.line, p.topology == Topology::kLines);
-      glUniform1f(u.alpha_scale, p.topology == Topology::kLines ? std::clamp(o.line_alpha_scale, 0.f, 1.f) : 1.f);
+      glUniform1f(u.alpha_scale,
+                  p.topology == Topology::kLines ? std::clamp(o.line_alpha_scale, 0.f, 1.f) : 1.f);
       if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
       if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
       if (p.colors.empty()) glVertexAttrib4f(kColor, 1, 1, 1, 1);
@@ -576,7 +598,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       if (a == 0) {
         glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, color.data());
       } else {
-        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_SHORT, a == 1 ? normal.data() : depth.data());
+        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_SHORT,
+                     a == 1 ? normal.data() : depth.data());
       }
     }
     if (t.resolve_fbo != t.draw_fbo) {
@@ -588,7 +611,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     auto& nb = out.normal_depth.bytes();
     const std::size_t stride = std::size_t(out.color.width()) * 4;
     for (int y = 0; y < t.height; ++y) {
-      const std::size_t src_row = std::size_t(t.height - 1 - y) * std::size_t(t.width) * 4;  // GL rows run bottom up
+      const std::size_t src_row =
+          std::size_t(t.height - 1 - y) * std::size_t(t.width) * 4;  // GL rows run bottom up
       const std::size_t dst_row = std::size_t(band_y + y) * stride;
       for (int x = 0; x < t.width; ++x) {
         const std::size_t s = src_row + std::size_t(x) * 4, d = dst_row + std::size_t(x) * 4;
@@ -596,14 +620,16 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         if (a8 == 0) continue;
         // Values are coverage-weighted; the coverage is the attachments' common alpha.
         const double an = normal[s + 3] / 65535.0, ad = depth[s + 3] / 65535.0;
-        for (int c = 0; c < 3; ++c) cb[d + c] = std::uint8_t(std::min(255, (color[s + c] * 255 + a8 / 2) / a8));
+        for (int c = 0; c < 3; ++c)
+          cb[d + c] = std::uint8_t(std::min(255, (color[s + c] * 255 + a8 / 2) / a8));
         cb[d + 3] = std::uint8_t(a8);
         // The mean of the covered samples' normals, not renormalised: its length says how much
         // they spread, and the shader lights with it (mean(n.l) = mean(n).l).
         Eigen::Vector3d nv(normal[s] / 65535.0, normal[s + 1] / 65535.0, normal[s + 2] / 65535.0);
         nv = (nv / std::max(an, 1e-9)) * 2.0 - Eigen::Vector3d::Ones();
         if (nv.norm() > 1) nv.normalize();
-        for (int c = 0; c < 3; ++c) nb[d + c] = std::uint8_t(std::lround(std::clamp((nv[c] * 0.5 + 0.5) * 255.0, 0.0, 255.0)));
+        for (int c = 0; c < 3; ++c)
+          nb[d + c] = std::uint8_t(std::lround(std::clamp((nv[c] * 0.5 + 0.5) * 255.0, 0.0, 255.0)));
         const double dv = std::clamp(depth[s] / 65535.0 / std::max(ad, 1e-9), 0.0, 1.0);
         nb[d + 3] = std::uint8_t(std::lround(dv * 255.0));
       }
@@ -616,8 +642,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
   void validate_draw(const OctahedralImpostor& imp, const RenderOptions& o) const {
     if (o.width < 1 || o.height < 1 || o.width > max_size_ || o.height > max_size_)
-      throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " is outside 1.." +
-                        std::to_string(max_size_));
+      throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                        " is outside 1.." + std::to_string(max_size_));
     if (o.msaa < 1 || o.msaa > max_samples_)
       throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
                         std::to_string(max_samples_) + ")");
@@ -625,14 +651,18 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
     const int atlas = imp.frames_per_side * imp.frame_px;
     if (imp.frames_per_side < 2 || imp.frame_px < 1 || atlas > max_texture_size_)
-      throw RenderError("impostor atlas of " + std::to_string(imp.frames_per_side) + " x " + std::to_string(imp.frame_px) +
-                        " px frames is not drawable here (2 or more frames, at most " + std::to_string(max_texture_size_) + " px)");
+      throw RenderError("impostor atlas of " + std::to_string(imp.frames_per_side) + " x " +
+                        std::to_string(imp.frame_px) +
+                        " px frames is not drawable here (2 or more frames, at most " +
+                        std::to_string(max_texture_size_) + " px)");
     for (const image::Image* m : {&imp.color, &imp.normal_depth})
       if (m->width() != atlas || m->height() != atlas)
-        throw RenderError("impostor maps must be " + std::to_string(atlas) + "x" + std::to_string(atlas) + " pixels, got " +
-                          std::to_string(m->width()) + "x" + std::to_string(m->height()));
-    if (!(imp.radius > 0) || !(imp.half_extent >= imp.radius) || imp.padding_px < 0 || 2 * imp.padding_px >= imp.frame_px)
-      throw RenderError("impostor geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
+        throw RenderError("impostor maps must be " + std::to_string(atlas) + "x" + std::to_string(atlas) +
+                          " pixels, got " + std::to_string(m->width()) + "x" + std::to_string(m->height()));
+    if (!(imp.radius > 0) || !(imp.half_extent >= imp.radius) || imp.padding_px < 0 ||
+        2 * imp.padding_px >= imp.frame_px)
+      throw RenderError(
+          "impostor geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
   }
 
   DrawTarget make_draw_target(GlObjects& gl, const RenderOptions& o) const {
@@ -651,7 +681,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     t.draw_fbo = gl.framebuffer();
     attach(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, o.msaa);
     attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) throw RenderError("cannot create the impostor target");
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("cannot create the impostor target");
     t.resolve_fbo = t.draw_fbo;
     if (o.msaa > 1) {
       t.resolve_fbo = gl.framebuffer();
@@ -676,7 +707,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     }
     auto srgb8 = [](double c) {
       c = std::clamp(c, 0.0, 1.0);
-      return std::uint8_t(std::lround(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055)));
+      return std::uint8_t(
+          std::lround(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055)));
     };
     auto& cb = out.color.bytes();
     auto& nb = out.normal_depth.bytes();
@@ -702,7 +734,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, std::max(0, mip_levels));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mip_levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+                    mip_levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
     if (mip_levels > 0) glGenerateMipmap(GL_TEXTURE_2D);
     return id;
   }
@@ -716,9 +749,11 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       const Vec3 w = (imp.instances[i] * imp.center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), i});  // more negative = farther
     }
-    std::stable_sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::stable_sort(keys.begin(), keys.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<float> models;
-    for (const auto& k : keys) models.insert(models.end(), imp.instances[k.second].data(), imp.instances[k.second].data() + 16);
+    for (const auto& k : keys)
+      models.insert(models.end(), imp.instances[k.second].data(), imp.instances[k.second].data() + 16);
     glBindVertexArray(vao);
     const GLuint b = upload_array(gl, GL_ARRAY_BUFFER, models);
     for (GLuint c = 0; c < 4; ++c) {
@@ -748,7 +783,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       for (std::size_t i = 0; i < px.size(); i += 4) {
         const int a = px[i + 3];
         if (a == 0 || a == 255) continue;
-        for (int c = 0; c < 3; ++c) px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
+        for (int c = 0; c < 3; ++c)
+          px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
       }
     }
     return img;

@@ -51,9 +51,9 @@ struct BakeView {
 
 struct BakeOptions {
   int atlas_width = 1, atlas_height = 1;  // pixels; every view's rectangle must lie inside
-  int msaa = 4;                          // samples per texel (coverage resolution)
-  float line_width_px = 1;               // width of LINES in atlas texels (>= 1)
-  float line_alpha_scale = 1;            // LINES' alpha is multiplied by this (0..1]
+  int msaa = 4;                           // samples per texel (coverage resolution)
+  float line_width_px = 1;                // width of LINES in atlas texels (>= 1)
+  float line_alpha_scale = 1;             // LINES' alpha is multiplied by this (0..1]
   // Contexts drawing rows of the atlas side by side (llvmpipe runs vertex work on the calling
   // thread, so one context uses one core for it). The bytes do not depend on this.
   int threads = 1;
@@ -75,7 +75,7 @@ struct OctahedralImpostor {
   float half_extent = 1;       // frame half extent W
   int frame_px = 256;
   int padding_px = 16;
-  int mip_levels = 4;          // GL_TEXTURE_MAX_LEVEL of both maps
+  int mip_levels = 4;                             // GL_TEXTURE_MAX_LEVEL of both maps
   std::vector<Mat4> instances{Mat4::Identity()};  // object -> world
 };
 
@@ -96,7 +96,8 @@ class ImpostorRenderer {
   virtual BakedMaps bake(const Scene& scene, std::span<const BakeView> views, const BakeOptions& options) = 0;
 
   virtual std::vector<image::Image> render_octahedral(const OctahedralImpostor& impostor,
-                                                      std::span<const Camera> cameras, const RenderOptions& options,
+                                                      std::span<const Camera> cameras,
+                                                      const RenderOptions& options,
                                                       const ImpostorDrawOptions& draw = {}) = 0;
 
   virtual std::string device_description() const = 0;

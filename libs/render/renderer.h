@@ -48,15 +48,15 @@ class RenderUnavailableError : public RenderError {
 };
 
 struct Lighting {
-  Vec3 ambient = Vec3::Constant(0.35f);         // linear RGB
-  Vec3 light_color = Vec3::Constant(0.75f);     // linear RGB of the directional light
+  Vec3 ambient = Vec3::Constant(0.35f);                           // linear RGB
+  Vec3 light_color = Vec3::Constant(0.75f);                       // linear RGB of the directional light
   Vec3 direction_to_light = Vec3(0.3f, 1.0f, 0.5f).normalized();  // world space, need not be unit
 };
 
 struct RenderOptions {
-  int width = 1024;   // pixels, 1..GL_MAX_RENDERBUFFER_SIZE
+  int width = 1024;  // pixels, 1..GL_MAX_RENDERBUFFER_SIZE
   int height = 1024;
-  int msaa = 4;       // samples per pixel; 1 = no multisampling; at most GL_MAX_SAMPLES (4 on llvmpipe)
+  int msaa = 4;  // samples per pixel; 1 = no multisampling; at most GL_MAX_SAMPLES (4 on llvmpipe)
   image::Rgba8 background{191, 204, 217, 255};  // sRGB-encoded; alpha 0 gives a transparent image
   Lighting lighting;
   float default_point_size_px = 2.f;  // POINTS without _SIZE
@@ -92,7 +92,7 @@ class Renderer {
 RenderOptions options_for(const CameraSet& set, RenderOptions base = {});
 
 struct RenderedView {
-  Camera camera;       // camera.name is the view name
+  Camera camera;  // camera.name is the view name
   image::Image image;
 };
 

@@ -19,8 +19,7 @@ Bounds Bounds::transformed(const Mat4& m) const {
   Bounds out;
   if (empty()) return out;
   for (int i = 0; i < 8; ++i) {
-    const Vec3 corner((i & 1) ? max.x() : min.x(), (i & 2) ? max.y() : min.y(),
-                      (i & 4) ? max.z() : min.z());
+    const Vec3 corner((i & 1) ? max.x() : min.x(), (i & 2) ? max.y() : min.y(), (i & 4) ? max.z() : min.z());
     out.extend((m * corner.homogeneous()).hnormalized());
   }
   return out;
@@ -34,9 +33,12 @@ Bounds Primitive::bounds() const {
 
 std::size_t Primitive::element_count() const {
   switch (topology) {
-    case Topology::kTriangles: return indices.size() / 3;
-    case Topology::kLines: return indices.size() / 2;
-    case Topology::kPoints: return indices.size();
+    case Topology::kTriangles:
+      return indices.size() / 3;
+    case Topology::kLines:
+      return indices.size() / 2;
+    case Topology::kPoints:
+      return indices.size();
   }
   return 0;
 }

@@ -8,7 +8,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -65,16 +64,16 @@ enum class Topology { kTriangles, kLines, kPoints };
 // One draw's worth of geometry. Strips, fans and loops are already expanded to lists.
 struct Primitive {
   Topology topology = Topology::kTriangles;
-  std::vector<Vec3> positions;  // required
-  std::vector<Vec3> normals;    // empty or one per position; empty triangles get flat normals
-  std::vector<Vec2> texcoords;  // empty or one per position (the set the material samples)
-  std::vector<Vec4> colors;     // empty or one per position (COLOR_0), linear RGBA
-  std::vector<float> sizes;     // POINTS only: empty or one per position; point diameter in
-                                // metres in the mesh's local space (glTF attribute _SIZE)
+  std::vector<Vec3> positions;         // required
+  std::vector<Vec3> normals;           // empty or one per position; empty triangles get flat normals
+  std::vector<Vec2> texcoords;         // empty or one per position (the set the material samples)
+  std::vector<Vec4> colors;            // empty or one per position (COLOR_0), linear RGBA
+  std::vector<float> sizes;            // POINTS only: empty or one per position; point diameter in
+                                       // metres in the mesh's local space (glTF attribute _SIZE)
   std::vector<std::uint32_t> indices;  // 3 per triangle, 2 per line, 1 per point; all < size
   int material = -1;                   // index into Scene::materials, -1 = default material
 
-  Bounds bounds() const;  // of positions, local space
+  Bounds bounds() const;              // of positions, local space
   std::size_t element_count() const;  // triangles, lines or points
 };
 

@@ -12,7 +12,8 @@ UvRect atlas_cell(const Materials& m, unsigned variant) {
   const unsigned cell = variant % (cols * rows);
   const unsigned c = cell % cols, r = cell / cols;
   const float du = 1.0f / static_cast<float>(cols), dv = 1.0f / static_cast<float>(rows);
-  return {du * static_cast<float>(c), dv * static_cast<float>(r), c + 1 == cols ? 1.0f : du * static_cast<float>(c + 1),
+  return {du * static_cast<float>(c), dv * static_cast<float>(r),
+          c + 1 == cols ? 1.0f : du * static_cast<float>(c + 1),
           r + 1 == rows ? 1.0f : dv * static_cast<float>(r + 1)};
 }
 
@@ -34,14 +35,22 @@ double convex_hull_area(std::vector<std::pair<double, double>> p) {
     std::array<std::size_t, 8> ext{};
     auto key = [](const std::pair<double, double>& q, int d) {
       switch (d) {
-        case 0: return q.first;
-        case 1: return q.first + q.second;
-        case 2: return q.second;
-        case 3: return q.second - q.first;
-        case 4: return -q.first;
-        case 5: return -q.first - q.second;
-        case 6: return -q.second;
-        default: return q.first - q.second;
+        case 0:
+          return q.first;
+        case 1:
+          return q.first + q.second;
+        case 2:
+          return q.second;
+        case 3:
+          return q.second - q.first;
+        case 4:
+          return -q.first;
+        case 5:
+          return -q.first - q.second;
+        case 6:
+          return -q.second;
+        default:
+          return q.first - q.second;
       }
     };
     for (std::size_t i = 1; i < p.size(); ++i)

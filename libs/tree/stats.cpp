@@ -32,7 +32,11 @@ std::string fmt(double v, int decimals = 3) {
 // Built by appending (GCC 12 warns falsely, -Wrestrict, on "[" + std::string at -O3).
 std::string fmt_vec(Vec3 v, int decimals = 3, const char* sep = ", ") {
   std::string out(1, '[');
-  out.append(fmt(v.x, decimals)).append(sep).append(fmt(v.y, decimals)).append(sep).append(fmt(v.z, decimals));
+  out.append(fmt(v.x, decimals))
+      .append(sep)
+      .append(fmt(v.y, decimals))
+      .append(sep)
+      .append(fmt(v.z, decimals));
   out.push_back(']');
   return out;
 }

@@ -12,7 +12,7 @@ namespace sylva::tree {
 
 namespace {
 
-constexpr std::size_t kHeaderSize = 16;     // magic(8) version(4) flags(4)
+constexpr std::size_t kHeaderSize = 16;  // magic(8) version(4) flags(4)
 constexpr std::size_t kChecksumSize = 8;
 constexpr std::size_t kMaxString = kMaxTextBytes;  // the writer refuses longer (validate_tree)
 constexpr std::size_t kBranchHeader = 4 + 4 + 8 + 4 + 4;
@@ -33,9 +33,12 @@ U to_little(U v) {
 
 template <class T>
 auto bits_of(T v) {
-  if constexpr (sizeof(T) == 8) return std::bit_cast<std::uint64_t>(v);
-  else if constexpr (sizeof(T) == 4) return std::bit_cast<std::uint32_t>(v);
-  else if constexpr (sizeof(T) == 1) return std::bit_cast<std::uint8_t>(v);
+  if constexpr (sizeof(T) == 8)
+    return std::bit_cast<std::uint64_t>(v);
+  else if constexpr (sizeof(T) == 4)
+    return std::bit_cast<std::uint32_t>(v);
+  else if constexpr (sizeof(T) == 1)
+    return std::bit_cast<std::uint8_t>(v);
 }
 
 class Writer {
@@ -48,9 +51,21 @@ class Writer {
     std::memcpy(buf, &u, sizeof u);
     out.append(buf, sizeof u);
   }
-  void put(Vec3 v) { put(v.x); put(v.y); put(v.z); }
-  void put(Vec3f v) { put(v.x); put(v.y); put(v.z); }
-  void put(Color c) { put(c.r); put(c.g); put(c.b); }
+  void put(Vec3 v) {
+    put(v.x);
+    put(v.y);
+    put(v.z);
+  }
+  void put(Vec3f v) {
+    put(v.x);
+    put(v.y);
+    put(v.z);
+  }
+  void put(Color c) {
+    put(c.r);
+    put(c.g);
+    put(c.b);
+  }
   void put(const std::string& s) {
     put(static_cast<std::uint32_t>(s.size()));
     out += s;
@@ -68,8 +83,9 @@ class Reader {
   }
   std::size_t left() const { return b_.size() - pos_; }
   void need(std::size_t n, const char* what) const {
-    if (left() < n) fail(std::string("truncated: ") + what + " needs " + std::to_string(n) +
-                         " bytes, " + std::to_string(left()) + " left");
+    if (left() < n)
+      fail(std::string("truncated: ") + what + " needs " + std::to_string(n) + " bytes, " +
+           std::to_string(left()) + " left");
   }
   template <class T>
   T get(const char* what) {
@@ -82,24 +98,32 @@ class Reader {
   Vec3 vec3(const char* what) {
     need(24, what);
     Vec3 v;
-    v.x = get<double>(what); v.y = get<double>(what); v.z = get<double>(what);
+    v.x = get<double>(what);
+    v.y = get<double>(what);
+    v.z = get<double>(what);
     return v;
   }
   Vec3f vec3f(const char* what) {
     need(12, what);
     Vec3f v;
-    v.x = get<float>(what); v.y = get<float>(what); v.z = get<float>(what);
+    v.x = get<float>(what);
+    v.y = get<float>(what);
+    v.z = get<float>(what);
     return v;
   }
   Color color(const char* what) {
     need(12, what);
     Color c;
-    c.r = get<float>(what); c.g = get<float>(what); c.b = get<float>(what);
+    c.r = get<float>(what);
+    c.g = get<float>(what);
+    c.b = get<float>(what);
     return c;
   }
   std::string string(const char* what) {
     const auto n = get<std::uint32_t>(what);
-    if (n > kMaxString) fail_at(pos_ - 4, std::string(what) + " length " + std::to_string(n) + " exceeds " + std::to_string(kMaxString));
+    if (n > kMaxString)
+      fail_at(pos_ - 4,
+              std::string(what) + " length " + std::to_string(n) + " exceeds " + std::to_string(kMaxString));
     need(n, what);
     std::string s(b_.substr(pos_, n));
     pos_ += n;
@@ -111,8 +135,8 @@ class Reader {
     const auto n = get<std::uint32_t>(what);
     if (static_cast<std::uint64_t>(n) * record_size > left())
       fail_at(at, std::string(what) + " " + std::to_string(n) + " needs " +
-           std::to_string(static_cast<std::uint64_t>(n) * record_size) + " bytes, " +
-           std::to_string(left()) + " left");
+                      std::to_string(static_cast<std::uint64_t>(n) * record_size) + " bytes, " +
+                      std::to_string(left()) + " left");
     return n;
   }
   std::size_t pos() const { return pos_; }
@@ -140,8 +164,8 @@ std::string encode_sylt(const Tree& tree) {
     for (const auto& e : errors) msg += "\n  " + e;
     throw std::invalid_argument(msg);
   }
-  std::size_t size = kHeaderSize + kChecksumSize + 256 + tree.leaves.size() * kLeafSize +
-                     tree.needles.size() * kNeedleSize;
+  std::size_t size =
+      kHeaderSize + kChecksumSize + 256 + tree.leaves.size() * kLeafSize + tree.needles.size() * kNeedleSize;
   for (const Branch& b : tree.branches) size += kBranchHeader + b.nodes.size() * kNodeSize;
   Writer w;
   w.out.reserve(size);

@@ -27,8 +27,8 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
   text(m.bark_texture, "materials: the bark texture name");
   text(m.leaf_texture, "materials: the leaf texture name");
   if (m.atlas_columns < 1 || m.atlas_columns > 16 || m.atlas_rows < 1 || m.atlas_rows > 16)
-    fail("materials: the leaf atlas must have 1..16 columns and rows, has " + std::to_string(m.atlas_columns) + "x" +
-         std::to_string(m.atlas_rows));
+    fail("materials: the leaf atlas must have 1..16 columns and rows, has " +
+         std::to_string(m.atlas_columns) + "x" + std::to_string(m.atlas_rows));
   if (!m.cell_coverage.empty() && m.cell_coverage.size() != m.atlas_cells())
     fail("materials: " + std::to_string(m.cell_coverage.size()) + " cell coverages for " +
          std::to_string(m.atlas_cells()) + " atlas cells");
@@ -39,12 +39,14 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
   auto in01 = [](float v) { return v >= 0 && v <= 1; };
   if (!in01(m.bark_tint.r) || !in01(m.bark_tint.g) || !in01(m.bark_tint.b))
     fail("materials: bark tint components must be in [0, 1]");
-  if (!std::isfinite(m.bark_tint_from_m) || !std::isfinite(m.bark_tint_to_m) || m.bark_tint_from_m > m.bark_tint_to_m)
+  if (!std::isfinite(m.bark_tint_from_m) || !std::isfinite(m.bark_tint_to_m) ||
+      m.bark_tint_from_m > m.bark_tint_to_m)
     fail("materials: bark tint heights must be finite with from <= to");
   for (std::size_t i = 0; i < tree.branches.size() && errors.size() < max_errors; ++i) {
     const Branch& b = tree.branches[i];
     const std::string where = "branch " + std::to_string(i) + ": ";
-    if (b.nodes.size() < 2) fail(where + "has " + std::to_string(b.nodes.size()) + " nodes, needs at least 2");
+    if (b.nodes.size() < 2)
+      fail(where + "has " + std::to_string(b.nodes.size()) + " nodes, needs at least 2");
     for (std::size_t k = 0; k < b.nodes.size(); ++k) {
       const Node& n = b.nodes[k];
       if (!is_finite(n.position)) fail(where + "node " + std::to_string(k) + ": position is not finite");

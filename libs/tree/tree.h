@@ -43,11 +43,11 @@ struct Node {
 };
 
 struct Branch {
-  std::int32_t parent = -1;        // branch index (< own index) or -1 for a root
-  std::uint32_t parent_node = 0;   // node of the parent it grows from (0 for roots)
-  double parent_t = 0;             // [0, 1] along parent segment parent_node -> parent_node + 1
-  std::uint32_t level = 0;         // trunk 0; clone = parent's level; lateral = parent's + 1
-  std::vector<Node> nodes;         // base to tip, >= 2
+  std::int32_t parent = -1;       // branch index (< own index) or -1 for a root
+  std::uint32_t parent_node = 0;  // node of the parent it grows from (0 for roots)
+  double parent_t = 0;            // [0, 1] along parent segment parent_node -> parent_node + 1
+  std::uint32_t level = 0;        // trunk 0; clone = parent's level; lateral = parent's + 1
+  std::vector<Node> nodes;        // base to tip, >= 2
   friend bool operator==(const Branch&, const Branch&) = default;
 };
 

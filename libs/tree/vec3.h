@@ -20,8 +20,18 @@ struct Vec3 {
   friend constexpr Vec3 operator*(Vec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
   friend constexpr Vec3 operator*(double s, Vec3 a) { return a * s; }
   friend constexpr Vec3 operator/(Vec3 a, double s) { return {a.x / s, a.y / s, a.z / s}; }
-  constexpr Vec3& operator+=(Vec3 b) { x += b.x; y += b.y; z += b.z; return *this; }
-  constexpr Vec3& operator-=(Vec3 b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
+  constexpr Vec3& operator+=(Vec3 b) {
+    x += b.x;
+    y += b.y;
+    z += b.z;
+    return *this;
+  }
+  constexpr Vec3& operator-=(Vec3 b) {
+    x -= b.x;
+    y -= b.y;
+    z -= b.z;
+    return *this;
+  }
   friend constexpr bool operator==(const Vec3&, const Vec3&) = default;
 };
 
@@ -35,9 +45,7 @@ inline Vec3 normalized(Vec3 a) {
   const double l = length(a);
   return l > 0 ? a / l : a;
 }
-inline bool is_finite(Vec3 a) {
-  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-}
+inline bool is_finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
 struct Vec3f {
   float x = 0, y = 0, z = 0;
@@ -48,8 +56,6 @@ constexpr Vec3f to_float(Vec3 v) {
   return {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
 }
 constexpr Vec3 to_double(Vec3f v) { return {v.x, v.y, v.z}; }
-inline bool is_finite(Vec3f a) {
-  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
-}
+inline bool is_finite(Vec3f a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
 }  // namespace sylva::tree

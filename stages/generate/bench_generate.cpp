@@ -34,7 +34,8 @@ void bm_generate(benchmark::State& state, generate::Preset preset) {
   state.counters["nodes"] = static_cast<double>(nodes);
   state.counters["branches"] = static_cast<double>(branches);
   state.counters["foliage"] = static_cast<double>(foliage);
-  state.counters["nodes_per_s"] = benchmark::Counter(static_cast<double>(nodes), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["nodes_per_s"] =
+      benchmark::Counter(static_cast<double>(nodes), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // The two textures at the stage's default size.
@@ -52,12 +53,14 @@ void bm_textures(benchmark::State& state, generate::BarkLook bark, generate::Lea
 
 int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
     if (e.path().extension() == ".yaml") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   for (const auto& f : files) {
     const generate::SpeciesPreset s = generate::load_species_preset(f);
-    benchmark::RegisterBenchmark(("generate/" + s.species + "/adult").c_str(), bm_generate, s.age("adult").params)
+    benchmark::RegisterBenchmark(("generate/" + s.species + "/adult").c_str(), bm_generate,
+                                 s.age("adult").params)
         ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("textures512/" + s.species).c_str(), bm_textures, s.bark, s.leaf)
         ->Unit(benchmark::kMillisecond);

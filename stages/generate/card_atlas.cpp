@@ -37,8 +37,13 @@ Rgb scaled(Rgb c, double s) { return {c.r * s, c.g * s, c.b * s}; }
 class Cell {
  public:
   Cell(int w, int h, double width_m, double height_m)
-      : w_(w), h_(h), W_(width_m), H_(height_m), px_(std::max(width_m / w, height_m / h)),
-        rgb_(static_cast<std::size_t>(w) * h * 3, 0.0), a_(static_cast<std::size_t>(w) * h, 0.0) {}
+      : w_(w),
+        h_(h),
+        W_(width_m),
+        H_(height_m),
+        px_(std::max(width_m / w, height_m / h)),
+        rgb_(static_cast<std::size_t>(w) * h * 3, 0.0),
+        a_(static_cast<std::size_t>(w) * h, 0.0) {}
 
   double pixel_m() const { return px_; }
   double width() const { return W_; }
@@ -138,8 +143,9 @@ double blade(Cell& cell, P2 base, double angle, double l, double w, LeafShape sh
     const double rel = std::abs(b) / half;
     double vein = std::clamp(1 - std::abs(b) / (0.035 * w + 0.5 * px), 0.0, 1.0);
     const double lateral = std::abs(std::fmod(tau * 7 - rel * 1.2 + 10, 1.0) - 0.5);
-    if (shape != LeafShape::kNeedle) vein = std::max(vein, 0.45 * std::clamp(1 - lateral / 0.06, 0.0, 1.0) * (1 - rel));
-    const double fold = b > 0 ? 1.08 : 0.9;              // a folded blade: one half lighter
+    if (shape != LeafShape::kNeedle)
+      vein = std::max(vein, 0.45 * std::clamp(1 - lateral / 0.06, 0.0, 1.0) * (1 - rel));
+    const double fold = b > 0 ? 1.08 : 0.9;  // a folded blade: one half lighter
     const double margin = 1 - 0.15 * std::clamp((rel - 0.6) / 0.4, 0.0, 1.0);
     cell.over(i, j, scaled(mix(look.color, look.vein, vein), tint * fold * margin), cov);
   });
@@ -149,7 +155,8 @@ double blade(Cell& cell, P2 base, double angle, double l, double w, LeafShape sh
 // Keeps a leaf (base, angle, length) inside the cell's margins: turns it towards the stem and
 // shortens it a little until its tip and widest point fit.
 void fit_leaf(const Cell& cell, P2 base, double& angle, double& l, double w, double stem_angle) {
-  const double xm = cell.width() * (0.5 - kMargin), y0 = cell.height() * kMargin, y1 = cell.height() * (1 - kMargin);
+  const double xm = cell.width() * (0.5 - kMargin), y0 = cell.height() * kMargin,
+               y1 = cell.height() * (1 - kMargin);
   for (int k = 0; k < 24; ++k) {
     const P2 u = unit_at(angle);
     const P2 tip = base + u * l;
@@ -174,7 +181,8 @@ struct Stem {
   }
 };
 
-void draw_stem(Cell& cell, const Stem& s, double r0, double r1, Rgb c0, Rgb c1, double t0 = 0, double t1 = 1) {
+void draw_stem(Cell& cell, const Stem& s, double r0, double r1, Rgb c0, Rgb c1, double t0 = 0,
+               double t1 = 1) {
   constexpr int kPieces = 16;
   for (int k = 0; k < kPieces; ++k) {
     const double ta = t0 + (t1 - t0) * k / kPieces, tb = t0 + (t1 - t0) * (k + 1) / kPieces;
@@ -196,7 +204,8 @@ Stem make_stem(const Cell& cell, Rng& rng, double reach) {
 }
 
 // Side shoots off `main` (alternating, at 30–50°), their ends kept inside the cell.
-std::vector<Stem> side_shoots(const Cell& cell, const Stem& main, int count, double reach, double keep, Rng& rng) {
+std::vector<Stem> side_shoots(const Cell& cell, const Stem& main, int count, double reach, double keep,
+                              Rng& rng) {
   std::vector<Stem> axes;
   const double H = cell.height();
   for (int k = 0; k < count; ++k) {
@@ -279,10 +288,12 @@ double draw_twig(Cell& cell, const CardLook& card, const LeafLook& leaf, const B
   }
   // Petioles first (under the blades), then the blades.
   for (const LeafDraw& d : leaves)
-    cell.capsule(d.stalk, d.base, std::max(0.0012, 0.5 * cell.pixel_m()), std::max(0.0008, 0.4 * cell.pixel_m()),
+    cell.capsule(d.stalk, d.base, std::max(0.0012, 0.5 * cell.pixel_m()),
+                 std::max(0.0008, 0.4 * cell.pixel_m()),
                  [&](double) { return scaled(mix(leaf.vein, bark.color, 0.3), 0.85); });
   double area = 0;
-  for (const LeafDraw& d : leaves) area += blade(cell, d.base, d.angle, d.l, d.w, leaf.shape, d.lv, leaf, d.tint);
+  for (const LeafDraw& d : leaves)
+    area += blade(cell, d.base, d.angle, d.l, d.w, leaf.shape, d.lv, leaf, d.tint);
   return area;
 }
 
@@ -290,7 +301,8 @@ double draw_twig(Cell& cell, const CardLook& card, const LeafLook& leaf, const B
 // area is length x diameter.
 double needle(Cell& cell, P2 a, double angle, double l, double dia, const LeafLook& leaf, double tint) {
   const P2 b = a + unit_at(angle) * l;
-  cell.capsule(a, b, dia / 2, dia / 3, [&](double t) { return scaled(mix(leaf.color, leaf.vein, 0.35 * t), tint); });
+  cell.capsule(a, b, dia / 2, dia / 3,
+               [&](double t) { return scaled(mix(leaf.color, leaf.vein, 0.35 * t), tint); });
   return l * dia;
 }
 
@@ -370,8 +382,9 @@ double draw_spray(Cell& cell, const CardLook& card, const LeafLook& leaf, const 
     axes.push_back(sh);
   }
   for (std::size_t k = 0; k < axes.size(); ++k)
-    draw_stem(cell, axes[k], std::max(0.0025, (k == 0 ? 1.1 : 0.8) * cell.pixel_m()), std::max(0.001, 0.5 * cell.pixel_m()),
-              mix(bark.color, bark.dark, 0.3), mix(bark.color, leaf.vein, 0.4));
+    draw_stem(cell, axes[k], std::max(0.0025, (k == 0 ? 1.1 : 0.8) * cell.pixel_m()),
+              std::max(0.001, 0.5 * cell.pixel_m()), mix(bark.color, bark.dark, 0.3),
+              mix(bark.color, leaf.vein, 0.4));
   // Needles spread over the axes by their length.
   std::vector<double> lengths;
   double total = 0;
@@ -397,7 +410,8 @@ double draw_spray(Cell& cell, const CardLook& card, const LeafLook& leaf, const 
 
 }  // namespace
 
-CardAtlas make_card_atlas(const CardLook& card, const LeafLook& leaf, const BarkLook& bark, int size, Rng& rng) {
+CardAtlas make_card_atlas(const CardLook& card, const LeafLook& leaf, const BarkLook& bark, int size,
+                          Rng& rng) {
   if (size < 16 || size > 8192 || (size & (size - 1)) != 0)
     throw std::invalid_argument("texture size must be a power of two in [16, 8192]");
   CardAtlas atlas;
@@ -410,9 +424,15 @@ CardAtlas make_card_atlas(const CardLook& card, const LeafLook& leaf, const Bark
     Cell cell(cw, ch, W, H);
     double area = 0;
     switch (card.style) {
-      case CardStyle::kTwig: area = draw_twig(cell, card, lin, bark, rng); break;
-      case CardStyle::kTuft: area = draw_tuft(cell, card, lin, bark, rng); break;
-      case CardStyle::kSpray: area = draw_spray(cell, card, lin, bark, rng); break;
+      case CardStyle::kTwig:
+        area = draw_twig(cell, card, lin, bark, rng);
+        break;
+      case CardStyle::kTuft:
+        area = draw_tuft(cell, card, lin, bark, rng);
+        break;
+      case CardStyle::kSpray:
+        area = draw_spray(cell, card, lin, bark, rng);
+        break;
     }
     atlas.coverage.push_back(static_cast<float>(std::clamp(area / (W * H), 0.0, 1.0)));
     const Rgb fill = scaled(mix(leaf.color, leaf.vein, 0.15), 0.95);

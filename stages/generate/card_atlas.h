@@ -43,27 +43,28 @@ enum class CardStyle { kTwig, kTuft, kSpray };
 
 struct CardLook {
   CardStyle style = CardStyle::kTwig;
-  int elements = 8;             // leaves per twig (twig) or needles per shoot (tuft, spray)
-  int shoots = 2;               // side shoots off the card's main stem (twig, spray)
-  double petiole = 0.15;        // petiole length / leaf length (twig)
-  double leaf_angle_deg = 50;   // leaves or needles from the stem (deg)
-  double cluster = 0;           // 0: spread along the stem, 1: gathered at its tip
-  double length_m = 0.4;        // card length (m)
-  double aspect = 0.8;          // card width / length
-  double leaf_length_m = 0.1;   // leaf (needle) length (m): the preset's LeafScale
-  double leaf_width = 0.5;      // leaf width / length (needle diameter / length): LeafScaleX
+  int elements = 8;            // leaves per twig (twig) or needles per shoot (tuft, spray)
+  int shoots = 2;              // side shoots off the card's main stem (twig, spray)
+  double petiole = 0.15;       // petiole length / leaf length (twig)
+  double leaf_angle_deg = 50;  // leaves or needles from the stem (deg)
+  double cluster = 0;          // 0: spread along the stem, 1: gathered at its tip
+  double length_m = 0.4;       // card length (m)
+  double aspect = 0.8;         // card width / length
+  double leaf_length_m = 0.1;  // leaf (needle) length (m): the preset's LeafScale
+  double leaf_width = 0.5;     // leaf width / length (needle diameter / length): LeafScaleX
 };
 
 inline constexpr int kCardAtlasColumns = 4;
 inline constexpr int kCardAtlasRows = 2;
 
 struct CardAtlas {
-  Rgba8 image;                  // size x size, straight alpha
+  Rgba8 image;  // size x size, straight alpha
   int columns = kCardAtlasColumns, rows = kCardAtlasRows;
   std::vector<float> coverage;  // per cell (variant order), leaf area / cell area, in [0, 1]
 };
 
 // Throws std::invalid_argument for a size that is not a power of two in [16, 8192].
-CardAtlas make_card_atlas(const CardLook& card, const LeafLook& leaf, const BarkLook& bark, int size, Rng& rng);
+CardAtlas make_card_atlas(const CardLook& card, const LeafLook& leaf, const BarkLook& bark, int size,
+                          Rng& rng);
 
 }  // namespace sylva::generate

@@ -23,8 +23,8 @@ constexpr double kCardOverlap = 0.2;  // fraction of a card overlapped by the ne
 // point, radius, tangent and normal at an arc length.
 struct Axis {
   const tree::Branch* branch = nullptr;
-  std::vector<double> s;             // arc length at each node
-  std::vector<tree::Frame> frames;   // per node
+  std::vector<double> s;            // arc length at each node
+  std::vector<tree::Frame> frames;  // per node
   double length() const { return s.back(); }
 
   struct Point {
@@ -90,8 +90,8 @@ struct Placed {
 };
 
 // Single leaves or needles: five draws per element (azimuth, angle, size, twist, variant).
-Placed place_single(const std::vector<Axis>& axes, std::span<const std::uint32_t> ids, const FoliageSpec& spec,
-                    std::uint64_t total, Rng& rng) {
+Placed place_single(const std::vector<Axis>& axes, std::span<const std::uint32_t> ids,
+                    const FoliageSpec& spec, std::uint64_t total, Rng& rng) {
   Placed out;
   std::vector<double> zone(axes.size());
   for (std::size_t i = 0; i < axes.size(); ++i) zone[i] = axes[i].length() * spec.zone;
@@ -105,7 +105,8 @@ Placed place_single(const std::vector<Axis>& axes, std::span<const std::uint32_t
     for (std::uint64_t j = 0; j < count[i]; ++j) {
       const double x = z0 + (static_cast<double>(j) + 0.5) * zone[i] / static_cast<double>(count[i]);
       azimuth += spec.rotate + spec.rotate_v * rng.signed_unit();
-      const double angle = std::clamp(spec.natural_angle + spec.down_angle_v * rng.signed_unit(), 0.05, kPi - 0.05);
+      const double angle =
+          std::clamp(spec.natural_angle + spec.down_angle_v * rng.signed_unit(), 0.05, kPi - 0.05);
       const double size = 1 + 0.15 * rng.signed_unit();
       const double twist = 0.3 * rng.signed_unit();
       const auto variant = static_cast<std::uint8_t>(rng.below(cells));
@@ -114,7 +115,8 @@ Placed place_single(const std::vector<Axis>& axes, std::span<const std::uint32_t
       const Vec3 base = q.p + o * q.r;
       Vec3 dir = tree::normalized(q.t * std::cos(angle) + o * std::sin(angle));
       const double length = spec.leaf_scale * size;
-      if ((base + dir * length).y < 0) dir = tree::normalized(Vec3{dir.x, std::abs(dir.y), dir.z});  // above ground
+      if ((base + dir * length).y < 0)
+        dir = tree::normalized(Vec3{dir.x, std::abs(dir.y), dir.z});  // above ground
       if (needles) {
         tree::Needle n;
         n.branch = ids[i];
@@ -238,7 +240,8 @@ double lai_of(tree::Tree& t, Placed& p) {
 
 }  // namespace
 
-FoliageResult place_foliage(tree::Tree& tree, std::span<const std::uint32_t> ids, const FoliageSpec& spec, Rng& rng) {
+FoliageResult place_foliage(tree::Tree& tree, std::span<const std::uint32_t> ids, const FoliageSpec& spec,
+                            Rng& rng) {
   FoliageResult res;
   tree.materials = spec.materials;
   const std::vector<Axis> axes = make_axes(tree, ids);
@@ -271,7 +274,8 @@ FoliageResult place_foliage(tree::Tree& tree, std::span<const std::uint32_t> ids
         // The fewest layers (the fewest cards) whose scale stays at most kPreferredCardScale.
         const double per_layer = lai / layers;
         const int lo = std::max(1, spec.card.min_layers), hi = std::max(lo, spec.card.max_layers);
-        for (layers = lo; layers < hi && spec.target_lai / (per_layer * layers) > kPreferredCardScale; ++layers) {
+        for (layers = lo; layers < hi && spec.target_lai / (per_layer * layers) > kPreferredCardScale;
+             ++layers) {
         }
         rescale(spec.target_lai / (per_layer * layers));
         // Refine; keep the closest (the crown's hull moves a little with every placement).

@@ -45,41 +45,41 @@ inline constexpr double kMaxCardScale = 1.6;
 inline constexpr double kPreferredCardScale = 1.3;  // more layers only beyond this scale
 
 struct CardShape {
-  double length = 0.4;      // m, along the twig (before the scale k)
-  double aspect = 0.8;      // width / length
-  int min_layers = 1;       // 2 = always crossed (conifer shoots)
+  double length = 0.4;  // m, along the twig (before the scale k)
+  double aspect = 0.8;  // width / length
+  int min_layers = 1;   // 2 = always crossed (conifer shoots)
   int max_layers = 3;
   double light_bias = 0.6;  // 0..1: roll towards the light vs phyllotaxy spread
 };
 
 struct FoliageSpec {
   enum class Mode { kLeaves, kNeedles, kCards } mode = Mode::kLeaves;
-  double target_lai = 0;          // > 0: fit the count (single) or scale (cards) to it
-  double count = 0;               // single foliage: elements when target_lai is 0 (or the first guess)
-  double zone = 1;                // (0, 1]: distal fraction of each branch that carries foliage
+  double target_lai = 0;  // > 0: fit the count (single) or scale (cards) to it
+  double count = 0;       // single foliage: elements when target_lai is 0 (or the first guess)
+  double zone = 1;        // (0, 1]: distal fraction of each branch that carries foliage
   // Single leaves and needles (Nystad A.1.1 / A.2).
-  double leaf_scale = 0.1;        // m
+  double leaf_scale = 0.1;  // m
   double leaf_scale_x = 0.5;
-  double natural_angle = 0.6;     // rad, Murray's y for the leaf level's BranchRatio
-  double down_angle_v = 0;        // rad
-  double rotate = 2.4;            // rad
-  double rotate_v = 0;            // rad
+  double natural_angle = 0.6;  // rad, Murray's y for the leaf level's BranchRatio
+  double down_angle_v = 0;     // rad
+  double rotate = 2.4;         // rad
+  double rotate_v = 0;         // rad
   // Cards.
   CardShape card;
-  tree::Materials materials;      // atlas grid and coverage (leaf area per card)
+  tree::Materials materials;  // atlas grid and coverage (leaf area per card)
 };
 
 struct FoliageResult {
-  double lai = 0;          // crown LAI reached
-  double card_scale = 1;   // k (cards)
-  int layers = 1;          // cards per place
-  double density = 1;      // (0, 1]: places per card length, relative to tiling the twig
+  double lai = 0;         // crown LAI reached
+  double card_scale = 1;  // k (cards)
+  int layers = 1;         // cards per place
+  double density = 1;     // (0, 1]: places per card length, relative to tiling the twig
   std::size_t elements = 0;
 };
 
 // Places the foliage on `branches` (the last level) of `tree` (appending to tree.leaves or
 // tree.needles; materials are taken from spec.materials). Draws from `rng` only.
-FoliageResult place_foliage(tree::Tree& tree, std::span<const std::uint32_t> branches, const FoliageSpec& spec,
-                            Rng& rng);
+FoliageResult place_foliage(tree::Tree& tree, std::span<const std::uint32_t> branches,
+                            const FoliageSpec& spec, Rng& rng);
 
 }  // namespace sylva::generate

@@ -38,12 +38,19 @@ class GenerateStage : public Stage {
         Param::path("preset").describe("species preset YAML (configs/species/<name>.yaml)"),
         Param::choice("age", {"young", "middle", "adult"}, "adult").describe("age variant of the preset"),
         Param::integer("seed", 1).range(0, 9007199254740991.0).describe("seed of every random choice"),
-        Param::integer("levels", 0).range(0, 8).describe("branch levels incl. the trunk; 0 = the preset's Levels"),
+        Param::integer("levels", 0)
+            .range(0, 8)
+            .describe("branch levels incl. the trunk; 0 = the preset's Levels"),
         Param::real("max_node_spacing_m", 0.5)
             .range(0, 100)
             .describe("longest segment between skeleton nodes (m); 0 = no extra nodes (Nystad 4.3.2)"),
-        Param::real("leaf_density", 1.0).range(0, 4).describe("multiplies the preset's Leaves (leaf or needle count)"),
-        Param::integer("texture_size", 512).range(16, 4096).require_power_of_two().describe("bark and leaf atlas size in pixels (power of two)"),
+        Param::real("leaf_density", 1.0)
+            .range(0, 4)
+            .describe("multiplies the preset's Leaves (leaf or needle count)"),
+        Param::integer("texture_size", 512)
+            .range(16, 4096)
+            .require_power_of_two()
+            .describe("bark and leaf atlas size in pixels (power of two)"),
         Param::choice("foliage", {"cards", "leaves", "needles"}, "cards")
             .describe("cards: twig cards (broadleaves) or shoot cards (conifers), the games default; "
                       "leaves / needles: one quad per leaf or one needle each (hero close-ups)"),
@@ -69,18 +76,19 @@ class GenerateStage : public Stage {
     const std::string foliage = ctx.string("foliage");
     const bool conifer = variant.params.foliage == generate::Foliage::kNeedles;
     if (foliage == "leaves" && conifer)
-      throw StageError(preset_path.string() + ": foliage 'leaves' needs a broadleaf preset; " + species.species +
-                       " has needles (use 'needles' or 'cards')");
+      throw StageError(preset_path.string() + ": foliage 'leaves' needs a broadleaf preset; " +
+                       species.species + " has needles (use 'needles' or 'cards')");
     if (foliage == "needles" && !conifer)
-      throw StageError(preset_path.string() + ": foliage 'needles' needs a conifer preset; " + species.species +
-                       " has leaves (use 'leaves' or 'cards')");
+      throw StageError(preset_path.string() + ": foliage 'needles' needs a conifer preset; " +
+                       species.species + " has leaves (use 'leaves' or 'cards')");
     const bool cards = foliage == "cards";
     // The atlas first: its cells' leaf coverage sets how much leaf area each quad carries.
     Rng leaf_rng = ctx.rng("leaves");
     generate::Rgba8 leaves;
     generate::GenerateOptions options;
     if (cards) {
-      generate::CardAtlas atlas = generate::make_card_atlas(species.card, species.leaf, species.bark, texture_size, leaf_rng);
+      generate::CardAtlas atlas =
+          generate::make_card_atlas(species.card, species.leaf, species.bark, texture_size, leaf_rng);
       leaves = std::move(atlas.image);
       options.atlas = {atlas.columns, atlas.rows, atlas.coverage};
       options.foliage = generate::FoliageMode::kCards;
@@ -91,7 +99,8 @@ class GenerateStage : public Stage {
       options.foliage = generate::FoliageMode::kSingle;
     }
     // Mip-safe alpha: the atlas keeps its coverage under the plain mipmaps every client builds.
-    const generate::MipSafety mips = generate::make_mip_safe(leaves, options.atlas.columns, options.atlas.rows);
+    const generate::MipSafety mips =
+        generate::make_mip_safe(leaves, options.atlas.columns, options.atlas.rows);
     options.levels = static_cast<int>(ctx.integer("levels"));
     options.max_node_spacing = ctx.real("max_node_spacing_m");
     options.leaf_density = ctx.real("leaf_density");
@@ -115,17 +124,18 @@ class GenerateStage : public Stage {
     tree::write_sylt(ctx.output_path("tree.sylt"), tree);
     const tree::TreeStats st = tree::compute_stats(tree);
     nlohmann::json stats = nlohmann::json::parse(tree::format_stats_json(st));
-    stats["foliage"] = {{"mode", foliage},
-                        {"kind", cards ? (conifer ? "shoot_cards" : "twig_cards") : (conifer ? "needles" : "leaves")},
-                        {"target_lai", variant.params.leaf_area_index * options.leaf_density},
-                        {"published_lai_range", {species.lai_min, species.lai_max}},
-                        {"lai_source", species.lai_source},
-                        {"card_scale", fit.card_scale},
-                        {"card_layers", fit.layers},
-                        {"elements", fit.elements},
-                        {"atlas_halo_gain", mips.gain},
-                        {"atlas_mip_coverage", mips.coverage},
-                        {"atlas_mip_coverage_without_halo", mips.coverage_plain}};
+    stats["foliage"] = {
+        {"mode", foliage},
+        {"kind", cards ? (conifer ? "shoot_cards" : "twig_cards") : (conifer ? "needles" : "leaves")},
+        {"target_lai", variant.params.leaf_area_index * options.leaf_density},
+        {"published_lai_range", {species.lai_min, species.lai_max}},
+        {"lai_source", species.lai_source},
+        {"card_scale", fit.card_scale},
+        {"card_layers", fit.layers},
+        {"elements", fit.elements},
+        {"atlas_halo_gain", mips.gain},
+        {"atlas_mip_coverage", mips.coverage},
+        {"atlas_mip_coverage_without_halo", mips.coverage_plain}};
     ctx.write_output("stats.json", stats.dump(2) + "\n");
     try {
       image::write_png(to_image(bark), ctx.output_path("bark.png"));

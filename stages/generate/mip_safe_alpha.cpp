@@ -19,14 +19,16 @@ std::vector<double> blur_cell(const std::vector<double>& a, int w, int h, int r)
       for (int x = 0; x < w; ++x) {
         double s = 0;
         int n = 0;
-        for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k, ++n) s += cur[static_cast<std::size_t>(y) * w + k];
+        for (int k = std::max(0, x - r); k <= std::min(w - 1, x + r); ++k, ++n)
+          s += cur[static_cast<std::size_t>(y) * w + k];
         tmp[static_cast<std::size_t>(y) * w + x] = s / n;
       }
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         double s = 0;
         int n = 0;
-        for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k, ++n) s += tmp[static_cast<std::size_t>(k) * w + x];
+        for (int k = std::max(0, y - r); k <= std::min(h - 1, y + r); ++k, ++n)
+          s += tmp[static_cast<std::size_t>(k) * w + x];
         cur[static_cast<std::size_t>(y) * w + x] = s / n;
       }
   }
@@ -42,7 +44,8 @@ image::Image to_image(const Rgba8& px) {
 std::vector<double> level_coverage(const Rgba8& px, float cutoff, std::size_t levels) {
   const std::vector<image::Image> mips = image::coverage_preserving_mips(to_image(px), 0);
   std::vector<double> c;
-  for (std::size_t l = 0; l < std::min(levels, mips.size()); ++l) c.push_back(image::alpha_coverage(mips[l], cutoff));
+  for (std::size_t l = 0; l < std::min(levels, mips.size()); ++l)
+    c.push_back(image::alpha_coverage(mips[l], cutoff));
   return c;
 }
 
@@ -64,11 +67,13 @@ MipSafety make_mip_safe(Rgba8& atlas, int columns, int rows, float cutoff) {
         for (int y = 0; y < ch; ++y)
           for (int x = 0; x < cw; ++x)
             a[static_cast<std::size_t>(y) * cw + x] =
-                atlas.pixels[(static_cast<std::size_t>(cy * ch + y) * atlas.width + cx * cw + x) * 4 + 3] / 255.0;
+                atlas.pixels[(static_cast<std::size_t>(cy * ch + y) * atlas.width + cx * cw + x) * 4 + 3] /
+                255.0;
         const std::vector<double> b = blur_cell(a, cw, ch, r);
         for (int y = 0; y < ch; ++y)
           for (int x = 0; x < cw; ++x)
-            halo[static_cast<std::size_t>(cy * ch + y) * atlas.width + cx * cw + x] = b[static_cast<std::size_t>(y) * cw + x];
+            halo[static_cast<std::size_t>(cy * ch + y) * atlas.width + cx * cw + x] =
+                b[static_cast<std::size_t>(y) * cw + x];
       }
     return halo;
   };

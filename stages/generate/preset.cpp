@@ -22,8 +22,8 @@ class Reader {
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
   [[noreturn]] void fail(const YAML::Mark& m, const std::string& msg) const {
-    throw PresetParseError(file_ + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) + ": " +
-                           msg);
+    throw PresetParseError(file_ + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1) +
+                           ": " + msg);
   }
 
   // Every key of `map` must be in `known` (and appear once); returns the map.
@@ -31,7 +31,8 @@ class Reader {
     if (!n.IsMap()) fail(n.Mark(), what + ": expected a mapping");
   }
   template <class F>
-  void for_each_key(const YAML::Node& map, const std::string& what, const std::set<std::string>& known, F&& f) const {
+  void for_each_key(const YAML::Node& map, const std::string& what, const std::set<std::string>& known,
+                    F&& f) const {
     require_map(map, what);
     std::set<std::string> seen;
     for (const auto& kv : map) {
@@ -82,7 +83,8 @@ class Reader {
     return {c[0], c[1], c[2]};
   }
   template <class E>
-  E choice(const YAML::Node& n, const std::string& key, const std::vector<std::pair<std::string, E>>& options) const {
+  E choice(const YAML::Node& n, const std::string& key,
+           const std::vector<std::pair<std::string, E>>& options) const {
     const std::string s = string(n, key);
     std::string list;
     for (const auto& [name, value] : options) {
@@ -95,31 +97,51 @@ class Reader {
   // `params:` (shared or per age) merged onto `p`; `marks` records where each key was set.
   void apply_params(const YAML::Node& node, Preset& p, Marks& marks, const std::string& what) const {
     static const std::set<std::string> keys = {
-        "Shape", "Levels", "Scale", "ScaleV", "BaseSize", "Ratio", "Flare", "BaseSplits", "AttractionUp",
-        "TreeShapeExponent", "Leaves", "LeafScale", "LeafScaleX", "LeafAreaIndex", "FoliageZone", "CardScale", "levels", "leaf"};
+        "Shape",     "Levels",    "Scale",      "ScaleV",        "BaseSize",
+        "Ratio",     "Flare",     "BaseSplits", "AttractionUp",  "TreeShapeExponent",
+        "Leaves",    "LeafScale", "LeafScaleX", "LeafAreaIndex", "FoliageZone",
+        "CardScale", "levels",    "leaf"};
     for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
       marks[k] = v.Mark();
-      if (k == "Shape") p.shape = integer(v, k);
-      else if (k == "Levels") p.levels = integer(v, k);
-      else if (k == "Scale") p.scale = real(v, k);
-      else if (k == "ScaleV") p.scale_v = real(v, k);
-      else if (k == "BaseSize") p.base_size = real(v, k);
-      else if (k == "Ratio") p.ratio = real(v, k);
-      else if (k == "Flare") p.flare = real(v, k);
-      else if (k == "BaseSplits") p.base_splits = integer(v, k);
-      else if (k == "AttractionUp") p.attraction_up = real(v, k);
-      else if (k == "TreeShapeExponent") p.tree_shape_exponent = real(v, k);
-      else if (k == "Leaves") p.leaves = real(v, k);
-      else if (k == "LeafScale") p.leaf_scale = real(v, k);
-      else if (k == "LeafScaleX") p.leaf_scale_x = real(v, k);
-      else if (k == "LeafAreaIndex") p.leaf_area_index = real(v, k);
-      else if (k == "FoliageZone") p.foliage_zone = real(v, k);
-      else if (k == "CardScale") p.card_scale = real(v, k);
-      else if (k == "leaf") apply_leaf(v, p.leaf, marks, what + ".leaf");
+      if (k == "Shape")
+        p.shape = integer(v, k);
+      else if (k == "Levels")
+        p.levels = integer(v, k);
+      else if (k == "Scale")
+        p.scale = real(v, k);
+      else if (k == "ScaleV")
+        p.scale_v = real(v, k);
+      else if (k == "BaseSize")
+        p.base_size = real(v, k);
+      else if (k == "Ratio")
+        p.ratio = real(v, k);
+      else if (k == "Flare")
+        p.flare = real(v, k);
+      else if (k == "BaseSplits")
+        p.base_splits = integer(v, k);
+      else if (k == "AttractionUp")
+        p.attraction_up = real(v, k);
+      else if (k == "TreeShapeExponent")
+        p.tree_shape_exponent = real(v, k);
+      else if (k == "Leaves")
+        p.leaves = real(v, k);
+      else if (k == "LeafScale")
+        p.leaf_scale = real(v, k);
+      else if (k == "LeafScaleX")
+        p.leaf_scale_x = real(v, k);
+      else if (k == "LeafAreaIndex")
+        p.leaf_area_index = real(v, k);
+      else if (k == "FoliageZone")
+        p.foliage_zone = real(v, k);
+      else if (k == "CardScale")
+        p.card_scale = real(v, k);
+      else if (k == "leaf")
+        apply_leaf(v, p.leaf, marks, what + ".leaf");
       else if (k == "levels") {
         if (!v.IsSequence()) fail(v.Mark(), what + ".levels: expected a list (index 0 = trunk)");
         if (v.size() > 8) fail(v.Mark(), what + ".levels: at most 8 levels");
-        if (p.level.size() < v.size()) p.level.resize(v.size(), p.level.empty() ? LevelParams{} : p.level.back());
+        if (p.level.size() < v.size())
+          p.level.resize(v.size(), p.level.empty() ? LevelParams{} : p.level.back());
         for (std::size_t i = 0; i < v.size(); ++i)
           apply_level(v[i], p.level[i], marks, "levels[" + std::to_string(i) + "]", what);
       }
@@ -128,25 +150,39 @@ class Reader {
 
   void apply_level(const YAML::Node& node, LevelParams& l, Marks& marks, const std::string& key,
                    const std::string& what) const {
-    static const std::set<std::string> keys = {"Branches", "Length", "LengthV", "Taper", "SegSplits",
-                                               "SplitAngleV", "CurveRes", "Curve", "CurveV", "CurveBack",
-                                               "DownAngleV", "Rotate", "RotateV", "BranchRatio"};
+    static const std::set<std::string> keys = {
+        "Branches", "Length", "LengthV",   "Taper",      "SegSplits", "SplitAngleV", "CurveRes",
+        "Curve",    "CurveV", "CurveBack", "DownAngleV", "Rotate",    "RotateV",     "BranchRatio"};
     for_each_key(node, what + "." + key, keys, [&](const std::string& k, const YAML::Node& v) {
       marks[key + "." + k] = v.Mark();
-      if (k == "Branches") l.branches = real(v, k);
-      else if (k == "Length") l.length = real(v, k);
-      else if (k == "LengthV") l.length_v = real(v, k);
-      else if (k == "Taper") l.taper = real(v, k);
-      else if (k == "SegSplits") l.seg_splits = real(v, k);
-      else if (k == "SplitAngleV") l.split_angle_v = real(v, k);
-      else if (k == "CurveRes") l.curve_res = integer(v, k);
-      else if (k == "Curve") l.curve = real(v, k);
-      else if (k == "CurveV") l.curve_v = real(v, k);
-      else if (k == "CurveBack") l.curve_back = real(v, k);
-      else if (k == "DownAngleV") l.down_angle_v = real(v, k);
-      else if (k == "Rotate") l.rotate = real(v, k);
-      else if (k == "RotateV") l.rotate_v = real(v, k);
-      else if (k == "BranchRatio") l.branch_ratio = real(v, k);
+      if (k == "Branches")
+        l.branches = real(v, k);
+      else if (k == "Length")
+        l.length = real(v, k);
+      else if (k == "LengthV")
+        l.length_v = real(v, k);
+      else if (k == "Taper")
+        l.taper = real(v, k);
+      else if (k == "SegSplits")
+        l.seg_splits = real(v, k);
+      else if (k == "SplitAngleV")
+        l.split_angle_v = real(v, k);
+      else if (k == "CurveRes")
+        l.curve_res = integer(v, k);
+      else if (k == "Curve")
+        l.curve = real(v, k);
+      else if (k == "CurveV")
+        l.curve_v = real(v, k);
+      else if (k == "CurveBack")
+        l.curve_back = real(v, k);
+      else if (k == "DownAngleV")
+        l.down_angle_v = real(v, k);
+      else if (k == "Rotate")
+        l.rotate = real(v, k);
+      else if (k == "RotateV")
+        l.rotate_v = real(v, k);
+      else if (k == "BranchRatio")
+        l.branch_ratio = real(v, k);
     });
   }
 
@@ -154,67 +190,84 @@ class Reader {
     static const std::set<std::string> keys = {"DownAngleV", "Rotate", "RotateV", "BranchRatio"};
     for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
       marks["leaf." + k] = v.Mark();
-      if (k == "DownAngleV") l.down_angle_v = real(v, k);
-      else if (k == "Rotate") l.rotate = real(v, k);
-      else if (k == "RotateV") l.rotate_v = real(v, k);
-      else if (k == "BranchRatio") l.branch_ratio = real(v, k);
+      if (k == "DownAngleV")
+        l.down_angle_v = real(v, k);
+      else if (k == "Rotate")
+        l.rotate = real(v, k);
+      else if (k == "RotateV")
+        l.rotate_v = real(v, k);
+      else if (k == "BranchRatio")
+        l.branch_ratio = real(v, k);
     });
   }
 
   void textures(const YAML::Node& node, SpeciesPreset& s) const {
     for_each_key(node, "textures", {"bark", "leaf"}, [&](const std::string& k, const YAML::Node& v) {
       if (k == "bark") {
-        for_each_key(v, "textures.bark", {"style", "color", "dark", "lower_tint"}, [&](const std::string& bk,
-                                                                                   const YAML::Node& bv) {
-          if (bk == "lower_tint") {
-            for_each_key(bv, "textures.bark.lower_tint", {"color", "below", "above"},
-                         [&](const std::string& tk, const YAML::Node& tv) {
-                           if (tk == "color") tint_.color = color(tv, tk);
-                           else if (tk == "below") tint_.below = real(tv, tk);
-                           else tint_.above = real(tv, tk);
-                           tint_.mark = bv.Mark();
-                         });
-            required(bv, "color", "textures.bark.lower_tint");
-            required(bv, "below", "textures.bark.lower_tint");
-            required(bv, "above", "textures.bark.lower_tint");
-            if (!(tint_.below >= 0 && tint_.below <= tint_.above && tint_.above <= 1))
-              fail(bv.Mark(), "textures.bark.lower_tint: expected 0 <= below <= above <= 1 (fractions of the height)");
-          } else if (bk == "style")
-            s.bark.style = choice<BarkStyle>(bv, "style", {{"fissured", BarkStyle::kFissured},
-                                                          {"smooth", BarkStyle::kSmooth},
-                                                          {"birch", BarkStyle::kBirch},
-                                                          {"scaly", BarkStyle::kScaly}});
-          else if (bk == "color") s.bark.color = color(bv, bk);
-          else s.bark.dark = color(bv, bk);
-        });
+        for_each_key(v, "textures.bark", {"style", "color", "dark", "lower_tint"},
+                     [&](const std::string& bk, const YAML::Node& bv) {
+                       if (bk == "lower_tint") {
+                         for_each_key(bv, "textures.bark.lower_tint", {"color", "below", "above"},
+                                      [&](const std::string& tk, const YAML::Node& tv) {
+                                        if (tk == "color")
+                                          tint_.color = color(tv, tk);
+                                        else if (tk == "below")
+                                          tint_.below = real(tv, tk);
+                                        else
+                                          tint_.above = real(tv, tk);
+                                        tint_.mark = bv.Mark();
+                                      });
+                         required(bv, "color", "textures.bark.lower_tint");
+                         required(bv, "below", "textures.bark.lower_tint");
+                         required(bv, "above", "textures.bark.lower_tint");
+                         if (!(tint_.below >= 0 && tint_.below <= tint_.above && tint_.above <= 1))
+                           fail(bv.Mark(),
+                                "textures.bark.lower_tint: expected 0 <= below <= above <= 1 (fractions of "
+                                "the height)");
+                       } else if (bk == "style")
+                         s.bark.style = choice<BarkStyle>(bv, "style",
+                                                          {{"fissured", BarkStyle::kFissured},
+                                                           {"smooth", BarkStyle::kSmooth},
+                                                           {"birch", BarkStyle::kBirch},
+                                                           {"scaly", BarkStyle::kScaly}});
+                       else if (bk == "color")
+                         s.bark.color = color(bv, bk);
+                       else
+                         s.bark.dark = color(bv, bk);
+                     });
       } else {
-        for_each_key(v, "textures.leaf", {"shape", "color", "vein"}, [&](const std::string& lk, const YAML::Node& lv) {
-          if (lk == "shape")
-            s.leaf.shape = choice<LeafShape>(lv, "shape", {{"lobed", LeafShape::kLobed},
-                                                          {"ovate", LeafShape::kOvate},
-                                                          {"palmate", LeafShape::kPalmate},
-                                                          {"spiny", LeafShape::kSpiny},
-                                                          {"lanceolate", LeafShape::kLanceolate},
-                                                          {"needle", LeafShape::kNeedle}});
-          else if (lk == "color") s.leaf.color = color(lv, lk);
-          else s.leaf.vein = color(lv, lk);
-        });
+        for_each_key(v, "textures.leaf", {"shape", "color", "vein"},
+                     [&](const std::string& lk, const YAML::Node& lv) {
+                       if (lk == "shape")
+                         s.leaf.shape = choice<LeafShape>(lv, "shape",
+                                                          {{"lobed", LeafShape::kLobed},
+                                                           {"ovate", LeafShape::kOvate},
+                                                           {"palmate", LeafShape::kPalmate},
+                                                           {"spiny", LeafShape::kSpiny},
+                                                           {"lanceolate", LeafShape::kLanceolate},
+                                                           {"needle", LeafShape::kNeedle}});
+                       else if (lk == "color")
+                         s.leaf.color = color(lv, lk);
+                       else
+                         s.leaf.vein = color(lv, lk);
+                     });
       }
     });
   }
 
   // `card:` — the twig or shoot a card shows (atlas) and how cards are placed (Preset::card).
   void card(const YAML::Node& node, SpeciesPreset& s, CardShape& shape) const {
-    static const std::set<std::string> keys = {"style", "length_m", "aspect", "elements", "shoots", "petiole",
-                                               "leaf_angle_deg", "cluster", "layers", "light_bias"};
+    static const std::set<std::string> keys = {"style",  "length_m",  "aspect",         "elements",
+                                               "shoots", "petiole",   "leaf_angle_deg", "cluster",
+                                               "layers", "light_bias"};
     for_each_key(node, "card", keys, [&](const std::string& k, const YAML::Node& v) {
       auto in = [&](double x, double lo, double hi, const char* rule) {
         if (!(x >= lo && x <= hi)) fail(v.Mark(), "card." + k + ": must be " + rule);
         return x;
       };
       if (k == "style") {
-        s.card.style = choice<CardStyle>(v, k, {{"twig", CardStyle::kTwig}, {"tuft", CardStyle::kTuft},
-                                               {"spray", CardStyle::kSpray}});
+        s.card.style = choice<CardStyle>(
+            v, k, {{"twig", CardStyle::kTwig}, {"tuft", CardStyle::kTuft}, {"spray", CardStyle::kSpray}});
       } else if (k == "length_m") {
         shape.length = s.card.length_m = in(real(v, k), 0.01, 5, "in [0.01, 5]");
       } else if (k == "aspect") {
@@ -242,17 +295,19 @@ class Reader {
   }
 
   void lai(const YAML::Node& node, SpeciesPreset& s) const {
-    for_each_key(node, "leaf_area_index", {"range", "source"}, [&](const std::string& k, const YAML::Node& v) {
-      if (k == "source") {
-        s.lai_source = string(v, k);
-      } else {
-        if (!v.IsSequence() || v.size() != 2) fail(v.Mark(), "leaf_area_index.range: expected [min, max]");
-        s.lai_min = real(v[0], k);
-        s.lai_max = real(v[1], k);
-        if (!(s.lai_min > 0 && s.lai_min < s.lai_max && s.lai_max <= 20))
-          fail(v.Mark(), "leaf_area_index.range: expected 0 < min < max <= 20");
-      }
-    });
+    for_each_key(node, "leaf_area_index", {"range", "source"},
+                 [&](const std::string& k, const YAML::Node& v) {
+                   if (k == "source") {
+                     s.lai_source = string(v, k);
+                   } else {
+                     if (!v.IsSequence() || v.size() != 2)
+                       fail(v.Mark(), "leaf_area_index.range: expected [min, max]");
+                     s.lai_min = real(v[0], k);
+                     s.lai_max = real(v[1], k);
+                     if (!(s.lai_min > 0 && s.lai_min < s.lai_max && s.lai_max <= 20))
+                       fail(v.Mark(), "leaf_area_index.range: expected 0 < min < max <= 20");
+                   }
+                 });
     required(node, "range", "leaf_area_index");
     required(node, "source", "leaf_area_index");
   }
@@ -266,32 +321,35 @@ class Reader {
     YAML::Node ages_node;
     CardShape shape;
     YAML::Node lai_node;
-    for_each_key(root, "the preset",
-                 {"species", "name", "foliage", "sources", "textures", "card", "leaf_area_index", "params", "ages"},
-                 [&](const std::string& k, const YAML::Node& v) {
-                   if (k == "species") {
-                     s.species = string(v, k);
-                     if (s.species.empty() || s.species.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") != std::string::npos)
-                       fail(v.Mark(), "species: must be a name of [a-z_], got '" + s.species + "'");
-                   } else if (k == "name") {
-                     s.name = string(v, k);
-                   } else if (k == "foliage") {
-                     base.foliage = choice<Foliage>(v, k, {{"leaves", Foliage::kLeaves}, {"needles", Foliage::kNeedles}});
-                   } else if (k == "sources") {
-                     if (!v.IsSequence()) fail(v.Mark(), "sources: expected a list of strings");
-                     for (const auto& e : v) s.sources.push_back(string(e, k));
-                   } else if (k == "textures") {
-                     textures(v, s);
-                   } else if (k == "card") {
-                     card(v, s, shape);
-                   } else if (k == "leaf_area_index") {
-                     lai(v, s);
-                   } else if (k == "params") {
-                     apply_params(v, base, base_marks, "params");
-                   } else {
-                     ages_node = v;
-                   }
-                 });
+    for_each_key(
+        root, "the preset",
+        {"species", "name", "foliage", "sources", "textures", "card", "leaf_area_index", "params", "ages"},
+        [&](const std::string& k, const YAML::Node& v) {
+          if (k == "species") {
+            s.species = string(v, k);
+            if (s.species.empty() ||
+                s.species.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") != std::string::npos)
+              fail(v.Mark(), "species: must be a name of [a-z_], got '" + s.species + "'");
+          } else if (k == "name") {
+            s.name = string(v, k);
+          } else if (k == "foliage") {
+            base.foliage =
+                choice<Foliage>(v, k, {{"leaves", Foliage::kLeaves}, {"needles", Foliage::kNeedles}});
+          } else if (k == "sources") {
+            if (!v.IsSequence()) fail(v.Mark(), "sources: expected a list of strings");
+            for (const auto& e : v) s.sources.push_back(string(e, k));
+          } else if (k == "textures") {
+            textures(v, s);
+          } else if (k == "card") {
+            card(v, s, shape);
+          } else if (k == "leaf_area_index") {
+            lai(v, s);
+          } else if (k == "params") {
+            apply_params(v, base, base_marks, "params");
+          } else {
+            ages_node = v;
+          }
+        });
     required(root, "species", "the preset");
     required(root, "foliage", "the preset");
     required(root, "params", "the preset");
@@ -304,7 +362,8 @@ class Reader {
     base.bark_tint_to = tint_.above;
     s.card.leaf_length_m = base.leaf_scale;
     s.card.leaf_width = base.leaf_scale_x;
-    for_each_key(ages_node, "ages", {"young", "middle", "adult"}, [](const std::string&, const YAML::Node&) {});
+    for_each_key(ages_node, "ages", {"young", "middle", "adult"},
+                 [](const std::string&, const YAML::Node&) {});
     for (const char* age : kAgeNames) {
       const YAML::Node a = required(ages_node, age, "ages");
       const std::string what = std::string("ages.") + age;
@@ -315,7 +374,8 @@ class Reader {
       bool have_height = false;
       for_each_key(a, what, {"height_m", "source", "params"}, [&](const std::string& k, const YAML::Node& n) {
         if (k == "height_m") {
-          if (!n.IsSequence() || n.size() != 2) fail(n.Mark(), what + ".height_m: expected [min, max] in metres");
+          if (!n.IsSequence() || n.size() != 2)
+            fail(n.Mark(), what + ".height_m: expected [min, max] in metres");
           v.height_min = real(n[0], "height_m");
           v.height_max = real(n[1], "height_m");
           if (!(v.height_min > 0 && v.height_min < v.height_max))
@@ -328,7 +388,8 @@ class Reader {
         }
       });
       if (!have_height) fail(a.Mark(), what + ": missing required key 'height_m'");
-      if (v.source.empty()) fail(a.Mark(), what + ": missing required key 'source' (where the figures come from)");
+      if (v.source.empty())
+        fail(a.Mark(), what + ": missing required key 'source' (where the figures come from)");
       try {
         validate_preset(v.params);
       } catch (const PresetError& e) {

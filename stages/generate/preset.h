@@ -24,23 +24,23 @@ namespace sylva::generate {
 inline constexpr const char* kAgeNames[] = {"young", "middle", "adult"};
 
 struct AgeVariant {
-  std::string age;             // young | middle | adult
-  Preset params;               // merged and validated
-  double height_min = 0;       // m, expected height range of generated trees
+  std::string age;        // young | middle | adult
+  Preset params;          // merged and validated
+  double height_min = 0;  // m, expected height range of generated trees
   double height_max = 0;
-  std::string source;          // where this age's figures come from
+  std::string source;  // where this age's figures come from
 };
 
 struct SpeciesPreset {
-  std::string species;         // file-name stem, e.g. "oak"
-  std::string name;            // e.g. "Pedunculate oak (Quercus robur)"
+  std::string species;  // file-name stem, e.g. "oak"
+  std::string name;     // e.g. "Pedunculate oak (Quercus robur)"
   std::vector<std::string> sources;
   BarkLook bark;
   LeafLook leaf;
-  CardLook card;                 // the `card:` block (the atlas drawing; placement in Preset::card)
+  CardLook card;                    // the `card:` block (the atlas drawing; placement in Preset::card)
   double lai_min = 0, lai_max = 0;  // leaf_area_index.range: the published range
   std::string lai_source;           // leaf_area_index.source
-  std::vector<AgeVariant> ages;  // in kAgeNames order
+  std::vector<AgeVariant> ages;     // in kAgeNames order
 
   const AgeVariant& age(std::string_view name) const;  // throws std::out_of_range
 };

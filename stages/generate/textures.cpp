@@ -110,7 +110,8 @@ std::uint8_t to_byte(double v) { return static_cast<std::uint8_t>(clamp01(v) * 2
 
 void put(Rgba8& img, int x, int y, double r, double g, double b, double a) {
   std::uint8_t* p = &img.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) +
-                                 static_cast<std::size_t>(x)) * 4];
+                                 static_cast<std::size_t>(x)) *
+                                4];
   p[0] = to_byte(r);
   p[1] = to_byte(g);
   p[2] = to_byte(b);
@@ -139,7 +140,8 @@ double blade_half_width(LeafShape shape, double tau, const LeafVariant& v) {
   const double ovate = std::pow(std::sin(kPi * std::pow(tau, 0.8)), 0.8);
   switch (shape) {
     case LeafShape::kOvate:  // birch: ovate-triangular, serrate
-      return v.width * std::pow(std::sin(kPi * std::pow(tau, 0.65)), 0.9) * (1 - 0.07 * std::abs(std::sin(kPi * 22 * tau)));
+      return v.width * std::pow(std::sin(kPi * std::pow(tau, 0.65)), 0.9) *
+             (1 - 0.07 * std::abs(std::sin(kPi * 22 * tau)));
     case LeafShape::kLobed:  // oak: obovate with rounded lobes
       return v.width * std::pow(std::sin(kPi * std::pow(tau, 1.4)), 0.75) *
              (0.5 + 0.5 * std::pow(std::abs(std::cos(kPi * (v.lobes * tau + v.phase))), 0.45));
@@ -151,7 +153,8 @@ double blade_half_width(LeafShape shape, double tau, const LeafVariant& v) {
       return v.width * std::pow(std::sin(kPi * tau), 0.6) * (0.72 + 0.28 * spines);
     }
     case LeafShape::kLanceolate:  // willow: long, narrow, finely serrate
-      return v.width * std::pow(std::sin(kPi * std::pow(tau, 0.9)), 1.2) * (1 - 0.04 * std::abs(std::sin(kPi * 30 * tau)));
+      return v.width * std::pow(std::sin(kPi * std::pow(tau, 0.9)), 1.2) *
+             (1 - 0.04 * std::abs(std::sin(kPi * 30 * tau)));
     case LeafShape::kNeedle:
       return v.width * 0.45 * std::min(1.0, (1 - tau) * 6) * std::min(1.0, tau * 12 + 0.4);
   }
@@ -171,11 +174,11 @@ Rgba8 make_bark_texture(const BarkLook& look, int size, Rng& rng) {
   Rgba8 img{size, size, std::vector<std::uint8_t>(static_cast<std::size_t>(size) * size * 4)};
   // Noise fields, all periodic in [0, 1)^2: u across the bark (x), v along it (y).
   const Fbm fine(16, 16, 3, rng);
-  const Fbm ridges(7, 1, 3, rng);     // long vertical structures
-  const Fbm cracks(14, 2, 2, rng);    // finer vertical cracks
-  const Fbm streaks(48, 4, 2, rng);   // fibre grain
+  const Fbm ridges(7, 1, 3, rng);    // long vertical structures
+  const Fbm cracks(14, 2, 2, rng);   // finer vertical cracks
+  const Fbm streaks(48, 4, 2, rng);  // fibre grain
   const Fbm warp(4, 4, 2, rng);
-  const Fbm dashes(3, 24, 3, rng);    // short horizontal structures (lenticels)
+  const Fbm dashes(3, 24, 3, rng);  // short horizontal structures (lenticels)
   const PeriodicCells plates(5, 4, rng);
   for (int y = 0; y < size; ++y) {
     const double v = (y + 0.5) / size;
@@ -272,13 +275,15 @@ Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng, std::vector<floa
           const double rel = std::abs(dx) / half;
           vein = std::max(vein, clamp01(1 - std::abs(dx) / (0.025 + 0.02 * (1 - tau))));
           const double lateral = std::abs(std::fmod(tau * 7 - rel * 1.2 + 10, 1.0) - 0.5);
-          if (look.shape != LeafShape::kNeedle) vein = std::max(vein, 0.55 * clamp01(1 - lateral / 0.05) * (1 - rel));
+          if (look.shape != LeafShape::kNeedle)
+            vein = std::max(vein, 0.55 * clamp01(1 - lateral / 0.05) * (1 - rel));
           (void)rel;
         } else {
           vein = 1;
         }
         const double margin = half > 0 ? smoothstep(0.6, 1.0, std::abs(dx) / half) : 0;
-        const double shade = lv.tint * (0.9 + 0.2 * mottle.at(static_cast<double>(x) / q, t)) * (1 - 0.18 * margin);
+        const double shade =
+            lv.tint * (0.9 + 0.2 * mottle.at(static_cast<double>(x) / q, t)) * (1 - 0.18 * margin);
         const Rgb c = scale(mix(look.color, look.vein, vein), shade);
         put(img, ox + x, oy + y, c.r, c.g, c.b, a);
       }

@@ -48,11 +48,11 @@ Rgba8 make_leaf_atlas(const LeafLook& look, int size, Rng& rng, std::vector<floa
 
 // Per-variant variation of a leaf silhouette.
 struct LeafVariant {
-  double width = 0.9;   // overall half-width scale
-  double phase = 0;     // lobe phase
-  double bend = 0;      // midrib bend (fraction of the half-width at the tip)
-  double tint = 1;      // brightness factor
-  double lobes = 4.5;   // lobes per side (lobed / spiny)
+  double width = 0.9;  // overall half-width scale
+  double phase = 0;    // lobe phase
+  double bend = 0;     // midrib bend (fraction of the half-width at the tip)
+  double tint = 1;     // brightness factor
+  double lobes = 4.5;  // lobes per side (lobed / spiny)
 };
 
 // Half-width of a blade of `shape` at tau in [0, 1] from its base to its tip, as a fraction of

@@ -92,19 +92,19 @@ double taper_radius(double taper, double r_stem, double len, double z, bool trun
 
 // One stem: a W&P branch with all its clones (they share length, taper and segment length).
 struct Stem {
-  double length = 0;     // m
-  double radius = 0;     // base radius the taper profile is relative to (m); set in pass 2
-  double seg_len = 0;    // m
+  double length = 0;   // m
+  double radius = 0;   // base radius the taper profile is relative to (m); set in pass 2
+  double seg_len = 0;  // m
   int curve_res = 1;
-  double offset = 0;     // attachment offset along the parent stem (m), laterals only
+  double offset = 0;  // attachment offset along the parent stem (m), laterals only
   double parent_length = 0;
   bool trunk = false;
 };
 
 // How one split groups n members (the primary continuation and n − 1 clones).
 struct SplitPlan {
-  int base = 0;            // segment node index on the splitting branch
-  int n = 2;               // members
+  int base = 0;  // segment node index on the splitting branch
+  int n = 2;     // members
   double primary_azimuth = 0, primary_deviation = 0;
   std::uint32_t first_clone = 0;  // clones are consecutive plans
 };
@@ -114,29 +114,28 @@ struct BranchPlan {
   std::uint32_t level = 0;
   bool clone = false;
   std::uint32_t stem = 0;
-  int nseg = 1;             // segments of this branch (clones: the stem's remaining ones)
-  int seg_offset = 0;       // stem segment index of this branch's first segment
-  double attach_s = 0;      // lateral: arc position on the parent
-  double azimuth = 0;       // around the parent's frame at the junction
-  double deviation = 0;     // lateral: down angle; clone: split deviation (rad)
-  double primary_angle = 0; // lateral: Murray's primary deviation x it causes (rad)
-  double ratio = 1;         // lateral: S_s; clone: n (members of its split)
-  std::uint32_t curve_at = 0;   // curve[] per segment node 0..nseg in a shared pool
-  std::int64_t pull_at = -1;    // trunk split compensation per segment node, or -1
-  std::uint32_t first_child = 0, child_count = 0;   // laterals, consecutive, by attach_s
-  std::uint32_t first_split = 0, split_count = 0;   // splits, by base
+  int nseg = 1;                // segments of this branch (clones: the stem's remaining ones)
+  int seg_offset = 0;          // stem segment index of this branch's first segment
+  double attach_s = 0;         // lateral: arc position on the parent
+  double azimuth = 0;          // around the parent's frame at the junction
+  double deviation = 0;        // lateral: down angle; clone: split deviation (rad)
+  double primary_angle = 0;    // lateral: Murray's primary deviation x it causes (rad)
+  double ratio = 1;            // lateral: S_s; clone: n (members of its split)
+  std::uint32_t curve_at = 0;  // curve[] per segment node 0..nseg in a shared pool
+  std::int64_t pull_at = -1;   // trunk split compensation per segment node, or -1
+  std::uint32_t first_child = 0, child_count = 0;  // laterals, consecutive, by attach_s
+  std::uint32_t first_split = 0, split_count = 0;  // splits, by base
   // Set in pass 2.
   double start_radius = 0;
   std::uint32_t junction = 0;  // node of the parent it grows from
 };
 
-
 // Per-node data of pass 2 that pass 3 needs (nodes of all branches, concatenated).
 struct NodeInfo {
   double s = 0;
-  int base = -1;            // segment node index, or -1 for inserted nodes
+  int base = -1;                                   // segment node index, or -1 for inserted nodes
   std::uint32_t first_child = 0, child_count = 0;  // laterals at this junction (plan ids)
-  std::int32_t split = -1;  // split plan at this node
+  std::int32_t split = -1;                         // split plan at this node
 };
 
 class Generator {
@@ -259,7 +258,8 @@ class Generator {
       // remaining segments.
       if (level == 0) {
         const int remaining = nseg - j;
-        for (int k = j + 1; k < nseg; ++k) pull_[static_cast<std::size_t>(plans_[id].pull_at) + k] += theta / remaining;
+        for (int k = j + 1; k < nseg; ++k)
+          pull_[static_cast<std::size_t>(plans_[id].pull_at) + k] += theta / remaining;
       }
       splits_.push_back(sp);
       ++plans_[id].split_count;
@@ -275,7 +275,7 @@ class Generator {
   void add_children(std::uint32_t parent, std::uint32_t level, std::vector<std::uint32_t>& out) {
     const BranchPlan& pb = plans_[parent];
     const Stem ps = stems_[pb.stem];
-    const LevelParams& lp = level_params(p_, level);        // the children's level
+    const LevelParams& lp = level_params(p_, level);  // the children's level
     const double branch_len = pb.nseg * ps.seg_len;
     const double branch_start = pb.seg_offset * ps.seg_len;  // stem offset of s = 0
     // Children per metre of stem (W&P).
@@ -432,8 +432,8 @@ class Generator {
     // The trunk's stem radius (W&P: length x Ratio; Nystad drops 0Scale); its base radius
     // includes the flare.
     stems_[0].radius = stems_[0].length * p_.ratio;
-    plans_[0].start_radius = taper_radius(level_params(p_, 0).taper, stems_[0].radius, stems_[0].length, 0,
-                                          true, p_.flare);
+    plans_[0].start_radius =
+        taper_radius(level_params(p_, 0).taper, stems_[0].radius, stems_[0].length, 0, true, p_.flare);
     for (std::uint32_t id = 0; id < plans_.size(); ++id) {
       node_begin_[id] = static_cast<std::uint32_t>(s_.size());
       build_branch(id);
@@ -496,7 +496,8 @@ class Generator {
         cur_junction_ = true;
         ++next_split;
         const double stub = std::min(cur_out_, 0.2 * seg);
-        const bool child_soon = next_child < end_child && plans_[next_child].attach_s <= sj + stub + 0.1 * seg;
+        const bool child_soon =
+            next_child < end_child && plans_[next_child].attach_s <= sj + stub + 0.1 * seg;
         if (j < b.nseg && !child_soon) push_node(b, sj + stub, -1);
       }
     }
@@ -532,9 +533,9 @@ class Generator {
       Vec3 pos = start[id].position;
       const bool grounded = b.parent >= 0;  // every branch but the roots keeps off the ground
       if (b.parent >= 0) {
-        const double along = b.clone ? s_[n0]
-                                     : child_offset(b.ratio, start[id].parent_radius) /
-                                           std::max(std::sin(b.deviation), 0.5);
+        const double along =
+            b.clone ? s_[n0]
+                    : child_offset(b.ratio, start[id].parent_radius) / std::max(std::sin(b.deviation), 0.5);
         lift(f, pos, along, radius_[n0]);
         pos += f.d * along;
       }
@@ -553,7 +554,8 @@ class Generator {
           const double c = curve_[b.curve_at + static_cast<std::uint32_t>(ni.base)];
           if (c != 0) f.turn(f.side, c);
           double pull = 0;
-          if (b.pull_at >= 0) pull = pull_[static_cast<std::size_t>(b.pull_at) + static_cast<std::size_t>(ni.base)];
+          if (b.pull_at >= 0)
+            pull = pull_[static_cast<std::size_t>(b.pull_at) + static_cast<std::size_t>(ni.base)];
           const double decl = std::acos(std::clamp(tree::dot(f.d, kUp), -1.0, 1.0));
           const double a = attraction * decl / curve_res + pull;
           const Vec3 axis = tree::cross(f.d, kUp);
@@ -611,8 +613,9 @@ class Generator {
   void foliage(tree::Tree& t) {
     FoliageSpec spec;
     const bool cards = o_.foliage == FoliageMode::kCards;
-    spec.mode = cards ? FoliageSpec::Mode::kCards
-                      : (p_.foliage == Foliage::kNeedles ? FoliageSpec::Mode::kNeedles : FoliageSpec::Mode::kLeaves);
+    spec.mode =
+        cards ? FoliageSpec::Mode::kCards
+              : (p_.foliage == Foliage::kNeedles ? FoliageSpec::Mode::kNeedles : FoliageSpec::Mode::kLeaves);
     spec.target_lai = p_.leaf_area_index * o_.leaf_density;
     spec.count = p_.leaves * o_.leaf_density;
     spec.zone = p_.foliage_zone;
@@ -625,7 +628,7 @@ class Generator {
     spec.card = p_.card;
     spec.card.length *= p_.card_scale;
     spec.materials = t.materials;
-    spec.materials.leaf_kind = !cards ? tree::LeafKind::kLeaves
+    spec.materials.leaf_kind = !cards                            ? tree::LeafKind::kLeaves
                                : p_.foliage == Foliage::kNeedles ? tree::LeafKind::kShootCards
                                                                  : tree::LeafKind::kTwigCards;
     spec.materials.atlas_columns = static_cast<std::uint8_t>(o_.atlas.columns);
@@ -677,15 +680,24 @@ class Generator {
 
 double shape_ratio(int shape, double r) {
   switch (shape) {
-    case 0: return 0.2 + 0.8 * r;                          // conical
-    case 1: return 0.2 + 0.8 * std::sin(kPi * r);          // spherical
-    case 2: return 0.2 + 0.8 * std::sin(0.5 * kPi * r);    // hemispherical
-    case 3: return 1.0;                                    // cylindrical
-    case 4: return 0.5 + 0.5 * r;                          // tapered cylindrical
-    case 5: return r <= 0.7 ? r / 0.7 : (1 - r) / 0.3;     // flame
-    case 6: return 1 - 0.8 * r;                            // inverse conical
-    case 7: return r <= 0.7 ? 0.5 + 0.5 * r / 0.7 : 0.5 + 0.5 * (1 - r) / 0.3;  // tend flame
-    default: return 1.0;
+    case 0:
+      return 0.2 + 0.8 * r;  // conical
+    case 1:
+      return 0.2 + 0.8 * std::sin(kPi * r);  // spherical
+    case 2:
+      return 0.2 + 0.8 * std::sin(0.5 * kPi * r);  // hemispherical
+    case 3:
+      return 1.0;  // cylindrical
+    case 4:
+      return 0.5 + 0.5 * r;  // tapered cylindrical
+    case 5:
+      return r <= 0.7 ? r / 0.7 : (1 - r) / 0.3;  // flame
+    case 6:
+      return 1 - 0.8 * r;  // inverse conical
+    case 7:
+      return r <= 0.7 ? 0.5 + 0.5 * r / 0.7 : 0.5 + 0.5 * (1 - r) / 0.3;  // tend flame
+    default:
+      return 1.0;
   }
 }
 
@@ -711,11 +723,11 @@ void validate_preset(const Preset& p) {
   need(p.card_scale >= 0.25 && p.card_scale <= 4, "CardScale", "in [0.25, 4]");
   need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");
   need(p.card.aspect > 0 && p.card.aspect <= 4, "card.aspect", "in (0, 4]");
-  need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4, "card.layers",
-       "[min, max] with 1 <= min <= max <= 4");
+  need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4,
+       "card.layers", "[min, max] with 1 <= min <= max <= 4");
   need(p.card.light_bias >= 0 && p.card.light_bias <= 1, "card.light_bias", "in [0, 1]");
-  need(p.bark_tint_from >= 0 && p.bark_tint_from <= p.bark_tint_to && p.bark_tint_to <= 1, "textures.bark.lower_tint",
-       "heights 0 <= below <= above <= 1 (fractions of the tree's height)");
+  need(p.bark_tint_from >= 0 && p.bark_tint_from <= p.bark_tint_to && p.bark_tint_to <= 1,
+       "textures.bark.lower_tint", "heights 0 <= below <= above <= 1 (fractions of the tree's height)");
   need(!p.level.empty(), "levels", "a list with at least the trunk");
   for (std::size_t i = 0; i < p.level.size(); ++i) {
     const LevelParams& l = p.level[i];

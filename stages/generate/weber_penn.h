@@ -26,57 +26,57 @@ enum class Foliage { kLeaves, kNeedles };
 // trunk Branches, DownAngleV, Rotate, RotateV and BranchRatio are unused. Angles in degrees as
 // in the thesis (converted to radians inside).
 struct LevelParams {
-  double branches = 0;      // Branches: children per parent stem (W&P density rules)
-  double length = 1;        // Length: trunk: fraction of Scale; level 1: of the trunk; deeper: of parent
-  double length_v = 0;      // LengthV: ± variation of Length
-  double taper = 1;         // Taper: 0 cylinder, 1 cone, 1–2 rounded tip, 2–3 periodic (W&P)
-  double seg_splits = 0;    // SegSplits: clones per segment end (error-diffused)
-  double split_angle_v = 0; // SplitAngleV: ± variation of the natural split angle (deg)
-  int curve_res = 3;        // CurveRes: segments per stem
-  double curve = 0;         // Curve: bend over the stem (or its first half with CurveBack) (deg)
-  double curve_v = 0;       // CurveV: ± random bend per stem, spread over segments (deg)
-  double curve_back = 0;    // CurveBack: bend over the second half when non-zero (deg)
-  double down_angle_v = 0;  // DownAngleV: variation of the natural down angle (deg); < 0: W&P's
-                            // position-dependent form
-  double rotate = 140;      // Rotate: azimuth step between successive children (deg); < 0 alternates
-  double rotate_v = 0;      // RotateV: ± variation (deg)
-  double branch_ratio = 0.5;// BranchRatio S_s: child/primary radius ratio at attachments, (0, 1]
+  double branches = 0;        // Branches: children per parent stem (W&P density rules)
+  double length = 1;          // Length: trunk: fraction of Scale; level 1: of the trunk; deeper: of parent
+  double length_v = 0;        // LengthV: ± variation of Length
+  double taper = 1;           // Taper: 0 cylinder, 1 cone, 1–2 rounded tip, 2–3 periodic (W&P)
+  double seg_splits = 0;      // SegSplits: clones per segment end (error-diffused)
+  double split_angle_v = 0;   // SplitAngleV: ± variation of the natural split angle (deg)
+  int curve_res = 3;          // CurveRes: segments per stem
+  double curve = 0;           // Curve: bend over the stem (or its first half with CurveBack) (deg)
+  double curve_v = 0;         // CurveV: ± random bend per stem, spread over segments (deg)
+  double curve_back = 0;      // CurveBack: bend over the second half when non-zero (deg)
+  double down_angle_v = 0;    // DownAngleV: variation of the natural down angle (deg); < 0: W&P's
+                              // position-dependent form
+  double rotate = 140;        // Rotate: azimuth step between successive children (deg); < 0 alternates
+  double rotate_v = 0;        // RotateV: ± variation (deg)
+  double branch_ratio = 0.5;  // BranchRatio S_s: child/primary radius ratio at attachments, (0, 1]
 };
 
 // The leaf level (A.2): orientation of leaves/needles around and away from their branch.
 struct LeafLevelParams {
-  double down_angle_v = 0;   // deg
-  double rotate = 137.5;     // deg
-  double rotate_v = 0;       // deg
-  double branch_ratio = 0.5; // S_s that sets the natural leaf angle (Murray's y)
+  double down_angle_v = 0;    // deg
+  double rotate = 137.5;      // deg
+  double rotate_v = 0;        // deg
+  double branch_ratio = 0.5;  // S_s that sets the natural leaf angle (Murray's y)
 };
 
 // Tree parameters (A.1, A.1.1, A.1.2).
 struct Preset {
-  int shape = 0;                     // Shape 0..7 (W&P shape ratio; 8 = envelope is not supported)
-  int levels = 3;                    // Levels: branch levels, trunk included, 1..8
-  double scale = 10, scale_v = 0;    // Scale, ScaleV: tree size (m)
-  double base_size = 0.2;            // BaseSize: bare fraction of the trunk
-  double ratio = 0.02;               // Ratio: trunk radius / trunk length
-  double flare = 0.5;                // Flare: trunk widening at the base
-  int base_splits = 0;               // BaseSplits: clones after the first trunk segment
-  double attraction_up = 0;          // AttractionUp: upward (< 0 downward) tendency, levels >= 2
-  double tree_shape_exponent = 2.49; // TreeShapeExponent E (da Vinci/Murray), > 1
-  double leaves = 0;                 // Leaves: total leaves (or needles) on the last level
-  double leaf_scale = 0.1;           // LeafScale: leaf (needle) length (m)
-  double leaf_scale_x = 0.5;         // LeafScaleX: width / length (needle: diameter / length)
-  double leaf_area_index = 0;        // LeafAreaIndex: target crown LAI; 0 = Leaves is the count
-  double foliage_zone = 1;           // FoliageZone: distal fraction of a last-level branch in leaf
-  double card_scale = 1;             // CardScale: multiplies card.length (an age's smaller shoots)
+  int shape = 0;                      // Shape 0..7 (W&P shape ratio; 8 = envelope is not supported)
+  int levels = 3;                     // Levels: branch levels, trunk included, 1..8
+  double scale = 10, scale_v = 0;     // Scale, ScaleV: tree size (m)
+  double base_size = 0.2;             // BaseSize: bare fraction of the trunk
+  double ratio = 0.02;                // Ratio: trunk radius / trunk length
+  double flare = 0.5;                 // Flare: trunk widening at the base
+  int base_splits = 0;                // BaseSplits: clones after the first trunk segment
+  double attraction_up = 0;           // AttractionUp: upward (< 0 downward) tendency, levels >= 2
+  double tree_shape_exponent = 2.49;  // TreeShapeExponent E (da Vinci/Murray), > 1
+  double leaves = 0;                  // Leaves: total leaves (or needles) on the last level
+  double leaf_scale = 0.1;            // LeafScale: leaf (needle) length (m)
+  double leaf_scale_x = 0.5;          // LeafScaleX: width / length (needle: diameter / length)
+  double leaf_area_index = 0;         // LeafAreaIndex: target crown LAI; 0 = Leaves is the count
+  double foliage_zone = 1;            // FoliageZone: distal fraction of a last-level branch in leaf
+  double card_scale = 1;              // CardScale: multiplies card.length (an age's smaller shoots)
   Foliage foliage = Foliage::kLeaves;
-  CardShape card;                    // the preset's `card:` block (placement part)
+  CardShape card;  // the preset's `card:` block (placement part)
   // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the
   // tree's height; from = to = 0 means none.
   tree::Color bark_tint{1, 1, 1};
   double bark_tint_from = 0, bark_tint_to = 0;
-  std::vector<LevelParams> level;    // index = level; levels beyond the list reuse the last entry
+  std::vector<LevelParams> level;  // index = level; levels beyond the list reuse the last entry
   LeafLevelParams leaf;
-  tree::Materials materials;         // copied into the tree as is
+  tree::Materials materials;  // copied into the tree as is
 };
 
 // Single leaves/needles (Nystad's one quad per leaf, and needles) or cards (twig cards for
@@ -90,11 +90,11 @@ struct AtlasInfo {
 };
 
 struct GenerateOptions {
-  int levels = 0;                   // > 0 overrides Preset::levels
-  double max_node_spacing = 0;      // m; > 0 inserts nodes so no segment is longer (§4.3.2)
-  double leaf_density = 1;          // multiplies Leaves
+  int levels = 0;                       // > 0 overrides Preset::levels
+  double max_node_spacing = 0;          // m; > 0 inserts nodes so no segment is longer (§4.3.2)
+  double leaf_density = 1;              // multiplies Leaves
   std::uint64_t max_nodes = 5'000'000;  // budget; exceeding it throws std::length_error
-  std::string name;                 // copied to Tree::name
+  std::string name;                     // copied to Tree::name
   FoliageMode foliage = FoliageMode::kSingle;
   AtlasInfo atlas;
   FoliageResult* foliage_result = nullptr;  // optional: how the foliage met its LAI target

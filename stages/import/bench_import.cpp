@@ -39,7 +39,8 @@ bool have_data(benchmark::State& state) {
 
 void set_rows(benchmark::State& state, std::size_t rows) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * rows));
-  state.counters["rows/s"] = benchmark::Counter(static_cast<double>(rows), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["rows/s"] =
+      benchmark::Counter(static_cast<double>(rows), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // Text -> checked cylinder table.

@@ -16,13 +16,12 @@ namespace sylva::import {
 class ImportError : public std::runtime_error {
  public:
   ImportError(std::string_view source, int line, std::string_view message)
-      : std::runtime_error(std::string(source) + ":" + std::to_string(line) + ": " +
-                           std::string(message)),
+      : std::runtime_error(std::string(source) + ":" + std::to_string(line) + ": " + std::string(message)),
         line_(line),
         message_(message) {}
 
-  int line() const { return line_; }                         // 1-based
-  const std::string& message() const { return message_; }   // without "<source>:<line>: "
+  int line() const { return line_; }                       // 1-based
+  const std::string& message() const { return message_; }  // without "<source>:<line>: "
 
  private:
   int line_;

@@ -17,10 +17,10 @@ namespace {
 
 bool ends_with(std::string_view s, std::string_view suffix) {
   if (s.size() < suffix.size()) return false;
-  return std::equal(suffix.begin(), suffix.end(), s.end() - static_cast<std::ptrdiff_t>(suffix.size()),
-                    [](char a, char b) {
-                      return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
-                    });
+  return std::equal(
+      suffix.begin(), suffix.end(), s.end() - static_cast<std::ptrdiff_t>(suffix.size()), [](char a, char b) {
+        return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+      });
 }
 
 // Point clouds (LiDAR and photogrammetry scans) are a different kind of input: a tree has to be
@@ -42,10 +42,14 @@ constexpr const char* kNoPointClouds =
 
 const char* format_name(Format f) {
   switch (f) {
-    case Format::kQsm: return "qsm";
-    case Format::kTreeQsmText: return "treeqsm_txt";
-    case Format::kSkeletonText: return "skeleton_txt";
-    case Format::kSylt: return "sylt";
+    case Format::kQsm:
+      return "qsm";
+    case Format::kTreeQsmText:
+      return "treeqsm_txt";
+    case Format::kSkeletonText:
+      return "skeleton_txt";
+    case Format::kSylt:
+      return "sylt";
   }
   return "?";
 }
@@ -78,8 +82,7 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
                         "a headerless row of " + std::to_string(fields.size()) +
                             " numbers looks like a point cloud (x y z ...); " + kNoPointClouds);
     throw ImportError(source, reader.line_number(),
-                      "cannot detect the format: a headerless row of " +
-                          std::to_string(fields.size()) +
+                      "cannot detect the format: a headerless row of " + std::to_string(fields.size()) +
                           " numbers is neither a TreeQSM table (12 or more) nor a text skeleton "
                           "(6 to 9); set the format parameter");
   }
@@ -88,12 +91,18 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
 
 tree::Tree import_tree(std::string_view bytes, std::string_view source, const ImportOptions& options) {
   Format format;
-  if (options.format == "auto") format = detect_format(bytes, source, !options.columns.empty(), source);
-  else if (options.format == "qsm") format = Format::kQsm;
-  else if (options.format == "treeqsm_txt") format = Format::kTreeQsmText;
-  else if (options.format == "skeleton_txt") format = Format::kSkeletonText;
-  else if (options.format == "sylt") format = Format::kSylt;
-  else throw std::invalid_argument("unknown import format '" + options.format + "'");
+  if (options.format == "auto")
+    format = detect_format(bytes, source, !options.columns.empty(), source);
+  else if (options.format == "qsm")
+    format = Format::kQsm;
+  else if (options.format == "treeqsm_txt")
+    format = Format::kTreeQsmText;
+  else if (options.format == "skeleton_txt")
+    format = Format::kSkeletonText;
+  else if (options.format == "sylt")
+    format = Format::kSylt;
+  else
+    throw std::invalid_argument("unknown import format '" + options.format + "'");
 
   switch (format) {
     case Format::kSylt:

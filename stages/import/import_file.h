@@ -34,9 +34,9 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
                      std::string_view source);
 
 struct ImportOptions {
-  std::string format = "auto";        // "auto" or a format_name()
-  std::vector<std::string> columns;   // headerless column names (treeqsm_txt)
-  QsmToTreeOptions qsm;               // frame/unit conversion; QSM formats only
+  std::string format = "auto";       // "auto" or a format_name()
+  std::vector<std::string> columns;  // headerless column names (treeqsm_txt)
+  QsmToTreeOptions qsm;              // frame/unit conversion; QSM formats only
 };
 
 // The tree in `bytes`. `source` names the file in messages (and its extension feeds auto

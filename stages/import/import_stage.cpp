@@ -35,7 +35,8 @@ class ImportStage final : public Stage {
                       "radius length start(3) axis(3) parent extension branch branch_order)"),
         Param::choice("up", {"z", "y"}, "z")
             .describe("up axis of a QSM table; z (QSM's convention) is converted to sylva's Y up"),
-        Param::real("scale", 1.0).range(1e-6, 1e6)
+        Param::real("scale", 1.0)
+            .range(1e-6, 1e6)
             .describe("QSM units to metres, e.g. 0.001 for millimetres"),
         Param::boolean("recenter", true)
             .describe("move a QSM tree so its root cylinder starts at the origin"),

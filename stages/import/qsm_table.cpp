@@ -23,11 +23,21 @@ using text::NumberStatus;
 // ---- 2. column roles -------------------------------------------------------------------
 
 enum Role : int {
-  kId, kParent, kRadius, kLength,
-  kStartX, kStartY, kStartZ,
-  kEndX, kEndY, kEndZ,
-  kAxisX, kAxisY, kAxisZ,
-  kBranch, kOrder,
+  kId,
+  kParent,
+  kRadius,
+  kLength,
+  kStartX,
+  kStartY,
+  kStartZ,
+  kEndX,
+  kEndY,
+  kEndZ,
+  kAxisX,
+  kAxisY,
+  kAxisZ,
+  kBranch,
+  kOrder,
   kRoleCount
 };
 
@@ -38,43 +48,74 @@ struct Alias {
 
 // Scalar column names. Names not listed are read past (volume, segmentID, mad, ...).
 constexpr Alias kScalarAliases[] = {
-    {"id", kId}, {"cylid", kId}, {"cylinderid", kId},
-    {"parent", kParent}, {"parentid", kParent}, {"parentcyl", kParent},
-    {"parentcylid", kParent}, {"parentcylinderid", kParent},
-    {"radius", kRadius}, {"radiuscyl", kRadius}, {"cylradius", kRadius}, {"rad", kRadius},
-    {"length", kLength}, {"cyllength", kLength}, {"len", kLength},
-    {"startx", kStartX}, {"starty", kStartY}, {"startz", kStartZ},
-    {"startpointx", kStartX}, {"startpointy", kStartY}, {"startpointz", kStartZ},
-    {"xstart", kStartX}, {"ystart", kStartY}, {"zstart", kStartZ},
-    {"endx", kEndX}, {"endy", kEndY}, {"endz", kEndZ},
-    {"endpointx", kEndX}, {"endpointy", kEndY}, {"endpointz", kEndZ},
-    {"xend", kEndX}, {"yend", kEndY}, {"zend", kEndZ},
-    {"axisx", kAxisX}, {"axisy", kAxisY}, {"axisz", kAxisZ},
-    {"axisdirectionx", kAxisX}, {"axisdirectiony", kAxisY}, {"axisdirectionz", kAxisZ},
-    {"directionx", kAxisX}, {"directiony", kAxisY}, {"directionz", kAxisZ},
-    {"branch", kBranch}, {"branchid", kBranch}, {"axisid", kBranch},
-    {"branchorder", kOrder}, {"branchingorder", kOrder}, {"order", kOrder},
+    {"id", kId},
+    {"cylid", kId},
+    {"cylinderid", kId},
+    {"parent", kParent},
+    {"parentid", kParent},
+    {"parentcyl", kParent},
+    {"parentcylid", kParent},
+    {"parentcylinderid", kParent},
+    {"radius", kRadius},
+    {"radiuscyl", kRadius},
+    {"cylradius", kRadius},
+    {"rad", kRadius},
+    {"length", kLength},
+    {"cyllength", kLength},
+    {"len", kLength},
+    {"startx", kStartX},
+    {"starty", kStartY},
+    {"startz", kStartZ},
+    {"startpointx", kStartX},
+    {"startpointy", kStartY},
+    {"startpointz", kStartZ},
+    {"xstart", kStartX},
+    {"ystart", kStartY},
+    {"zstart", kStartZ},
+    {"endx", kEndX},
+    {"endy", kEndY},
+    {"endz", kEndZ},
+    {"endpointx", kEndX},
+    {"endpointy", kEndY},
+    {"endpointz", kEndZ},
+    {"xend", kEndX},
+    {"yend", kEndY},
+    {"zend", kEndZ},
+    {"axisx", kAxisX},
+    {"axisy", kAxisY},
+    {"axisz", kAxisZ},
+    {"axisdirectionx", kAxisX},
+    {"axisdirectiony", kAxisY},
+    {"axisdirectionz", kAxisZ},
+    {"directionx", kAxisX},
+    {"directiony", kAxisY},
+    {"directionz", kAxisZ},
+    {"branch", kBranch},
+    {"branchid", kBranch},
+    {"axisid", kBranch},
+    {"branchorder", kOrder},
+    {"branchingorder", kOrder},
+    {"order", kOrder},
 };
 
 // Vector column names: one header name for three data columns (TreeQSM's save_model_text
 // writes "start_point" and "axis_direction" above 3 columns each).
 constexpr Alias kVectorAliases[] = {
-    {"start", kStartX}, {"startpoint", kStartX},
-    {"end", kEndX}, {"endpoint", kEndX},
-    {"axis", kAxisX}, {"axisdirection", kAxisX}, {"direction", kAxisX},
+    {"start", kStartX}, {"startpoint", kStartX},   {"end", kEndX},        {"endpoint", kEndX},
+    {"axis", kAxisX},   {"axisdirection", kAxisX}, {"direction", kAxisX},
 };
 
 // TreeQSM's headerless text export; the first 12 columns are the same in every version.
-constexpr std::string_view kTreeQsmColumns[] = {
-    "radius", "length", "start_x", "start_y", "start_z", "axis_x", "axis_y", "axis_z",
-    "parent", "extension", "branch", "branch_order"};
+constexpr std::string_view kTreeQsmColumns[] = {"radius",  "length",    "start_x", "start_y",
+                                                "start_z", "axis_x",    "axis_y",  "axis_z",
+                                                "parent",  "extension", "branch",  "branch_order"};
 
 struct Layout {
-  std::array<int, kRoleCount> field{};    // 0-based field of each role, -1 if absent
-  std::vector<std::string> field_names;   // display name of every field
-  std::size_t field_count = 0;            // fields per row (0: take the first row's count)
-  bool use_axis = false;                  // end = start + axis * length
-  bool assumed_order = false;             // headerless, no `columns`: TreeQSM's order assumed
+  std::array<int, kRoleCount> field{};   // 0-based field of each role, -1 if absent
+  std::vector<std::string> field_names;  // display name of every field
+  std::size_t field_count = 0;           // fields per row (0: take the first row's count)
+  bool use_axis = false;                 // end = start + axis * length
+  bool assumed_order = false;            // headerless, no `columns`: TreeQSM's order assumed
   std::string variant;
 };
 
@@ -105,8 +146,7 @@ void check_vector(const Layout& l, Role x, std::string_view label, const LayoutC
     s += l.field[x + k] >= 0 ? l.field_names[static_cast<std::size_t>(l.field[x + k])]
                              : std::string(label) + " " + kAxes[k];
   }
-  fail(ctx.source, ctx.line,
-       std::string(ctx.what) + " has " + have + " but no " + missing + " column");
+  fail(ctx.source, ctx.line, std::string(ctx.what) + " has " + have + " but no " + missing + " column");
 }
 
 std::string variant_of(const std::vector<std::string>& names, const Layout& l) {
@@ -131,9 +171,8 @@ Layout make_layout(const std::vector<std::string>& names, const LayoutContext& c
     if (prev >= 0)
       fail(ctx.source, ctx.line,
            std::string(ctx.what) + ": fields " + std::to_string(prev + 1) + " (" +
-               l.field_names[static_cast<std::size_t>(prev)] + ") and " +
-               std::to_string(field + 1) + " (" + l.field_names.back() +
-               ") name the same column");
+               l.field_names[static_cast<std::size_t>(prev)] + ") and " + std::to_string(field + 1) + " (" +
+               l.field_names.back() + ") name the same column");
     l.field[role] = static_cast<int>(field);
     ++recognised;
   };
@@ -150,8 +189,10 @@ Layout make_layout(const std::vector<std::string>& names, const LayoutContext& c
     }
     const auto sca = std::find_if(std::begin(kScalarAliases), std::end(kScalarAliases),
                                   [&](const Alias& a) { return a.name == norm; });
-    if (sca != std::end(kScalarAliases)) assign(sca->role, field, raw);
-    else l.field_names.push_back(raw);
+    if (sca != std::end(kScalarAliases))
+      assign(sca->role, field, raw);
+    else
+      l.field_names.push_back(raw);
   }
   l.field_count = l.field_names.size();
 
@@ -166,13 +207,15 @@ Layout make_layout(const std::vector<std::string>& names, const LayoutContext& c
   if (l.field[kRadius] < 0) fail(ctx.source, ctx.line, std::string(ctx.what) + " has no radius column");
   if (!complete(l, kStartX))
     fail(ctx.source, ctx.line,
-         std::string(ctx.what) + " has no start point columns (startX startY startZ, start_x "
-                                 "start_y start_z, or start_point)");
+         std::string(ctx.what) +
+             " has no start point columns (startX startY startZ, start_x "
+             "start_y start_z, or start_point)");
   if (!complete(l, kEndX)) {
     if (!complete(l, kAxisX) || l.field[kLength] < 0)
       fail(ctx.source, ctx.line,
-           std::string(ctx.what) + " has neither end point columns (endX endY endZ) nor axis "
-                                   "columns with a length (axis_x axis_y axis_z length)");
+           std::string(ctx.what) +
+               " has neither end point columns (endX endY endZ) nor axis "
+               "columns with a length (axis_x axis_y axis_z length)");
     l.use_axis = true;
   }
   if (l.field[kParent] < 0)
@@ -192,8 +235,10 @@ Layout headerless_layout(const TableOptions& opt, std::size_t fields, const Layo
   std::vector<std::string> names(std::begin(kTreeQsmColumns), std::end(kTreeQsmColumns));
   if (fields < names.size())
     fail(ctx.source, ctx.line,
-         "truncated row: " + std::to_string(fields) + " fields, a headerless TreeQSM table has at "
-         "least " + std::to_string(names.size()) +
+         "truncated row: " + std::to_string(fields) +
+             " fields, a headerless TreeQSM table has at "
+             "least " +
+             std::to_string(names.size()) +
              " (radius length start_x start_y start_z axis_x axis_y axis_z parent extension "
              "branch branch_order)");
   for (std::size_t i = names.size(); i < fields; ++i) names.push_back("column " + std::to_string(i + 1));
@@ -232,14 +277,12 @@ class RowParser {
     if (fields.size() != layout_.field_count)
       fail(source_, line,
            (fields.size() < layout_.field_count ? "truncated row: " : "row has ") +
-               std::to_string(fields.size()) + " fields, expected " +
-               std::to_string(layout_.field_count));
+               std::to_string(fields.size()) + " fields, expected " + std::to_string(layout_.field_count));
     Cylinder c;
     c.line = line;
     c.start = vec(kStartX);
     c.radius = real(kRadius);
-    if (!(c.radius > 0))
-      fail_field(kRadius, "radius must be > 0, got " + text::format_real(c.radius));
+    if (!(c.radius > 0)) fail_field(kRadius, "radius must be > 0, got " + text::format_real(c.radius));
     if (layout_.use_axis) {
       const double len = real(kLength);
       if (len < 0) fail_field(kLength, "length must be >= 0, got " + text::format_real(len));
@@ -292,9 +335,12 @@ class RowParser {
 
   void check(NumberStatus st, Role role, const char* expected) const {
     switch (st) {
-      case NumberStatus::kOk: return;
-      case NumberStatus::kEmpty: fail_field(role, "empty, expected " + std::string(expected));
-      case NumberStatus::kNotFinite: fail_field(role, "not a finite number: " + text::quoted(text_of(role)));
+      case NumberStatus::kOk:
+        return;
+      case NumberStatus::kEmpty:
+        fail_field(role, "empty, expected " + std::string(expected));
+      case NumberStatus::kNotFinite:
+        fail_field(role, "not a finite number: " + text::quoted(text_of(role)));
       case NumberStatus::kNotNumber:
         fail_field(role, "expected " + std::string(expected) + ", got " + text::quoted(text_of(role)));
     }
@@ -331,8 +377,8 @@ class RowParser {
 
 // ---- 4. topology -------------------------------------------------------------------------
 
-void resolve_topology(CylinderTable& table, const std::vector<std::int64_t>& parent_ids,
-                      const Layout& layout, std::string_view source) {
+void resolve_topology(CylinderTable& table, const std::vector<std::int64_t>& parent_ids, const Layout& layout,
+                      std::string_view source) {
   auto& cyl = table.cylinders;
   const std::size_t n = cyl.size();
   const std::string parent_label = RowParser::field_label(layout, kParent);
@@ -343,9 +389,8 @@ void resolve_topology(CylinderTable& table, const std::vector<std::int64_t>& par
     const auto [it, inserted] = by_id.emplace(cyl[i].id, static_cast<std::int32_t>(i));
     if (!inserted)
       fail(source, cyl[i].line,
-           RowParser::field_label(layout, kId) + ": duplicate cylinder id " +
-               std::to_string(cyl[i].id) + " (also on line " +
-               std::to_string(cyl[static_cast<std::size_t>(it->second)].line) + ")");
+           RowParser::field_label(layout, kId) + ": duplicate cylinder id " + std::to_string(cyl[i].id) +
+               " (also on line " + std::to_string(cyl[static_cast<std::size_t>(it->second)].line) + ")");
   }
   const bool zero_is_id = by_id.count(0) > 0;
 
@@ -364,8 +409,8 @@ void resolve_topology(CylinderTable& table, const std::vector<std::int64_t>& par
         const Cylinder& first = cyl[static_cast<std::size_t>(table.root)];
         fail(source, cyl[i].line,
              parent_label + ": cylinder " + std::to_string(cyl[i].id) +
-                 " is a second root (the first is cylinder " + std::to_string(first.id) +
-                 " on line " + std::to_string(first.line) + "); a table must describe one tree");
+                 " is a second root (the first is cylinder " + std::to_string(first.id) + " on line " +
+                 std::to_string(first.line) + "); a table must describe one tree");
       }
       table.root = static_cast<std::int32_t>(i);
       continue;
@@ -460,9 +505,7 @@ CylinderTable parse_cylinder_table(std::string_view text, std::string_view sourc
       found = true;
       break;
     }
-  if (!found)
-    fail(source, std::max(1, reader.line_number()),
-         "empty file: no header and no cylinder rows");
+  if (!found) fail(source, std::max(1, reader.line_number()), "empty file: no header and no cylinder rows");
   const text::Separator sep = text::detect_separator(line);
   text::split_fields(line, sep, fields);
 
@@ -475,9 +518,9 @@ CylinderTable parse_cylinder_table(std::string_view text, std::string_view sourc
       fail(source, reader.line_number(),
            "this line looks like a header, but the table was declared headerless (format "
            "treeqsm_txt or the columns parameter); use format qsm to read the header");
-    layout = headerless_layout(options, fields.size(),
-                               {source, reader.line_number(),
-                                options.columns.empty() ? "header" : "columns parameter"});
+    layout = headerless_layout(
+        options, fields.size(),
+        {source, reader.line_number(), options.columns.empty() ? "header" : "columns parameter"});
     pending_row = true;
   } else {
     if (all_numbers(fields))
@@ -510,8 +553,7 @@ CylinderTable parse_cylinder_table(std::string_view text, std::string_view sourc
     table.cylinders.push_back(rows.parse(fields, reader.line_number(), table.cylinders.size()));
     parent_ids.push_back(rows.parent_id());
   }
-  if (table.cylinders.empty())
-    fail(source, header_line, "header but no cylinder rows");
+  if (table.cylinders.empty()) fail(source, header_line, "header but no cylinder rows");
 
   // 4. Topology.
   resolve_topology(table, parent_ids, layout, source);

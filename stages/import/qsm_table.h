@@ -36,8 +36,8 @@ struct CylinderTable {
   // and CompuTree's exports), "archi", "treeqsm" (a TreeQSM table with a header), "generic"
   // (recognised names in another combination) or "treeqsm_txt" (headerless).
   std::string variant;
-  bool has_branch = false;  // a branch id column was present
-  bool has_order = false;   // a branch order column was present
+  bool has_branch = false;          // a branch id column was present
+  bool has_order = false;           // a branch order column was present
   std::vector<Cylinder> cylinders;  // in file order; >= 1
   std::int32_t root = -1;           // index of the one cylinder without a parent
 };

@@ -21,8 +21,8 @@ namespace {
 using tree::Vec3;
 
 struct Pending {
-  std::int32_t first = -1;          // cylinder that starts the branch
-  std::int32_t parent = -1;         // parent branch index
+  std::int32_t first = -1;   // cylinder that starts the branch
+  std::int32_t parent = -1;  // parent branch index
   std::uint32_t parent_node = 0;
   double parent_t = 0;
 };
@@ -37,14 +37,15 @@ void attach(const tree::Branch& b, std::uint32_t s, std::uint32_t e, Vec3 q, Pen
   const double dd = tree::dot(d, d);
   const double t = dd > 0 ? tree::dot(q - a, d) / dd : 0;
   constexpr double kSnap = 1e-9;  // SimpleForest children start exactly at the parent's end
-  if (t >= 1 - kSnap) out.parent_node = e;
-  else if (t > kSnap) out.parent_t = t;
+  if (t >= 1 - kSnap)
+    out.parent_node = e;
+  else if (t > kSnap)
+    out.parent_t = t;
 }
 
 }  // namespace
 
-tree::Tree qsm_to_tree(const CylinderTable& table, std::string_view source,
-                       const QsmToTreeOptions& options) {
+tree::Tree qsm_to_tree(const CylinderTable& table, std::string_view source, const QsmToTreeOptions& options) {
   const auto& cyl = table.cylinders;
   const std::size_t n = cyl.size();
   auto at = [&](std::int32_t i) -> const Cylinder& { return cyl[static_cast<std::size_t>(i)]; };
@@ -60,15 +61,16 @@ tree::Tree qsm_to_tree(const CylinderTable& table, std::string_view source,
   auto place_checked = [&](const Cylinder& c, Vec3 p) {
     const Vec3 q = place(p);
     if (!tree::is_finite(q))
-      throw ImportError(source, c.line,
-                        "cylinder " + std::to_string(c.id) +
-                            ": coordinates overflow after scaling and recentring");
+      throw ImportError(
+          source, c.line,
+          "cylinder " + std::to_string(c.id) + ": coordinates overflow after scaling and recentring");
     if (std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)}) > kMaxCoordinateM)
       throw ImportError(source, c.line,
                         "cylinder " + std::to_string(c.id) + ": a point lies " +
                             text::format_real(std::max({std::fabs(q.x), std::fabs(q.y), std::fabs(q.z)})) +
                             " m from the " + (options.recenter ? "root" : "origin") + " (at most " +
-                            std::to_string(static_cast<long long>(kMaxCoordinateM)) + " m): check the scale parameter" +
+                            std::to_string(static_cast<long long>(kMaxCoordinateM)) +
+                            " m): check the scale parameter" +
                             (options.recenter ? "" : " or set recenter: true"));
     return q;
   };

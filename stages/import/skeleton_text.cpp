@@ -21,8 +21,8 @@ namespace {
 
 using text::NumberStatus;
 
-constexpr const char* kFieldNames[] = {"branch", "parent", "x", "y", "z", "radius",
-                                       "parent_node", "parent_t", "level"};
+constexpr const char* kFieldNames[] = {"branch", "parent",      "x",        "y",    "z",
+                                       "radius", "parent_node", "parent_t", "level"};
 
 struct RawBranch {
   std::int64_t id = 0;
@@ -60,7 +60,8 @@ class LineParser {
  private:
   void check(NumberStatus st, std::size_t f, const char* expected) const {
     if (st == NumberStatus::kNotFinite) fail(f, "not a finite number: " + text::quoted(fields_[f]));
-    if (st != NumberStatus::kOk) fail(f, "expected " + std::string(expected) + ", got " + text::quoted(fields_[f]));
+    if (st != NumberStatus::kOk)
+      fail(f, "expected " + std::string(expected) + ", got " + text::quoted(fields_[f]));
   }
 
   std::string_view source_;
@@ -70,8 +71,10 @@ class LineParser {
 
 template <class T>
 std::string show(const T& v) {
-  if constexpr (std::is_same_v<T, double>) return text::format_real(v);
-  else return std::to_string(v);
+  if constexpr (std::is_same_v<T, double>)
+    return text::format_real(v);
+  else
+    return std::to_string(v);
 }
 
 }  // namespace
@@ -93,7 +96,8 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
     if (fields.size() < 6 || fields.size() > 9)
       throw ImportError(source, ln,
                         "expected 6 to 9 fields (branch parent x y z radius [parent_node "
-                        "[parent_t [level]]]), got " + std::to_string(fields.size()));
+                        "[parent_t [level]]]), got " +
+                            std::to_string(fields.size()));
     const LineParser p(source, ln, fields);
     const std::int64_t id = p.integer(0, 0);
     const std::int64_t parent = p.integer(1, -1);
@@ -101,8 +105,8 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
     tree::Node node{{p.real(2), p.real(3), p.real(4)}, p.real(5)};
     if (node.radius < 0) p.fail(5, "radius must be >= 0, got " + text::format_real(node.radius));
     if (node.radius > kMaxRadiusM)
-      p.fail(5, "radius " + text::format_real(node.radius) + " m is larger than " + std::to_string(static_cast<long long>(kMaxRadiusM)) +
-                    " m");
+      p.fail(5, "radius " + text::format_real(node.radius) + " m is larger than " +
+                    std::to_string(static_cast<long long>(kMaxRadiusM)) + " m");
     for (std::size_t f = 2; f <= 4; ++f)
       if (std::fabs(p.real(f)) > kMaxCoordinateM)
         p.fail(f, "coordinate " + text::format_real(p.real(f)) + " m is farther than " +
@@ -116,8 +120,7 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
         p.fail(7, "must be in [0, 1], got " + text::format_real(*parent_t));
     }
     if (fields.size() > 8) level = p.integer(8, 0);
-    if (parent < 0 && fields.size() > 6)
-      p.fail(6, "a root branch (parent -1) has no attachment fields");
+    if (parent < 0 && fields.size() > 6) p.fail(6, "a root branch (parent -1) has no attachment fields");
 
     const auto [it, inserted] = by_id.emplace(id, raw.size());
     if (inserted) {
@@ -134,13 +137,14 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
       RawBranch& b = raw[it->second];
       if (it->second != current)
         throw ImportError(source, ln,
-                          "branch " + std::to_string(id) + " continues here after other branches; "
-                          "a branch's lines must be consecutive (it started on line " +
+                          "branch " + std::to_string(id) +
+                              " continues here after other branches; "
+                              "a branch's lines must be consecutive (it started on line " +
                               std::to_string(b.first_line) + ")");
       const std::string first = "the branch's first line (line " + std::to_string(b.first_line) + ")";
       if (parent != b.parent)
-        p.fail(1, "parent " + std::to_string(parent) + " here but " + std::to_string(b.parent) +
-                      " on " + first);
+        p.fail(1,
+               "parent " + std::to_string(parent) + " here but " + std::to_string(b.parent) + " on " + first);
       auto same = [&](std::size_t f, const auto& here, const auto& there) {
         if (!here) return;
         if (!there) p.fail(f, "attachment fields go on " + first);
@@ -167,9 +171,9 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
     if (b.parent < 0) continue;
     const auto it = by_id.find(b.parent);
     if (it == by_id.end())
-      throw ImportError(source, b.first_line,
-                        "field 2 (parent): parent branch " + std::to_string(b.parent) +
-                            " is not in this file");
+      throw ImportError(
+          source, b.first_line,
+          "field 2 (parent): parent branch " + std::to_string(b.parent) + " is not in this file");
     kids[it->second].push_back(i);
     pending[i] = 1;
   }
@@ -222,8 +226,7 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
       if (r.parent_node) {
         if (static_cast<std::size_t>(*r.parent_node) >= parent.nodes.size())
           fail(6, "node " + std::to_string(*r.parent_node) + " is out of range (parent branch " +
-                      std::to_string(r.parent) + " has " + std::to_string(parent.nodes.size()) +
-                      " nodes)");
+                      std::to_string(r.parent) + " has " + std::to_string(parent.nodes.size()) + " nodes)");
         b.parent_node = static_cast<std::uint32_t>(*r.parent_node);
       } else {
         double best = 0;
@@ -259,9 +262,9 @@ std::string format_skeleton_text(const tree::Tree& tree) {
     const tree::Branch& b = tree.branches[i];
     for (std::size_t k = 0; k < b.nodes.size(); ++k) {
       const tree::Node& nd = b.nodes[k];
-      out += std::to_string(i) + ' ' + std::to_string(b.parent) + ' ' +
-             text::format_real(nd.position.x) + ' ' + text::format_real(nd.position.y) + ' ' +
-             text::format_real(nd.position.z) + ' ' + text::format_real(nd.radius);
+      out += std::to_string(i) + ' ' + std::to_string(b.parent) + ' ' + text::format_real(nd.position.x) +
+             ' ' + text::format_real(nd.position.y) + ' ' + text::format_real(nd.position.z) + ' ' +
+             text::format_real(nd.radius);
       if (k == 0 && b.parent >= 0)
         out += ' ' + std::to_string(b.parent_node) + ' ' + text::format_real(b.parent_t) + ' ' +
                std::to_string(b.level);

@@ -42,10 +42,14 @@ Separator detect_separator(std::string_view line) {
 
 const char* separator_name(Separator sep) {
   switch (sep) {
-    case Separator::kTab: return "tab";
-    case Separator::kComma: return "comma";
-    case Separator::kSemicolon: return "semicolon";
-    case Separator::kWhitespace: return "whitespace";
+    case Separator::kTab:
+      return "tab";
+    case Separator::kComma:
+      return "comma";
+    case Separator::kSemicolon:
+      return "semicolon";
+    case Separator::kWhitespace:
+      return "whitespace";
   }
   return "?";
 }

@@ -48,8 +48,8 @@ FrameMeans frame_means(const image::Image& color, const image::Image& nd, const 
 image::Image crop(const image::Image& src, const PixelRect& r) {
   image::Image out(r.w, r.h);
   for (int y = 0; y < r.h; ++y)
-    std::copy_n(&src.bytes()[(std::size_t(r.y + y) * std::size_t(src.width()) + std::size_t(r.x)) * 4], std::size_t(r.w) * 4,
-                &out.bytes()[std::size_t(y) * std::size_t(r.w) * 4]);
+    std::copy_n(&src.bytes()[(std::size_t(r.y + y) * std::size_t(src.width()) + std::size_t(r.x)) * 4],
+                std::size_t(r.w) * 4, &out.bytes()[std::size_t(y) * std::size_t(r.w) * 4]);
   return out;
 }
 
@@ -59,7 +59,9 @@ void paste(image::Image& dst, const image::Image& src, int x, int y) {
                 &dst.bytes()[(std::size_t(y + row) * std::size_t(dst.width()) + std::size_t(x)) * 4]);
 }
 
-std::string to_string(const std::vector<std::uint8_t>& bytes) { return std::string(bytes.begin(), bytes.end()); }
+std::string to_string(const std::vector<std::uint8_t>& bytes) {
+  return std::string(bytes.begin(), bytes.end());
+}
 
 double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 double linear_to_srgb(double c) {
@@ -83,7 +85,8 @@ image::Image prelit(const image::Image& color, const image::Image& nd) {
     if (n.norm() > 1) n.normalize();
     for (int c = 0; c < 3; ++c) {
       const double k = light.ambient[c] + light.light_color[c] * std::max(0.0, n.dot(l));
-      ob[i + std::size_t(c)] = std::uint8_t(std::lround(255 * linear_to_srgb(lin[ob[i + std::size_t(c)]] * k)));
+      ob[i + std::size_t(c)] =
+          std::uint8_t(std::lround(255 * linear_to_srgb(lin[ob[i + std::size_t(c)]] * k)));
     }
   }
   return out;
@@ -98,7 +101,8 @@ double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry) {
 
 BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& p,
                          const SourceDesc& source) {
-  if (p.cutout_vertices < 4 || p.cutout_vertices > 8) throw std::invalid_argument("cutout_vertices must be in 4..8");
+  if (p.cutout_vertices < 4 || p.cutout_vertices > 8)
+    throw std::invalid_argument("cutout_vertices must be in 4..8");
   // 1-2. Measure and plan.
   const SourceGeometry geo = measure(scene);
   Layout layout = plan_layout(p.layout, geo);
@@ -130,12 +134,14 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   if (billboards && p.layout.cards >= 2) {
     const double m = 0.5 * p.layout.cards;
     std::array<std::uint8_t, 256> lut{};
-    for (int a = 0; a < 256; ++a) lut[std::size_t(a)] = std::uint8_t(std::lround(255.0 * (1 - std::pow(1 - a / 255.0, 1 / m))));
+    for (int a = 0; a < 256; ++a)
+      lut[std::size_t(a)] = std::uint8_t(std::lround(255.0 * (1 - std::pow(1 - a / 255.0, 1 / m))));
     for (int k = 0; k < p.layout.cards; ++k) {
       const render::BakeView& v = layout.views[std::size_t(k)];
       for (int y = v.y; y < v.y + v.h; ++y)
         for (int x = v.x; x < v.x + v.w; ++x) {
-          std::uint8_t& a = maps.color.bytes()[(std::size_t(y) * std::size_t(maps.color.width()) + std::size_t(x)) * 4 + 3];
+          std::uint8_t& a =
+              maps.color.bytes()[(std::size_t(y) * std::size_t(maps.color.width()) + std::size_t(x)) * 4 + 3];
           a = lut[a];
         }
     }
@@ -184,8 +190,9 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   info.pixel_error_px = p.pixel_error;
   info.error.source_m = source.epsilon;
   info.error.texel_m = texel;
-  info.error.view_m = billboards ? geo.radius * std::sin(billboard_max_view_angle(p.layout.cards, p.layout.top_card))
-                                 : geo.radius * view_error_factor(p.layout.frames_per_side, info.hemi);
+  info.error.view_m = billboards
+                          ? geo.radius * std::sin(billboard_max_view_angle(p.layout.cards, p.layout.top_card))
+                          : geo.radius * view_error_factor(p.layout.frames_per_side, info.hemi);
   info.switch_distance_m = switch_distance(p.camera, info.error, p.pixel_error);
   info.source_type = source.type;
   info.source_file = source.file;

@@ -34,12 +34,12 @@ namespace sylva::impostor {
 
 struct BakeParams {
   LayoutParams layout;
-  int cutout_vertices = 8;  // 4..8 per card
-  int msaa = 1;             // coverage samples per texel
-  int threads = 2;          // GL contexts baking rows side by side (the bytes do not depend on it)
-  GlbAlpha glb_alpha;         // impostor.glb's alpha mode (impostor_gltf.h)
-  ViewCamera camera;          // the error model's camera ...
-  double pixel_error = 0.5;   // ... and delta
+  int cutout_vertices = 8;   // 4..8 per card
+  int msaa = 1;              // coverage samples per texel
+  int threads = 2;           // GL contexts baking rows side by side (the bytes do not depend on it)
+  GlbAlpha glb_alpha;        // impostor.glb's alpha mode (impostor_gltf.h)
+  ViewCamera camera;         // the error model's camera ...
+  double pixel_error = 0.5;  // ... and delta
 };
 
 struct SourceDesc {
@@ -59,8 +59,8 @@ struct BakeOutput {
 
 // Throws std::invalid_argument for parameters that give no atlas, render::RenderError when
 // drawing fails.
-BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& params,
-                         const SourceDesc& source);
+BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene,
+                         const BakeParams& params, const SourceDesc& source);
 
 // The texel (m) the atlas would have for this scene and these parameters: 2 W / frame_px.
 double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry);

@@ -33,12 +33,14 @@ struct Source {
 const Source& source(const impostor::BakeParams& params) {
   static const Source s = [&] {
     const char* dir = std::getenv("SYLVA_BENCH_LOD");
-    if (!dir) throw std::runtime_error("set SYLVA_BENCH_LOD to a built lod node's directory (out/default/lod_oak)");
+    if (!dir)
+      throw std::runtime_error("set SYLVA_BENCH_LOD to a built lod node's directory (out/default/lod_oak)");
     std::ifstream in(fs::path(dir) / "lod.json");
     std::stringstream ss;
     ss << in.rdbuf();
     const auto levels = impostor::parse_lod_levels(ss.str(), "lod.json");
-    impostor::SourceGeometry g = impostor::measure(render::load_gltf_scene(fs::path(dir) / levels.back().file));
+    impostor::SourceGeometry g =
+        impostor::measure(render::load_gltf_scene(fs::path(dir) / levels.back().file));
     g.radius += levels.back().epsilon;
     const std::size_t i = impostor::choose_level(levels, impostor::atlas_texel(params.layout, g));
     Source out;
@@ -60,27 +62,43 @@ void BM_Bake(benchmark::State& state) {
   const Source& s = source(impostor::BakeParams{});
   impostor::BakeOutput out;
   for (auto _ : state) out = impostor::bake_impostor(render::shared_impostor_renderer(), s.scene, p, s.desc);
-  state.counters["frames"] = double(p.layout.kind == impostor::Kind::kBillboards ? out.info.cards.size()
-                                                                                  : std::size_t(p.layout.frames_per_side * p.layout.frames_per_side));
+  state.counters["frames"] = double(p.layout.kind == impostor::Kind::kBillboards
+                                        ? out.info.cards.size()
+                                        : std::size_t(p.layout.frames_per_side * p.layout.frames_per_side));
   state.counters["source_primitives"] = double(s.scene.triangle_count() + s.scene.line_count());
   state.counters["source_level"] = s.desc.level;
-  state.counters["atlas_png_bytes"] = double(image::encode_png(out.color).size() + image::encode_png(out.normal_depth).size());
+  state.counters["atlas_png_bytes"] =
+      double(image::encode_png(out.color).size() + image::encode_png(out.normal_depth).size());
   state.counters["glb_bytes"] = double(out.glb.size());
   state.counters["glb_triangles"] = double(out.info.glb_triangles);
 }
-BENCHMARK(BM_Bake)->ArgsProduct({{0}, {1, 2}})->Args({1, 2})->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_Bake)
+    ->ArgsProduct({{0}, {1, 2}})
+    ->Args({1, 2})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 // BM_EncodeMaps/<zlib level>: the two maps' PNG encodes at that level (the stage's is kPngLevel).
 void BM_EncodeMaps(benchmark::State& state) {
   const Source& s = source(impostor::BakeParams{});
-  static const impostor::BakeOutput out = impostor::bake_impostor(render::shared_impostor_renderer(), s.scene, {}, s.desc);
+  static const impostor::BakeOutput out =
+      impostor::bake_impostor(render::shared_impostor_renderer(), s.scene, {}, s.desc);
   image::PngOptions o;
   o.zlib_level = int(state.range(0));
   std::size_t bytes = 0;
-  for (auto _ : state) bytes = image::encode_png(out.color, o).size() + image::encode_png(out.normal_depth, o).size();
+  for (auto _ : state)
+    bytes = image::encode_png(out.color, o).size() + image::encode_png(out.normal_depth, o).size();
   state.counters["bytes"] = double(bytes);
 }
-BENCHMARK(BM_EncodeMaps)->Arg(6)->Arg(3)->Arg(2)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_EncodeMaps)
+    ->Arg(6)
+    ->Arg(3)
+    ->Arg(2)
+    ->Arg(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 

@@ -13,7 +13,9 @@ namespace {
 
 using P = std::array<double, 2>;  // x right, y up (texel units)
 
-double cross(const P& o, const P& a, const P& b) { return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]); }
+double cross(const P& o, const P& a, const P& b) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
 
 // Counter-clockwise hull without collinear points.
 std::vector<P> convex_hull(std::vector<P> pts) {
@@ -70,7 +72,8 @@ bool removal(const std::vector<P>& poly, std::size_t i, double w, double h, P& x
 
 }  // namespace
 
-CutoutResult fit_cutout(const image::Image& color, const PixelRect& r, int max_vertices, int alpha_threshold) {
+CutoutResult fit_cutout(const image::Image& color, const PixelRect& r, int max_vertices,
+                        int alpha_threshold) {
   if (max_vertices < 3 || max_vertices > 16) throw std::invalid_argument("cutout vertices must be in 3..16");
   const auto& b = color.bytes();
   const std::size_t stride = std::size_t(color.width());
@@ -106,7 +109,8 @@ CutoutResult fit_cutout(const image::Image& color, const PixelRect& r, int max_v
     }
     if (!std::isfinite(best)) {
       double x0 = w, y0 = h, x1 = 0, y1 = 0;
-      for (const P& p : poly) x0 = std::min(x0, p[0]), y0 = std::min(y0, p[1]), x1 = std::max(x1, p[0]), y1 = std::max(y1, p[1]);
+      for (const P& p : poly)
+        x0 = std::min(x0, p[0]), y0 = std::min(y0, p[1]), x1 = std::max(x1, p[0]), y1 = std::max(y1, p[1]);
       poly = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
       break;
     }
@@ -116,7 +120,8 @@ CutoutResult fit_cutout(const image::Image& color, const PixelRect& r, int max_v
     poly.erase(poly.begin() + std::ptrdiff_t(j));
   }
   out.area_fraction = polygon_area(poly) / (w * h);
-  for (const P& p : poly) out.polygon.push_back({std::clamp(p[0] / w, 0.0, 1.0), std::clamp(1.0 - p[1] / h, 0.0, 1.0)});
+  for (const P& p : poly)
+    out.polygon.push_back({std::clamp(p[0] / w, 0.0, 1.0), std::clamp(1.0 - p[1] / h, 0.0, 1.0)});
   return out;
 }
 

@@ -20,11 +20,12 @@ namespace sylva::impostor {
 struct CutoutResult {
   std::vector<std::array<double, 2>> polygon;  // frame uv: (0,0) top-left, (1,1) bottom-right;
                                                // counter-clockwise with v pointing up
-  double area_fraction = 1;  // polygon area / frame area (the fill the card still costs)
+  double area_fraction = 1;                    // polygon area / frame area (the fill the card still costs)
 };
 
 // Texels of `rect` with alpha > `alpha_threshold` (0..255) are kept. max_vertices in 3..16. A
 // frame with nothing above the threshold gets the whole frame.
-CutoutResult fit_cutout(const image::Image& color, const PixelRect& rect, int max_vertices, int alpha_threshold = 0);
+CutoutResult fit_cutout(const image::Image& color, const PixelRect& rect, int max_vertices,
+                        int alpha_threshold = 0);
 
 }  // namespace sylva::impostor

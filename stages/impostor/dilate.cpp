@@ -7,7 +7,8 @@
 
 namespace sylva::impostor {
 
-void dilate_frames(image::Image& color, image::Image& normal_depth, const std::vector<PixelRect>& rects, int band) {
+void dilate_frames(image::Image& color, image::Image& normal_depth, const std::vector<PixelRect>& rects,
+                   int band) {
   if (color.width() != normal_depth.width() || color.height() != normal_depth.height())
     throw std::invalid_argument("dilate_frames: the maps differ in size");
   auto& cb = color.bytes();

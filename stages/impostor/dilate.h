@@ -24,6 +24,7 @@ struct PixelRect {
 
 // `color` and `normal_depth` have the same size; rects lie inside and do not overlap. Alpha of
 // `color` decides what is covered. band >= 1.
-void dilate_frames(image::Image& color, image::Image& normal_depth, const std::vector<PixelRect>& rects, int band);
+void dilate_frames(image::Image& color, image::Image& normal_depth, const std::vector<PixelRect>& rects,
+                   int band);
 
 }  // namespace sylva::impostor

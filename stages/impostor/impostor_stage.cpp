@@ -5,9 +5,9 @@
 
 #include <algorithm>
 #include <fstream>
-#include <thread>
 #include <numbers>
 #include <sstream>
+#include <thread>
 
 #include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
@@ -46,7 +46,8 @@ const ArtifactFile& mesh_file(const InputArtifact& in) {
 
 class ImpostorStage final : public Stage {
  public:
-  explicit ImpostorStage(std::function<render::ImpostorRenderer&()> renderer) : renderer_(std::move(renderer)) {
+  explicit ImpostorStage(std::function<render::ImpostorRenderer&()> renderer)
+      : renderer_(std::move(renderer)) {
     info_ = impostor_stage_info();
   }
 
@@ -75,7 +76,9 @@ class ImpostorStage final : public Stage {
       }
       auto level_file = [&](std::size_t i) -> const ArtifactFile& {
         const ArtifactFile* f = in.file(levels[i].file);
-        if (!f) throw StageError("input '" + in.node + "': lod.json lists " + levels[i].file + ", which the artifact lacks");
+        if (!f)
+          throw StageError("input '" + in.node + "': lod.json lists " + levels[i].file +
+                           ", which the artifact lacks");
         return *f;
       };
       // The coarsest level measures the tree (every level is within its epsilon of the others),
@@ -95,7 +98,8 @@ class ImpostorStage final : public Stage {
       src.file = levels[chosen].file;
       src.level = int(chosen);
       src.epsilon = levels[chosen].epsilon;
-      src.line_pixel_m = levels[chosen].pixel_error > 0 ? levels[chosen].epsilon / levels[chosen].pixel_error : 0;
+      src.line_pixel_m =
+          levels[chosen].pixel_error > 0 ? levels[chosen].epsilon / levels[chosen].pixel_error : 0;
     } else {
       const ArtifactFile& f = mesh_file(in);
       scene = load(f);
@@ -140,7 +144,8 @@ class ImpostorStage final : public Stage {
 impostor::BakeParams bake_params_from(const Value::Object& params) {
   auto at = [&](const char* name) -> const Value& {
     auto it = params.find(name);
-    if (it == params.end()) throw std::invalid_argument(std::string("impostor parameters: '") + name + "' is missing");
+    if (it == params.end())
+      throw std::invalid_argument(std::string("impostor parameters: '") + name + "' is missing");
     return it->second;
   };
   impostor::BakeParams p;
@@ -172,7 +177,8 @@ std::unique_ptr<Stage> make_impostor_stage(std::function<render::ImpostorRendere
 }
 
 std::unique_ptr<Stage> make_impostor_stage() {
-  return make_impostor_stage([]() -> render::ImpostorRenderer& { return render::shared_impostor_renderer(); });
+  return make_impostor_stage(
+      []() -> render::ImpostorRenderer& { return render::shared_impostor_renderer(); });
 }
 
 }  // namespace sylva

@@ -17,8 +17,8 @@ namespace {
 Vec3d to_array(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 render::Vec3 to_f(const Vec3& v) { return v.cast<float>(); }
 
-render::BakeView view_for(const Vec3& center, const Vec3& dir, double half_w, double half_h, double depth, int x, int y,
-                          int w, int h) {
+render::BakeView view_for(const Vec3& center, const Vec3& dir, double half_w, double half_h, double depth,
+                          int x, int y, int w, int h) {
   const FrameBasis b = frame_basis(dir);
   render::BakeView v;
   v.center = to_f(center);
@@ -80,9 +80,10 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
   check(p.mip_levels >= 0 && p.mip_levels <= 12, "mip_levels must be in 0..12");
   Layout out;
   out.padding_px = 1 << p.mip_levels;
-  check(4 * out.padding_px < p.frame_px,
-        "mip_levels " + std::to_string(p.mip_levels) + " needs a padding of " + std::to_string(out.padding_px) +
-            " texels, more than a quarter of frame_px " + std::to_string(p.frame_px));
+  check(4 * out.padding_px < p.frame_px, "mip_levels " + std::to_string(p.mip_levels) +
+                                             " needs a padding of " + std::to_string(out.padding_px) +
+                                             " texels, more than a quarter of frame_px " +
+                                             std::to_string(p.frame_px));
   // The sphere's disc spans frame_px - 2 padding texels: W = R F / (F - 2 p).
   const double fill = double(p.frame_px) / double(p.frame_px - 2 * out.padding_px);
   const Vec3 c(g.center[0], g.center[1], g.center[2]);
@@ -99,8 +100,8 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
     const double depth = g.radius * 1.001;
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
-        out.views.push_back(view_for(c, frame_direction(i, j, n, hemi), out.frame_half_extent, out.frame_half_extent,
-                                     depth, i * f, j * f, f, f));
+        out.views.push_back(view_for(c, frame_direction(i, j, n, hemi), out.frame_half_extent,
+                                     out.frame_half_extent, depth, i * f, j * f, f, f));
     // The fallback cross: the frames nearest the four cardinal horizon directions, two planes
     // through the centre. No horizontal card: seen from the side it would be a dense stripe
     // across the crown (the whole top view squeezed into a sliver), and far trees are seen
@@ -109,8 +110,10 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
       const char* name;
       Vec3 dir;
     };
-    const std::vector<Target> targets = {
-        {"az0", Vec3::UnitZ()}, {"az90", Vec3::UnitX()}, {"az180", -Vec3::UnitZ()}, {"az270", -Vec3::UnitX()}};
+    const std::vector<Target> targets = {{"az0", Vec3::UnitZ()},
+                                         {"az90", Vec3::UnitX()},
+                                         {"az180", -Vec3::UnitZ()},
+                                         {"az270", -Vec3::UnitX()}};
     for (const Target& t : targets) {
       int best = 0;
       double best_dot = -2;
@@ -138,9 +141,10 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
   for (int k = 0; k < p.cards; ++k) {
     const double a = 2 * std::numbers::pi * k / p.cards;
     const Vec3 dir(std::sin(a), 0, std::cos(a));
-    out.views.push_back(view_for(c, dir, out.frame_half_extent, out.frame_half_extent, g.horizontal_radius * 1.001,
-                                 (k % cols) * f, (k / cols) * f, f, f));
-    out.cards.push_back(card_for(out.views.back(), "az" + std::to_string(int(std::lround(a * 180 / std::numbers::pi)))));
+    out.views.push_back(view_for(c, dir, out.frame_half_extent, out.frame_half_extent,
+                                 g.horizontal_radius * 1.001, (k % cols) * f, (k / cols) * f, f, f));
+    out.cards.push_back(
+        card_for(out.views.back(), "az" + std::to_string(int(std::lround(a * 180 / std::numbers::pi)))));
     out.card_view.push_back(k);
   }
   if (p.top_card) {

@@ -42,10 +42,10 @@ SourceGeometry measure(const render::Scene& scene);
 struct Layout {
   int atlas_width = 0, atlas_height = 0;
   int padding_px = 0;
-  double frame_half_extent = 0;          // octahedral W; billboards: the vertical cards' half extent
-  std::vector<render::BakeView> views;   // octahedral: frame (i, j) is views[j N + i]
-  std::vector<Card> cards;               // impostor.glb's cards (cutouts not yet fitted: full frames)
-  std::vector<int> card_view;            // the view each card shows
+  double frame_half_extent = 0;         // octahedral W; billboards: the vertical cards' half extent
+  std::vector<render::BakeView> views;  // octahedral: frame (i, j) is views[j N + i]
+  std::vector<Card> cards;              // impostor.glb's cards (cutouts not yet fitted: full frames)
+  std::vector<int> card_view;           // the view each card shows
 };
 
 // Throws std::invalid_argument naming the parameter when the parameters cannot give an atlas

@@ -2,9 +2,8 @@
 #include "stages/impostor/source.h"
 
 #include <cmath>
-#include <stdexcept>
-
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 namespace sylva::impostor {
 
@@ -28,9 +27,10 @@ std::vector<LodLevelRef> parse_lod_levels(const std::string& text, const std::st
     LodLevelRef r;
     r.file = l["file"].get<std::string>();
     r.epsilon = l["epsilon_m"].get<double>();
-    r.pixel_error = l.contains("pixel_error_px") && l["pixel_error_px"].is_number() ? l["pixel_error_px"].get<double>()
-                    : j.contains("pixel_error_px") && j["pixel_error_px"].is_number() ? j["pixel_error_px"].get<double>()
-                                                                                        : 0.0;
+    r.pixel_error =
+        l.contains("pixel_error_px") && l["pixel_error_px"].is_number()   ? l["pixel_error_px"].get<double>()
+        : j.contains("pixel_error_px") && j["pixel_error_px"].is_number() ? j["pixel_error_px"].get<double>()
+                                                                          : 0.0;
     if (l.contains("switch_distance_m") && l["switch_distance_m"].is_number())
       r.switch_distance = l["switch_distance_m"].get<double>();
     out.push_back(std::move(r));

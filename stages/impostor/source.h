@@ -13,9 +13,9 @@
 namespace sylva::impostor {
 
 struct LodLevelRef {
-  std::string file;       // e.g. "lod3.glb"
-  double epsilon = 0;     // m
-  double pixel_error = 0; // delta the level was built for (px)
+  std::string file;            // e.g. "lod3.glb"
+  double epsilon = 0;          // m
+  double pixel_error = 0;      // delta the level was built for (px)
   double switch_distance = 0;  // m (0 when lod.json does not say)
 };
 

@@ -30,7 +30,8 @@ const tree::Tree& adult(const std::string& species) {
   static std::map<std::string, tree::Tree> cache;
   auto it = cache.find(species);
   if (it != cache.end()) return it->second;
-  const auto sp = generate::load_species_preset(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"));
+  const auto sp = generate::load_species_preset(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species" /
+                                                (species + ".yaml"));
   generate::GenerateOptions o;
   o.max_node_spacing = 0.5;
   Rng rng(1, "tree");
@@ -129,17 +130,33 @@ void BM_ChainLongBranch(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_ChainLongBranch)->Arg(30000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_MergeStraightChain)->Arg(5000)->Arg(10000)->Arg(20000)->Arg(40000)->Arg(80000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MergeStraightChain)
+    ->Arg(5000)
+    ->Arg(10000)
+    ->Arg(20000)
+    ->Arg(40000)
+    ->Arg(80000)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_1mm, std::string("oak"), 0.001)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_MergeAndPolygonize, oak_22cm, std::string("oak"), 0.22)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_Chain, birch, std::string("birch"))->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Chain, holly, std::string("holly"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Chain, mugo_pine, std::string("mugo_pine"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Chain, norway_spruce, std::string("norway_spruce"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, mugo_pine, std::string("mugo_pine"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, norway_spruce, std::string("norway_spruce"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_Chain, oak, std::string("oak"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Chain, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, scots_pine, std::string("scots_pine"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(BM_LeafForest, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LeafForest, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_NeedleForest, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);

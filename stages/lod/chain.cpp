@@ -3,14 +3,14 @@
 // Remolar et al. (FSA/VDF) §4 (uniform extraction); DESIGN.md "LOD error model".
 #include "stages/lod/chain.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
-
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include "libs/tree/foliage.h"
 #include "stages/lod/topology.h"
@@ -39,7 +39,8 @@ std::vector<LevelSpec> plan_levels(const ChainOptions& o) {
       eps.push_back(o.max_error);
     } else {
       for (int i = 0; i < o.levels; ++i)
-        eps.push_back(o.min_error * std::pow(o.max_error / o.min_error, static_cast<double>(i) / (o.levels - 1)));
+        eps.push_back(o.min_error *
+                      std::pow(o.max_error / o.min_error, static_cast<double>(i) / (o.levels - 1)));
     }
   }
   if (eps.size() > 8) throw std::invalid_argument("at most 8 levels (Zhang §6)");
@@ -90,7 +91,8 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
   return pre;
 }
 
-Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec, const ChainOptions& options) {
+Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec,
+                  const ChainOptions& options) {
   Level level;
   level.spec = spec;
   const std::size_t nb = pre.skeletons.size();
@@ -102,7 +104,8 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
   std::vector<char> kept_branch(nb, 1);
   for (std::size_t i = 0; i < nb; ++i) {
     const std::int32_t p = pre.skeletons[i].parent;
-    if ((p >= 0 && !kept_branch[static_cast<std::size_t>(p)]) || pre.accumulated[i] <= spec.e4) kept_branch[i] = 0;
+    if ((p >= 0 && !kept_branch[static_cast<std::size_t>(p)]) || pre.accumulated[i] <= spec.e4)
+      kept_branch[i] = 0;
     if (i < pre.card_twigs.size() && pre.card_twigs[i]) kept_branch[i] = 0;  // its cards draw it
   }
   // A decimated subtree's coverage is carried onto its kept bearer's line at the attachment
@@ -171,7 +174,8 @@ std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& optio
   const Precomputed pre = precompute(tree, options);
   // Levels are independent given the precomputed data: one task per level, each into its slot.
   std::vector<Level> out(specs.size());
-  tbb::parallel_for(std::size_t{0}, specs.size(), [&](std::size_t i) { out[i] = build_level(tree, pre, specs[i], options); });
+  tbb::parallel_for(std::size_t{0}, specs.size(),
+                    [&](std::size_t i) { out[i] = build_level(tree, pre, specs[i], options); });
   return out;
 }
 

@@ -37,25 +37,25 @@ double switch_distance(const Camera& camera, double epsilon, double delta);
 
 struct ChainOptions {
   Camera camera;
-  double pixel_error = 0.5;          // delta, px
-  int levels = 6;                    // N, 1..8, used when `errors` is empty
-  std::vector<double> errors;        // explicit epsilon per level (m), increasing; overrides N
-  double min_error = 0.001;          // epsilon of level 0 (m)
-  double max_error = 0.22;           // epsilon of the coarsest level (m), Zhang §6
+  double pixel_error = 0.5;    // delta, px
+  int levels = 6;              // N, 1..8, used when `errors` is empty
+  std::vector<double> errors;  // explicit epsilon per level (m), increasing; overrides N
+  double min_error = 0.001;    // epsilon of level 0 (m)
+  double max_error = 0.22;     // epsilon of the coarsest level (m), Zhang §6
   double e1 = 0.25, e2 = 0.25, e3 = 1.0, e4 = 0.5, e5 = 1.0;  // factors of epsilon
-  double torsion_limit = 1.0471975511965976;  // Γ (rad), 60°
-  int max_edges = 12;                // H, >= 3
-  bool topology = true;              // E4 branch decimation
-  bool foliage = true;               // leaf collapse (FSA) and needle merging (E5)
+  double torsion_limit = 1.0471975511965976;                  // Γ (rad), 60°
+  int max_edges = 12;                                         // H, >= 3
+  bool topology = true;                                       // E4 branch decimation
+  bool foliage = true;                                        // leaf collapse (FSA) and needle merging (E5)
   // Called between branches and inside long merges (may be empty); may throw to stop the chain
   // (the stage passes StageContext::check_cancelled). Called from several threads at once.
   std::function<void()> check_cancelled;
 };
 
 struct LevelSpec {
-  double epsilon = 0;          // m
-  double delta = 0;            // px
-  double switch_distance = 0;  // m
+  double epsilon = 0;                             // m
+  double delta = 0;                               // px
+  double switch_distance = 0;                     // m
   double e1 = 0, e2 = 0, e3 = 0, e4 = 0, e5 = 0;  // m
 };
 
@@ -95,7 +95,7 @@ double drawn_line_alpha(double eq12_alpha, double delta);
 // Data computed once per tree and shared by every level.
 struct Precomputed {
   std::vector<BranchSkeleton> skeletons;
-  std::vector<double> accumulated;  // A(b), topology.h
+  std::vector<double> accumulated;   // A(b), topology.h
   std::vector<double> subtree_area;  // side-on area of each branch's subtree, m^2 (topology.h)
   LeafForest leaf_forest;
   NeedleForest needle_forest;
@@ -106,7 +106,8 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options);
 
 // One level from the precomputed data (the three passes of Zhang §3: merging, topology,
 // polygonisation; then foliage).
-Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec, const ChainOptions& options);
+Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpec& spec,
+                  const ChainOptions& options);
 
 // The full-detail model the levels are measured against (`sylva lodcheck`): epsilon = 0, so no
 // merging (except exactly collinear runs of equal radius), no decimation, every polygon with

@@ -75,7 +75,8 @@ LeafQuad collapse_leaves(const LeafQuad& a, const LeafQuad& b) {
   const float v0 = std::min({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]});
   const float du = std::max({big.uv[0][0], big.uv[1][0], big.uv[2][0], big.uv[3][0]}) - u0;
   const float dv = std::max({big.uv[0][1], big.uv[1][1], big.uv[2][1], big.uv[3][1]}) - v0;
-  const std::array<std::array<float, 2>, 4> uv = {{{u0, v0}, {u0 + du, v0}, {u0 + du, v0 + dv}, {u0, v0 + dv}}};
+  const std::array<std::array<float, 2>, 4> uv = {
+      {{u0, v0}, {u0 + du, v0}, {u0 + du, v0 + dv}, {u0, v0 + dv}}};
   LeafQuad best;
   double best_diff = std::numeric_limits<double>::infinity();
   for (int ea = 0; ea < 4; ++ea)
@@ -110,9 +111,11 @@ LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves, const tree::Mat
   LeafForest lf;
   lf.quads.reserve(leaves.size() * 2);
   for (const tree::Leaf& l : leaves) lf.quads.push_back(leaf_quad(l, materials));
-  lf.forest = agglomerate(lf.quads, LeafMetric{}, [](const LeafQuad& a, const LeafQuad& b, double ea, double eb) {
-    return std::pair<LeafQuad, double>(collapse_leaves(a, b), std::max(ea, eb) + leaf_collapse_cost(a, b));
-  });
+  lf.forest =
+      agglomerate(lf.quads, LeafMetric{}, [](const LeafQuad& a, const LeafQuad& b, double ea, double eb) {
+        return std::pair<LeafQuad, double>(collapse_leaves(a, b),
+                                           std::max(ea, eb) + leaf_collapse_cost(a, b));
+      });
   return lf;
 }
 

@@ -26,10 +26,10 @@
 namespace sylva::lod {
 
 struct LeafQuad {
-  std::array<tree::Vec3, 4> v;              // corners, counter-clockwise seen from the front
-  std::array<std::array<float, 2>, 4> uv;   // texture coordinates of the corners (leaf atlas)
-  tree::Vec3 normal;                        // unit front normal
-  double area = 0;                          // m^2 (half |d1 x d2|)
+  std::array<tree::Vec3, 4> v;             // corners, counter-clockwise seen from the front
+  std::array<std::array<float, 2>, 4> uv;  // texture coordinates of the corners (leaf atlas)
+  tree::Vec3 normal;                       // unit front normal
+  double area = 0;                         // m^2 (half |d1 x d2|)
   tree::Vec3 center() const { return (v[0] + v[1] + v[2] + v[3]) * 0.25; }
 };
 

@@ -86,7 +86,8 @@ namespace {
 
 // Whether the group k .. m satisfies eq. (3) under E1/E2 -- merge_error() with an early exit at
 // the first inner node that breaks a bound (the torsion is checked by the caller).
-bool group_within(std::span<const SkeletalVector> g, std::size_t k, std::size_t m, const MergeLimits& limits) {
+bool group_within(std::span<const SkeletalVector> g, std::size_t k, std::size_t m,
+                  const MergeLimits& limits) {
   const SkeletalVector& a = g[k];
   const SkeletalVector& z = g[m];
   const double span_len = z.arc - a.arc;

@@ -23,11 +23,11 @@ using tree::Vec3;
 
 // G_k plus the arc length t_k from the branch base (eq. 1) and the node angle beta_k (§4.2).
 struct SkeletalVector {
-  Vec3 p;            // P_k, m
-  double r = 0;      // R_k, m
-  Vec3 t, n, b;      // Frenet frame (A1), orthonormal, t x n = b
-  double arc = 0;    // t_k, m
-  double beta = 0;   // node angle, rad (0 at both ends)
+  Vec3 p;           // P_k, m
+  double r = 0;     // R_k, m
+  Vec3 t, n, b;     // Frenet frame (A1), orthonormal, t x n = b
+  double arc = 0;   // t_k, m
+  double beta = 0;  // node angle, rad (0 at both ends)
 };
 
 // One branch of the tree as skeletal vectors. For a non-root branch the attachment point on
@@ -54,9 +54,9 @@ struct MergeError {
 MergeError merge_error(std::span<const SkeletalVector> g, std::size_t k, std::size_t m);
 
 struct MergeLimits {
-  double e1 = 0;        // E1, m: bound on phi
-  double e2 = 0;        // E2, m: bound on varphi
-  double gamma = 1.0;   // Γ, rad: bound on the torsion of one merged internode
+  double e1 = 0;       // E1, m: bound on phi
+  double e2 = 0;       // E2, m: bound on varphi
+  double gamma = 1.0;  // Γ, rad: bound on the torsion of one merged internode
 };
 
 // Greedy internode merging along one branch (§4.4): from node k, the merged internode reaches a
@@ -67,7 +67,8 @@ struct MergeLimits {
 // returns how many were appended. `check_cancelled` (may be empty) is called every 64 groups and
 // may throw to stop.
 std::size_t merge_internodes(std::span<const SkeletalVector> g, const MergeLimits& limits,
-                             std::vector<std::uint32_t>& kept, const std::function<void()>& check_cancelled = {});
+                             std::vector<std::uint32_t>& kept,
+                             const std::function<void()>& check_cancelled = {});
 
 // Value of the merged surface I_{k,m-k} (eq. 1 over the group, normals A3) at its parameter
 // tau in [0, 1] and angle theta: the point the error bound (A6) compares with V(t, theta).

@@ -338,12 +338,14 @@ nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& l
                              bool ribbons) {
   nlohmann::json j;
   j["tree"] = tree.name;
-  j["camera"] = {{"fov_y_deg", o.camera.fov_y_rad * 180 / std::numbers::pi}, {"height_px", o.camera.height_px}};
+  j["camera"] = {{"fov_y_deg", o.camera.fov_y_rad * 180 / std::numbers::pi},
+                 {"height_px", o.camera.height_px}};
   j["pixel_error_px"] = o.pixel_error;
   j["tree_height_m"] = tree_height(tree);
   const double radius = levels.empty() ? 0.0 : bounding_radius(levels[0]);
   j["bounding_radius_m"] = radius;
-  j["source"] = {{"branches", tree.branches.size()}, {"leaves", tree.leaves.size()}, {"needles", tree.needles.size()}};
+  j["source"] = {
+      {"branches", tree.branches.size()}, {"leaves", tree.leaves.size()}, {"needles", tree.needles.size()}};
   j["chain_file"] = "lod.gltf";
   const std::vector<double> coverage = screen_coverages(levels, o.camera, radius);
   nlohmann::json ls = nlohmann::json::array();

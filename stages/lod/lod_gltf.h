@@ -1,8 +1,8 @@
 // glTF output of a LOD chain through libs/gltf.
 //
 // Seeds: Zhang et al. 2017 §6 (opaque meshes, then semi-transparent lines; eq. 12's alpha per
-// line vertex, docs/stages/lod.md); Microsoft MSFT_lod extension (node.extensions.MSFT_lod.ids = the coarser levels'
-// nodes, highest detail first; node.extras.MSFT_screencoverage, one value per level).
+// line vertex, docs/stages/lod.md); Microsoft MSFT_lod extension (node.extensions.MSFT_lod.ids = the coarser
+// levels' nodes, highest detail first; node.extras.MSFT_screencoverage, one value per level).
 //
 // Files (docs/stages/lod.md "Outputs"), every byte stored once:
 //   lod<i>.gltf + lod<i>.bin   one level; any glTF client opens it

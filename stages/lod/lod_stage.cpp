@@ -79,7 +79,8 @@ class LodStage : public Stage {
 lod::ChainOptions chain_options_from_params(const Value::Object& params) {
   auto at = [&](const char* name) -> const Value& {
     auto it = params.find(name);
-    if (it == params.end()) throw std::invalid_argument(std::string("lod parameters: '") + name + "' is missing");
+    if (it == params.end())
+      throw std::invalid_argument(std::string("lod parameters: '") + name + "' is missing");
     return it->second;
   };
   lod::ChainOptions o;

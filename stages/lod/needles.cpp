@@ -99,8 +99,8 @@ NeedleForest build_needle_forest(std::span<const tree::Needle> needles) {
   return nf;
 }
 
-void needle_geometry(const NeedleForest& forest, std::span<const std::uint32_t> active, double e3, int max_edges,
-                     BranchGeometry& out) {
+void needle_geometry(const NeedleForest& forest, std::span<const std::uint32_t> active, double e3,
+                     int max_edges, BranchGeometry& out) {
   SkeletalVector g[2];
   const std::uint32_t kept[2] = {0, 1};
   for (std::uint32_t id : active) {

@@ -45,7 +45,7 @@ NeedleLine merge_needles(const NeedleLine& a, const NeedleLine& b);
 NeedleForest build_needle_forest(std::span<const tree::Needle> needles);
 
 // Appends the needles `active` as internodes polygonised with E3 (prisms or lines).
-void needle_geometry(const NeedleForest& forest, std::span<const std::uint32_t> active, double e3, int max_edges,
-                     BranchGeometry& out);
+void needle_geometry(const NeedleForest& forest, std::span<const std::uint32_t> active, double e3,
+                     int max_edges, BranchGeometry& out);
 
 }  // namespace sylva::lod

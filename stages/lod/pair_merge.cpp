@@ -33,7 +33,8 @@ double GridFrame::distance_to_cell(tree::Vec3 p, Coord k) const {
   const double q[3] = {p.x - lo_.x, p.y - lo_.y, p.z - lo_.z};
   double d2 = 0;
   for (int i = 0; i < 3; ++i) {
-    const double a = static_cast<double>(k[i]) * cell_ - margin, b = static_cast<double>(k[i] + 1) * cell_ + margin;
+    const double a = static_cast<double>(k[i]) * cell_ - margin,
+                 b = static_cast<double>(k[i] + 1) * cell_ + margin;
     const double gap = q[i] < a ? a - q[i] : (q[i] > b ? q[i] - b : 0.0);
     d2 += gap * gap;
   }

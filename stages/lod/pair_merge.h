@@ -36,10 +36,10 @@ namespace sylva::lod {
 // The binary forest: elements 0..n_leaves-1 are the originals; element n_leaves + i is made by
 // merge i from left[i'] and right[i'] (i' = element index). error is monotone towards the roots.
 struct BinaryForest {
-  std::size_t original = 0;          // number of original elements
-  std::vector<std::int32_t> parent;  // per element, -1 for roots
+  std::size_t original = 0;               // number of original elements
+  std::vector<std::int32_t> parent;       // per element, -1 for roots
   std::vector<std::int32_t> left, right;  // per element, -1 for originals
-  std::vector<double> error;         // per element, m; 0 for originals
+  std::vector<double> error;              // per element, m; 0 for originals
 
   std::size_t size() const { return parent.size(); }
   // Active elements after the first `merges` merges (merge order), ascending ids.

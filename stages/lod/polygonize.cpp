@@ -130,7 +130,8 @@ void polygonize_branch(std::span<const SkeletalVector> g, std::span<const std::u
         push3(out.tri_positions, sb.p);
         push3(out.tri_normals, sb.t);
         for (int j = 0; j < ha; ++j)
-          tri(out, ring_a + static_cast<std::uint32_t>(j), ring_a + static_cast<std::uint32_t>((j + 1) % ha), apex);
+          tri(out, ring_a + static_cast<std::uint32_t>(j), ring_a + static_cast<std::uint32_t>((j + 1) % ha),
+              apex);
         out.triangles += static_cast<std::size_t>(ha);
         have_ring_a = false;
       }

@@ -53,21 +53,21 @@ struct BranchGeometry {
   std::vector<float> tri_positions, tri_normals;  // xyz per vertex
   std::vector<std::uint32_t> tri_indices;         // triangles (a quad is two)
   std::vector<float> line_positions, line_normals;
-  std::vector<float> line_radii;                  // R_k of the node of each line vertex, m
+  std::vector<float> line_radii;  // R_k of the node of each line vertex, m
   // Eq. (12)'s alpha 2/rho = 2 R_k / E3 of each line vertex (<= 1), plus the coverage of
   // decimated subtrees carried onto it (chain.cpp, "coverage of decimated branches"); the
   // drawn alpha is drawn_line_alpha(this, delta) (chain.h).
   std::vector<float> line_alpha12;
-  std::vector<std::uint32_t> line_indices;        // segments
-  std::size_t quads = 0;            // quads emitted (prisms and prismoids)
-  std::size_t triangles = 0;        // triangles emitted (prismoids and fan covers)
-  std::size_t lines = 0;            // line segments emitted (3 per line internode)
-  std::size_t mesh_internodes = 0;  // internodes drawn as polygons
-  std::size_t line_internodes = 0;  // internodes drawn as lines
-  double alpha_length = 0;          // sum of alpha * length over line internodes
-  double line_length = 0;           // sum of length over line internodes
-  double max_polygon_error = 0;     // max over rings of polygon_error(R_k, H_k), m
-  std::vector<int> ring_edges;      // H_k of every ring emitted (tests and statistics)
+  std::vector<std::uint32_t> line_indices;  // segments
+  std::size_t quads = 0;                    // quads emitted (prisms and prismoids)
+  std::size_t triangles = 0;                // triangles emitted (prismoids and fan covers)
+  std::size_t lines = 0;                    // line segments emitted (3 per line internode)
+  std::size_t mesh_internodes = 0;          // internodes drawn as polygons
+  std::size_t line_internodes = 0;          // internodes drawn as lines
+  double alpha_length = 0;                  // sum of alpha * length over line internodes
+  double line_length = 0;                   // sum of length over line internodes
+  double max_polygon_error = 0;             // max over rings of polygon_error(R_k, H_k), m
+  std::vector<int> ring_edges;              // H_k of every ring emitted (tests and statistics)
 
   // Length-weighted mean alpha of the lines (1 when there are none): the level's alpha (§6:
   // reported; the drawn alpha is per vertex, line_alpha12).

@@ -56,7 +56,8 @@ std::vector<double> subtree_areas(std::span<const BranchSkeleton> skeletons,
   for (std::size_t i = 0; i < n; ++i) {
     if (i < drawn_by_cards.size() && drawn_by_cards[i]) continue;
     const auto& g = skeletons[i].g;
-    for (std::size_t k = 0; k + 1 < g.size(); ++k) area[i] += (g[k].r + g[k + 1].r) * length(g[k + 1].p - g[k].p);
+    for (std::size_t k = 0; k + 1 < g.size(); ++k)
+      area[i] += (g[k].r + g[k + 1].r) * length(g[k + 1].p - g[k].p);
   }
   // Children come after their parents (tree.h): one backward pass accumulates the subtrees.
   for (std::size_t i = n; i-- > 0;) {

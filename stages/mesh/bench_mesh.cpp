@@ -53,7 +53,8 @@ void mesh_tree_bench(benchmark::State& state, std::filesystem::path preset) {
   }
   state.counters["base_quads"] = static_cast<double>(base);
   state.counters["quads"] = static_cast<double>(quads);
-  state.counters["quads_per_s"] = benchmark::Counter(static_cast<double>(quads), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["quads_per_s"] =
+      benchmark::Counter(static_cast<double>(quads), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // The phases of mesh_tree for one preset, to see where the time goes.
@@ -71,13 +72,27 @@ void phases(benchmark::State& state, std::filesystem::path preset) {
   const mesh::QuadMesh fine = mesh::subdivide(base, levels);
   for (auto _ : state) {
     switch (phase) {
-      case 0: benchmark::DoNotOptimize(mesh::build_skeleton(t, so).branches.data()); break;
-      case 1: benchmark::DoNotOptimize(mesh::build_bark_mesh(sk, bo, nullptr).quads.data()); break;
-      case 2: benchmark::DoNotOptimize(mesh::check_topology_fast(base).euler); break;
-      case 3: benchmark::DoNotOptimize(mesh::subdivide(base, levels).quads.data()); break;
-      case 4: benchmark::DoNotOptimize(mesh::to_primitive(fine).indices.data()); break;
-      case 5: benchmark::DoNotOptimize(mesh::subdivide(base, levels, mesh::Subdivider::kOpenMesh).quads.data()); break;
-      default: benchmark::DoNotOptimize(mesh::check_topology(base).euler); break;
+      case 0:
+        benchmark::DoNotOptimize(mesh::build_skeleton(t, so).branches.data());
+        break;
+      case 1:
+        benchmark::DoNotOptimize(mesh::build_bark_mesh(sk, bo, nullptr).quads.data());
+        break;
+      case 2:
+        benchmark::DoNotOptimize(mesh::check_topology_fast(base).euler);
+        break;
+      case 3:
+        benchmark::DoNotOptimize(mesh::subdivide(base, levels).quads.data());
+        break;
+      case 4:
+        benchmark::DoNotOptimize(mesh::to_primitive(fine).indices.data());
+        break;
+      case 5:
+        benchmark::DoNotOptimize(mesh::subdivide(base, levels, mesh::Subdivider::kOpenMesh).quads.data());
+        break;
+      default:
+        benchmark::DoNotOptimize(mesh::check_topology(base).euler);
+        break;
     }
   }
 }
@@ -95,7 +110,8 @@ void encode(benchmark::State& state, std::filesystem::path preset) {
 
 int main(int argc, char** argv) {
   std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
     if (e.path().extension() == ".yaml") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   for (const auto& f : files) {

@@ -28,7 +28,7 @@ using Loop = std::array<std::uint32_t, 4>;
 struct Segment {
   std::uint32_t branch = 0;
   std::uint32_t ring = 0;  // first ring of the segment (k + 1 for a continuation, 0 for a child)
-  double radius = 0;  // the tree's radius of that ring (ordering and the equal-split test)
+  double radius = 0;       // the tree's radius of that ring (ordering and the equal-split test)
 };
 
 // Closed square polygon subdivided with the cubic B-spline rule (what Catmull–Clark does to the
@@ -65,7 +65,8 @@ class Mesher {
   Mesher(const MeshSkeleton& sk, const BarkOptions& o, QuadMesh& m, JointStats& st)
       : sk_(sk), o_(o), m_(m), st_(st), repeat_(std::max(1, o.bark_repeat)) {
     ring_base_.resize(sk.branches.size());
-    for (std::size_t b = 0; b < sk.branches.size(); ++b) ring_base_[b].assign(sk.branches[b].rings.size(), kNone);
+    for (std::size_t b = 0; b < sk.branches.size(); ++b)
+      ring_base_[b].assign(sk.branches[b].rings.size(), kNone);
   }
 
   void run() {
@@ -137,7 +138,8 @@ class Mesher {
     std::array<Uv, 4> uv;
     for (std::size_t i = 0; i < 4; ++i) {
       const Vec3 d = p(l[i]) - c;
-      uv[i] = {static_cast<float>(0.5 + dot(d, e1) * scale), static_cast<float>(v_ref * repeat_ + dot(d, e2) * scale)};
+      uv[i] = {static_cast<float>(0.5 + dot(d, e1) * scale),
+               static_cast<float>(v_ref * repeat_ + dot(d, e2) * scale)};
     }
     emit(l, uv, kind);
   }
@@ -162,7 +164,8 @@ class Mesher {
       ++st_.tip_caps;
       return;
     }
-    std::stable_sort(segs.begin(), segs.end(), [](const Segment& a, const Segment& c) { return a.radius > c.radius; });
+    std::stable_sort(segs.begin(), segs.end(),
+                     [](const Segment& a, const Segment& c) { return a.radius > c.radius; });
     if (level < kMaxBackwardLevels && backward(port, segs[0])) {
       backward_box(port, segs, v_base, level);
       return;
@@ -251,7 +254,8 @@ class Mesher {
     for (int sh = 0; sh < 4; ++sh) {
       double d = 0;
       for (int i = 0; i < 4; ++i) {
-        const Vec3 e = p(port[static_cast<std::size_t>(i)]) - p(base + static_cast<std::uint32_t>((i + sh) % 4));
+        const Vec3 e =
+            p(port[static_cast<std::size_t>(i)]) - p(base + static_cast<std::uint32_t>((i + sh) % 4));
         d += dot(e, e);
       }
       if (d < best) best = d, shift = sh;
@@ -263,7 +267,8 @@ class Mesher {
       const std::uint32_t ra = base + static_cast<std::uint32_t>(a);
       const std::uint32_t rb = base + static_cast<std::uint32_t>((a + 1) % 4);
       const double ua = repeat_ * a / 4.0, ub = repeat_ * (a + 1) / 4.0;  // corner 0 is u = 1 after corner 3
-      out.sides[static_cast<std::size_t>(i)] = {port[static_cast<std::size_t>(i)], port[static_cast<std::size_t>((i + 1) % 4)], rb, ra};
+      out.sides[static_cast<std::size_t>(i)] = {port[static_cast<std::size_t>(i)],
+                                                port[static_cast<std::size_t>((i + 1) % 4)], rb, ra};
       const float fa = static_cast<float>(ua), fb = static_cast<float>(ub);
       const float fp = static_cast<float>(v_port), fr = static_cast<float>(v_ring);
       out.side_uv[static_cast<std::size_t>(i)] = {Uv{fa, fp}, Uv{fb, fp}, Uv{fb, fr}, Uv{fa, fr}};
@@ -357,7 +362,8 @@ class Mesher {
     std::vector<Segment> left, right;
     for (const auto& [d, g] : by_side) (d >= 0 ? left : right).push_back(g);
     if (left.empty() || right.empty()) {
-      std::stable_sort(by_side.begin(), by_side.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+      std::stable_sort(by_side.begin(), by_side.end(),
+                       [](const auto& x, const auto& y) { return x.first > y.first; });
       left.clear();
       right.clear();
       const std::size_t half = (by_side.size() + 1) / 2;

@@ -58,7 +58,7 @@ struct JointStats {
   std::size_t insets = 0;              // ports inset before bridging to a much smaller ring
   std::size_t tip_caps = 0;
   std::size_t base_caps = 0;
-  std::size_t components = 0;          // roots (one closed mesh each)
+  std::size_t components = 0;  // roots (one closed mesh each)
 };
 
 struct BarkOptions {

@@ -47,7 +47,8 @@ gltf::Primitive leaf_cards(const tree::Tree& tree) {
     push3(p.positions, base + half);
     push3(p.positions, base + half + along);
     push3(p.positions, base - half + along);
-    p.texcoords.insert(p.texcoords.end(), {cell.u0, cell.v0, cell.u1, cell.v0, cell.u1, cell.v1, cell.u0, cell.v1});
+    p.texcoords.insert(p.texcoords.end(),
+                       {cell.u0, cell.v0, cell.u1, cell.v0, cell.u1, cell.v1, cell.u0, cell.v1});
     for (int k = 0; k < 4; ++k) push3(p.normals, nrm);
     // (A, B, C) would face -n (s x d = -n): list the corners the other way round.
     p.indices.insert(p.indices.end(), {first, first + 2, first + 1, first, first + 3, first + 2});

@@ -17,7 +17,8 @@ namespace {
 
 // Components, Euler characteristic and signed volume: the parts both checks share.
 void finish(const QuadMesh& mesh, TopologyReport& r) {
-  r.euler = static_cast<long long>(r.vertices) - static_cast<long long>(r.edges) + static_cast<long long>(r.faces);
+  r.euler =
+      static_cast<long long>(r.vertices) - static_cast<long long>(r.edges) + static_cast<long long>(r.faces);
   // Face-connected components (union-find over the quads' vertices).
   std::vector<std::uint32_t> parent(mesh.positions.size());
   std::iota(parent.begin(), parent.end(), 0u);
@@ -41,7 +42,8 @@ void finish(const QuadMesh& mesh, TopologyReport& r) {
   double six_v = 0;
   for (const Quad& q : mesh.quads) {
     const Vec3& a = mesh.positions[q[0]];
-    for (std::size_t i = 1; i + 1 < 4; ++i) six_v += tree::dot(a, tree::cross(mesh.positions[q[i]], mesh.positions[q[i + 1]]));
+    for (std::size_t i = 1; i + 1 < 4; ++i)
+      six_v += tree::dot(a, tree::cross(mesh.positions[q[i]], mesh.positions[q[i + 1]]));
   }
   r.signed_volume = six_v / 6;
 }

@@ -19,9 +19,9 @@ struct TopologyReport {
                                    // without a matching opposite, plus non-manifold vertices)
   std::size_t boundary_edges = 0;  // edges with a single face
   std::size_t isolated_vertices = 0;
-  std::size_t components = 0;      // face-connected pieces
-  long long euler = 0;             // V - E + F (2 per closed genus-0 component)
-  double signed_volume = 0;        // m^3; > 0 when the faces' normals point outwards
+  std::size_t components = 0;  // face-connected pieces
+  long long euler = 0;         // V - E + F (2 per closed genus-0 component)
+  double signed_volume = 0;    // m^3; > 0 when the faces' normals point outwards
 
   bool manifold_and_oriented() const { return refused_faces == 0 && isolated_vertices == 0; }
   bool closed() const { return boundary_edges == 0; }

@@ -10,9 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <vector>
-
 #include <nlohmann/json.hpp>
+#include <vector>
 
 namespace sylva::verify {
 
@@ -39,14 +38,26 @@ std::string escape(const std::string& s) {
   for (char ch : s) {
     const auto c = static_cast<unsigned char>(ch);
     switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&#39;"; break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
       default:
-        if (c < 0x20 && ch != '\n' && ch != '\t' && ch != '\r') out += ' ';
-        else out += ch;
+        if (c < 0x20 && ch != '\n' && ch != '\t' && ch != '\r')
+          out += ' ';
+        else
+          out += ch;
     }
   }
   return out;
@@ -85,7 +96,9 @@ ojson case_json(const CaseResult& c) {
 }
 
 const char* failure_type(CaseStatus s) {
-  return s == CaseStatus::kMissingReference ? "missing_reference" : s == CaseStatus::kError ? "error" : "image_mismatch";
+  return s == CaseStatus::kMissingReference ? "missing_reference"
+         : s == CaseStatus::kError          ? "error"
+                                            : "image_mismatch";
 }
 
 // The numbers of a compared case, one per line (JUnit failure bodies).
@@ -99,9 +112,11 @@ std::string numbers_text(const CaseResult& c) {
     if (!r.size_mismatch) {
       t += "failing pixels: " + std::to_string(r.failing_pixels) + " of " + std::to_string(r.pixels) + " (" +
            percent(r.failing_fraction) + ")\n";
-      t += "mean error: " + fixed(r.mean_error, 6) + ", rms error: " + fixed(r.rms_error, 6) + ", max error: " +
-           fixed(r.max_error, 6) + " at (" + std::to_string(r.max_x) + ", " + std::to_string(r.max_y) + ")\n";
-      t += "PSNR: " + (std::isfinite(r.psnr) ? fixed(r.psnr, 2) + " dB" : std::string("infinite (identical)")) + "\n";
+      t += "mean error: " + fixed(r.mean_error, 6) + ", rms error: " + fixed(r.rms_error, 6) +
+           ", max error: " + fixed(r.max_error, 6) + " at (" + std::to_string(r.max_x) + ", " +
+           std::to_string(r.max_y) + ")\n";
+      t += "PSNR: " +
+           (std::isfinite(r.psnr) ? fixed(r.psnr, 2) + " dB" : std::string("infinite (identical)")) + "\n";
     }
   }
   return t;
@@ -136,10 +151,10 @@ std::string figure(const std::string& png, const std::string& caption, const std
                    int height) {
   if (png.empty())
     return "<figure><div class=\"none\" style=\"aspect-ratio:" + std::to_string(std::max(width, 1)) + "/" +
-           std::to_string(std::max(height, 1)) + "\">" + escape(missing) + "</div><figcaption>" + escape(caption) +
-           "</figcaption></figure>\n";
-  return "<figure><img alt=\"" + escape(caption) + "\" src=\"" + data_uri(png) + "\"><figcaption>" + escape(caption) +
-         "</figcaption></figure>\n";
+           std::to_string(std::max(height, 1)) + "\">" + escape(missing) + "</div><figcaption>" +
+           escape(caption) + "</figcaption></figure>\n";
+  return "<figure><img alt=\"" + escape(caption) + "\" src=\"" + data_uri(png) + "\"><figcaption>" +
+         escape(caption) + "</figcaption></figure>\n";
 }
 
 std::string counts_text(const Report& r) {
@@ -153,8 +168,9 @@ std::string counts_text(const Report& r) {
 
 std::string base64(const std::string& bytes) {
   std::string out(4 * ((bytes.size() + 2) / 3) + 1, '\0');
-  const int n = EVP_EncodeBlock(reinterpret_cast<unsigned char*>(out.data()),
-                                reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<int>(bytes.size()));
+  const int n =
+      EVP_EncodeBlock(reinterpret_cast<unsigned char*>(out.data()),
+                      reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<int>(bytes.size()));
   out.resize(static_cast<std::size_t>(n));
   return out;
 }
@@ -169,10 +185,11 @@ std::string report_json(const Report& r) {
                   {"failed", r.count(CaseStatus::kFailed)},
                   {"missing_reference", r.count(CaseStatus::kMissingReference)},
                   {"error", r.count(CaseStatus::kError)}};
-  j["thresholds"] = {{"pixel_threshold", r.thresholds.pixel_threshold},
-                     {"max_failing_fraction", r.thresholds.max_failing_fraction},
-                     {"min_psnr_db", r.thresholds.min_psnr_db > 0 ? ojson(r.thresholds.min_psnr_db) : ojson(nullptr)},
-                     {"compare_alpha", r.thresholds.compare_alpha}};
+  j["thresholds"] = {
+      {"pixel_threshold", r.thresholds.pixel_threshold},
+      {"max_failing_fraction", r.thresholds.max_failing_fraction},
+      {"min_psnr_db", r.thresholds.min_psnr_db > 0 ? ojson(r.thresholds.min_psnr_db) : ojson(nullptr)},
+      {"compare_alpha", r.thresholds.compare_alpha}};
   j["camera_set"] = {{"width", r.width}, {"height", r.height}, {"msaa", r.msaa}, {"views", r.views}};
   j["device"] = r.device;
   j["assets"] = r.assets;
@@ -201,11 +218,12 @@ std::string junit_xml(const Report& r) {
       f += bad(c.status) ? 1 : 0;
       e += c.status == CaseStatus::kError ? 1 : 0;
     }
-    x += "  <testsuite name=\"verify." + escape(asset) + "\" tests=\"" + std::to_string(n) + "\" failures=\"" +
-         std::to_string(f) + "\" errors=\"" + std::to_string(e) + "\" skipped=\"0\">\n";
+    x += "  <testsuite name=\"verify." + escape(asset) + "\" tests=\"" + std::to_string(n) +
+         "\" failures=\"" + std::to_string(f) + "\" errors=\"" + std::to_string(e) + "\" skipped=\"0\">\n";
     x += "    <properties>\n";
     x += "      <property name=\"device\" value=\"" + escape(r.device) + "\"/>\n";
-    x += "      <property name=\"pixel_threshold\" value=\"" + escape(nlohmann::json(r.thresholds.pixel_threshold).dump()) + "\"/>\n";
+    x += "      <property name=\"pixel_threshold\" value=\"" +
+         escape(nlohmann::json(r.thresholds.pixel_threshold).dump()) + "\"/>\n";
     x += "      <property name=\"max_failing_fraction\" value=\"" +
          escape(nlohmann::json(r.thresholds.max_failing_fraction).dump()) + "\"/>\n";
     x += "    </properties>\n";
@@ -217,8 +235,8 @@ std::string junit_xml(const Report& r) {
         continue;
       }
       const char* tag = c.status == CaseStatus::kError ? "error" : "failure";
-      x += ">\n      <" + std::string(tag) + " type=\"" + failure_type(c.status) + "\" message=\"" + escape(c.message) +
-           "\">" + escape(numbers_text(c)) + "</" + tag + ">\n    </testcase>\n";
+      x += ">\n      <" + std::string(tag) + " type=\"" + failure_type(c.status) + "\" message=\"" +
+           escape(c.message) + "\">" + escape(numbers_text(c)) + "</" + tag + ">\n    </testcase>\n";
     }
     x += "  </testsuite>\n";
   }
@@ -229,24 +247,28 @@ std::string junit_xml(const Report& r) {
 std::string report_html(const Report& r) {
   const bool ok = r.passed();
   std::string title = ok ? "sylva verify: passed (" + std::to_string(r.cases.size()) + " views)"
-                         : "sylva verify: FAILED (" + std::to_string(r.cases.size() - r.count(CaseStatus::kPassed)) +
-                               " of " + std::to_string(r.cases.size()) + " views)";
+                         : "sylva verify: FAILED (" +
+                               std::to_string(r.cases.size() - r.count(CaseStatus::kPassed)) + " of " +
+                               std::to_string(r.cases.size()) + " views)";
   std::string h = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
   h += "<title>" + escape(title) + "</title>\n<style>" + kCss + "</style>\n</head>\n<body>\n";
-  h += std::string("<header class=\"") + (ok ? "passed" : "failed") + "\">\n<h1>" + escape(title) + "</h1>\n<p>" +
-       escape(counts_text(r)) + "</p>\n</header>\n<main>\n";
+  h += std::string("<header class=\"") + (ok ? "passed" : "failed") + "\">\n<h1>" + escape(title) +
+       "</h1>\n<p>" + escape(counts_text(r)) + "</p>\n</header>\n<main>\n";
 
   // Run parameters.
   h += "<section class=\"meta\">\n<table>\n";
   h += "<tr><th>per-pixel threshold</th><td>" + escape(fixed(r.thresholds.pixel_threshold, 4)) +
        " of full scale in any channel (" + escape(fixed(r.thresholds.pixel_threshold * 255.0, 1)) +
        " of 255 levels)</td></tr>\n";
-  h += "<tr><th>allowed failing pixels</th><td>" + escape(percent(r.thresholds.max_failing_fraction)) + "</td></tr>\n";
-  h += "<tr><th>minimum PSNR</th><td>" +
-       escape(r.thresholds.min_psnr_db > 0 ? fixed(r.thresholds.min_psnr_db, 2) + " dB" : std::string("not checked")) +
+  h += "<tr><th>allowed failing pixels</th><td>" + escape(percent(r.thresholds.max_failing_fraction)) +
        "</td></tr>\n";
-  h += "<tr><th>alpha compared</th><td>" + std::string(r.thresholds.compare_alpha ? "yes" : "no") + "</td></tr>\n";
+  h += "<tr><th>minimum PSNR</th><td>" +
+       escape(r.thresholds.min_psnr_db > 0 ? fixed(r.thresholds.min_psnr_db, 2) + " dB"
+                                           : std::string("not checked")) +
+       "</td></tr>\n";
+  h += "<tr><th>alpha compared</th><td>" + std::string(r.thresholds.compare_alpha ? "yes" : "no") +
+       "</td></tr>\n";
   std::string views;
   for (const auto& v : r.views) views += (views.empty() ? "" : ", ") + v;
   h += "<tr><th>camera set</th><td>" + std::to_string(r.width) + "×" + std::to_string(r.height) + ", MSAA " +
@@ -258,9 +280,11 @@ std::string report_html(const Report& r) {
     h += "<tr><th>unused references</th><td>" + escape(unused) + "</td></tr>\n";
   }
   h += "</table>\n";
-  h += "<p class=\"legend\">Heat map: identical pixels show the reference in dim grey; differences within the "
-       "threshold are dark blue; failing pixels go red → yellow → white as the difference grows to half of full "
-       "scale and beyond; magenta marks pixels that exist in only one image (size mismatch).</p>\n";
+  h +=
+      "<p class=\"legend\">Heat map: identical pixels show the reference in dim grey; differences within the "
+      "threshold are dark blue; failing pixels go red → yellow → white as the difference grows to half of "
+      "full "
+      "scale and beyond; magenta marks pixels that exist in only one image (size mismatch).</p>\n";
   // A failed run opens on what did not pass; unticking shows everything.
   h += std::string("<label><input type=\"checkbox\" id=\"only-failing\"") + (ok ? "" : " checked") +
        "> show only views that did not pass</label>\n";
@@ -287,13 +311,13 @@ std::string report_html(const Report& r) {
     const CaseResult& c = *cp;
     const std::string status = status_name(c.status);
     h += "<section class=\"case " + status + "\" id=\"" + escape(c.asset + "__" + c.view) + "\">\n";
-    h += "<h2><span class=\"badge " + status + "\">" + escape(status) + "</span>" + escape(c.asset + " / " + c.view) +
-         "</h2>\n";
+    h += "<h2><span class=\"badge " + status + "\">" + escape(status) + "</span>" +
+         escape(c.asset + " / " + c.view) + "</h2>\n";
     if (!c.message.empty()) h += "<p class=\"msg\">" + escape(c.message) + "</p>\n";
     h += "<div class=\"images\">\n";
     h += figure(c.reference_png, "reference" + (c.compared ? " (" + c.image_file + ")" : std::string()),
-                c.status == CaseStatus::kMissingReference ? "no reference image" : "no reference compared", r.width,
-                r.height);
+                c.status == CaseStatus::kMissingReference ? "no reference image" : "no reference compared",
+                r.width, r.height);
     h += figure(c.image_png, "new" + (c.image_file.empty() ? std::string() : " (" + c.image_file + ")"),
                 "no rendering", r.width, r.height);
     h += figure(c.diff_png, "difference" + (c.diff_file.empty() ? std::string() : " (" + c.diff_file + ")"),
@@ -302,13 +326,15 @@ std::string report_html(const Report& r) {
     if (c.compared && !c.compare.size_mismatch) {
       const auto& m = c.compare;
       h += "<table class=\"numbers\">\n";
-      h += "<tr><th>failing pixels</th><td>" + std::to_string(m.failing_pixels) + " of " + std::to_string(m.pixels) +
-           " (" + escape(percent(m.failing_fraction)) + ")</td></tr>\n";
-      h += "<tr><th>mean / rms error</th><td>" + fixed(m.mean_error, 6) + " / " + fixed(m.rms_error, 6) + "</td></tr>\n";
+      h += "<tr><th>failing pixels</th><td>" + std::to_string(m.failing_pixels) + " of " +
+           std::to_string(m.pixels) + " (" + escape(percent(m.failing_fraction)) + ")</td></tr>\n";
+      h += "<tr><th>mean / rms error</th><td>" + fixed(m.mean_error, 6) + " / " + fixed(m.rms_error, 6) +
+           "</td></tr>\n";
       h += "<tr><th>max error</th><td>" + fixed(m.max_error, 6) + " at (" + std::to_string(m.max_x) + ", " +
            std::to_string(m.max_y) + ")</td></tr>\n";
       h += "<tr><th>PSNR</th><td>" +
-           escape(std::isfinite(m.psnr) ? fixed(m.psnr, 2) + " dB" : std::string("∞ (identical)")) + "</td></tr>\n";
+           escape(std::isfinite(m.psnr) ? fixed(m.psnr, 2) + " dB" : std::string("∞ (identical)")) +
+           "</td></tr>\n";
       h += "</table>\n";
     }
     h += "</section>\n";
@@ -322,7 +348,8 @@ std::string summary_line(const Report& r, std::size_t max_listed) {
   const std::size_t bad = total - r.count(CaseStatus::kPassed);
   if (total == 0) return "nothing was verified (no assets or no views)";
   if (bad == 0) return "all " + plural(total, "view", "views") + " passed";
-  std::string s = std::to_string(bad) + " of " + plural(total, "view", "views") + " did not pass verification: ";
+  std::string s =
+      std::to_string(bad) + " of " + plural(total, "view", "views") + " did not pass verification: ";
   std::size_t listed = 0;
   for (const auto& c : r.cases) {
     if (c.status == CaseStatus::kPassed) continue;
@@ -336,7 +363,8 @@ std::string summary_line(const Report& r, std::size_t max_listed) {
   return s;
 }
 
-void write_reports(const Report& report, const std::function<std::filesystem::path(const std::string&)>& output_path) {
+void write_reports(const Report& report,
+                   const std::function<std::filesystem::path(const std::string&)>& output_path) {
   auto write = [&](const std::string& name, const std::string& text) {
     const auto path = output_path(name);
     std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -27,7 +27,8 @@ std::string summary_line(const Report& report, std::size_t max_listed = 5);
 
 // Writes report.json, junit.xml and report.html through `output_path` (as RunEnv::output_path).
 // Throws VerifyError when a file cannot be written.
-void write_reports(const Report& report, const std::function<std::filesystem::path(const std::string&)>& output_path);
+void write_reports(const Report& report,
+                   const std::function<std::filesystem::path(const std::string&)>& output_path);
 
 // Base64 (RFC 4648, with padding) of `bytes`; OpenSSL's encoder.
 std::string base64(const std::string& bytes);

@@ -5,8 +5,6 @@
 // explained in libs/image/compare.h and docs/stages/verify.md.
 #include "stages/verify/verify_core.h"
 
-#include "libs/render/forest_view.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +14,7 @@
 #include <sstream>
 
 #include "libs/image/image_io.h"
+#include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
 
 namespace sylva::verify {
@@ -27,8 +26,8 @@ namespace {
 bool valid_name(const std::string& s) {
   if (s.empty() || s == "." || s == "..") return false;
   return std::all_of(s.begin(), s.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
-           c == '.';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-' || c == '.';
   });
 }
 
@@ -97,20 +96,29 @@ image::CompareOptions Thresholds::compare_options() const {
 
 const char* status_name(CaseStatus s) {
   switch (s) {
-    case CaseStatus::kPassed: return "passed";
-    case CaseStatus::kFailed: return "failed";
-    case CaseStatus::kMissingReference: return "missing_reference";
-    case CaseStatus::kError: return "error";
+    case CaseStatus::kPassed:
+      return "passed";
+    case CaseStatus::kFailed:
+      return "failed";
+    case CaseStatus::kMissingReference:
+      return "missing_reference";
+    case CaseStatus::kError:
+      return "error";
   }
   return "?";
 }
 
 std::size_t Report::count(CaseStatus s) const {
-  return static_cast<std::size_t>(std::count_if(cases.begin(), cases.end(), [&](const CaseResult& c) { return c.status == s; }));
+  return static_cast<std::size_t>(
+      std::count_if(cases.begin(), cases.end(), [&](const CaseResult& c) { return c.status == s; }));
 }
 
-std::string image_file_name(const std::string& asset, const std::string& view) { return asset + "__" + view + ".png"; }
-std::string diff_file_name(const std::string& asset, const std::string& view) { return asset + "__" + view + ".diff.png"; }
+std::string image_file_name(const std::string& asset, const std::string& view) {
+  return asset + "__" + view + ".png";
+}
+std::string diff_file_name(const std::string& asset, const std::string& view) {
+  return asset + "__" + view + ".diff.png";
+}
 
 CaseResult judge_view(const std::string& asset, const std::string& view, const image::Image* reference,
                       const image::Image& rendered, const Thresholds& thresholds) {
@@ -131,8 +139,8 @@ CaseResult judge_view(const std::string& asset, const std::string& view, const i
   std::string why = c.compare.failure;
   // PSNR is checked only for images that can be compared at all; +inf (identical) always passes.
   if (thresholds.min_psnr_db > 0 && !c.compare.size_mismatch && c.compare.psnr < thresholds.min_psnr_db)
-    why += std::string(why.empty() ? "" : "; ") + "PSNR " + fixed(c.compare.psnr, 2) + " dB is below the minimum " +
-           fixed(thresholds.min_psnr_db, 2) + " dB";
+    why += std::string(why.empty() ? "" : "; ") + "PSNR " + fixed(c.compare.psnr, 2) +
+           " dB is below the minimum " + fixed(thresholds.min_psnr_db, 2) + " dB";
   c.status = why.empty() ? CaseStatus::kPassed : CaseStatus::kFailed;
   c.message = why;
   return c;
@@ -172,7 +180,9 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
   for (const auto& v : cameras.views) report.views.push_back(v.name);
   for (const auto& a : assets) report.assets.push_back(a.name);
 
-  auto write = [&](const std::string& name, const std::string& bytes) { write_bytes(env.output_path(name), bytes); };
+  auto write = [&](const std::string& name, const std::string& bytes) {
+    write_bytes(env.output_path(name), bytes);
+  };
 
   for (const Asset& asset : assets) {
     if (env.check_cancelled) env.check_cancelled();

@@ -37,8 +37,9 @@ class VerifyError : public std::runtime_error {
 
 // One thing to draw: a .glb or .gltf file and the name its images carry.
 struct Asset {
-  std::string name;            // [A-Za-z0-9_.-]+, unique within a run
-  std::filesystem::path file;  // .glb / .gltf (textures resolved relative to it), or a forest's instances.json
+  std::string name;  // [A-Za-z0-9_.-]+, unique within a run
+  std::filesystem::path
+      file;  // .glb / .gltf (textures resolved relative to it), or a forest's instances.json
   // A forest (libs/render/forest_view.h): drawn with its LOD levels per tree from the views of its
   // own camera set (cameras.yaml beside instances.json), not from the run's camera set.
   bool forest = false;

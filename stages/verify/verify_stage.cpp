@@ -56,8 +56,9 @@ class VerifyStage final : public Stage {
 
     // 3. Any view that did not pass fails the node (and the build: exit code 1).
     if (!report.passed())
-      throw StageError(verify::summary_line(report) +
-                       " (run 'sylva verify RECIPE' for report.html, or add --update-refs to accept the new images)");
+      throw StageError(
+          verify::summary_line(report) +
+          " (run 'sylva verify RECIPE' for report.html, or add --update-refs to accept the new images)");
   }
 
  private:
@@ -71,7 +72,9 @@ std::unique_ptr<Stage> make_verify_stage(std::function<render::Renderer&()> rend
   return std::make_unique<VerifyStage>(std::move(renderer));
 }
 
-std::unique_ptr<Stage> make_verify_stage() { return make_verify_stage([]() -> render::Renderer& { return verify::shared_renderer(); }); }
+std::unique_ptr<Stage> make_verify_stage() {
+  return make_verify_stage([]() -> render::Renderer& { return verify::shared_renderer(); });
+}
 
 namespace verify {
 

@@ -102,7 +102,8 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
       const bool draco = uses(gltf_json(n / "tree.glb"), "KHR_draco_mesh_compression");
       out.push_back({n / "tree.glb", node + "/tree.glb", draco ? Kind::kDracoMesh : Kind::kMesh});
     }
-    if (fs::exists(n / "impostor.glb")) out.push_back({n / "impostor.glb", node + "/impostor.glb", Kind::kImpostor});
+    if (fs::exists(n / "impostor.glb"))
+      out.push_back({n / "impostor.glb", node + "/impostor.glb", Kind::kImpostor});
     if (fs::exists(n / "lod.json")) {
       const nlohmann::json summary = nlohmann::json::parse(read_all(n / "lod.json"));
       out.push_back({n / "lod.gltf", node + "/lod.gltf", Kind::kChain});

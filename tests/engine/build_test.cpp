@@ -88,8 +88,10 @@ TEST_F(BuildTest, ChangingOneParameterRebuildsOnlyThatNodeAndDependents) {
   ASSERT_TRUE(s1.ok());
   log_.clear();
   Recipe r2 = load(chain(3));
-  EXPECT_EQ(explain(r2, "a"), (std::vector<std::string>{"'a' will rebuild: parameter 'count' changed: 2 -> 3"}));
-  EXPECT_EQ(explain(r2, "top"), (std::vector<std::string>{"'top' will rebuild because its input 'ab' will rebuild"}));
+  EXPECT_EQ(explain(r2, "a"),
+            (std::vector<std::string>{"'a' will rebuild: parameter 'count' changed: 2 -> 3"}));
+  EXPECT_EQ(explain(r2, "top"),
+            (std::vector<std::string>{"'top' will rebuild because its input 'ab' will rebuild"}));
   EXPECT_EQ(explain(r2, "b")[0].substr(0, 26), "'b' is up to date (action ");
   auto s2 = build(r2);
   EXPECT_EQ(s2.count(NodeStatus::kBuilt), 3u);
@@ -103,17 +105,20 @@ TEST_F(BuildTest, ChangingOneParameterRebuildsOnlyThatNodeAndDependents) {
 TEST_F(BuildTest, SameOutputUpstreamStopsRebuildPropagation) {
   // Changing `mode` on a node whose text is already upper case changes its key but not its
   // bytes: dependents keep their keys (inputs are hashed by content) and stay cached.
-  build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: X }\n"
-             "  b:\n    stage: concat\n    needs: a\n"));
+  build(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: X }\n"
+           "  b:\n    stage: concat\n    needs: a\n"));
   log_.clear();
-  auto s = build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: X, mode: upper }\n"
-                      "  b:\n    stage: concat\n    needs: a\n"));
+  auto s =
+      build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: X, mode: upper }\n"
+                 "  b:\n    stage: concat\n    needs: a\n"));
   EXPECT_EQ(report(s, "a").status, NodeStatus::kBuilt);
   EXPECT_EQ(report(s, "b").status, NodeStatus::kCached);
 }
 
 TEST_F(BuildTest, EditedInputFileRebuildsAndExplainSaysWhich) {
-  const std::string yaml = "version: 1\nname: r\nnodes:\n  f:\n    stage: readfile\n    with: { file: in.txt }\n";
+  const std::string yaml =
+      "version: 1\nname: r\nnodes:\n  f:\n    stage: readfile\n    with: { file: in.txt }\n";
   test::write_file(dir_ / "in.txt", "one");
   Recipe r = load(yaml);
   build(r);
@@ -124,7 +129,8 @@ TEST_F(BuildTest, EditedInputFileRebuildsAndExplainSaysWhich) {
   r = load(yaml);
   const auto why = explain(r, "f");
   ASSERT_EQ(why.size(), 1u);
-  EXPECT_EQ(why[0].substr(0, why[0].find(" changed")), "'f' will rebuild: file '" + (dir_ / "in.txt").string() + "' (parameter 'file')");
+  EXPECT_EQ(why[0].substr(0, why[0].find(" changed")),
+            "'f' will rebuild: file '" + (dir_ / "in.txt").string() + "' (parameter 'file')");
   auto s = build(r);
   EXPECT_EQ(s.count(NodeStatus::kBuilt), 1u);
   EXPECT_EQ(out("f"), "two");
@@ -288,7 +294,8 @@ TEST_F(BuildTest, OutputsAreIdenticalWhateverTheThreadCount) {
 }
 
 TEST_F(BuildTest, SeedChangesOutputAndIsTheOnlySourceOfRandomness) {
-  auto s1 = build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: 8, seed: 1 }\n"));
+  auto s1 =
+      build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: 8, seed: 1 }\n"));
   const std::string one = out("a");
   build(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: 8, seed: 2 }\n"));
   EXPECT_NE(out("a"), one);
@@ -328,8 +335,9 @@ TEST_F(BuildTest, DryRunRunsNothingAndPredicts) {
 }
 
 TEST_F(BuildTest, CancellationStopsPromptlyAndLeavesNoPartialArtifact) {
-  Recipe r = load("version: 1\nname: r\nnodes:\n  slow:\n    stage: text\n    with: { sleep_ms: 20000 }\n"
-                  "  next:\n    stage: concat\n    needs: slow\n");
+  Recipe r = load(
+      "version: 1\nname: r\nnodes:\n  slow:\n    stage: text\n    with: { sleep_ms: 20000 }\n"
+      "  next:\n    stage: concat\n    needs: slow\n");
   std::thread stopper([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     cancel_ = true;
@@ -384,12 +392,17 @@ namespace {
 TEST_F(BuildTest, CacheAboveItsLimitEvictsLeastRecentlyUsedResultsAfterABuild) {
   build(load("version: 1\nname: r\nnodes:\n  old:\n    stage: text\n    with: { text: OLD, count: 200 }\n"));
   Cache cache(fs_, dir_ / "cache");
-  fs::last_write_time(cache.action_path(build(load("version: 1\nname: r\nnodes:\n  old:\n    stage: text\n    with: { text: OLD, count: 200 }\n")).nodes[0].key),
+  fs::last_write_time(cache.action_path(build(load("version: 1\nname: r\nnodes:\n  old:\n    stage: text\n   "
+                                                   " with: { text: OLD, count: 200 }\n"))
+                                            .nodes[0]
+                                            .key),
                       fs::file_time_type::clock::now() - std::chrono::hours(48));
   const std::uint64_t old_bytes = cache.blob_bytes();
   BuildOptions opt;
   opt.cache_max_bytes = old_bytes;  // room for one of the two results
-  auto s = build(load("version: 1\nname: r\nnodes:\n  new:\n    stage: text\n    with: { text: NEW, count: 200 }\n"), opt);
+  auto s = build(
+      load("version: 1\nname: r\nnodes:\n  new:\n    stage: text\n    with: { text: NEW, count: 200 }\n"),
+      opt);
   EXPECT_EQ(s.evicted.actions_removed, 1u);
   EXPECT_EQ(s.evicted.blobs_removed, 1u);
   EXPECT_EQ(cache.stats().actions, 1u);

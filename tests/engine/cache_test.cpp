@@ -1,8 +1,9 @@
 // The cache over an in-memory file system: what is written where, and what happens when a
 // write fails or a stored result is damaged.
+#include "pipeline/cache.h"
+
 #include <gtest/gtest.h>
 
-#include "pipeline/cache.h"
 #include "tests/support/fake_filesystem.h"
 
 namespace sylva {

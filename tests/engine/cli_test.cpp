@@ -1,10 +1,11 @@
 // The command line: exit codes, messages and the --json summary, driven through run_cli with
 // test stages and captured output.
+#include "app/cli.h"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
-#include "app/cli.h"
 #include "pipeline/digest.h"
 #include "tests/engine/test_stages.h"
 #include "tests/support/test_support.h"
@@ -52,7 +53,8 @@ class CliTest : public ::testing::Test {
 };
 
 TEST_F(CliTest, BuildJsonSummaryCountsBuiltThenCached) {
-  const auto r = recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: concat\n    needs: a\n");
+  const auto r =
+      recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: concat\n    needs: a\n");
   auto c1 = run({"build", r, "--json", "-j", "2"});
   ASSERT_EQ(c1.code, 0) << c1.err;
   auto j1 = nlohmann::json::parse(c1.out);
@@ -70,10 +72,12 @@ TEST_F(CliTest, RecipeErrorExitsTwoWithPositionAndCaret) {
   const auto r = recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: x }\n");
   auto c = run({"build", r});
   EXPECT_EQ(c.code, 2);
-  EXPECT_EQ(c.err, r + ":6:20: error: wrong type: parameter 'count' expects int, got 'x'\n"
+  EXPECT_EQ(c.err, r +
+                       ":6:20: error: wrong type: parameter 'count' expects int, got 'x'\n"
                        "      with: { count: x }\n"
                        "                     ^\n"
-                       "1 error in recipe " + r + "\n");
+                       "1 error in recipe " +
+                       r + "\n");
   EXPECT_EQ(log_.total(), 0);
 }
 
@@ -101,7 +105,8 @@ TEST_F(CliTest, StagesListsParametersWithTypesAndDefaults) {
 }
 
 TEST_F(CliTest, GraphAndExplain) {
-  const auto r = recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: concat\n    needs: a\n");
+  const auto r =
+      recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: concat\n    needs: a\n");
   auto g = run({"graph", r});
   EXPECT_EQ(g.out, "a (text)\nb (concat) <- a\n");
   auto dot = run({"graph", r, "--dot"});
@@ -138,7 +143,8 @@ TEST_F(CliTest, CleanAllDeletesOnlyWhatSylvaMade) {
   test::write_file(dir_ / "out/notes.txt", "mine\n");
   auto c = run({"clean", "--all"});
   EXPECT_EQ(c.code, 0);
-  EXPECT_EQ(c.err, "sylva clean: kept 2 entries that sylva did not create (in " + (dir_ / "out").string() + ")\n");
+  EXPECT_EQ(c.err,
+            "sylva clean: kept 2 entries that sylva did not create (in " + (dir_ / "out").string() + ")\n");
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out/r"));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out/cache"));
   EXPECT_TRUE(std::filesystem::exists(dir_ / "out/build/CMakeCache.txt"));
@@ -148,7 +154,8 @@ TEST_F(CliTest, CleanAllDeletesOnlyWhatSylvaMade) {
   test::write_file(dir_ / "project/src.txt", "code\n");
   c = run({"--cache", (dir_ / "project").string(), "clean", "--all"});
   EXPECT_EQ(c.code, 0);
-  EXPECT_NE(c.err.find("sylva clean: kept " + (dir_ / "project").string() + ": not a sylva cache"), std::string::npos)
+  EXPECT_NE(c.err.find("sylva clean: kept " + (dir_ / "project").string() + ": not a sylva cache"),
+            std::string::npos)
       << c.err;
   EXPECT_TRUE(std::filesystem::exists(dir_ / "project/src.txt"));
 }

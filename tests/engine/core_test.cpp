@@ -20,7 +20,9 @@ TEST(DigestTest, KnownVectors) {
 }
 
 TEST(ValueTest, CanonicalTextIsStableAndTyped) {
-  Value::Object o{{"b", Value(1.5)}, {"a", Value(std::int64_t{2})}, {"c", Value(Value::List{Value("x\"y"), Value(true)})}};
+  Value::Object o{{"b", Value(1.5)},
+                  {"a", Value(std::int64_t{2})},
+                  {"c", Value(Value::List{Value("x\"y"), Value(true)})}};
   EXPECT_EQ(Value(o).canonical(), "{\"a\":2,\"b\":1.5,\"c\":[\"x\\\"y\",true]}");
   EXPECT_EQ(Value(1.0).canonical(), "1.0");
   EXPECT_EQ(Value(0.1).canonical(), "0.1");

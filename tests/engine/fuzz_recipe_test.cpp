@@ -14,7 +14,8 @@ namespace {
 const char* kSeedRecipe =
     "version: 1\nname: fuzz\nmatrix:\n  s: [oak, birch]\n  a: [young, adult]\n"
     "defaults: { scale: 2, camera: { fov_y_deg: 40 } }\ninclude: [frag.yaml]\n"
-    "nodes:\n  t_${s}_${a}:\n    stage: text\n    with: { text: '${s}', count: 3, weights: [1, 2.5], mode: upper }\n"
+    "nodes:\n  t_${s}_${a}:\n    stage: text\n    with: { text: '${s}', count: 3, weights: [1, 2.5], mode: "
+    "upper }\n"
     "  all:\n    stage: concat\n    needs: ['t_*', f]\n    with: { suffix: '$${x}' }\n"
     "  r:\n    stage: readfile\n    with: { file: data.txt, }\n";
 
@@ -30,9 +31,14 @@ TEST(FuzzRecipeTest, MutatedRecipesNeverCrash) {
     for (int e = 0; e < edits && !text.empty(); ++e) {
       const std::size_t pos = rng.below(text.size());
       switch (rng.below(3)) {
-        case 0: text[pos] = alphabet[rng.below(alphabet.size())]; break;
-        case 1: text.erase(pos, 1 + rng.below(8)); break;
-        default: text.insert(pos, 1, alphabet[rng.below(alphabet.size())]);
+        case 0:
+          text[pos] = alphabet[rng.below(alphabet.size())];
+          break;
+        case 1:
+          text.erase(pos, 1 + rng.below(8));
+          break;
+        default:
+          text.insert(pos, 1, alphabet[rng.below(alphabet.size())]);
       }
     }
     test::FakeFileSystem fs;

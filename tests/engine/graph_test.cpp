@@ -1,7 +1,8 @@
 // Graph ordering and closure on small recipes.
+#include "pipeline/graph.h"
+
 #include <gtest/gtest.h>
 
-#include "pipeline/graph.h"
 #include "pipeline/recipe_loader.h"
 #include "tests/engine/test_stages.h"
 #include "tests/support/test_support.h"
@@ -23,12 +24,14 @@ TEST(GraphTest, TopologicalOrderRespectsInputsAndDeclarationOrder) {
   test::TempDir dir;
   StageRegistry reg;
   test::register_test_stages(reg, nullptr);
-  Recipe r = load("version: 1\nname: g\nnodes:\n"
-                  "  d:\n    stage: concat\n    needs: [b, c]\n"
-                  "  c:\n    stage: concat\n    needs: a\n"
-                  "  b:\n    stage: concat\n    needs: a\n"
-                  "  a:\n    stage: text\n"
-                  "  e:\n    stage: text\n", dir, reg);
+  Recipe r = load(
+      "version: 1\nname: g\nnodes:\n"
+      "  d:\n    stage: concat\n    needs: [b, c]\n"
+      "  c:\n    stage: concat\n    needs: a\n"
+      "  b:\n    stage: concat\n    needs: a\n"
+      "  a:\n    stage: text\n"
+      "  e:\n    stage: text\n",
+      dir, reg);
   BuildGraph g(r);
   std::vector<std::string> order;
   for (auto i : g.topo_order()) order.push_back(r.nodes[i].name);

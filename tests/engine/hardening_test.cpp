@@ -100,16 +100,18 @@ class ThrowingObserver final : public BuildObserver {
 // Item 5. Not a std::exception, from a stage or from the observer: the node fails with a
 // message, the build goes on, the process does not terminate.
 TEST_F(HardeningTest, ExceptionsOfAnyTypeFailTheNodeNeverTheProcess) {
-  Recipe r = load("version: 1\nname: r\nnodes:\n"
-                  "  int:\n    stage: throwing\n    with: { what: int }\n"
-                  "  logic:\n    stage: throwing\n    with: { what: logic }\n"
-                  "  ok:\n    stage: throwing\n    with: { what: none }\n");
+  Recipe r = load(
+      "version: 1\nname: r\nnodes:\n"
+      "  int:\n    stage: throwing\n    with: { what: int }\n"
+      "  logic:\n    stage: throwing\n    with: { what: logic }\n"
+      "  ok:\n    stage: throwing\n    with: { what: none }\n");
   BuildOptions keep;
   keep.keep_going = true;
   auto s = build(r, keep);
   ASSERT_EQ(s.nodes.size(), 3u);
   EXPECT_EQ(s.nodes[0].status, NodeStatus::kFailed);
-  EXPECT_EQ(s.nodes[0].error, "internal error in stage 'throwing': an exception that is not a std::exception");
+  EXPECT_EQ(s.nodes[0].error,
+            "internal error in stage 'throwing': an exception that is not a std::exception");
   EXPECT_EQ(s.nodes[1].error, "internal error in stage 'throwing': a bug");
   EXPECT_EQ(s.nodes[2].status, NodeStatus::kBuilt);
 
@@ -131,8 +133,9 @@ TEST_F(HardeningTest, ExceptionsOfAnyTypeFailTheNodeNeverTheProcess) {
 // stage does not declare, an entry without its key. None is used (the node runs), nothing is
 // written outside out/, and `cache verify` deletes those it can judge without the stages.
 TEST_F(HardeningTest, CraftedActionCacheEntriesAreNeverTrusted) {
-  Recipe r = load("version: 1\nname: r\nnodes:\n  a:\n    stage: nested\n    with: { text: x, items: 1 }\n"
-                  "  b:\n    stage: nested\n    with: { text: y, items: 1 }\n");
+  Recipe r = load(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: nested\n    with: { text: x, items: 1 }\n"
+      "  b:\n    stage: nested\n    with: { text: y, items: 1 }\n");
   auto s1 = build(r);
   ASSERT_TRUE(s1.ok());
   const std::string key = s1.nodes[0].key, other = s1.nodes[1].key;
@@ -143,7 +146,8 @@ TEST_F(HardeningTest, CraftedActionCacheEntriesAreNeverTrusted) {
     fs::permissions(p.parent_path(), fs::perms::owner_all, fs::perm_options::add);
     test::write_file(p, json);
   };
-  const std::string entry = "{\"name\":\"NAME\",\"hash\":\"" + blob.hash + "\",\"size\":" + std::to_string(blob.size) + "}";
+  const std::string entry =
+      "{\"name\":\"NAME\",\"hash\":\"" + blob.hash + "\",\"size\":" + std::to_string(blob.size) + "}";
   auto with_name = [&](const std::string& name) {
     std::string e = entry;
     e.replace(e.find("NAME"), 4, name);
@@ -177,7 +181,9 @@ TEST_F(HardeningTest, CraftedActionCacheEntriesAreNeverTrusted) {
 // used to delete each other's temporary files; publishing is now one directory swap per node.
 TEST_F(HardeningTest, ConcurrentBuildsIntoOneOutDirBothSucceed) {
   std::string yaml = "version: 1\nname: r\nnodes:\n";
-  for (int i = 0; i < 20; ++i) yaml += "  t" + std::to_string(i) + ":\n    stage: text\n    with: { text: T" + std::to_string(i) + " }\n";
+  for (int i = 0; i < 20; ++i)
+    yaml +=
+        "  t" + std::to_string(i) + ":\n    stage: text\n    with: { text: T" + std::to_string(i) + " }\n";
   Recipe r = load(yaml);
   for (int round = 0; round < 6; ++round) {
     const fs::path d = dir_ / ("c" + std::to_string(round));
@@ -202,7 +208,8 @@ TEST_F(HardeningTest, AFailedRebuildLeavesNoStaleOutputs) {
   Recipe good = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: old }\n");
   ASSERT_TRUE(build(good).ok());
   ASSERT_EQ(test::read_file(dir_ / "out/r/a/out.txt"), "old\n");
-  Recipe bad = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: new, fail: true }\n");
+  Recipe bad =
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: new, fail: true }\n");
   auto s = build(bad);
   EXPECT_EQ(s.nodes[0].status, NodeStatus::kFailed);
   EXPECT_FALSE(fs::exists(dir_ / "out/r/a"));
@@ -255,13 +262,17 @@ TEST_F(HardeningTest, ReadingAFifoDoesNotBlock) {
 // results themselves are synced before the build returns.
 TEST_F(HardeningTest, ResultsAreWrittenOnlyAfterTheirBlobsAreDurable) {
   test::FakeFileSystem fake;
-  Recipe r = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: A }\n"
-                  "  b:\n    stage: text\n    with: { text: B }\n", fake);
+  Recipe r = load(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: A }\n"
+      "  b:\n    stage: text\n    with: { text: B }\n",
+      fake);
   ASSERT_TRUE(build(r, fake, "/o", "/c").ok());
   std::vector<std::size_t> ac, syncs;
   for (std::size_t i = 0; i < fake.events.size(); ++i) {
-    if (fake.events[i] == "sync") syncs.push_back(i);
-    else if (fake.events[i].find("/c/ac/") != std::string::npos) ac.push_back(i);
+    if (fake.events[i] == "sync")
+      syncs.push_back(i);
+    else if (fake.events[i].find("/c/ac/") != std::string::npos)
+      ac.push_back(i);
   }
   ASSERT_EQ(ac.size(), 2u);
   ASSERT_GE(syncs.size(), 2u);

@@ -1,11 +1,12 @@
 // Lazy stages (pipeline/lazy_stage.h): known by their StageInfo alone until a node of theirs
 // runs; then resolved once per run, checked, and forwarded to. A resolver that cannot load the
 // implementation fails the node with its message; a no-op never resolves.
+#include "pipeline/lazy_stage.h"
+
 #include <gtest/gtest.h>
 
 #include "pipeline/cache.h"
 #include "pipeline/executor.h"
-#include "pipeline/lazy_stage.h"
 #include "pipeline/recipe_loader.h"
 #include "tests/engine/test_stages.h"
 #include "tests/support/test_support.h"
@@ -35,7 +36,8 @@ TEST(LazyStageTest, ResolvesOnlyWhenANodeRunsAndReportsLoadErrors) {
   StageRegistry reg;
   reg.add(make_lazy_stage(test::TextStage(nullptr).info(), module));
   test::TempDir dir;
-  test::write_file(dir / "r.yaml", "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: hi }\n");
+  test::write_file(dir / "r.yaml",
+                   "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: hi }\n");
   RealFileSystem fs;
   Diagnostics d;
   auto recipe = load_recipe(dir / "r.yaml", reg, fs, d);
@@ -87,7 +89,8 @@ TEST(LazyStageTest, AnImplementationOfAnotherVersionIsRefused) {
     lazy->run(ctx);
     FAIL() << "expected logic_error";
   } catch (const std::logic_error& e) {
-    EXPECT_EQ(std::string(e.what()), "stage 'text' v2 resolved to 'text' v1 (the module comes from another build)");
+    EXPECT_EQ(std::string(e.what()),
+              "stage 'text' v2 resolved to 'text' v1 (the module comes from another build)");
   }
 }
 

@@ -31,10 +31,12 @@ class NoOpTest : public ::testing::Test {
   }
 
   Recipe load() {
-    fs_.put("/p/r.yaml", "version: 1\nname: r\nnodes:\n"
-                         "  a:\n    stage: text\n    with: { text: A, count: 3 }\n"
-                         "  b:\n    stage: text\n    with: { text: B }\n"
-                         "  f:\n    stage: readfile\n    with: { file: " + input_.string() + " }\n");
+    fs_.put("/p/r.yaml",
+            "version: 1\nname: r\nnodes:\n"
+            "  a:\n    stage: text\n    with: { text: A, count: 3 }\n"
+            "  b:\n    stage: text\n    with: { text: B }\n"
+            "  f:\n    stage: readfile\n    with: { file: " +
+                input_.string() + " }\n");
     Diagnostics d;
     LoadOptions trusted;  // the input lives in a real temp dir, outside the fake /p
     trusted.confine = false;
@@ -129,7 +131,8 @@ TEST(DigestCacheTest, RecordsRoundTripAndDamageIsForgotten) {
   DigestCache c(fs, "/o/.sylva/digests");
   auto d = c.digest("/d/x");
   ASSERT_TRUE(d);
-  const PublishedNode node{std::string(64, 'b') + " /c", {{"out.txt", *d}}, *fs.stat("/d/x"), std::string(64, 'c')};
+  const PublishedNode node{
+      std::string(64, 'b') + " /c", {{"out.txt", *d}}, *fs.stat("/d/x"), std::string(64, 'c')};
   c.set_published("n", node);
   ASSERT_TRUE(c.save());
   DigestCache c2(fs, "/o/.sylva/digests");

@@ -21,7 +21,8 @@ class ParseCacheTest : public ::testing::Test {
   static std::string describe(const Recipe& r) {
     std::string s = r.name + "\n";
     for (const auto& n : r.nodes) {
-      s += n.name + "@" + std::to_string(n.loc.line) + ":" + std::to_string(n.loc.col) + " " + n.stage->info().name;
+      s += n.name + "@" + std::to_string(n.loc.line) + ":" + std::to_string(n.loc.col) + " " +
+           n.stage->info().name;
       for (const auto& [k, v] : n.params) s += " " + k + "=" + v.canonical();
       for (const auto& u : n.needs) s += " <" + u;
       s += "\n";
@@ -40,8 +41,9 @@ class ParseCacheTest : public ::testing::Test {
 };
 
 TEST_F(ParseCacheTest, SecondLoadIsIdenticalAndEditsAreSeen) {
-  fs_.put("/p/r.yaml", "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: A, count: 2 }\n"
-                       "  b: !include b.yaml\n");
+  fs_.put("/p/r.yaml",
+          "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: A, count: 2 }\n"
+          "  b: !include b.yaml\n");
   fs_.put("/p/b.yaml", "stage: concat\nneeds: [a]\nwith: { suffix: '!' }\n");
   auto plain = load(false);
   ASSERT_TRUE(plain) << diags_.str();

@@ -43,34 +43,40 @@ TEST_F(RecipeTest, UnknownStageSuggestsClosest) {
 
 TEST_F(RecipeTest, UnknownParameterSuggestsClosest) {
   EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { txet: hi }\n"));
-  EXPECT_EQ(errors(), "r.yaml:6:13: error: unknown parameter 'txet' for stage 'text'; did you mean 'text'?\n");
+  EXPECT_EQ(errors(),
+            "r.yaml:6:13: error: unknown parameter 'txet' for stage 'text'; did you mean 'text'?\n");
 }
 
 TEST_F(RecipeTest, WrongType) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n      count: many\n      fail: 3\n"));
+  EXPECT_FALSE(load(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n      count: many\n      fail: 3\n"));
   EXPECT_EQ(errors(),
             "r.yaml:7:14: error: wrong type: parameter 'count' expects int, got 'many'\n"
             "r.yaml:8:13: error: wrong type: parameter 'fail' expects bool, got '3'\n");
 }
 
 TEST_F(RecipeTest, ValueOutOfRange) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { scale: 10.5, count: -1 }\n"));
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { scale: 10.5, count: -1 }\n"));
   EXPECT_EQ(errors(),
             "r.yaml:6:20: error: value out of range: parameter 'scale' must be in [0, 10], got 10.5\n"
             "r.yaml:6:33: error: value out of range: parameter 'count' must be in [0, 1000], got -1\n");
 }
 
 TEST_F(RecipeTest, EnumChoiceAndNestedObjectField) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n      mode: uper\n"
-                    "      camera: { fov_y: 40 }\n"));
-  EXPECT_EQ(errors(),
-            "r.yaml:7:13: error: parameter 'mode' must be one of plain, upper, got 'uper'; did you mean 'upper'?\n"
-            "r.yaml:8:17: error: unknown field 'fov_y' in parameter 'camera'; did you mean 'fov_y_deg'?\n");
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n      mode: uper\n"
+           "      camera: { fov_y: 40 }\n"));
+  EXPECT_EQ(
+      errors(),
+      "r.yaml:7:13: error: parameter 'mode' must be one of plain, upper, got 'uper'; did you mean 'upper'?\n"
+      "r.yaml:8:17: error: unknown field 'fov_y' in parameter 'camera'; did you mean 'fov_y_deg'?\n");
 }
 
 TEST_F(RecipeTest, ObjectListItemsAreCheckedOneByOne) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n"
-                    "      items: [{ name: x, weight: 11 }, { wieght: 2 }]\n"));
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n"
+           "      items: [{ name: x, weight: 11 }, { wieght: 2 }]\n"));
   EXPECT_EQ(errors(),
             "r.yaml:7:34: error: value out of range: parameter 'items'[0].weight must be in [0, 10], got 11\n"
             "r.yaml:7:42: error: unknown field 'wieght' in parameter 'items'[1]; did you mean 'weight'?\n"
@@ -83,8 +89,9 @@ TEST_F(RecipeTest, ObjectListItemsAreCheckedOneByOne) {
 }
 
 TEST_F(RecipeTest, MissingInputNode) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  base:\n    stage: text\n"
-                    "  b:\n    stage: concat\n    needs: [bsae, lod_*]\n"));
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  base:\n    stage: text\n"
+           "  b:\n    stage: concat\n    needs: [bsae, lod_*]\n"));
   EXPECT_EQ(errors(),
             "r.yaml:8:13: error: missing input: no node named 'bsae'; did you mean 'base'?\n"
             "r.yaml:8:19: error: missing input: no node matches 'lod_*'\n"
@@ -92,13 +99,17 @@ TEST_F(RecipeTest, MissingInputNode) {
 }
 
 TEST_F(RecipeTest, MissingInputFile) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: readfile\n    with: { file: nope.txt }\n"));
-  EXPECT_EQ(errors(), "r.yaml:6:19: error: missing input: parameter 'file' names file 'nope.txt', which does not exist\n");
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: readfile\n    with: { file: nope.txt }\n"));
+  EXPECT_EQ(
+      errors(),
+      "r.yaml:6:19: error: missing input: parameter 'file' names file 'nope.txt', which does not exist\n");
 }
 
 TEST_F(RecipeTest, MissingRequiredParameter) {
   EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: readfile\n"));
-  EXPECT_EQ(errors(), "r.yaml:4:3: error: node 'a' (stage 'readfile') is missing required parameter 'file'\n");
+  EXPECT_EQ(errors(),
+            "r.yaml:4:3: error: node 'a' (stage 'readfile') is missing required parameter 'file'\n");
 }
 
 TEST_F(RecipeTest, DuplicateNode) {
@@ -107,17 +118,19 @@ TEST_F(RecipeTest, DuplicateNode) {
 }
 
 TEST_F(RecipeTest, CycleIsPrinted) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n"
-                    "  a:\n    stage: concat\n    needs: c\n"
-                    "  b:\n    stage: concat\n    needs: a\n"
-                    "  c:\n    stage: concat\n    needs: b\n"));
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n"
+           "  a:\n    stage: concat\n    needs: c\n"
+           "  b:\n    stage: concat\n    needs: a\n"
+           "  c:\n    stage: concat\n    needs: b\n"));
   EXPECT_EQ(errors(), "r.yaml:4:3: error: dependency cycle: a -> c -> b -> a\n");
 }
 
 TEST_F(RecipeTest, UnreadableFile) {
   Diagnostics d;
   EXPECT_FALSE(load_recipe(dir_ / "missing.yaml", reg_, fs_, d));
-  EXPECT_EQ(d.str(), "error: cannot read '" + (dir_ / "missing.yaml").string() + "': No such file or directory\n");
+  EXPECT_EQ(d.str(),
+            "error: cannot read '" + (dir_ / "missing.yaml").string() + "': No such file or directory\n");
 }
 
 TEST_F(RecipeTest, MalformedYaml) {
@@ -126,16 +139,22 @@ TEST_F(RecipeTest, MalformedYaml) {
 }
 
 TEST_F(RecipeTest, NodeNamesCannotEscapeOut) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  ../evil:\n    stage: text\n  a/b:\n    stage: text\n  ..:\n    stage: text\n"));
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  ../evil:\n    stage: text\n  a/b:\n    stage: text\n  ..:\n    "
+           "stage: text\n"));
   EXPECT_EQ(errors(),
-            "r.yaml:4:3: error: invalid node name '../evil': use letters, digits, '_', '-' and '.' (no path separators)\n"
-            "r.yaml:6:3: error: invalid node name 'a/b': use letters, digits, '_', '-' and '.' (no path separators)\n"
-            "r.yaml:8:3: error: invalid node name '..': use letters, digits, '_', '-' and '.' (no path separators)\n");
+            "r.yaml:4:3: error: invalid node name '../evil': use letters, digits, '_', '-' and '.' (no path "
+            "separators)\n"
+            "r.yaml:6:3: error: invalid node name 'a/b': use letters, digits, '_', '-' and '.' (no path "
+            "separators)\n"
+            "r.yaml:8:3: error: invalid node name '..': use letters, digits, '_', '-' and '.' (no path "
+            "separators)\n");
 }
 
 TEST_F(RecipeTest, RecipeNameIsCheckedToo) {
   EXPECT_FALSE(load("version: 1\nname: ../x\nnodes: {}\n"));
-  EXPECT_EQ(errors(), "r.yaml:2:7: error: invalid recipe name '../x': use letters, digits, '_', '-' and '.'\n");
+  EXPECT_EQ(errors(),
+            "r.yaml:2:7: error: invalid recipe name '../x': use letters, digits, '_', '-' and '.'\n");
 }
 
 TEST_F(RecipeTest, UnknownKeysEverywhere) {
@@ -153,12 +172,16 @@ TEST_F(RecipeTest, VersionAndNameRequired) {
 }
 
 TEST_F(RecipeTest, WrongInputType) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  m:\n    stage: mesh_only\n    needs: a\n"));
-  EXPECT_EQ(errors(), "r.yaml:8:12: error: node 'm' cannot take 'a' as input: stage 'mesh_only' accepts mesh, but 'a' makes a text\n");
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  m:\n    stage: mesh_only\n    needs: a\n"));
+  EXPECT_EQ(errors(),
+            "r.yaml:8:12: error: node 'm' cannot take 'a' as input: stage 'mesh_only' accepts mesh, but 'a' "
+            "makes a text\n");
 }
 
 TEST_F(RecipeTest, AllErrorsReportedTogetherWithCaret) {
-  EXPECT_FALSE(load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: x }\n  b:\n    stage: nope\n"));
+  EXPECT_FALSE(load(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: x }\n  b:\n    stage: nope\n"));
   ASSERT_EQ(diags_.size(), 2u);
   EXPECT_EQ(diags_.all()[0].pretty().substr(diags_.all()[0].pretty().find('\n')),
             "\n      with: { count: x }\n                     ^");
@@ -178,15 +201,18 @@ TEST_F(RecipeTest, MatrixExpandsNamesInOrderAndSubstitutes) {
   EXPECT_EQ(r->nodes[2].name, "t_birch_young");
   EXPECT_EQ(r->nodes[3].name, "t_birch_adult");
   EXPECT_EQ(r->nodes[1].params.at("text").as_string(), "oak/adult costs ${x}");
-  EXPECT_EQ(r->nodes[4].needs, (std::vector<std::string>{"t_birch_adult", "t_birch_young", "t_oak_adult", "t_oak_young"}));
+  EXPECT_EQ(r->nodes[4].needs,
+            (std::vector<std::string>{"t_birch_adult", "t_birch_young", "t_oak_adult", "t_oak_young"}));
 }
 
 TEST_F(RecipeTest, MatrixVariableErrors) {
-  EXPECT_FALSE(load("version: 1\nname: r\nmatrix: { a: [x, y] }\nnodes:\n  n_${b}:\n    stage: text\n"
-                    "  m:\n    stage: text\n    with: { text: '${a}' }\n"));
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nmatrix: { a: [x, y] }\nnodes:\n  n_${b}:\n    stage: text\n"
+           "  m:\n    stage: text\n    with: { text: '${a}' }\n"));
   EXPECT_EQ(errors(),
             "r.yaml:5:3: error: unknown variable '${b}'; did you mean 'a'?\n"
-            "r.yaml:9:19: error: variable '${a}' is used in node 'm' but not in its name, so its expansions would share one name\n");
+            "r.yaml:9:19: error: variable '${a}' is used in node 'm' but not in its name, so its expansions "
+            "would share one name\n");
 }
 
 // Found by fuzz_recipe: a variable whose only value is refused used to expand its node over an
@@ -197,7 +223,9 @@ TEST_F(RecipeTest, MatrixVariableWithNoScalarValueIsAnErrorNotAnExpansion) {
 }
 
 TEST_F(RecipeTest, NodeLevelMatrixOverrides) {
-  auto r = load("version: 1\nname: r\nmatrix: { n: [1, 2, 3] }\nnodes:\n  t${n}:\n    stage: text\n    matrix: { n: [7] }\n");
+  auto r = load(
+      "version: 1\nname: r\nmatrix: { n: [1, 2, 3] }\nnodes:\n  t${n}:\n    stage: text\n    matrix: { n: "
+      "[7] }\n");
   ASSERT_TRUE(r) << errors();
   ASSERT_EQ(r->nodes.size(), 1u);
   EXPECT_EQ(r->nodes[0].name, "t7");
@@ -206,7 +234,9 @@ TEST_F(RecipeTest, NodeLevelMatrixOverrides) {
 TEST_F(RecipeTest, IncludesMergeFragmentsAndValues) {
   file("sub/common.yaml", "defaults: { count: 3 }\nnodes:\n  shared:\n    stage: text\n");
   file("cam.yaml", "fov_y_deg: 30\nheight_px: 720\n");
-  auto r = load("version: 1\nname: r\ninclude: [sub/common.yaml]\nnodes:\n  a:\n    stage: text\n    with: { camera: !include cam.yaml }\n");
+  auto r = load(
+      "version: 1\nname: r\ninclude: [sub/common.yaml]\nnodes:\n  a:\n    stage: text\n    with: { camera: "
+      "!include cam.yaml }\n");
   ASSERT_TRUE(r) << errors();
   ASSERT_EQ(r->nodes.size(), 2u);
   EXPECT_EQ(r->nodes[0].name, "shared");
@@ -224,7 +254,9 @@ TEST_F(RecipeTest, IncludeErrorsPointIntoTheIncludedFile) {
 }
 
 TEST_F(RecipeTest, DefaultsApplyAndMisspelledDefaultsAreCaught) {
-  auto r = load("version: 1\nname: r\ndefaults: { scale: 2, camera: { height_px: 10 } }\nnodes:\n  a:\n    stage: text\n    with: { scale: 3 }\n  b:\n    stage: text\n");
+  auto r = load(
+      "version: 1\nname: r\ndefaults: { scale: 2, camera: { height_px: 10 } }\nnodes:\n  a:\n    stage: "
+      "text\n    with: { scale: 3 }\n  b:\n    stage: text\n");
   ASSERT_TRUE(r) << errors();
   EXPECT_EQ(r->nodes[0].params.at("scale").as_real(), 3.0);
   EXPECT_EQ(r->nodes[1].params.at("scale").as_real(), 2.0);
@@ -242,9 +274,12 @@ TEST_F(RecipeTest, PathParametersResolveRelativeToTheirFile) {
 }
 
 TEST_F(RecipeTest, CanonicalParametersIgnoreSpelling) {
-  auto a = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { scale: 1, weights: [1, 2.50] }\n");
+  auto a = load(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { scale: 1, weights: [1, 2.50] }\n");
   ASSERT_TRUE(a);
-  auto b = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n      weights: [1.0, 2.5]\n      scale: 1.0\n");
+  auto b = load(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n      weights: [1.0, 2.5]\n      "
+      "scale: 1.0\n");
   ASSERT_TRUE(b);
   EXPECT_EQ(Value(a->nodes[0].params).canonical(), Value(b->nodes[0].params).canonical());
 }
@@ -255,8 +290,12 @@ TEST_F(RecipeTest, CanonicalParametersIgnoreSpelling) {
 namespace sylva {
 namespace {
 TEST_F(RecipeTest, UnquotedVariableInFlowMapGetsAHint) {
-  EXPECT_FALSE(load("version: 1\nname: r\nmatrix: { s: [a] }\nnodes:\n  t_${s}:\n    stage: text\n    with: { text: x/${s} }\n"));
-  EXPECT_EQ(errors(), "r.yaml:7:22: error: malformed YAML: end of map flow not found (inside { } or [ ], quote values that contain ${...})\n");
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nmatrix: { s: [a] }\nnodes:\n  t_${s}:\n    stage: text\n    with: { text: "
+           "x/${s} }\n"));
+  EXPECT_EQ(errors(),
+            "r.yaml:7:22: error: malformed YAML: end of map flow not found (inside { } or [ ], quote values "
+            "that contain ${...})\n");
 }
 }  // namespace
 }  // namespace sylva

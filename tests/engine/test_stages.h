@@ -2,6 +2,8 @@
 // work on text so tests can assert exact output bytes, run counts and failures.
 #pragma once
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include <atomic>
 #include <chrono>
 #include <fstream>
@@ -11,8 +13,6 @@
 #include <sstream>
 #include <string>
 #include <thread>
-
-#include <oneapi/tbb/parallel_for.h>
 
 #include "pipeline/registry.h"
 #include "pipeline/stage.h"
@@ -59,7 +59,8 @@ class TextStage final : public Stage {
         Param::boolean("fail", false).describe("fail with a StageError"),
         Param::integer("sleep_ms", 0).range(0, 60000).describe("sleep before writing"),
         Param::real_list("weights", Value::List{}).describe("a list"),
-        Param::object("camera", {Param::real("fov_y_deg", 45.0).range(1, 179), Param::integer("height_px", 1080).range(1, 100000)}),
+        Param::object("camera", {Param::real("fov_y_deg", 45.0).range(1, 179),
+                                 Param::integer("height_px", 1080).range(1, 100000)}),
         Param::object_list("items", {Param::string("name"), Param::real("weight", 1.0).range(0, 10)}),
     };
     info_.inputs = {{}, 0, 0, ""};
@@ -222,8 +223,9 @@ class ConstrainedStage final : public Stage {
     info_.name = "constrained";
     info_.version = 1;
     info_.summary = "parameters with constraints (test stage)";
-    info_.params = {Param::integer("size", 16).range(1, 4096).require_power_of_two().describe("a power of two"),
-                    Param::real_list("levels", Value::List{}).require_increasing().describe("increasing")};
+    info_.params = {
+        Param::integer("size", 16).range(1, 4096).require_power_of_two().describe("a power of two"),
+        Param::real_list("levels", Value::List{}).require_increasing().describe("increasing")};
     info_.inputs = {{}, 0, 0, ""};
     info_.output_type = "text";
   }

@@ -16,16 +16,16 @@ namespace sylva::test {
 
 class FakeFileSystem final : public FileSystem {
  public:
-  std::map<std::string, std::string> files;    // path -> content
-  std::map<std::string, double> ages;          // path -> seconds since modified (default 0)
-  std::vector<std::string> writes;             // every successful write_atomic/copy/link/rename target
-  std::vector<std::string> reads;              // every read() and digest() of a file's content
-  std::string fail_writes_containing;          // non-empty: such writes fail ...
+  std::map<std::string, std::string> files;  // path -> content
+  std::map<std::string, double> ages;        // path -> seconds since modified (default 0)
+  std::vector<std::string> writes;           // every successful write_atomic/copy/link/rename target
+  std::vector<std::string> reads;            // every read() and digest() of a file's content
+  std::string fail_writes_containing;        // non-empty: such writes fail ...
   std::string fail_reason = "No space left on device";  // ... with this reason
-  int syncs = 0;                               // sync_fs() calls
-  std::vector<std::string> events;             // "write <path>" and "sync", in order
-  std::int64_t now = 1'700'000'000'123'456'789;  // the file-system clock (ns); tests advance it
-  std::uint64_t free = 1ull << 40;             // free_bytes()
+  int syncs = 0;                                        // sync_fs() calls
+  std::vector<std::string> events;                      // "write <path>" and "sync", in order
+  std::int64_t now = 1'700'000'000'123'456'789;         // the file-system clock (ns); tests advance it
+  std::uint64_t free = 1ull << 40;                      // free_bytes()
 
   // Content written behind the fake's back keeps a stat from the current clock.
   void put(const std::string& path, const std::string& content) {
@@ -49,7 +49,8 @@ class FakeFileSystem final : public FileSystem {
     reads.push_back(it->first);
     return it->second;
   }
-  bool write_atomic(const fs::path& p, std::string_view bytes, bool = true, std::string* error = nullptr) override {
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool = true,
+                    std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     const std::string k = key(p);
     if (failing(k)) return fail(error);

@@ -33,7 +33,8 @@ class FakeStageContext final : public StageContext {
       in.node = i.node;
       in.type = i.type;
       std::set<std::string> names;
-      for (const auto& e : std::filesystem::directory_iterator(i.dir)) names.insert(e.path().filename().string());
+      for (const auto& e : std::filesystem::directory_iterator(i.dir))
+        names.insert(e.path().filename().string());
       for (const auto& n : names) in.files.push_back({n, i.dir / n, "0"});
       inputs_.push_back(std::move(in));
     }
@@ -41,7 +42,9 @@ class FakeStageContext final : public StageContext {
   const std::string& node_name() const override { return name_; }
   const Value::Object& params() const override { return params_; }
   const std::vector<InputArtifact>& inputs() const override { return inputs_; }
-  std::filesystem::path param_file(std::string_view) const override { throw std::logic_error("no file parameters"); }
+  std::filesystem::path param_file(std::string_view) const override {
+    throw std::logic_error("no file parameters");
+  }
   Rng rng(std::string_view stream) const override { return Rng(0, stream); }
   const std::filesystem::path& scratch_dir() const override { return out_; }
   std::filesystem::path output_path(std::string_view name) override {

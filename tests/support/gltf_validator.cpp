@@ -99,7 +99,8 @@ bool parse_counts(std::string_view s, int& errors, int& warnings) {
   return true;
 }
 
-std::vector<ValidationResult> all_with(const std::vector<fs::path>& files, bool skipped, const std::string& why) {
+std::vector<ValidationResult> all_with(const std::vector<fs::path>& files, bool skipped,
+                                       const std::string& why) {
   std::vector<ValidationResult> out(files.size());
   for (std::size_t i = 0; i < files.size(); ++i) {
     out[i].file = files[i];
@@ -125,7 +126,8 @@ std::vector<ValidationResult> validate_gltf(const std::vector<fs::path>& files) 
   for (const auto& f : files) argv.push_back(f.string());
   const RunResult r = run(argv);
   if (!r.spawned || r.exit_code == 127) return all_with(files, !required, "node is not installed");
-  if (r.exit_code == 3) return all_with(files, !required, "gltf-validator is not installed (run tools/setup.sh)");
+  if (r.exit_code == 3)
+    return all_with(files, !required, "gltf-validator is not installed (run tools/setup.sh)");
 
   // One summary line per file, in order, each followed by indented issue lines.
   std::vector<ValidationResult> out(files.size());
@@ -142,7 +144,8 @@ std::vector<ValidationResult> validate_gltf(const std::vector<fs::path>& files) 
       if (current < out.size()) {
         out[current].report += std::string(line) + "\n";
         const std::string_view text = line.substr(2);
-        if (text.starts_with("error ") || text.starts_with("warning ")) out[current].messages.emplace_back(text);
+        if (text.starts_with("error ") || text.starts_with("warning "))
+          out[current].messages.emplace_back(text);
       }
       continue;
     }
@@ -151,16 +154,20 @@ std::vector<ValidationResult> validate_gltf(const std::vector<fs::path>& files) 
       current = next++;
       out[current].report += std::string(line) + "\n";
       const std::string_view rest = line.substr(prefix.size());
-      if (!parse_counts(rest, out[current].errors, out[current].warnings)) out[current].tool_error = std::string(rest);
+      if (!parse_counts(rest, out[current].errors, out[current].warnings))
+        out[current].tool_error = std::string(rest);
     } else if (current < out.size()) {
       out[current].report += std::string(line) + "\n";
     }
   }
   for (std::size_t i = next; i < out.size(); ++i)
-    out[i].tool_error = "no result from the validator (exit code " + std::to_string(r.exit_code) + "): " + r.output;
+    out[i].tool_error =
+        "no result from the validator (exit code " + std::to_string(r.exit_code) + "): " + r.output;
   return out;
 }
 
-ValidationResult validate_gltf(const fs::path& file) { return validate_gltf(std::vector<fs::path>{file}).front(); }
+ValidationResult validate_gltf(const fs::path& file) {
+  return validate_gltf(std::vector<fs::path>{file}).front();
+}
 
 }  // namespace sylva::test

@@ -25,10 +25,10 @@ namespace sylva::test {
 
 struct ValidationResult {
   std::filesystem::path file;
-  bool skipped = false;       // the validator could not run here (see skip_reason)
+  bool skipped = false;  // the validator could not run here (see skip_reason)
   std::string skip_reason;
-  std::string tool_error;     // the validator ran but could not validate the file (unreadable,
-                              // not glTF), or is required and missing; counts as a failure
+  std::string tool_error;  // the validator ran but could not validate the file (unreadable,
+                           // not glTF), or is required and missing; counts as a failure
   int errors = 0;
   int warnings = 0;
   std::vector<std::string> messages;  // "error CODE /pointer: text" and "warning ..." lines
@@ -47,9 +47,9 @@ std::vector<ValidationResult> validate_gltf(const std::vector<std::filesystem::p
 }  // namespace sylva::test
 
 // Validates `path` with zero errors; skips the test (GTEST_SKIP) when the validator cannot run.
-#define SYLVA_EXPECT_VALID_GLTF(path)                                             \
-  do {                                                                            \
+#define SYLVA_EXPECT_VALID_GLTF(path)                                                    \
+  do {                                                                                   \
     const ::sylva::test::ValidationResult sylva_v_ = ::sylva::test::validate_gltf(path); \
-    if (sylva_v_.skipped) GTEST_SKIP() << sylva_v_.skip_reason;                   \
-    EXPECT_TRUE(sylva_v_.ok()) << sylva_v_.tool_error << "\n" << sylva_v_.report; \
+    if (sylva_v_.skipped) GTEST_SKIP() << sylva_v_.skip_reason;                          \
+    EXPECT_TRUE(sylva_v_.ok()) << sylva_v_.tool_error << "\n" << sylva_v_.report;        \
   } while (0)

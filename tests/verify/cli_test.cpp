@@ -2,17 +2,14 @@
 // one-line messages, the files written, the update-refs workflow on a small generate -> mesh ->
 // verify recipe, and the LOD proof on a small generate -> lod recipe.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
-
 #include <cstdlib>
 #include <filesystem>
-#include <string>
-
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "libs/image/image_io.h"
 #include "libs/render/testing/gltf_builder.h"
@@ -35,8 +32,8 @@ Outcome sylva(const test::TempDir& dir, const std::string& args, const std::stri
   const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
   // The test recipes live in temp dirs and name the repository's presets: outside their
   // project root (docs/recipes.md), so they are run as trusted recipes.
-  const std::string cmd = env + " " + SYLVA_BINARY + " --allow-outside-root " + args + " >" + out.string() + " 2>" +
-                          err.string();
+  const std::string cmd =
+      env + " " + SYLVA_BINARY + " --allow-outside-root " + args + " >" + out.string() + " 2>" + err.string();
   const int status = std::system(cmd.c_str());
   Outcome r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -76,23 +73,30 @@ TEST_F(RenderCli, OnePng) {
   Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + png.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out, png.string() + "\n");
-  EXPECT_NE(r.err.find("sylva: rendered 1 view of " + glb_.string() + " at 96x64 (MSAA 4x)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sylva: rendered 1 view of " + glb_.string() + " at 96x64 (MSAA 4x)"),
+            std::string::npos)
+      << r.err;
   const image::Image img = image::read_image(png);
   EXPECT_EQ(img.width(), 96);
   EXPECT_EQ(img.height(), 64);
   // The same command again writes the same bytes.
   const std::string first = test::read_file(png);
-  ASSERT_EQ(sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + png.string()).code, 0);
+  ASSERT_EQ(
+      sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + png.string()).code, 0);
   EXPECT_EQ(test::read_file(png), first);
   // --view picks another view: a different picture (options may come before the file).
-  ASSERT_EQ(sylva(dir_, "render --view side --camera " + cams_.string() + " " + glb_.string() + " -o " + png.string()).code, 0);
+  ASSERT_EQ(sylva(dir_, "render --view side --camera " + cams_.string() + " " + glb_.string() + " -o " +
+                            png.string())
+                .code,
+            0);
   EXPECT_NE(test::read_file(png), first);
 }
 
 // -o DIR: one <view>.png per view, the directory created.
 TEST_F(RenderCli, Directory) {
   const fs::path out = dir_ / "views" / "cube";
-  const Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + out.string());
+  const Outcome r =
+      sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + out.string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.out, (out / "front.png").string() + "\n" + (out / "side.png").string() + "\n");
   EXPECT_TRUE(fs::exists(out / "front.png"));
@@ -104,8 +108,8 @@ TEST_F(RenderCli, UsageErrors) {
   Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " --view top -o x.png");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "error: no view 'top' in " + cams_.string() + " (its views: front, side)\n");
-  r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " --view front --view side -o " +
-                      (dir_ / "x.png").string());
+  r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() +
+                      " --view front --view side -o " + (dir_ / "x.png").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "error: -o " + (dir_ / "x.png").string() +
                        " is one image but 2 views were chosen; give -o a directory for several\n");
@@ -115,7 +119,9 @@ TEST_F(RenderCli, UsageErrors) {
   test::write_file(dir_ / "bad.yaml", "version: 1\nwidth: 0\nheight: 10\nviews: [{name: a}]\n");
   r = sylva(dir_, "render " + glb_.string() + " --camera " + (dir_ / "bad.yaml").string() + " -o x.png");
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err.rfind((dir_ / "bad.yaml").string() + ":2:8: error: 'width' must be between 1 and 16384, got 0", 0), 0u)
+  EXPECT_EQ(r.err.rfind(
+                (dir_ / "bad.yaml").string() + ":2:8: error: 'width' must be between 1 and 16384, got 0", 0),
+            0u)
       << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
 }
@@ -124,11 +130,13 @@ TEST_F(RenderCli, UsageErrors) {
 TEST_F(RenderCli, BadAssetsExitOne) {
   const fs::path png = dir_ / "x.png";
   test::write_file(dir_ / "garbage.glb", "this is not glTF");
-  Outcome r = sylva(dir_, "render " + (dir_ / "garbage.glb").string() + " --camera " + cams_.string() + " -o " + png.string());
+  Outcome r = sylva(dir_, "render " + (dir_ / "garbage.glb").string() + " --camera " + cams_.string() +
+                              " -o " + png.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.err.rfind((dir_ / "garbage.glb").string() + ": error: invalid glTF: ", 0), 0u) << r.err;
   EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
-  r = sylva(dir_, "render " + (dir_ / "none.glb").string() + " --camera " + cams_.string() + " -o " + png.string());
+  r = sylva(dir_,
+            "render " + (dir_ / "none.glb").string() + " --camera " + cams_.string() + " -o " + png.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.err, (dir_ / "none.glb").string() + ": error: no such file\n");
   EXPECT_FALSE(fs::exists(png));
@@ -136,8 +144,9 @@ TEST_F(RenderCli, BadAssetsExitOne) {
 
 // Without any EGL vendor: exit 1 and the renderer's one-line reason.
 TEST_F(RenderCli, NoEglExitsOne) {
-  const Outcome r = sylva(dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + (dir_ / "x.png").string(),
-                      "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json __EGL_VENDOR_LIBRARY_DIRS=/nonexistent");
+  const Outcome r = sylva(
+      dir_, "render " + glb_.string() + " --camera " + cams_.string() + " -o " + (dir_ / "x.png").string(),
+      "__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json __EGL_VENDOR_LIBRARY_DIRS=/nonexistent");
   EXPECT_EQ(r.code, 1);
   EXPECT_EQ(r.err.rfind("error: headless OpenGL is not available: ", 0), 0u) << r.err;
   EXPECT_EQ(count_of(r.err, "\n"), 1) << r.err;
@@ -152,15 +161,16 @@ class VerifyCli : public ::testing::Test {
     write_recipe("");
   }
   void write_recipe(const std::string& verify_with) {
-    test::write_file(recipe_, "version: 1\nname: small\nnodes:\n"
-                              "  tree_birch:\n    stage: generate\n    with: { preset: " +
-                                  fs::absolute("configs/species/birch.yaml").string() +
-                                  ", age: young, texture_size: 16, levels: 2 }\n"
-                                  "  mesh_birch:\n    stage: mesh\n    needs: tree_birch\n"
-                                  "    with: { subdivision: 0, foliage: false }\n"
-                                  "  check:\n    stage: verify\n    needs: ['mesh_*']\n"
-                                  "    with: { cameras: cams.yaml, references: refs" +
-                                  verify_with + " }\n");
+    test::write_file(recipe_,
+                     "version: 1\nname: small\nnodes:\n"
+                     "  tree_birch:\n    stage: generate\n    with: { preset: " +
+                         fs::absolute("configs/species/birch.yaml").string() +
+                         ", age: young, texture_size: 16, levels: 2 }\n"
+                         "  mesh_birch:\n    stage: mesh\n    needs: tree_birch\n"
+                         "    with: { subdivision: 0, foliage: false }\n"
+                         "  check:\n    stage: verify\n    needs: ['mesh_*']\n"
+                         "    with: { cameras: cams.yaml, references: refs" +
+                         verify_with + " }\n");
   }
   Outcome verify(const std::string& extra = "") {
     return sylva(dir_, "--out " + out_.string() + " verify " + recipe_.string() + " " + extra);
@@ -182,11 +192,14 @@ TEST_F(VerifyCli, UpdateRefsWorkflow) {
   ASSERT_EQ(r.code, 1) << r.err;
   EXPECT_EQ(r.out, "sylva verify: node 'check' FAILED (0/2 views passed, 2 did not pass); report: " +
                        (reports_ / "report.html").string() + "\n");
-  EXPECT_NE(r.err.find("FAIL mesh_birch/front: no reference image 'mesh_birch__front.png' in the references directory\n"),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find(
+          "FAIL mesh_birch/front: no reference image 'mesh_birch__front.png' in the references directory\n"),
+      std::string::npos)
       << r.err;
   EXPECT_EQ(count_of(r.err, "FAIL "), 2);
-  for (const char* f : {"report.html", "report.json", "junit.xml", "mesh_birch__front.png", "mesh_birch__side.png"})
+  for (const char* f :
+       {"report.html", "report.json", "junit.xml", "mesh_birch__front.png", "mesh_birch__side.png"})
     EXPECT_TRUE(fs::exists(reports_ / f)) << f;
   auto j = nlohmann::json::parse(test::read_file(reports_ / "report.json"));
   EXPECT_EQ(j["passed"], false);
@@ -195,34 +208,40 @@ TEST_F(VerifyCli, UpdateRefsWorkflow) {
   // `sylva build` fails the verify node the same way (exit 1), publishing nothing for it.
   r = build();
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("error: node 'check' (stage verify): 2 of 2 views did not pass verification: mesh_birch/front: "
-                       "no reference image"),
-            std::string::npos)
+  EXPECT_NE(
+      r.err.find(
+          "error: node 'check' (stage verify): 2 of 2 views did not pass verification: mesh_birch/front: "
+          "no reference image"),
+      std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(out_ / "small" / "check" / "report.html"));
 
   // 2. --update-refs writes the new references and exits 0.
   r = verify("--update-refs");
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.out, "sylva verify: node 'check' updated (0/2 views passed, 2 references updated in " + refs_.string() +
-                       "); report: " + (reports_ / "report.html").string() + "\n");
+  EXPECT_EQ(r.out, "sylva verify: node 'check' updated (0/2 views passed, 2 references updated in " +
+                       refs_.string() + "); report: " + (reports_ / "report.html").string() + "\n");
   EXPECT_EQ(count_of(r.err, "UPDATED mesh_birch/"), 2);
-  EXPECT_EQ(test::read_file(refs_ / "mesh_birch__front.png"), test::read_file(reports_ / "mesh_birch__front.png"));
+  EXPECT_EQ(test::read_file(refs_ / "mesh_birch__front.png"),
+            test::read_file(reports_ / "mesh_birch__front.png"));
   EXPECT_TRUE(fs::exists(refs_ / "mesh_birch__side.png"));
 
   // 3. Now everything passes, from the command and from the build (which publishes the reports).
   r = sylva(dir_, "--out " + out_.string() + " verify --node check --node check " + recipe_.string());
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.out, "sylva verify: node 'check' passed (2/2 views passed); report: " + (reports_ / "report.html").string() + "\n");
+  EXPECT_EQ(r.out, "sylva verify: node 'check' passed (2/2 views passed); report: " +
+                       (reports_ / "report.html").string() + "\n");
   r = build();
   ASSERT_EQ(r.code, 0) << r.err;
   j = nlohmann::json::parse(test::read_file(out_ / "small" / "check" / "report.json"));
   EXPECT_EQ(j["passed"], true);
   // The stage and the command write the same report.
-  EXPECT_EQ(test::read_file(out_ / "small" / "check" / "report.html"), test::read_file(reports_ / "report.html"));
+  EXPECT_EQ(test::read_file(out_ / "small" / "check" / "report.html"),
+            test::read_file(reports_ / "report.html"));
 
   // 4. A reference that no longer matches (here: the other view's image) fails both.
-  fs::copy_file(refs_ / "mesh_birch__side.png", refs_ / "mesh_birch__front.png", fs::copy_options::overwrite_existing);
+  fs::copy_file(refs_ / "mesh_birch__side.png", refs_ / "mesh_birch__front.png",
+                fs::copy_options::overwrite_existing);
   r = verify();
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("FAIL mesh_birch/front: "), std::string::npos) << r.err;
@@ -260,8 +279,9 @@ TEST_F(VerifyCli, UsageErrors) {
   r = verify("--node chek");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("did you mean 'check'"), std::string::npos) << r.err;
-  test::write_file(dir_ / "plain.yaml", "version: 1\nname: plain\nnodes:\n  t:\n    stage: generate\n    with: { preset: " +
-                                            fs::absolute("configs/species/birch.yaml").string() + " }\n");
+  test::write_file(dir_ / "plain.yaml",
+                   "version: 1\nname: plain\nnodes:\n  t:\n    stage: generate\n    with: { preset: " +
+                       fs::absolute("configs/species/birch.yaml").string() + " }\n");
   r = sylva(dir_, "--out " + out_.string() + " verify " + (dir_ / "plain.yaml").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "error: recipe 'plain' (" + (dir_ / "plain.yaml").string() +
@@ -281,9 +301,11 @@ TEST_F(VerifyCli, ReportDir) {
 // A node whose input fails to build: exit 1, nothing verified.
 TEST_F(VerifyCli, BrokenInputIsABuildFailure) {
   test::write_file(dir_ / "broken.yaml", "Levels: [");
-  test::write_file(recipe_, "version: 1\nname: small\nnodes:\n  tree:\n    stage: generate\n    with: { preset: broken.yaml }\n"
-                            "  mesh:\n    stage: mesh\n    needs: tree\n"
-                            "  check:\n    stage: verify\n    needs: mesh\n    with: { cameras: cams.yaml, references: refs }\n");
+  test::write_file(
+      recipe_,
+      "version: 1\nname: small\nnodes:\n  tree:\n    stage: generate\n    with: { preset: broken.yaml }\n"
+      "  mesh:\n    stage: mesh\n    needs: tree\n"
+      "  check:\n    stage: verify\n    needs: mesh\n    with: { cameras: cams.yaml, references: refs }\n");
   const Outcome r = verify();
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("error: node 'tree' (stage generate): "), std::string::npos) << r.err;
@@ -297,12 +319,13 @@ TEST_F(VerifyCli, BrokenInputIsABuildFailure) {
 class LodcheckCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    test::write_file(recipe_, "version: 1\nname: small\nnodes:\n"
-                              "  tree_birch:\n    stage: generate\n    with: { preset: " +
-                                  fs::absolute("configs/species/birch.yaml").string() +
-                                  ", age: young, texture_size: 16 }\n"
-                                  "  lod_birch:\n    stage: lod\n    needs: tree_birch\n"
-                                  "    with: { camera: { height_px: 200 }, levels: 3 }\n");
+    test::write_file(recipe_,
+                     "version: 1\nname: small\nnodes:\n"
+                     "  tree_birch:\n    stage: generate\n    with: { preset: " +
+                         fs::absolute("configs/species/birch.yaml").string() +
+                         ", age: young, texture_size: 16 }\n"
+                         "  lod_birch:\n    stage: lod\n    needs: tree_birch\n"
+                         "    with: { camera: { height_px: 200 }, levels: 3 }\n");
   }
   Outcome lodcheck(const std::string& extra = "") {
     return sylva(dir_, "--out " + out_.string() + " lodcheck " + recipe_.string() + " " + extra);
@@ -317,7 +340,8 @@ TEST_F(LodcheckCli, PassesAndReports) {
   const Outcome r = lodcheck("--write-full " + (dir_ / "full.glb").string());
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_EQ(count_of(r.out, "  sylva "), 6) << r.out;  // 3 levels x 2 views
-  EXPECT_NE(r.out.find("change coverage by > 0.5 and the mean coverage change is <= 0.15"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("change coverage by > 0.5 and the mean coverage change is <= 0.15"), std::string::npos)
+      << r.out;
   EXPECT_EQ(count_of(r.out, " ok\n"), 6) << r.out;
   EXPECT_NE(r.out.find("sylva lodcheck: node 'lod_birch' passed (6/6 views passed); report: " +
                        (report_ / "lodcheck.json").string() + "\n"),
@@ -352,8 +376,9 @@ TEST_F(LodcheckCli, SigtermStopsBetweenViewsAndKeepsThePreviousReport) {
   std::string args = "--no-images";
   for (int a = 0; a < 360; a += 15) args += " --azimuth " + std::to_string(a);
   const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-  const std::string cmd = std::string("exec ") + SYLVA_BINARY + " --allow-outside-root --out " + out_.string() +
-                          " lodcheck " + recipe_.string() + " " + args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd = std::string("exec ") + SYLVA_BINARY + " --allow-outside-root --out " +
+                          out_.string() + " lodcheck " + recipe_.string() + " " + args + " >" + out.string() +
+                          " 2>" + err.string();
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
@@ -403,8 +428,9 @@ TEST_F(LodcheckCli, ThresholdFollowsPixelError) {
   test::write_file(recipe_, text);
   Outcome r = lodcheck("--no-images");
   ASSERT_EQ(r.code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("delta 0.8 px; a view passes when <= 1.00% of the tree's pixels change coverage by > 0.8"),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find("delta 0.8 px; a view passes when <= 1.00% of the tree's pixels change coverage by > 0.8"),
+      std::string::npos)
       << r.out;
   r = lodcheck("--no-images --pixel-threshold 0.3");
   EXPECT_NE(r.out.find("change coverage by > 0.3"), std::string::npos) << r.out;
@@ -428,8 +454,9 @@ TEST_F(LodcheckCli, UsageErrors) {
   r = lodcheck("--candidates " + (dir_ / "nope").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "error: --candidates " + (dir_ / "nope").string() + ": not a directory\n");
-  test::write_file(dir_ / "plain.yaml", "version: 1\nname: plain\nnodes:\n  t:\n    stage: generate\n    with: { preset: " +
-                                            fs::absolute("configs/species/birch.yaml").string() + " }\n");
+  test::write_file(dir_ / "plain.yaml",
+                   "version: 1\nname: plain\nnodes:\n  t:\n    stage: generate\n    with: { preset: " +
+                       fs::absolute("configs/species/birch.yaml").string() + " }\n");
   r = sylva(dir_, "--out " + out_.string() + " lodcheck " + (dir_ / "plain.yaml").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "error: recipe 'plain' (" + (dir_ / "plain.yaml").string() +

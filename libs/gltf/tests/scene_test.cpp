@@ -1,7 +1,7 @@
 // validate_scene(): one message per broken contract point, naming the element.
-#include <gtest/gtest.h>
-
 #include "libs/gltf/scene.h"
+
+#include <gtest/gtest.h>
 
 namespace sylva::gltf {
 namespace {
@@ -43,7 +43,8 @@ TEST(GltfScene, PrimitiveProblems) {
   EXPECT_EQ(first(s), "meshes[0].primitives[0]: index 2 is 3, but there are 3 vertices");
   s = triangle();
   s.meshes[0].primitives[0].indices = {0, 1};
-  EXPECT_EQ(first(s), "meshes[0].primitives[0]: index count 2 does not fit the mode (a non-zero multiple of 3)");
+  EXPECT_EQ(first(s),
+            "meshes[0].primitives[0]: index count 2 does not fit the mode (a non-zero multiple of 3)");
   s = triangle();
   s.meshes[0].primitives[0].normals[2] = 2;
   EXPECT_EQ(first(s), "meshes[0].primitives[0]: normal of vertex 0 has length 2.000000, expected 1");

@@ -1,9 +1,10 @@
 // The glTF writer: every file it produces passes the Khronos validator, reads back through
 // tinygltf with the values that went in, is byte-identical when written twice, and Draco
 // round-trips within the quantisation error.
-#include <gtest/gtest.h>
+#include "libs/gltf/writer.h"
 
 #include <draco/compression/decode.h>
+#include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -11,7 +12,6 @@
 #include <cstring>
 
 #include "libs/gltf/scene.h"
-#include "libs/gltf/writer.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
@@ -33,11 +33,12 @@ WriteOptions gltf_text() {
 }
 
 // A 2x2 RGBA PNG.
-const unsigned char kPng[] = {
-    0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52, 0x00, 0x00, 0x00,
-    0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06, 0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d, 0x24, 0x00, 0x00, 0x00, 0x11, 0x49,
-    0x44, 0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x51, 0xa1, 0xf1, 0x1f, 0x84, 0x19, 0x60, 0x0c, 0x00, 0x55, 0xe4, 0x09,
-    0x9d, 0x58, 0x11, 0xe5, 0x51, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+const unsigned char kPng[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49,
+                              0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06,
+                              0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d, 0x24, 0x00, 0x00, 0x00, 0x11, 0x49, 0x44,
+                              0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x51, 0xa1, 0xf1, 0x1f, 0x84, 0x19, 0x60,
+                              0x0c, 0x00, 0x55, 0xe4, 0x09, 0x9d, 0x58, 0x11, 0xe5, 0x51, 0x00, 0x00, 0x00,
+                              0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
 
 std::string png_bytes() { return std::string(reinterpret_cast<const char*>(kPng), sizeof kPng); }
 
@@ -102,9 +103,11 @@ tinygltf::Model load(const std::string& bytes, bool glb) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
-  const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+  const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                                    reinterpret_cast<const unsigned char*>(bytes.data()),
                                                     static_cast<unsigned>(bytes.size()))
-                      : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), "");
+                      : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                                   static_cast<unsigned>(bytes.size()), "");
   EXPECT_TRUE(ok) << err;
   return model;
 }
@@ -114,7 +117,8 @@ std::vector<T> read_accessor(const tinygltf::Model& m, int index) {
   const tinygltf::Accessor& a = m.accessors[static_cast<std::size_t>(index)];
   const tinygltf::BufferView& v = m.bufferViews[static_cast<std::size_t>(a.bufferView)];
   const auto& data = m.buffers[static_cast<std::size_t>(v.buffer)].data;
-  const std::size_t comps = static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)));
+  const std::size_t comps =
+      static_cast<std::size_t>(tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)));
   std::vector<T> out(a.count * comps);
   std::memcpy(out.data(), data.data() + v.byteOffset + a.byteOffset, out.size() * sizeof(T));
   return out;
@@ -182,7 +186,9 @@ TEST(GltfWriter, GlbRoundTripsThroughTinygltfAndValidates) {
   EXPECT_EQ(m.textures.size(), 2u);
   // The image is embedded byte for byte.
   const tinygltf::BufferView& iv = m.bufferViews[static_cast<std::size_t>(m.images[0].bufferView)];
-  EXPECT_EQ(std::string(reinterpret_cast<const char*>(m.buffers[0].data.data() + iv.byteOffset), iv.byteLength), png_bytes());
+  EXPECT_EQ(
+      std::string(reinterpret_cast<const char*>(m.buffers[0].data.data() + iv.byteOffset), iv.byteLength),
+      png_bytes());
   EXPECT_EQ(m.asset.extras.Get("sylva").Get("stage").Get<std::string>(), "test");
   EXPECT_EQ(m.asset.extras.Get("sylva").Get("statistics").Get("quads").Get<int>(), 16);
   EXPECT_EQ(m.meshes[0].primitives[0].extras.Get("part").Get<std::string>(), "bark");
@@ -387,7 +393,8 @@ TEST(GltfWriter, DracoRoundTripWithinQuantisationError) {
   const nlohmann::json& ext = gp["extensions"]["KHR_draco_mesh_compression"];
   const nlohmann::json& view = j["bufferViews"][ext["bufferView"].get<std::size_t>()];
   draco::DecoderBuffer buffer;
-  buffer.Init(glb.bin.data() + view.value("byteOffset", std::size_t{0}), view["byteLength"].get<std::size_t>());
+  buffer.Init(glb.bin.data() + view.value("byteOffset", std::size_t{0}),
+              view["byteLength"].get<std::size_t>());
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
   ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
@@ -401,12 +408,12 @@ TEST(GltfWriter, DracoRoundTripWithinQuantisationError) {
   // largest of the bounding box's sides: step = extent / (2^bits - 1), error <= step / 2.
   const double pos_step = 1.0 / ((1 << o.draco.position_bits) - 1);
   const double uv_step = 1.0 / ((1 << o.draco.texcoord_bits) - 1);
-  const draco::PointAttribute* pos = dm->GetAttributeByUniqueId(
-      ext["attributes"]["POSITION"].get<std::uint32_t>());
-  const draco::PointAttribute* uv = dm->GetAttributeByUniqueId(
-      ext["attributes"]["TEXCOORD_0"].get<std::uint32_t>());
-  const draco::PointAttribute* nrm = dm->GetAttributeByUniqueId(
-      ext["attributes"]["NORMAL"].get<std::uint32_t>());
+  const draco::PointAttribute* pos =
+      dm->GetAttributeByUniqueId(ext["attributes"]["POSITION"].get<std::uint32_t>());
+  const draco::PointAttribute* uv =
+      dm->GetAttributeByUniqueId(ext["attributes"]["TEXCOORD_0"].get<std::uint32_t>());
+  const draco::PointAttribute* nrm =
+      dm->GetAttributeByUniqueId(ext["attributes"]["NORMAL"].get<std::uint32_t>());
   ASSERT_TRUE(pos && uv && nrm);
   // Points may be reordered: match each decoded point to the nearest input vertex.
   double worst_pos = 0, worst_uv = 0, worst_normal_dot = 1;
@@ -421,12 +428,15 @@ TEST(GltfWriter, DracoRoundTripWithinQuantisationError) {
     std::size_t best_k = 0;
     for (std::size_t k = 0; k < p.vertex_count(); ++k) {
       double d = 0;
-      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(double(q[static_cast<std::size_t>(c)]) - p.positions[3 * k + static_cast<std::size_t>(c)]));
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(double(q[static_cast<std::size_t>(c)]) -
+                                 p.positions[3 * k + static_cast<std::size_t>(c)]));
       if (d < best) best = d, best_k = k;
     }
     worst_pos = std::max(worst_pos, best);
     for (int c = 0; c < 2; ++c)
-      worst_uv = std::max(worst_uv, std::abs(double(t[static_cast<std::size_t>(c)]) - p.texcoords[2 * best_k + static_cast<std::size_t>(c)]));
+      worst_uv = std::max(worst_uv, std::abs(double(t[static_cast<std::size_t>(c)]) -
+                                             p.texcoords[2 * best_k + static_cast<std::size_t>(c)]));
     worst_normal_dot = std::min(worst_normal_dot, double(nn[1]));
   }
   EXPECT_LE(worst_pos, pos_step / 2 * 1.0001);
@@ -451,7 +461,9 @@ TEST(GltfWriter, InstancingValidates) {
   SYLVA_EXPECT_VALID_GLTF(write(dir, "inst.glb", encode(s)));
   const nlohmann::json j = parse_glb(encode(s)).json;
   EXPECT_EQ(j["extensionsRequired"], nlohmann::json::array({"EXT_mesh_gpu_instancing"}));
-  EXPECT_EQ(j["accessors"][j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"].get<std::size_t>()]["count"], 3);
+  EXPECT_EQ(j["accessors"][j["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"]
+                               .get<std::size_t>()]["count"],
+            3);
 }
 
 // Node extensions (MSFT_lod here) are written as given and listed in extensionsUsed.
@@ -481,8 +493,9 @@ TEST(GltfWriter, InvalidSceneIsRefusedWithTheElementNamed) {
     encode(s);
     FAIL() << "expected GltfError";
   } catch (const GltfError& e) {
-    EXPECT_STREQ(e.what(),
-                 "invalid glTF scene: meshes[0].primitives[1]: normals has 26 values, expected 3 per vertex (27)");
+    EXPECT_STREQ(
+        e.what(),
+        "invalid glTF scene: meshes[0].primitives[1]: normals has 26 values, expected 3 per vertex (27)");
   }
 }
 

@@ -1,8 +1,8 @@
+#include "libs/image/compare.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "libs/image/compare.h"
 
 namespace sylva::image {
 namespace {

@@ -1,14 +1,14 @@
-#include <gtest/gtest.h>
+#include "libs/image/image.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
-#include "libs/image/image.h"
+#include <stdexcept>
+
 #include "libs/image/image_io.h"
 #include "libs/image/png.h"
 #include "libs/image/resample.h"
-
-#include <stdexcept>
 #include "tests/support/test_support.h"
 
 namespace sylva::image {
@@ -18,7 +18,8 @@ Image gradient(int w, int h) {
   Image img(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      img.set(x, y, {std::uint8_t(x * 7), std::uint8_t(y * 5), std::uint8_t(x ^ y), std::uint8_t(200 + x % 50)});
+      img.set(x, y,
+              {std::uint8_t(x * 7), std::uint8_t(y * 5), std::uint8_t(x ^ y), std::uint8_t(200 + x % 50)});
   return img;
 }
 
@@ -134,7 +135,8 @@ TEST(ImageIo, LibpngBytesEqualOpenImageIoBytes) {
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, img.bytes().data()));
     out->close();
     const auto ours = encode_png(img);
-    EXPECT_EQ(std::vector<unsigned char>(ours.begin(), ours.end()), bytes) << img.width() << "x" << img.height();
+    EXPECT_EQ(std::vector<unsigned char>(ours.begin(), ours.end()), bytes)
+        << img.width() << "x" << img.height();
   }
 }
 
@@ -162,7 +164,8 @@ TEST(ImageIo, ReadPngDecodesRgbaRgbAndGrey) {
     read_png(dir / "cut.png");
     FAIL() << "expected ImageError";
   } catch (const ImageError& e) {
-    EXPECT_EQ(std::string(e.what()), (dir / "cut.png").string() + ": error: cannot decode image: file is truncated");
+    EXPECT_EQ(std::string(e.what()),
+              (dir / "cut.png").string() + ": error: cannot decode image: file is truncated");
   }
 }
 

@@ -1,10 +1,10 @@
 // The impostor's error model (error_model.h) on numbers worked by hand.
 #include "libs/impostor/error_model.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 namespace sylva::impostor {
 namespace {
@@ -24,7 +24,8 @@ TEST(ErrorModel, SwitchDistanceOfTheSummedTerms) {
 // tan e = cos 22.5°, e = 42.7°, angle 47.3°. Without the top card a view from above is 90° off.
 TEST(ErrorModel, BillboardViewAngle) {
   const double deg = 180 / std::numbers::pi;
-  EXPECT_NEAR(billboard_max_view_angle(8, true) * deg, 90 - std::atan(std::cos(std::numbers::pi / 8)) * deg, 0.02);
+  EXPECT_NEAR(billboard_max_view_angle(8, true) * deg, 90 - std::atan(std::cos(std::numbers::pi / 8)) * deg,
+              0.02);
   EXPECT_NEAR(billboard_max_view_angle(8, false) * deg, 90, 1e-9);
   EXPECT_LT(billboard_max_view_angle(16, true), billboard_max_view_angle(8, true));
 }

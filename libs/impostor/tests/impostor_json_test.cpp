@@ -2,6 +2,7 @@
 #include "libs/impostor/impostor_json.h"
 
 #include <gtest/gtest.h>
+
 #include <nlohmann/json.hpp>
 
 namespace sylva::impostor {
@@ -78,14 +79,19 @@ std::string error_for(const std::string& pointer, const nlohmann::json& value, b
 }
 
 TEST(ImpostorJson, BadFilesGiveOneLineErrors) {
-  EXPECT_EQ(error_for("/kind", "sprite"),
-            "x/impostor.json: error: unknown kind 'sprite' (expected hemi_octahedral, octahedral or billboards)");
-  EXPECT_EQ(error_for("/sphere/radius_m", nullptr, true), "x/impostor.json: error: missing 'sphere.radius_m'");
-  EXPECT_EQ(error_for("/sphere/radius_m", -1), "x/impostor.json: error: 'sphere.radius_m' = -1 is outside [1e-09, 1e+09]");
-  EXPECT_EQ(error_for("/atlas/frame_px", "64"), "x/impostor.json: error: 'atlas.frame_px' must be an integer");
+  EXPECT_EQ(
+      error_for("/kind", "sprite"),
+      "x/impostor.json: error: unknown kind 'sprite' (expected hemi_octahedral, octahedral or billboards)");
+  EXPECT_EQ(error_for("/sphere/radius_m", nullptr, true),
+            "x/impostor.json: error: missing 'sphere.radius_m'");
+  EXPECT_EQ(error_for("/sphere/radius_m", -1),
+            "x/impostor.json: error: 'sphere.radius_m' = -1 is outside [1e-09, 1e+09]");
+  EXPECT_EQ(error_for("/atlas/frame_px", "64"),
+            "x/impostor.json: error: 'atlas.frame_px' must be an integer");
   EXPECT_EQ(error_for("/atlas/width_px", 512),
             "x/impostor.json: error: 'atlas': width_px and height_px must be frames_per_side * frame_px");
-  EXPECT_EQ(error_for("/hemi", false), "x/impostor.json: error: 'hemi' must be true exactly for kind hemi_octahedral");
+  EXPECT_EQ(error_for("/hemi", false),
+            "x/impostor.json: error: 'hemi' must be true exactly for kind hemi_octahedral");
   EXPECT_EQ(error_for("/version", 2), "x/impostor.json: error: unsupported version 2 (this reader knows 1)");
   EXPECT_EQ(error_for("/glb/cards/0/rect_px", nlohmann::json::array({250, 0, 64, 64})),
             "x/impostor.json: error: 'glb.cards[0].rect_px' lies outside the atlas");

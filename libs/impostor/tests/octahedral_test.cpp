@@ -1,10 +1,10 @@
 // The frame grid's formulas (octahedral.h) on hand-picked directions.
 #include "libs/impostor/octahedral.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 namespace sylva::impostor {
 namespace {
@@ -110,7 +110,8 @@ TEST(Octahedral, FrameBasis) {
 // The view-error factor falls about as 1/N^2 (second order in the frame spacing), and the full
 // octahedron (twice the solid angle on the same frames) is coarser than the hemi one.
 TEST(Octahedral, ViewErrorFactorFallsWithTheGrid) {
-  const double f8 = view_error_factor(8, true), f16 = view_error_factor(16, true), f32 = view_error_factor(32, true);
+  const double f8 = view_error_factor(8, true), f16 = view_error_factor(16, true),
+               f32 = view_error_factor(32, true);
   EXPECT_GT(f8, f16);
   EXPECT_GT(f16, f32);
   EXPECT_NEAR(f8 / f16, 4.0, 0.6);

@@ -5,16 +5,17 @@
 //  - RealTree / RealTree1000: a GLB sylva wrote (path in $SYLVA_BENCH_TREE, e.g. the default
 //    recipe's out/default/mesh_oak/tree.glb: an adult oak with bark, leaf cards and textures),
 //    alone and as 1,000 instances on a 32 x 32 grid spaced by the tree's width.
-// All load a .glb, so the timings cover exactly what `sylva render` draws. Each iteration is one render_views() call: upload + draw + MSAA resolve + read-back;
-// the "views:4" variants render four views per upload (items_per_second = views per second).
+// All load a .glb, so the timings cover exactly what `sylva render` draws. Each iteration is one
+// render_views() call: upload + draw + MSAA resolve + read-back; the "views:4" variants render four views per
+// upload (items_per_second = views per second).
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
-#include <unistd.h>
 
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
@@ -149,14 +150,36 @@ void BM_RealTree(benchmark::State& state) { run_real(state, real_tree()); }
 void BM_RealTree1000(benchmark::State& state) { run_real(state, real_forest()); }
 void BM_Instanced1000(benchmark::State& state) { run(state, instanced_scene()); }
 
-BENCHMARK(BM_DenseMesh500k)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})->Args({4, 4})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
-BENCHMARK(BM_Instanced1000)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})->Args({4, 4})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
-BENCHMARK(BM_RealTree)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
-BENCHMARK(BM_RealTree1000)->ArgNames({"msaa", "views"})->Args({4, 1})->Args({1, 1})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_DenseMesh500k)
+    ->ArgNames({"msaa", "views"})
+    ->Args({4, 1})
+    ->Args({1, 1})
+    ->Args({4, 4})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK(BM_Instanced1000)
+    ->ArgNames({"msaa", "views"})
+    ->Args({4, 1})
+    ->Args({1, 1})
+    ->Args({4, 4})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK(BM_RealTree)
+    ->ArgNames({"msaa", "views"})
+    ->Args({4, 1})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK(BM_RealTree1000)
+    ->ArgNames({"msaa", "views"})
+    ->Args({4, 1})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 
 }  // namespace
 }  // namespace sylva::render

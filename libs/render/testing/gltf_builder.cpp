@@ -48,8 +48,10 @@ int GltfBuilder::add_accessor(const void* data, std::size_t count, int type, int
     a.maxValues.assign(std::size_t(comps), -1e30);
     for (std::size_t i = 0; i < count; ++i)
       for (int c = 0; c < comps; ++c) {
-        a.minValues[std::size_t(c)] = std::min(a.minValues[std::size_t(c)], double(f[i * std::size_t(comps) + std::size_t(c)]));
-        a.maxValues[std::size_t(c)] = std::max(a.maxValues[std::size_t(c)], double(f[i * std::size_t(comps) + std::size_t(c)]));
+        a.minValues[std::size_t(c)] =
+            std::min(a.minValues[std::size_t(c)], double(f[i * std::size_t(comps) + std::size_t(c)]));
+        a.maxValues[std::size_t(c)] =
+            std::max(a.maxValues[std::size_t(c)], double(f[i * std::size_t(comps) + std::size_t(c)]));
       }
   }
   model_.accessors.push_back(a);
@@ -76,7 +78,8 @@ int GltfBuilder::add_texture(const image::Image& img, bool nearest) {
 
 int GltfBuilder::add_material(const MaterialData& m) {
   tinygltf::Material gm;
-  gm.pbrMetallicRoughness.baseColorFactor = {m.base_color[0], m.base_color[1], m.base_color[2], m.base_color[3]};
+  gm.pbrMetallicRoughness.baseColorFactor = {m.base_color[0], m.base_color[1], m.base_color[2],
+                                             m.base_color[3]};
   gm.pbrMetallicRoughness.baseColorTexture.index = m.texture;
   gm.pbrMetallicRoughness.metallicFactor = 0.0;
   gm.alphaMode = m.alpha_mode;
@@ -84,7 +87,8 @@ int GltfBuilder::add_material(const MaterialData& m) {
   gm.doubleSided = m.double_sided;
   if (m.unlit) {
     gm.extensions["KHR_materials_unlit"] = tinygltf::Value(tinygltf::Value::Object());
-    if (std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(), "KHR_materials_unlit") == model_.extensionsUsed.end())
+    if (std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(), "KHR_materials_unlit") ==
+        model_.extensionsUsed.end())
       model_.extensionsUsed.push_back("KHR_materials_unlit");
   }
   model_.materials.push_back(gm);
@@ -94,8 +98,10 @@ int GltfBuilder::add_material(const MaterialData& m) {
 namespace {
 
 void use_extension(tinygltf::Model& m, const std::string& ext, bool required) {
-  if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), ext) == m.extensionsUsed.end()) m.extensionsUsed.push_back(ext);
-  if (required && std::find(m.extensionsRequired.begin(), m.extensionsRequired.end(), ext) == m.extensionsRequired.end())
+  if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), ext) == m.extensionsUsed.end())
+    m.extensionsUsed.push_back(ext);
+  if (required &&
+      std::find(m.extensionsRequired.begin(), m.extensionsRequired.end(), ext) == m.extensionsRequired.end())
     m.extensionsRequired.push_back(ext);
 }
 
@@ -115,13 +121,21 @@ int GltfBuilder::add_mesh(const std::vector<PrimitiveData>& primitives, const st
       draco::TriangleSoupMeshBuilder mb;
       mb.Start(int(faces));
       const int pos = mb.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
-      const int nrm = p.normals.empty() ? -1 : mb.AddAttribute(draco::GeometryAttribute::NORMAL, 3, draco::DT_FLOAT32);
-      const int uv = p.texcoords.empty() ? -1 : mb.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32);
+      const int nrm =
+          p.normals.empty() ? -1 : mb.AddAttribute(draco::GeometryAttribute::NORMAL, 3, draco::DT_FLOAT32);
+      const int uv = p.texcoords.empty()
+                         ? -1
+                         : mb.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32);
       for (std::size_t f = 0; f < faces; ++f) {
         const auto i0 = p.indices[f * 3], i1 = p.indices[f * 3 + 1], i2 = p.indices[f * 3 + 2];
-        mb.SetAttributeValuesForFace(pos, draco::FaceIndex(std::uint32_t(f)), p.positions[i0].data(), p.positions[i1].data(), p.positions[i2].data());
-        if (nrm >= 0) mb.SetAttributeValuesForFace(nrm, draco::FaceIndex(std::uint32_t(f)), p.normals[i0].data(), p.normals[i1].data(), p.normals[i2].data());
-        if (uv >= 0) mb.SetAttributeValuesForFace(uv, draco::FaceIndex(std::uint32_t(f)), p.texcoords[i0].data(), p.texcoords[i1].data(), p.texcoords[i2].data());
+        mb.SetAttributeValuesForFace(pos, draco::FaceIndex(std::uint32_t(f)), p.positions[i0].data(),
+                                     p.positions[i1].data(), p.positions[i2].data());
+        if (nrm >= 0)
+          mb.SetAttributeValuesForFace(nrm, draco::FaceIndex(std::uint32_t(f)), p.normals[i0].data(),
+                                       p.normals[i1].data(), p.normals[i2].data());
+        if (uv >= 0)
+          mb.SetAttributeValuesForFace(uv, draco::FaceIndex(std::uint32_t(f)), p.texcoords[i0].data(),
+                                       p.texcoords[i1].data(), p.texcoords[i2].data());
       }
       std::unique_ptr<draco::Mesh> dm = mb.Finalize();
       if (!dm) throw std::runtime_error("draco mesh builder failed");
@@ -134,37 +148,49 @@ int GltfBuilder::add_mesh(const std::vector<PrimitiveData>& primitives, const st
       const int view = add_view(out.data(), out.size(), 0);
       const std::size_t points = dm->num_points();
       tinygltf::Value::Object attrs;
-      gp.attributes["POSITION"] = add_accessor(nullptr, points, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0);
+      gp.attributes["POSITION"] =
+          add_accessor(nullptr, points, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0);
       // POSITION needs min/max even without a buffer view.
       model_.accessors.back().minValues = {-1e3, -1e3, -1e3};
       model_.accessors.back().maxValues = {1e3, 1e3, 1e3};
       attrs["POSITION"] = tinygltf::Value(int(dm->attribute(pos)->unique_id()));
       if (nrm >= 0) {
-        gp.attributes["NORMAL"] = add_accessor(nullptr, points, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0);
+        gp.attributes["NORMAL"] =
+            add_accessor(nullptr, points, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0);
         attrs["NORMAL"] = tinygltf::Value(int(dm->attribute(nrm)->unique_id()));
       }
       if (uv >= 0) {
-        gp.attributes["TEXCOORD_0"] = add_accessor(nullptr, points, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT, 0);
+        gp.attributes["TEXCOORD_0"] =
+            add_accessor(nullptr, points, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT, 0);
         attrs["TEXCOORD_0"] = tinygltf::Value(int(dm->attribute(uv)->unique_id()));
       }
-      gp.indices = add_accessor(nullptr, std::size_t(dm->num_faces()) * 3, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 0);
+      gp.indices = add_accessor(nullptr, std::size_t(dm->num_faces()) * 3, TINYGLTF_TYPE_SCALAR,
+                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, 0);
       tinygltf::Value::Object ext;
       ext["bufferView"] = tinygltf::Value(view);
       ext["attributes"] = tinygltf::Value(attrs);
       gp.extensions["KHR_draco_mesh_compression"] = tinygltf::Value(ext);
       use_extension(model_, "KHR_draco_mesh_compression", true);
     } else {
-      gp.attributes["POSITION"] = add_accessor(p.positions.data(), p.positions.size(), TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+      gp.attributes["POSITION"] =
+          add_accessor(p.positions.data(), p.positions.size(), TINYGLTF_TYPE_VEC3,
+                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER, true);
       if (!p.normals.empty())
-        gp.attributes["NORMAL"] = add_accessor(p.normals.data(), p.normals.size(), TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
+        gp.attributes["NORMAL"] = add_accessor(p.normals.data(), p.normals.size(), TINYGLTF_TYPE_VEC3,
+                                               TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
       if (!p.texcoords.empty())
-        gp.attributes["TEXCOORD_0"] = add_accessor(p.texcoords.data(), p.texcoords.size(), TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
+        gp.attributes["TEXCOORD_0"] =
+            add_accessor(p.texcoords.data(), p.texcoords.size(), TINYGLTF_TYPE_VEC2,
+                         TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
       if (!p.colors.empty())
-        gp.attributes["COLOR_0"] = add_accessor(p.colors.data(), p.colors.size(), TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
+        gp.attributes["COLOR_0"] = add_accessor(p.colors.data(), p.colors.size(), TINYGLTF_TYPE_VEC4,
+                                                TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
       if (!p.sizes.empty())
-        gp.attributes["_SIZE"] = add_accessor(p.sizes.data(), p.sizes.size(), TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
+        gp.attributes["_SIZE"] = add_accessor(p.sizes.data(), p.sizes.size(), TINYGLTF_TYPE_SCALAR,
+                                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
       if (!p.indices.empty())
-        gp.indices = add_accessor(p.indices.data(), p.indices.size(), TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        gp.indices = add_accessor(p.indices.data(), p.indices.size(), TINYGLTF_TYPE_SCALAR,
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     }
     mesh.primitives.push_back(gp);
   }
@@ -183,14 +209,18 @@ int GltfBuilder::add_node(const NodeData& n) {
   if (!n.instance_translations.empty() || !n.instance_rotations.empty() || !n.instance_scales.empty()) {
     tinygltf::Value::Object attrs;
     if (!n.instance_translations.empty())
-      attrs["TRANSLATION"] = tinygltf::Value(add_accessor(n.instance_translations.data(), n.instance_translations.size(), TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0));
+      attrs["TRANSLATION"] =
+          tinygltf::Value(add_accessor(n.instance_translations.data(), n.instance_translations.size(),
+                                       TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0));
     if (!n.instance_rotations.empty()) {
       std::vector<float> xyzw;
       for (const auto& q : n.instance_rotations) xyzw.insert(xyzw.end(), {q.x(), q.y(), q.z(), q.w()});
-      attrs["ROTATION"] = tinygltf::Value(add_accessor(xyzw.data(), n.instance_rotations.size(), TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_FLOAT, 0));
+      attrs["ROTATION"] = tinygltf::Value(add_accessor(xyzw.data(), n.instance_rotations.size(),
+                                                       TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_FLOAT, 0));
     }
     if (!n.instance_scales.empty())
-      attrs["SCALE"] = tinygltf::Value(add_accessor(n.instance_scales.data(), n.instance_scales.size(), TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0));
+      attrs["SCALE"] = tinygltf::Value(add_accessor(n.instance_scales.data(), n.instance_scales.size(),
+                                                    TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, 0));
     tinygltf::Value::Object ext;
     ext["attributes"] = tinygltf::Value(attrs);
     node.extensions["EXT_mesh_gpu_instancing"] = tinygltf::Value(ext);
@@ -226,14 +256,15 @@ PrimitiveData cube(float size, int material) {
   p.material = material;
   const float h = size * 0.5f;
   // For each face: normal, and the two in-plane axes u (right) and v (up) as seen from outside.
-  const Vec3 faces[6][3] = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
-                            {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}},  {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-                            {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}},  {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}};
+  const Vec3 faces[6][3] = {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}},  {{0, 0, -1}, {-1, 0, 0}, {0, 1, 0}},
+                            {{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+                            {{0, 1, 0}, {1, 0, 0}, {0, 0, -1}}, {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}};
   for (const auto& f : faces) {
     const auto base = std::uint32_t(p.positions.size());
     const Vec3 n = f[0], u = f[1], v = f[2];
     const Vec3 c = n * h;
-    p.positions.insert(p.positions.end(), {c - u * h - v * h, c + u * h - v * h, c + u * h + v * h, c - u * h + v * h});
+    p.positions.insert(p.positions.end(),
+                       {c - u * h - v * h, c + u * h - v * h, c + u * h + v * h, c - u * h + v * h});
     p.normals.insert(p.normals.end(), 4, n);
     p.texcoords.insert(p.texcoords.end(), {{0, 1}, {1, 1}, {1, 0}, {0, 0}});
     p.indices.insert(p.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
@@ -251,7 +282,9 @@ PrimitiveData dense_grid(int n, int material) {
       const float x = float(i) / float(n) - 0.5f, y = float(j) / float(n) - 0.5f;
       const float z = 0.05f * std::sin(x * 40.f) * std::cos(y * 40.f);
       p.positions.emplace_back(x, y, z);
-      p.normals.push_back(Vec3(-2.f * std::cos(x * 40.f) * std::cos(y * 40.f), 2.f * std::sin(x * 40.f) * std::sin(y * 40.f), 1.f).normalized());
+      p.normals.push_back(Vec3(-2.f * std::cos(x * 40.f) * std::cos(y * 40.f),
+                               2.f * std::sin(x * 40.f) * std::sin(y * 40.f), 1.f)
+                              .normalized());
     }
   p.indices.reserve(std::size_t(n) * std::size_t(n) * 6);
   for (int j = 0; j < n; ++j)

@@ -6,7 +6,6 @@
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>
-
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,7 +21,7 @@ struct PrimitiveData {
   std::vector<Vec3> normals;
   std::vector<Vec2> texcoords;
   std::vector<Vec4> colors;
-  std::vector<float> sizes;  // written as _SIZE
+  std::vector<float> sizes;            // written as _SIZE
   std::vector<std::uint32_t> indices;  // empty: non-indexed
   int material = -1;
   bool draco = false;  // triangles only: POSITION, NORMAL, TEXCOORD_0 and indices Draco-compressed

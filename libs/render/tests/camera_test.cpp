@@ -1,8 +1,8 @@
+#include "libs/render/camera.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "libs/render/camera.h"
 
 namespace sylva::render {
 namespace {
@@ -55,7 +55,8 @@ views:
 
 // Every problem is reported at its line and column, all at once, misspelt keys included.
 TEST(CameraSet, ErrorsCarryPositionsAndAreCollected) {
-  EXPECT_EQ(errors_of(R"(version: 1
+  EXPECT_EQ(
+      errors_of(R"(version: 1
 width: 64
 height: 0
 msaa: 3
@@ -66,10 +67,10 @@ views:
     eye: [0, 1]
     target: [0, 0, 0]
 )"),
-            "cams.yaml:3:9: error: 'height' must be between 1 and 16384, got 0\n"
-            "cams.yaml:4:7: error: 'msaa' must be 1 (off), 2, 4, 8 or 16, got 3\n"
-            "cams.yaml:7:14: error: unknown key 'azimuth' in orbit of view 'front'; did you mean 'azimuth_deg'?\n"
-            "cams.yaml:9:10: error: 'eye' in view 'top' must be a list of three numbers [x, y, z]");
+      "cams.yaml:3:9: error: 'height' must be between 1 and 16384, got 0\n"
+      "cams.yaml:4:7: error: 'msaa' must be 1 (off), 2, 4, 8 or 16, got 3\n"
+      "cams.yaml:7:14: error: unknown key 'azimuth' in orbit of view 'front'; did you mean 'azimuth_deg'?\n"
+      "cams.yaml:9:10: error: 'eye' in view 'top' must be a list of three numbers [x, y, z]");
 }
 
 TEST(CameraSet, StructuralErrors) {
@@ -91,8 +92,10 @@ TEST(CameraSet, StructuralErrors) {
             "cams.yaml:6:20: error: view 'b': 'eye' and 'target' are the same point\n"
             "cams.yaml:7:20: error: view 'c': 'up' is parallel to the viewing direction\n"
             "cams.yaml:8:37: error: 'fov_y_deg' must be between 0 and 180 degrees (exclusive)");
-  EXPECT_EQ(errors_of("version: 1\nwidth: 8\nheight: 8\nviews:\n  - {name: a, orbit: {}}\n  - {name: a, orbit: {}}\n"),
-            "cams.yaml:6:12: error: duplicate view name 'a'");
+  EXPECT_EQ(
+      errors_of(
+          "version: 1\nwidth: 8\nheight: 8\nviews:\n  - {name: a, orbit: {}}\n  - {name: a, orbit: {}}\n"),
+      "cams.yaml:6:12: error: duplicate view name 'a'");
 }
 
 // YAML syntax errors and unreadable files get the same file:line:col form.

@@ -22,9 +22,14 @@ std::string mutate(std::string text, std::mt19937& rng, const std::string& alpha
   for (int e = 0; e < edits && !text.empty(); ++e) {
     const std::size_t pos = rng() % text.size();
     switch (rng() % 3) {
-      case 0: text[pos] = alphabet[rng() % alphabet.size()]; break;
-      case 1: text.erase(pos, 1 + rng() % 8); break;
-      default: text.insert(pos, 1, alphabet[rng() % alphabet.size()]);
+      case 0:
+        text[pos] = alphabet[rng() % alphabet.size()];
+        break;
+      case 1:
+        text.erase(pos, 1 + rng() % 8);
+        break;
+      default:
+        text.insert(pos, 1, alphabet[rng() % alphabet.size()]);
     }
   }
   return text;
@@ -64,7 +69,8 @@ std::string seed_glb(const test::TempDir& dir) {
   testing::GltfBuilder b;
   image::Image tex(2, 2, {10, 200, 30, 255});
   tex.set(1, 1, {0, 0, 0, 0});
-  const int leaf = b.add_material({.texture = b.add_texture(tex), .alpha_mode = "MASK", .double_sided = true});
+  const int leaf =
+      b.add_material({.texture = b.add_texture(tex), .alpha_mode = "MASK", .double_sided = true});
   const int line = b.add_material({.base_color = Vec4(0.4f, 0.3f, 0.2f, 0.5f), .alpha_mode = "BLEND"});
   testing::PrimitiveData lines;
   lines.mode = TINYGLTF_MODE_LINE_STRIP;
@@ -99,7 +105,8 @@ TEST(FuzzGltf, MutatedFilesNeverCrash) {
   o.width = o.height = 32;
   o.msaa = 1;
   std::mt19937 rng(7);
-  const std::string alphabet = std::string("{}[]:,\"0123456789-.e \n\x00\xff", 24) + "abcdefghijklmnopqrstuvwxyz_";
+  const std::string alphabet =
+      std::string("{}[]:,\"0123456789-.e \n\x00\xff", 24) + "abcdefghijklmnopqrstuvwxyz_";
   const std::regex line("^.+: error: .+$");
   int loaded = 0, rejected = 0, rendered = 0;
   // The seed's JSON chunk and everything after it (the BIN chunk).

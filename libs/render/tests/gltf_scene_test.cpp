@@ -1,7 +1,8 @@
 // Loading glTF into a Scene: what is read, and how bad files are reported.
+#include "libs/render/gltf_scene.h"
+
 #include <gtest/gtest.h>
 
-#include "libs/render/gltf_scene.h"
 #include "libs/render/testing/gltf_builder.h"
 #include "tests/support/test_support.h"
 
@@ -26,7 +27,10 @@ std::string load_error(const std::filesystem::path& p) {
 TEST(GltfScene, LoadsQuad) {
   test::TempDir dir;
   GltfBuilder b;
-  const int m = b.add_material({.base_color = Vec4(0.5f, 0.25f, 1, 1), .alpha_mode = "MASK", .alpha_cutoff = 0.3f, .double_sided = true});
+  const int m = b.add_material({.base_color = Vec4(0.5f, 0.25f, 1, 1),
+                                .alpha_mode = "MASK",
+                                .alpha_cutoff = 0.3f,
+                                .double_sided = true});
   b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(2.f, m)}, "leaf"), .translation = Vec3(0, 1, 0)}));
   b.write_glb(dir / "q.glb");
   const Scene s = load_gltf_scene(dir / "q.glb");
@@ -156,7 +160,8 @@ TEST(GltfScene, MissingTextureNamesTheImage) {
   "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
 })");
   const std::string e = load_error(dir / "t.gltf");
-  EXPECT_EQ(e, (dir / "t.gltf").string() + ": error: texture 'bark.png' (image 0) could not be loaded: no such file " +
+  EXPECT_EQ(e, (dir / "t.gltf").string() +
+                   ": error: texture 'bark.png' (image 0) could not be loaded: no such file " +
                    (dir / "bark.png").string());
   EXPECT_EQ(e.find('\n'), std::string::npos) << e;
 }
@@ -226,8 +231,9 @@ TEST(GltfScene, InvalidContent) {
     b.model().extensionsRequired.push_back("KHR_materials_volume");
     b.model().extensionsUsed.push_back("KHR_materials_volume");
     b.write_glb(dir / "ext.glb");
-    EXPECT_EQ(load_error(dir / "ext.glb"),
-              (dir / "ext.glb").string() + ": error: requires unsupported glTF extension 'KHR_materials_volume'");
+    EXPECT_EQ(
+        load_error(dir / "ext.glb"),
+        (dir / "ext.glb").string() + ": error: requires unsupported glTF extension 'KHR_materials_volume'");
   }
   {
     GltfBuilder b;

@@ -38,14 +38,16 @@ int srgb8(double c) {
   const bool ok = std::abs(got.r - want.r) <= tol && std::abs(got.g - want.g) <= tol &&
                   std::abs(got.b - want.b) <= tol && std::abs(got.a - want.a) <= tol;
   if (ok) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "got (" << int(got.r) << "," << int(got.g) << "," << int(got.b) << ","
-                                       << int(got.a) << "), want (" << int(want.r) << "," << int(want.g) << ","
-                                       << int(want.b) << "," << int(want.a) << ") +-" << tol;
+  return ::testing::AssertionFailure()
+         << "got (" << int(got.r) << "," << int(got.g) << "," << int(got.b) << "," << int(got.a)
+         << "), want (" << int(want.r) << "," << int(want.g) << "," << int(want.b) << "," << int(want.a)
+         << ") +-" << tol;
 }
 
 // Pixel (column, row) where a world point lands.
 Eigen::Vector2i project(const Camera& cam, const RenderOptions& o, const Vec3& p) {
-  const Vec4 clip = cam.projection_matrix(float(o.width) / float(o.height)) * cam.view_matrix() * p.homogeneous();
+  const Vec4 clip =
+      cam.projection_matrix(float(o.width) / float(o.height)) * cam.view_matrix() * p.homogeneous();
   const float x = (clip.x() / clip.w() * 0.5f + 0.5f) * float(o.width);
   const float y = (0.5f - clip.y() / clip.w() * 0.5f) * float(o.height);
   return {int(std::floor(x)), int(std::floor(y))};
@@ -131,7 +133,8 @@ Image quadrant_texture() {
 
 // The device is the software rasteriser the references are made with.
 TEST_F(RenderTest, RunsOnHeadlessDevice) {
-  EXPECT_NE(renderer_->device_description().find("OpenGL"), std::string::npos) << renderer_->device_description();
+  EXPECT_NE(renderer_->device_description().find("OpenGL"), std::string::npos)
+      << renderer_->device_description();
   std::cout << "device: " << renderer_->device_description() << "\n";
 }
 
@@ -165,7 +168,8 @@ TEST_F(RenderTest, LightingModel) {
   const Image img = render(scene, look(Vec3(0, 0, 2)), o);
   const double ndotl = o.lighting.direction_to_light.normalized().z();
   const double k = 0.35 + 0.75 * ndotl;
-  EXPECT_TRUE(near(img.at(32, 32), {std::uint8_t(srgb8(0.8 * k)), std::uint8_t(srgb8(0.6 * k)), std::uint8_t(srgb8(0.4 * k)), 255}));
+  EXPECT_TRUE(near(img.at(32, 32), {std::uint8_t(srgb8(0.8 * k)), std::uint8_t(srgb8(0.6 * k)),
+                                    std::uint8_t(srgb8(0.4 * k)), 255}));
 }
 
 // A textured cube seen face on: the front face shows the texture's four quadrants with uv (0,0)
@@ -210,12 +214,14 @@ TEST_F(RenderTest, AlphaMaskedTwoSidedLeaves) {
   mask.set(1, 0, {0, 255, 0, 0});    // right half: cut away
   GltfBuilder b;
   const int tex = b.add_texture(mask);
-  const int two_sided = b.add_material({.texture = tex, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = true});
+  const int two_sided =
+      b.add_material({.texture = tex, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = true});
   b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, two_sided)})}));
   const Scene leaf = load(b, "leaf.glb");
   GltfBuilder b1;
   const int tex1 = b1.add_texture(mask);
-  const int one_sided = b1.add_material({.texture = tex1, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = false});
+  const int one_sided =
+      b1.add_material({.texture = tex1, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = false});
   b1.add_root(b1.add_node({.mesh = b1.add_mesh({testing::quad(1.f, one_sided)})}));
   const Scene single = load(b1, "single.glb");
 
@@ -229,7 +235,7 @@ TEST_F(RenderTest, AlphaMaskedTwoSidedLeaves) {
   const Image f = render(leaf, front, o);
   keep(f, "leaf_front");
   EXPECT_TRUE(near(f.at(24, 32), {0, 255, 0, 255}));  // lit fully: 0.2 + 0.8
-  EXPECT_TRUE(near(f.at(40, 32), kBackground, 0));     // masked out
+  EXPECT_TRUE(near(f.at(40, 32), kBackground, 0));    // masked out
 
   // From behind, the leaf's left half appears on the image's right.
   const Image bk = render(leaf, back, o);
@@ -343,16 +349,18 @@ TEST_F(RenderTest, BlendedLinesDrawnFarToNear) {
   {
     GltfBuilder b;
     const int red = b.add_material({.base_color = Vec4(1, 0, 0, 0.5f), .alpha_mode = "BLEND", .unlit = true});
-    const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
-    b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(0.5f, 20, 44, red)})}));     // near, first in file
-    b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(-0.5f, 20, 44, blue)})}));   // far, second
+    const int blue =
+        b.add_material({.base_color = Vec4(0, 0, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+    b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(0.5f, 20, 44, red)})}));    // near, first in file
+    b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(-0.5f, 20, 44, blue)})}));  // far, second
     const Image img = render(load(b, "two.glb"), look(Vec3(0, 0, 2)), small(64, 1));
     keep(img, "lines_two_draws");
     EXPECT_TRUE(near(img.at(32, 30), want, 2));
   }
   {
     GltfBuilder b;
-    const int white = b.add_material({.base_color = Vec4(1, 1, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+    const int white =
+        b.add_material({.base_color = Vec4(1, 1, 1, 0.5f), .alpha_mode = "BLEND", .unlit = true});
     PrimitiveData near_red = line_rows(0.5f, 20, 44, white);
     PrimitiveData far_blue = line_rows(-0.5f, 20, 44, white);
     near_red.colors.assign(near_red.positions.size(), Vec4(1, 0, 0, 1));
@@ -423,9 +431,9 @@ TEST_F(RenderTest, InstancedMeshInHierarchy) {
   EXPECT_TRUE(near(at(-0.6f, 0.3f), r, 0));
   EXPECT_TRUE(near(at(0.f, 0.3f), r, 0));
   EXPECT_TRUE(near(at(0.6f, 0.3f), r, 0));
-  EXPECT_TRUE(near(at(0.6f + 0.17f, 0.3f), r, 0));            // scaled x2: half size 0.2
+  EXPECT_TRUE(near(at(0.6f + 0.17f, 0.3f), r, 0));             // scaled x2: half size 0.2
   EXPECT_TRUE(near(at(-0.6f + 0.17f, 0.3f), kBackground, 0));  // unscaled: half size 0.1
-  EXPECT_TRUE(near(at(0.f, 0.3f + 0.12f), r, 0));             // rotated 45: corner at 0.141
+  EXPECT_TRUE(near(at(0.f, 0.3f + 0.12f), r, 0));              // rotated 45: corner at 0.141
   EXPECT_TRUE(near(at(0.08f, 0.3f + 0.08f), kBackground, 0));  // ... and not at the old corner
   EXPECT_TRUE(near(at(0.f, 0.f), kBackground, 0));             // parent moved everything up
 }
@@ -463,7 +471,8 @@ TEST_F(RenderTest, Deterministic) {
   GltfBuilder b;
   const int tex = b.add_texture(quadrant_texture(), false);
   const int mat = b.add_material({.texture = tex});
-  const int leafmat = b.add_material({.base_color = Vec4(0.2f, 0.6f, 0.1f, 0.6f), .alpha_mode = "BLEND", .double_sided = true});
+  const int leafmat = b.add_material(
+      {.base_color = Vec4(0.2f, 0.6f, 0.1f, 0.6f), .alpha_mode = "BLEND", .double_sided = true});
   PrimitiveData lines = line_rows(0.7f, 10, 50, leafmat);
   b.add_root(b.add_node({.mesh = b.add_mesh({testing::cube(1.f, mat), lines})}));
   const Scene scene = load(b);
@@ -597,7 +606,8 @@ TEST_F(RealTreeTest, EzTreeAspenRenders) {
   const Scene s = load_gltf_scene(*data / "meshes/eztree/aspen_small_seed36330.glb");
   ASSERT_EQ(s.meshes.size(), 2u);
   bool masked_two_sided = false;
-  for (const Material& m : s.materials) masked_two_sided |= m.alpha_mode == AlphaMode::kMask && m.double_sided;
+  for (const Material& m : s.materials)
+    masked_two_sided |= m.alpha_mode == AlphaMode::kMask && m.double_sided;
   EXPECT_TRUE(masked_two_sided);
   CameraSet set = load_camera_set("configs/cameras/verify.yaml");
   set.width = set.height = 128;
@@ -623,7 +633,13 @@ TEST(RealTreeData, MissingBarkTexturesAreNamed) {
     FAIL() << "expected SceneLoadError";
   } catch (const SceneLoadError& e) {
     const std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(file.string() + ": error: texture 'Bark_NormalTree_Normal.png' (image 0) could not be loaded: no such file ", 0), 0u) << msg;
+    EXPECT_EQ(
+        msg.rfind(
+            file.string() +
+                ": error: texture 'Bark_NormalTree_Normal.png' (image 0) could not be loaded: no such file ",
+            0),
+        0u)
+        << msg;
     EXPECT_NE(msg.find("texture 'Bark_NormalTree.png' (image 1)"), std::string::npos) << msg;
     EXPECT_EQ(msg.find("Leaf_Pine_C"), std::string::npos) << msg;
   }

@@ -76,7 +76,8 @@ TEST(SyltFormat, WriterAndReaderAgreeOnTheNameLimit) {
     encode_sylt(t);
     FAIL() << "a name of " << t.name.size() << " bytes was written";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("the tree name is 65537 bytes, at most 65536 are stored"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("the tree name is 65537 bytes, at most 65536 are stored"),
+              std::string::npos)
         << e.what();
   }
   t = sample_tree();
@@ -184,9 +185,7 @@ TEST(SyltFormat, WriterRefusesInvalidTree) {
   EXPECT_THROW(encode_sylt(t), std::invalid_argument);
 }
 
-TEST(SyltFormat, MissingFile) {
-  EXPECT_THROW(read_sylt("/nonexistent/x.sylt"), TreeFormatError);
-}
+TEST(SyltFormat, MissingFile) { EXPECT_THROW(read_sylt("/nonexistent/x.sylt"), TreeFormatError); }
 
 }  // namespace
 }  // namespace sylva::tree
@@ -213,9 +212,15 @@ TEST(SyltFormat, RandomCorruptionsNeverCrash) {
     for (int e = 0; e < edits; ++e) {
       const std::size_t at = 16 + next() % (bad.size() - 24);  // keep magic/version, body only
       switch (next() % 3) {
-        case 0: bad[at] = static_cast<char>(next()); break;
-        case 1: bad.erase(at, 1 + next() % 8); break;
-        default: bad.insert(at, std::string(1 + next() % 8, static_cast<char>(next()))); break;
+        case 0:
+          bad[at] = static_cast<char>(next());
+          break;
+        case 1:
+          bad.erase(at, 1 + next() % 8);
+          break;
+        default:
+          bad.insert(at, std::string(1 + next() % 8, static_cast<char>(next())));
+          break;
       }
     }
     try {

@@ -16,7 +16,8 @@ namespace {
 
 class FakeContext : public StageContext {
  public:
-  FakeContext(const StageInfo& info, Value::Object with, std::filesystem::path preset, std::filesystem::path out)
+  FakeContext(const StageInfo& info, Value::Object with, std::filesystem::path preset,
+              std::filesystem::path out)
       : preset_(std::move(preset)), out_(std::move(out)) {
     for (const ParamSpec& p : info.params)
       if (!p.required()) params_[p.name] = p.default_value;
@@ -64,8 +65,8 @@ TEST(GenerateStage, Declaration) {
   EXPECT_EQ(info.output_type, "tree");
   std::vector<std::string> names;
   for (const auto& p : info.params) names.push_back(p.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"preset", "age", "seed", "levels", "max_node_spacing_m", "leaf_density",
-                                             "texture_size", "foliage"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"preset", "age", "seed", "levels", "max_node_spacing_m",
+                                             "leaf_density", "texture_size", "foliage"}));
   for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
 }
 
@@ -147,7 +148,8 @@ TEST(GenerateStage, BadPresetIsAStageError) {
 // for needles (or a conifer for leaves) is an error naming the preset.
 TEST(GenerateStage, SingleLeavesAndFoliageMismatch) {
   test::TempDir dir;
-  run({{"age", "young"}, {"texture_size", 32}, {"foliage", "leaves"}}, "configs/species/birch.yaml", dir / "a");
+  run({{"age", "young"}, {"texture_size", 32}, {"foliage", "leaves"}}, "configs/species/birch.yaml",
+      dir / "a");
   const tree::Tree t = tree::read_sylt(dir / "a" / "tree.sylt");
   EXPECT_EQ(t.materials.leaf_kind, tree::LeafKind::kLeaves);
   EXPECT_EQ(t.materials.atlas_cells(), 4u);
@@ -156,8 +158,9 @@ TEST(GenerateStage, SingleLeavesAndFoliageMismatch) {
     run({{"age", "young"}, {"foliage", "needles"}}, "configs/species/birch.yaml", dir / "b");
     FAIL() << "expected a StageError";
   } catch (const StageError& e) {
-    EXPECT_NE(std::string(e.what()).find("birch.yaml: foliage 'needles' needs a conifer preset; birch has leaves"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("birch.yaml: foliage 'needles' needs a conifer preset; birch has leaves"),
+        std::string::npos)
         << e.what();
   }
   EXPECT_THROW(run({{"age", "young"}, {"foliage", "leaves"}}, "configs/species/scots_pine.yaml", dir / "c"),
@@ -166,7 +169,8 @@ TEST(GenerateStage, SingleLeavesAndFoliageMismatch) {
 
 TEST(GenerateStage, TextureSizeMustBePowerOfTwo) {
   test::TempDir dir;
-  EXPECT_THROW(run({{"age", "young"}, {"texture_size", 100}}, "configs/species/oak.yaml", dir / "a"), StageError);
+  EXPECT_THROW(run({{"age", "young"}, {"texture_size", 100}}, "configs/species/oak.yaml", dir / "a"),
+               StageError);
 }
 
 }  // namespace

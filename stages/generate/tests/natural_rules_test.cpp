@@ -54,7 +54,7 @@ TEST(NaturalRules, ThinChildApproachesRightAngle) {
 
 TEST(NaturalRules, CloneRadius) {
   EXPECT_NEAR(std::pow(clone_radius_factor(2.49, 3), 2.49) * 3, 1.0, 1e-14);  // B.7
-  EXPECT_DOUBLE_EQ(child_offset(0.5, 2.0), 3.0);                                // eq. 3.5
+  EXPECT_DOUBLE_EQ(child_offset(0.5, 2.0), 3.0);                              // eq. 3.5
 }
 
 }  // namespace

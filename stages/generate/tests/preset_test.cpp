@@ -107,7 +107,8 @@ TEST(Preset, CardAndLeafAreaErrors) {
 TEST(Preset, UnknownKeyIsAnErrorAtItsLine) {
   EXPECT_EQ(error_of(replace(kGood, "{ Branches: 10,", "{ Brances: 10,")),
             "t.yaml:14:9: unknown key 'Brances' in params.levels[1]");
-  EXPECT_EQ(error_of(replace(kGood, "  Shape: 1\n", "  Shap: 1\n")), "t.yaml:9:3: unknown key 'Shap' in params");
+  EXPECT_EQ(error_of(replace(kGood, "  Shape: 1\n", "  Shap: 1\n")),
+            "t.yaml:9:3: unknown key 'Shap' in params");
 }
 
 TEST(Preset, TypeErrors) {
@@ -145,9 +146,7 @@ TEST(Preset, SyntaxErrorAndEmptyFile) {
   EXPECT_EQ(error_of(""), "t.yaml:1:1: the preset is empty");
 }
 
-TEST(Preset, MissingFile) {
-  EXPECT_THROW(load_species_preset("/nonexistent/x.yaml"), PresetParseError);
-}
+TEST(Preset, MissingFile) { EXPECT_THROW(load_species_preset("/nonexistent/x.yaml"), PresetParseError); }
 
 }  // namespace
 }  // namespace sylva::generate
@@ -175,10 +174,18 @@ TEST(Preset, RandomEditsNeverCrash) {
     for (int e = 0; e < edits && !text.empty(); ++e) {
       const std::size_t at = next() % text.size();
       switch (next() % 4) {
-        case 0: text[at] = alphabet[next() % alphabet.size()]; break;
-        case 1: text.erase(at, 1 + next() % 20); break;
-        case 2: text.insert(at, 1, alphabet[next() % alphabet.size()]); break;
-        default: text.resize(at); break;
+        case 0:
+          text[at] = alphabet[next() % alphabet.size()];
+          break;
+        case 1:
+          text.erase(at, 1 + next() % 20);
+          break;
+        case 2:
+          text.insert(at, 1, alphabet[next() % alphabet.size()]);
+          break;
+        default:
+          text.resize(at);
+          break;
       }
     }
     try {

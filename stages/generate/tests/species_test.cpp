@@ -32,8 +32,8 @@ TEST(Species, LibraryIsComplete) {
     for (const auto& a : s.ages) EXPECT_FALSE(a.source.empty()) << f << " " << a.age;
     names.insert(s.species);
   }
-  for (const char* n : {"oak", "birch", "white_poplar", "holly", "scots_pine", "norway_spruce", "weeping_willow",
-                        "mugo_pine"})
+  for (const char* n : {"oak", "birch", "white_poplar", "holly", "scots_pine", "norway_spruce",
+                        "weeping_willow", "mugo_pine"})
     EXPECT_TRUE(names.count(n)) << n;
 }
 
@@ -78,7 +78,7 @@ TEST(Species, EveryPresetAndAgeWithinItsHeightAndLeafAreaRange) {
         EXPECT_GT(st.leaves, 0u);
         EXPECT_EQ(st.needles, 0u);
         EXPECT_EQ(t.materials.leaf_kind, a.params.foliage == Foliage::kLeaves ? tree::LeafKind::kTwigCards
-                                                                               : tree::LeafKind::kShootCards);
+                                                                              : tree::LeafKind::kShootCards);
       }
     }
   }
@@ -97,13 +97,15 @@ TEST(Species, NothingBelowTheGround) {
         const std::string what = s.species + "/" + age + " seed " + std::to_string(seed);
         double lowest = 1e9;
         for (const tree::Branch& b : t.branches)
-          for (const tree::Node& n : b.nodes) lowest = std::min(lowest, n.position.y - (b.parent >= 0 ? 1.42 * n.radius : 0));
+          for (const tree::Node& n : b.nodes)
+            lowest = std::min(lowest, n.position.y - (b.parent >= 0 ? 1.42 * n.radius : 0));
         EXPECT_GE(lowest, 0.0) << what;
         double foliage = 1e9;
         for (const tree::Leaf& l : t.leaves) {
           const tree::Vec3 p = tree::to_double(l.position), d = tree::to_double(l.direction);
           const tree::Vec3 side = tree::cross(tree::to_double(l.normal), d) * (0.5 * l.width);
-          for (const tree::Vec3 q : {p - side, p + side, p + d * double(l.length) + side, p + d * double(l.length) - side})
+          for (const tree::Vec3 q :
+               {p - side, p + side, p + d * double(l.length) + side, p + d * double(l.length) - side})
             foliage = std::min(foliage, q.y);
         }
         EXPECT_GE(foliage, 0.0) << what;

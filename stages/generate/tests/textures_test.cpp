@@ -1,20 +1,21 @@
 #include "stages/generate/textures.h"
 
+#include <gtest/gtest.h>
+
+#include <cstdlib>
 #include <filesystem>
 
 #include "stages/generate/card_atlas.h"
 #include "stages/generate/mip_safe_alpha.h"
 #include "stages/generate/preset.h"
 
-#include <gtest/gtest.h>
-
-#include <cstdlib>
-
 namespace sylva::generate {
 namespace {
 
 int channel(const Rgba8& img, int x, int y, int c) {
-  return img.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(x)) * 4 +
+  return img.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) +
+                     static_cast<std::size_t>(x)) *
+                        4 +
                     static_cast<std::size_t>(c)];
 }
 
@@ -23,7 +24,8 @@ double line_diff(const Rgba8& img, int a, int b, bool columns) {
   double sum = 0;
   for (int i = 0; i < img.width; ++i)
     for (int c = 0; c < 3; ++c)
-      sum += std::abs(columns ? channel(img, a, i, c) - channel(img, b, i, c) : channel(img, i, a, c) - channel(img, i, b, c));
+      sum += std::abs(columns ? channel(img, a, i, c) - channel(img, b, i, c)
+                              : channel(img, i, a, c) - channel(img, i, b, c));
   return sum / (img.width * 3);
 }
 
@@ -68,8 +70,9 @@ TEST(Textures, LeafAtlasSilhouettes) {
     ASSERT_EQ(img.width, size);
     for (int v = 0; v < 4; ++v) {
       const int ox = (v % 2) * q, oy = (v / 2) * q;
-      const std::string where = "shape " + std::to_string(static_cast<int>(shape)) + " variant " + std::to_string(v);
-      EXPECT_EQ(channel(img, ox, oy, 3), 0) << where;                    // corners
+      const std::string where =
+          "shape " + std::to_string(static_cast<int>(shape)) + " variant " + std::to_string(v);
+      EXPECT_EQ(channel(img, ox, oy, 3), 0) << where;  // corners
       EXPECT_EQ(channel(img, ox + q - 1, oy + q - 1, 3), 0) << where;
       EXPECT_EQ(channel(img, ox + q / 2, oy + q - 1, 3), 0) << where;    // beyond the tip
       EXPECT_EQ(channel(img, ox + 2, oy + q / 2, 3), 0) << where;        // side margin
@@ -123,7 +126,8 @@ TEST(MipSafeAlpha, EverySpeciesAtlasKeepsItsCoverage) {
     double worst = 0, worst_plain = 0;
     for (std::size_t l = 1; l < m.coverage.size(); ++l) {
       worst = std::max(worst, std::abs(m.coverage[l] - m.coverage[0]) / m.coverage[0]);
-      worst_plain = std::max(worst_plain, std::abs(m.coverage_plain[l] - m.coverage_plain[0]) / m.coverage_plain[0]);
+      worst_plain =
+          std::max(worst_plain, std::abs(m.coverage_plain[l] - m.coverage_plain[0]) / m.coverage_plain[0]);
     }
     EXPECT_LT(worst, 0.35) << s.species << " gain " << m.gain << " radius " << m.radius;
     worse_without += worst_plain > 0.5;

@@ -140,7 +140,8 @@ TEST(WeberPenn, RaisingLevelsKeepsLowerLevels) {
       if (static_cast<int>(x.level) <= n - 2) {
         EXPECT_EQ(x, y) << "n=" << n << " branch " << i;
         ++same;
-      } else if (x.parent < 0 || static_cast<int>(a.branches[static_cast<std::size_t>(x.parent)].level) <= n - 2) {
+      } else if (x.parent < 0 ||
+                 static_cast<int>(a.branches[static_cast<std::size_t>(x.parent)].level) <= n - 2) {
         EXPECT_EQ(x.parent_node, y.parent_node);
         EXPECT_EQ(x.nodes.front(), y.nodes.front());
         ++kept;
@@ -231,7 +232,7 @@ TEST(WeberPenn, IntermediateNodesAndSkipRule) {
   LevelParams trunk;
   trunk.curve_res = 1;  // one segment: nodes 0 and 10 m, plus what the attachments add
   LevelParams l1;
-  l1.branches = 5;      // at s = 1, 3, 5, 7, 9 m
+  l1.branches = 5;  // at s = 1, 3, 5, 7, 9 m
   l1.length = 0.3;
   l1.curve_res = 2;
   l1.branch_ratio = 0.5;
@@ -260,7 +261,8 @@ TEST(WeberPenn, IntermediateNodesAndSkipRule) {
   const Vec3 j = trunk_b.nodes[c3.parent_node].position;
   const double r_parent = trunk_b.nodes[c3.parent_node].radius;
   const Vec3 d = c3.nodes.front().position - j;
-  const Vec3 axis = tree::normalized(trunk_b.nodes[c3.parent_node].position - trunk_b.nodes[c3.parent_node - 1].position);
+  const Vec3 axis =
+      tree::normalized(trunk_b.nodes[c3.parent_node].position - trunk_b.nodes[c3.parent_node - 1].position);
   EXPECT_NEAR(tree::length(d - axis * tree::dot(d, axis)), 1.5 * r_parent, 1e-9);
 }
 

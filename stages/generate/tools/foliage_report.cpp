@@ -23,7 +23,9 @@ int main(int argc, char** argv) {
   for (const auto& e : std::filesystem::directory_iterator(dir))
     if (e.path().extension() == ".yaml") files.push_back(e.path());
   std::sort(files.begin(), files.end());
-  std::printf("| preset | age | LAI | published range | target | card scale | layers | cards | crown area m2 | leaf area m2 | height m | generate ms |\n");
+  std::printf(
+      "| preset | age | LAI | published range | target | card scale | layers | cards | crown area m2 | leaf "
+      "area m2 | height m | generate ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& f : files) {
     const generate::SpeciesPreset s = generate::load_species_preset(f);
@@ -39,7 +41,8 @@ int main(int argc, char** argv) {
       o.foliage_result = &fit;
       Rng rng(seed, "tree");
       const tree::Tree t = generate::generate_tree(a.params, o, rng);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
       const tree::TreeStats st = tree::compute_stats(t);
       std::printf("| %s | %s | %.2f | %.1f–%.1f | %.1f | %.2f | %d | %zu | %.1f | %.1f | %.1f | %.0f |\n",
                   s.species.c_str(), a.age.c_str(), st.lai, s.lai_min, s.lai_max, a.params.leaf_area_index,

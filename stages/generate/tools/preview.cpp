@@ -30,14 +30,16 @@ int main(int argc, char** argv) {
     Rng rng(std::stoull(argv[3]), "tree");
     const auto t0 = std::chrono::steady_clock::now();
     const tree::Tree t = generate::generate_tree(v.params, o, rng);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const tree::TreeStats s = tree::compute_stats(t);
     std::printf("%sgenerated in %.1f ms; expected height %.1f..%.1f m\n", tree::format_stats(s).c_str(), ms,
                 v.height_min, v.height_max);
     const int h = 800, w = 1600;
     image::Image img(w, h, {235, 235, 230, 255});
     const double extent = std::max({s.bounds_max.y - s.bounds_min.y, s.bounds_max.x - s.bounds_min.x,
-                                    s.bounds_max.z - s.bounds_min.z, 0.1}) * 1.05;
+                                    s.bounds_max.z - s.bounds_min.z, 0.1}) *
+                          1.05;
     const double px_per_m = h / extent;
     auto stamp = [&](int view, tree::Vec3 p, double r, image::Rgba8 c) {
       const double hx = view == 0 ? p.x : p.z;
@@ -46,7 +48,8 @@ int main(int argc, char** argv) {
       const double rp = std::max(0.5, r * px_per_m);
       for (int y = static_cast<int>(cy - rp); y <= static_cast<int>(cy + rp); ++y)
         for (int x = static_cast<int>(cx - rp); x <= static_cast<int>(cx + rp); ++x)
-          if (x >= 0 && y >= 0 && x < w && y < h && (x - cx) * (x - cx) + (y - cy) * (y - cy) <= rp * rp + 0.25)
+          if (x >= 0 && y >= 0 && x < w && y < h &&
+              (x - cx) * (x - cx) + (y - cy) * (y - cy) <= rp * rp + 0.25)
             img.set(x, y, c);
     };
     for (int view = 0; view < 2; ++view) {
@@ -63,8 +66,8 @@ int main(int argc, char** argv) {
         }
       }
       for (const auto& l : t.leaves)
-        stamp(view, tree::to_double(l.position) + tree::to_double(l.direction) * (l.length * 0.5), l.width * 0.4,
-              {60, 120, 40, 255});
+        stamp(view, tree::to_double(l.position) + tree::to_double(l.direction) * (l.length * 0.5),
+              l.width * 0.4, {60, 120, 40, 255});
       for (const auto& n : t.needles) stamp(view, tree::to_double(n.tip), n.radius * 2, {30, 80, 40, 255});
     }
     image::write_png(img, argv[4]);

@@ -26,8 +26,8 @@ constexpr std::string_view kSkeleton = "0 -1 0 0 0 0.2\n0 -1 0 1 0 0.1\n";
 
 TEST(ImportFile, DetectFormat) {
   const std::string sylt = tree::encode_sylt(parse_skeleton_text(kSkeleton, "s"));
-  EXPECT_EQ(detect(sylt, "tree.bin"), Format::kSylt);               // magic wins
-  EXPECT_EQ(detect("garbage", "tree.SYLT"), Format::kSylt);         // then the extension
+  EXPECT_EQ(detect(sylt, "tree.bin"), Format::kSylt);        // magic wins
+  EXPECT_EQ(detect("garbage", "tree.SYLT"), Format::kSylt);  // then the extension
   EXPECT_EQ(detect("ID, parentID", "t.skel"), Format::kSkeletonText);
   EXPECT_EQ(detect("ID, parentID", "t.txt", true), Format::kTreeQsmText);
   EXPECT_EQ(detect("# c\nID, parentID, radius\n1, 2, 3\n"), Format::kQsm);

@@ -31,15 +31,24 @@ std::string check_one(const std::string& bytes, const char* name) {
 }
 
 std::string mutate(std::string s, std::mt19937_64& rng) {
-  static constexpr char kBytes[] = {'0', '1', '9', '-', '.', ',', '\t', ' ', '\n', 'e', 'n', '#', '\0', '\xff'};
+  static constexpr char kBytes[] = {'0', '1',  '9', '-', '.', ',',  '\t',
+                                    ' ', '\n', 'e', 'n', '#', '\0', '\xff'};
   const int edits = 1 + static_cast<int>(rng() % 4);
   for (int k = 0; k < edits && !s.empty(); ++k) {
     const std::size_t at = rng() % s.size();
     switch (rng() % 4) {
-      case 0: s[at] = kBytes[rng() % sizeof kBytes]; break;                     // replace
-      case 1: s.erase(at, 1 + rng() % 8); break;                                // delete
-      case 2: s.insert(at, 1, kBytes[rng() % sizeof kBytes]); break;            // insert
-      default: s.insert(at, s.substr(rng() % s.size(), 1 + rng() % 40)); break; // duplicate
+      case 0:
+        s[at] = kBytes[rng() % sizeof kBytes];
+        break;  // replace
+      case 1:
+        s.erase(at, 1 + rng() % 8);
+        break;  // delete
+      case 2:
+        s.insert(at, 1, kBytes[rng() % sizeof kBytes]);
+        break;  // insert
+      default:
+        s.insert(at, s.substr(rng() % s.size(), 1 + rng() % 40));
+        break;  // duplicate
     }
   }
   return s;

@@ -91,8 +91,9 @@ TEST(ImportStage, WritesTreeSylt) {
 TEST(ImportStage, ParametersApply) {
   test::TempDir dir;
   const fs::path file = dir / "t.csv";
-  test::write_file(file, "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
-                         "0,-1,1,2,3,1,2,4,0.001\n");
+  test::write_file(file,
+                   "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
+                   "0,-1,1,2,3,1,2,4,0.001\n");
   const auto stage = make_import_stage();
   FakeContext ctx(*stage, file, dir.path(), {{"scale", 1000.0}, {"recenter", false}});
   stage->run(ctx);

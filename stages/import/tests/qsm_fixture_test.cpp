@@ -30,7 +30,7 @@ struct Fixture {
   double dbh;            // m, see above
   std::uint32_t max_order;
   std::size_t branches;
-  double total_length;   // m, sum of the branch polylines
+  double total_length;  // m, sum of the branch polylines
 };
 
 // clang-format off
@@ -82,13 +82,13 @@ TEST_P(QsmFixture, ImportsWithExpectedShape) {
   EXPECT_GT(s.bounds_max.y, 0.9 * s.height);
 }
 
-INSTANTIATE_TEST_SUITE_P(Files, QsmFixture, ::testing::ValuesIn(kFixtures),
-                         [](const auto& param_info) {
-                           std::string n = param_info.param.file;
-                           n = n.substr(0, n.find('.'));
-                           std::replace_if(n.begin(), n.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(Files, QsmFixture, ::testing::ValuesIn(kFixtures), [](const auto& param_info) {
+  std::string n = param_info.param.file;
+  n = n.substr(0, n.find('.'));
+  std::replace_if(
+      n.begin(), n.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+  return n;
+});
 
 // rTwig ships the same Kentucky coffee tree as a SimpleForest CSV and as a TreeQSM model: two
 // reconstructions of one point cloud, so they agree closely but not exactly. Height within

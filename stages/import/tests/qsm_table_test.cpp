@@ -72,7 +72,8 @@ TEST(QsmTable, CrlfAndBom) {
 TEST(QsmTable, TreeQsmHeaderWithAxis) {
   const CylinderTable t = parse_cylinder_table(
       "# TreeQSM table\n"
-      "radius\tlength\tstart_x\tstart_y\tstart_z\taxis_x\taxis_y\taxis_z\tparent\textension\tbranch\tBranchOrder\n"
+      "radius\tlength\tstart_x\tstart_y\tstart_z\taxis_x\taxis_y\taxis_"
+      "z\tparent\textension\tbranch\tBranchOrder\n"
       "0.2\t2\t1\t1\t0\t0\t0\t2\t0\t2\t1\t0\n"
       "0.1\t1\t1\t1\t2\t0.6\t0\t0.8\t1\t0\t1\t0\n",
       "t.tsv");
@@ -156,14 +157,15 @@ TEST(QsmTable, HeaderlessDefaultOrder) {
 TEST(QsmTable, HeaderlessOtherOrderNamesTheColumnsParameter) {
   TableOptions opt;
   opt.headerless = true;
-  EXPECT_EQ(error_of("0.3 1 0 0 0 0 0 1 0 2 1 0.31 0 0\n", opt),
-            "t.csv:1: field 12 (branch_order): expected an integer, got '0.31'; the table has no header, so "
-            "TreeQSM's column order (radius length start_x start_y start_z axis_x axis_y axis_z parent extension "
-            "branch branch_order) was assumed: if this export orders its columns differently, list them in the "
-            "import stage's `columns` parameter");
+  EXPECT_EQ(
+      error_of("0.3 1 0 0 0 0 0 1 0 2 1 0.31 0 0\n", opt),
+      "t.csv:1: field 12 (branch_order): expected an integer, got '0.31'; the table has no header, so "
+      "TreeQSM's column order (radius length start_x start_y start_z axis_x axis_y axis_z parent extension "
+      "branch branch_order) was assumed: if this export orders its columns differently, list them in the "
+      "import stage's `columns` parameter");
   // With the order declared, the same table reads.
-  opt.columns = {"radius", "length", "start_x", "start_y", "start_z", "axis_x", "axis_y", "axis_z", "parent",
-                 "extension", "added", "unmod_radius", "branch", "branch_order"};
+  opt.columns = {"radius", "length", "start_x",   "start_y", "start_z",      "axis_x", "axis_y",
+                 "axis_z", "parent", "extension", "added",   "unmod_radius", "branch", "branch_order"};
   EXPECT_EQ(parse_cylinder_table("0.3 1 0 0 0 0 0 1 0 2 1 0.31 0 0\n", "t.csv", opt).cylinders.size(), 1u);
 }
 
@@ -244,7 +246,8 @@ TEST(QsmTable, ErrorRadius) {
 
 TEST(QsmTable, ErrorAxisAndLength) {
   const std::string head = "radius,length,start_x,start_y,start_z,axis_x,axis_y,axis_z,parent\n";
-  EXPECT_EQ(error_of(head + "0.1,-1,0,0,0,0,0,1,0\n"), "t.csv:2: field 2 (length): length must be >= 0, got -1");
+  EXPECT_EQ(error_of(head + "0.1,-1,0,0,0,0,0,1,0\n"),
+            "t.csv:2: field 2 (length): length must be >= 0, got -1");
   EXPECT_EQ(error_of(head + "0.1,1,0,0,0,0,0,0,0\n"), "t.csv:2: field 6 (axis_x): axis is the zero vector");
 }
 
@@ -266,10 +269,9 @@ TEST(QsmTable, ErrorSecondRoot) {
 
 // 3 -> 4 -> 5 -> 3 never reaches the root; the message walks the cycle from its first row.
 TEST(QsmTable, ErrorCycle) {
-  EXPECT_EQ(error_of(std::string(kSimpleForest) +
-                     "4, 3, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"
-                     "3, 5, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"
-                     "5, 4, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"),
+  EXPECT_EQ(error_of(std::string(kSimpleForest) + "4, 3, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"
+                                                  "3, 5, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"
+                                                  "5, 4, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"),
             "t.csv:5: field 2 (parentID): cylinder 4 is in a parent cycle: 4 -> 3 -> 5 -> 4");
   EXPECT_EQ(error_of(std::string(kSimpleForest) + "3, 3, 0, 0, 2, 0, 0, 3, 0.1, 0, 0\n"),
             "t.csv:5: field 2 (parentID): cylinder 3 is its own parent");

@@ -33,8 +33,10 @@ constexpr std::string_view kHead =
 TEST(QsmToTree, ZUpToYUp) {
   QsmToTreeOptions opt;
   opt.recenter = false;
-  const tree::Tree t = build(std::string(kHead) + "0, -1, 1, 2, 3, 1, 2, 5, 0.1, 0, 0\n"
-                                                  "1, 0, 1, 2, 5, 4, 2, 5, 0.05, 0, 0\n", opt);
+  const tree::Tree t = build(std::string(kHead) +
+                                 "0, -1, 1, 2, 3, 1, 2, 5, 0.1, 0, 0\n"
+                                 "1, 0, 1, 2, 5, 4, 2, 5, 0.05, 0, 0\n",
+                             opt);
   ASSERT_EQ(t.branches.size(), 1u);
   const auto& n = t.branches[0].nodes;
   ASSERT_EQ(n.size(), 3u);
@@ -60,22 +62,26 @@ TEST(QsmToTree, ValuesBeyondATreesRangeAreRefused) {
   QsmToTreeOptions opt;
   EXPECT_EQ(error(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 1, 1e308, 0, 0\n", opt),
             "t.csv:2: cylinder 0: radius 1e+308 m is larger than 100 m: check the scale parameter");
-  EXPECT_EQ(error(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 1, 0.1, 0, 0\n1, 0, 0, 0, 1, 1.7e300, 0, 1, 0.1, 0, 0\n",
+  EXPECT_EQ(error(std::string(kHead) +
+                      "0, -1, 0, 0, 0, 0, 0, 1, 0.1, 0, 0\n1, 0, 0, 0, 1, 1.7e300, 0, 1, 0.1, 0, 0\n",
                   opt),
-            "t.csv:3: cylinder 1: a point lies 1.7e+300 m from the root (at most 100000 m): check the scale parameter");
+            "t.csv:3: cylinder 1: a point lies 1.7e+300 m from the root (at most 100000 m): check the scale "
+            "parameter");
   opt.recenter = false;  // a georeferenced table (UTM northing) without recentring
   EXPECT_EQ(error(std::string(kHead) + "0, -1, 500000, 5300000, 0, 500000, 5300000, 1, 0.1, 0, 0\n", opt),
             "t.csv:2: cylinder 0: a point lies 5300000 m from the origin (at most 100000 m): check the scale "
             "parameter or set recenter: true");
   opt.recenter = true;  // the same tree recentred is fine
-  EXPECT_NO_THROW(build(std::string(kHead) + "0, -1, 500000, 5300000, 0, 500000, 5300000, 1, 0.1, 0, 0\n", opt));
+  EXPECT_NO_THROW(
+      build(std::string(kHead) + "0, -1, 500000, 5300000, 0, 500000, 5300000, 1, 0.1, 0, 0\n", opt));
 }
 
 // Recentring puts the root cylinder's start at the origin; scale converts units.
 TEST(QsmToTree, RecenterAndScale) {
   QsmToTreeOptions opt;
   opt.scale = 0.001;  // millimetres
-  const tree::Tree t = build(std::string(kHead) + "0, -1, 1000, 2000, 3000, 1000, 2000, 5000, 100, 0, 0\n", opt);
+  const tree::Tree t =
+      build(std::string(kHead) + "0, -1, 1000, 2000, 3000, 1000, 2000, 5000, 100, 0, 0\n", opt);
   const auto& n = t.branches[0].nodes;
   EXPECT_EQ(n[0].position, (Vec3{0, 0, 0}));
   EXPECT_NEAR(n[1].position.y, 2.0, 1e-12);

@@ -96,7 +96,8 @@ TEST(SkeletonText, Errors) {
   EXPECT_EQ(error_of("0 -1 0 nan 0 0.1\n"), "s.skel:1: field 4 (y): not a finite number: 'nan'");
   EXPECT_EQ(error_of("0 -1 0 0 0 -0.1\n"), "s.skel:1: field 6 (radius): radius must be >= 0, got -0.1");
   // Issue 15 item 12: finite but absurd values are refused here, not by a later stage.
-  EXPECT_EQ(error_of("0 -1 0 0 0 1e308\n"), "s.skel:1: field 6 (radius): radius 1e+308 m is larger than 100 m");
+  EXPECT_EQ(error_of("0 -1 0 0 0 1e308\n"),
+            "s.skel:1: field 6 (radius): radius 1e+308 m is larger than 100 m");
   EXPECT_EQ(error_of("0 -1 0 -1.7e308 0 0.1\n"),
             "s.skel:1: field 4 (y): coordinate -1.7e+308 m is farther than 100000 m from the origin");
   EXPECT_EQ(error_of("a -1 0 0 0 0.1\n"), "s.skel:1: field 1 (branch): expected an integer >= 0, got 'a'");

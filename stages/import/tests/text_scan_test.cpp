@@ -16,7 +16,9 @@ std::vector<std::string_view> split(std::string_view line, Separator sep) {
 
 // CRLF endings, a UTF-8 BOM and a missing final newline are all plain lines.
 TEST(TextScan, LineReaderStripsBomAndCr) {
-  LineReader r("\xEF\xBB\xBF" "a\r\nb\n\nc");
+  LineReader r(
+      "\xEF\xBB\xBF"
+      "a\r\nb\n\nc");
   std::string_view line;
   std::vector<std::string> got;
   while (r.next(line)) got.emplace_back(line);

@@ -29,18 +29,22 @@ Vec3 view_direction(double az_deg, double el_deg) {
 
 double nearest_frame_angle_deg(const ImpostorInfo& info, const Vec3& view) {
   double best = std::numbers::pi;
-  auto consider = [&](const Vec3& d) { best = std::min(best, std::acos(std::clamp(view.normalized().dot(d), -1.0, 1.0))); };
+  auto consider = [&](const Vec3& d) {
+    best = std::min(best, std::acos(std::clamp(view.normalized().dot(d), -1.0, 1.0)));
+  };
   if (info.kind == Kind::kBillboards) {
     for (const Card& c : info.cards) consider(Vec3(c.dir[0], c.dir[1], c.dir[2]));
   } else {
     for (int j = 0; j < info.frames_per_side; ++j)
-      for (int i = 0; i < info.frames_per_side; ++i) consider(frame_direction(i, j, info.frames_per_side, info.hemi));
+      for (int i = 0; i < info.frames_per_side; ++i)
+        consider(frame_direction(i, j, info.frames_per_side, info.hemi));
   }
   return best * 180 / std::numbers::pi;
 }
 
-ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::ImpostorRenderer& impostor_renderer,
-                                   const render::Scene& full, const ImpostorSubject& subject, const ImpostorCheckOptions& o,
+ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
+                                   render::ImpostorRenderer& impostor_renderer, const render::Scene& full,
+                                   const ImpostorSubject& subject, const ImpostorCheckOptions& o,
                                    const ColourBaseline& baseline, const ImpostorImageSink& sink) {
   const ImpostorInfo& info = subject.info;
   const double distance = info.switch_distance_m * o.distance_scale;
@@ -53,7 +57,8 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::Imp
   // its alpha-tested cards are sampled from mip levels whose alpha falls under the cutoff and
   // vanish, while the atlas (baked at texel scale) kept them: the check would compare the
   // impostor with a tree that lost its leaves to texture filtering, not with the tree.
-  const int k = std::clamp(std::max(o.supersample, int(std::ceil(px / std::max(info.error.texel_m, 1e-9)))), 1, 8);
+  const int k =
+      std::clamp(std::max(o.supersample, int(std::ceil(px / std::max(info.error.texel_m, 1e-9)))), 1, 8);
   render::RenderOptions ro;
   ro.width = ro.height = crop * k;
   ro.msaa = o.msaa;
@@ -64,7 +69,8 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::Imp
   std::vector<std::pair<double, double>> angles;
   for (double el : o.elevations_deg)
     for (double az : o.azimuths_deg) {
-      cams.push_back(render::camera_at_box_distance(bounds, distance, az, el, info.camera.fov_y_rad, info.camera.height_px, crop));
+      cams.push_back(render::camera_at_box_distance(bounds, distance, az, el, info.camera.fov_y_rad,
+                                                    info.camera.height_px, crop));
       angles.push_back({az, el});
     }
   std::vector<image::Image> ref = scene_renderer.render_views(full, cams, ro);
@@ -77,8 +83,8 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::Imp
     const std::vector<image::Image> btest = scene_renderer.render_views(*baseline.scene, cams, ro);
     double sum = 0, worst = 0;
     for (std::size_t v = 0; v < cams.size(); ++v) {
-      const image::FootprintStats f =
-          image::footprint_stats(image::downsample(ref[v], k), image::downsample(btest[v], k), o.pixel_threshold);
+      const image::FootprintStats f = image::footprint_stats(
+          image::downsample(ref[v], k), image::downsample(btest[v], k), o.pixel_threshold);
       baseline_colour.push_back(f.shade_mean_error);
       sum += f.shade_mean_error;
       worst = std::max(worst, f.shade_mean_error);
@@ -123,20 +129,24 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::Imp
     if (c.footprint_pixels == 0) {
       c.failure = "neither render covers a pixel";
     } else if (c.coverage_failing_fraction > o.max_failing_fraction) {
-      std::snprintf(buf, sizeof buf, "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
-                    100 * c.coverage_failing_fraction, c.footprint_pixels, o.pixel_threshold, 100 * o.max_failing_fraction);
+      std::snprintf(buf, sizeof buf,
+                    "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
+                    100 * c.coverage_failing_fraction, c.footprint_pixels, o.pixel_threshold,
+                    100 * o.max_failing_fraction);
       c.failure = buf;
     } else if (c.coverage_mean_error > o.max_coverage_error) {
       std::snprintf(buf, sizeof buf, "mean coverage change over the tree's %zu pixels is %.4f (allowed %.4f)",
                     c.footprint_pixels, c.coverage_mean_error, o.max_coverage_error);
       c.failure = buf;
     }
-    c.colour_bound = baseline_colour.empty() ? o.max_colour_error
-                                             : std::max(o.max_colour_error, o.colour_ratio * baseline_colour[v]);
+    c.colour_bound = baseline_colour.empty()
+                         ? o.max_colour_error
+                         : std::max(o.max_colour_error, o.colour_ratio * baseline_colour[v]);
     c.baseline_colour = baseline_colour.empty() ? -1 : baseline_colour[v];
     if (!c.failure.empty()) {
     } else if (c.shade_mean_error > c.colour_bound) {
-      std::snprintf(buf, sizeof buf, "mean colour difference where both cover the tree is %.4f (allowed %.4f)",
+      std::snprintf(buf, sizeof buf,
+                    "mean colour difference where both cover the tree is %.4f (allowed %.4f)",
                     c.shade_mean_error, c.colour_bound);
       c.failure = buf;
     }
@@ -147,8 +157,9 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::Imp
   }
   if (!baseline_colour.empty() && result.colour_mean > result.baseline_colour_mean + o.colour_tolerance) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "mean colour difference over the views is %.4f, more than the %s's %.4f + %.3g",
-                  result.colour_mean, baseline.label.c_str(), result.baseline_colour_mean, o.colour_tolerance);
+    std::snprintf(
+        buf, sizeof buf, "mean colour difference over the views is %.4f, more than the %s's %.4f + %.3g",
+        result.colour_mean, baseline.label.c_str(), result.baseline_colour_mean, o.colour_tolerance);
     result.failure = buf;
   }
   return result;

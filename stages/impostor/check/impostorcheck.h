@@ -42,14 +42,15 @@
 namespace sylva::impostor {
 
 struct ImpostorCheckOptions {
-  double pixel_threshold = 0.5;      // delta (coverage units)
+  double pixel_threshold = 0.5;  // delta (coverage units)
   double max_failing_fraction = 0.01;
   double max_coverage_error = 0.15;
-  double max_colour_error = 0.1;     // mean per-channel RGB difference where both renders cover (a guard)
-  double colour_ratio = 1.5;         // per view: at most this times the baseline's difference there ...
-  double colour_tolerance = 0.02;    // ... and the mean over the views at most the baseline's mean + this
+  double max_colour_error = 0.1;   // mean per-channel RGB difference where both renders cover (a guard)
+  double colour_ratio = 1.5;       // per view: at most this times the baseline's difference there ...
+  double colour_tolerance = 0.02;  // ... and the mean over the views at most the baseline's mean + this
   // 12 azimuths x 3 elevations, none a frame direction of the default grids.
-  std::vector<double> azimuths_deg = {7.5, 37.5, 67.5, 97.5, 127.5, 157.5, 187.5, 217.5, 247.5, 277.5, 307.5, 337.5};
+  std::vector<double> azimuths_deg = {7.5,   37.5,  67.5,  97.5,  127.5, 157.5,
+                                      187.5, 217.5, 247.5, 277.5, 307.5, 337.5};
   std::vector<double> elevations_deg = {4, 33, 73};
   int msaa = 4;
   int supersample = 2;        // at least; see the header comment
@@ -61,8 +62,9 @@ struct ImpostorCheckOptions {
 struct ImpostorSubject {
   std::string label;  // for reports
   ImpostorInfo info;
-  render::OctahedralImpostor octahedral;  // octahedral kinds: the maps and grid, drawn with the reference shader
-  render::Scene cards;                    // billboards: impostor.glb, drawn as any viewer draws it
+  render::OctahedralImpostor
+      octahedral;       // octahedral kinds: the maps and grid, drawn with the reference shader
+  render::Scene cards;  // billboards: impostor.glb, drawn as any viewer draws it
 };
 
 struct ImpostorViewCheck {
@@ -93,18 +95,18 @@ struct ColourBaseline {
 
 struct ImpostorCheckResult {
   std::vector<ImpostorViewCheck> views;
-  double colour_mean = 0;            // the impostor's mean colour difference over the views
-  double baseline_colour_max = -1;   // the baseline's largest colour difference, -1 without one
+  double colour_mean = 0;           // the impostor's mean colour difference over the views
+  double baseline_colour_max = -1;  // the baseline's largest colour difference, -1 without one
   double baseline_colour_mean = -1;
-  std::string failure;               // a failure of the views together (the mean colour), else empty
-  bool passed() const;               // every view passed and `failure` is empty
+  std::string failure;  // a failure of the views together (the mean colour), else empty
+  bool passed() const;  // every view passed and `failure` is empty
 };
 
 // Renders `full` and the subject from every view and judges them. Throws render::RenderError.
-ImpostorCheckResult check_impostor(render::Renderer& scene_renderer, render::ImpostorRenderer& impostor_renderer,
-                                   const render::Scene& full, const ImpostorSubject& subject,
-                                   const ImpostorCheckOptions& options, const ColourBaseline& baseline = {},
-                                   const ImpostorImageSink& sink = {});
+ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
+                                   render::ImpostorRenderer& impostor_renderer, const render::Scene& full,
+                                   const ImpostorSubject& subject, const ImpostorCheckOptions& options,
+                                   const ColourBaseline& baseline = {}, const ImpostorImageSink& sink = {});
 
 // The smallest angle (degrees) between `view` (centre toward the eye) and a direction the
 // impostor was baked from.

@@ -6,13 +6,15 @@
 
 namespace sylva::impostor {
 
-render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image color, image::Image normal_depth) {
+render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image color,
+                                         image::Image normal_depth) {
   render::OctahedralImpostor o;
   o.color = std::move(color);
   o.normal_depth = std::move(normal_depth);
   o.frames_per_side = info.frames_per_side;
   o.hemi = info.hemi;
-  o.center = render::Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
+  o.center =
+      render::Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
   o.radius = float(info.sphere_radius);
   o.half_extent = float(info.frame_half_extent);
   o.frame_px = info.frame_px;

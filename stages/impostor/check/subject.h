@@ -13,6 +13,7 @@ namespace sylva::impostor {
 ImpostorSubject load_impostor_subject(const std::filesystem::path& dir, const std::string& label);
 
 // The drawable form of an octahedral impostor from its description and maps.
-render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image color, image::Image normal_depth);
+render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image color,
+                                         image::Image normal_depth);
 
 }  // namespace sylva::impostor

@@ -3,16 +3,17 @@
 // the normal of the face that faces the frame and a depth in front of its centre; the bytes do
 // not depend on the thread count; drawn from a frame direction the impostor covers what the box
 // covers, at every mip level.
-#include <cmath>
+#include "stages/impostor/bake.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "libs/image/coverage.h"
 #include "libs/image/resample.h"
 #include "libs/render/distance_camera.h"
 #include "libs/render/impostor_renderer.h"
 #include "libs/render/shared_renderer.h"
-#include "stages/impostor/bake.h"
 #include "stages/impostor/check/subject.h"
 
 namespace sylva::impostor {
@@ -41,7 +42,8 @@ render::Scene box_scene() {
         p.normals.push_back(n);
       }
       const bool ccw = u.cross(v).dot(n) > 0;
-      for (std::uint32_t i : ccw ? std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3} : std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2})
+      for (std::uint32_t i :
+           ccw ? std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3} : std::vector<std::uint32_t>{0, 2, 1, 0, 3, 2})
         p.indices.push_back(base + i);
     }
   render::Mesh mesh;
@@ -123,13 +125,16 @@ TEST(Bake, TheImpostorCoversWhatTheBoxCoversAtEveryMipLevel) {
   render::RenderOptions ro;
   ro.width = ro.height = 128;
   ro.background.a = 0;
-  const double az = std::atan2(frame_direction(7, 0, 8, true).x(), frame_direction(7, 0, 8, true).z()) * 180 / M_PI;
+  const double az =
+      std::atan2(frame_direction(7, 0, 8, true).x(), frame_direction(7, 0, 8, true).z()) * 180 / M_PI;
   for (double d : {8.0, 32.0, 128.0}) {  // the box spans ~60, ~15 and ~4 pixels
     const render::Camera cam = render::camera_at_box_distance(box.bounds(), d, az, 0, M_PI / 8);
     const image::Image ref = render::shared_renderer().render(box, cam, ro);
-    const image::Image test = render::shared_impostor_renderer().render_octahedral(imp, {&cam, 1}, ro).front();
+    const image::Image test =
+        render::shared_impostor_renderer().render_octahedral(imp, {&cam, 1}, ro).front();
     double a_ref = 0, a_test = 0;
-    for (std::size_t i = 3; i < ref.bytes().size(); i += 4) a_ref += ref.bytes()[i], a_test += test.bytes()[i];
+    for (std::size_t i = 3; i < ref.bytes().size(); i += 4)
+      a_ref += ref.bytes()[i], a_test += test.bytes()[i];
     EXPECT_NEAR(a_test / a_ref, 1.0, 0.06) << "distance " << d;
     const image::FootprintStats f = image::footprint_stats(ref, test, 0.5);
     EXPECT_LT(f.failing_fraction, 0.05) << "distance " << d;

@@ -3,11 +3,11 @@
 // are wrong: too few frames, a hemi impostor seen from below, an atlas shifted by a few pixels.
 // The tree and its chain come from the generate and lod cores (test fixtures only, as the lod
 // tests make theirs); the check itself links neither.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 #include "libs/gltf/writer.h"
 #include "libs/render/gltf_scene.h"
@@ -40,7 +40,8 @@ render::Scene to_scene(const tree::Tree& t, const lod::Level& level, std::size_t
 const Chain& oak_chain() {
   static const Chain chain = [] {
     Chain c;
-    const tree::Tree& t = lod::test::species_tree(fs::path(SYLVA_SOURCE_DIR) / "configs/species/oak.yaml", "young");
+    const tree::Tree& t =
+        lod::test::species_tree(fs::path(SYLVA_SOURCE_DIR) / "configs/species/oak.yaml", "young");
     lod::ChainOptions o;
     o.camera.height_px = kHeightPx;
     const lod::Precomputed pre = lod::precompute(t, o);
@@ -48,7 +49,8 @@ const Chain& oak_chain() {
     const auto specs = lod::plan_levels(o);
     for (std::size_t i = 0; i < specs.size(); ++i) {
       c.levels.push_back(to_scene(t, lod::build_level(t, pre, specs[i], o), i));
-      c.refs.push_back({"lod" + std::to_string(i) + ".glb", specs[i].epsilon, o.pixel_error, specs[i].switch_distance});
+      c.refs.push_back(
+          {"lod" + std::to_string(i) + ".glb", specs[i].epsilon, o.pixel_error, specs[i].switch_distance});
     }
     return c;
   }();
@@ -90,7 +92,8 @@ BakeParams params(Kind kind = Kind::kHemiOctahedral, int frames = 16, int frame_
 ImpostorCheckResult run(const ImpostorSubject& s, const ImpostorCheckOptions& o = {}) {
   ColourBaseline baseline;
   baseline.scene = &oak_chain().levels.back();
-  return check_impostor(render::shared_renderer(), render::shared_impostor_renderer(), oak_chain().full, s, o, baseline);
+  return check_impostor(render::shared_renderer(), render::shared_impostor_renderer(), oak_chain().full, s, o,
+                        baseline);
 }
 
 std::size_t failed(const ImpostorCheckResult& r) {

@@ -2,10 +2,10 @@
 // covered texel, and cheaper than the frame.
 #include "stages/impostor/cutout.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 namespace sylva::impostor {
 namespace {
@@ -15,7 +15,9 @@ using P = std::array<double, 2>;
 // (u, 1 - v): y up, where the polygon is counter-clockwise.
 P up(const P& uv) { return {uv[0], 1 - uv[1]}; }
 
-double cross(const P& o, const P& a, const P& b) { return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]); }
+double cross(const P& o, const P& a, const P& b) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
 
 bool inside(const std::vector<P>& poly, const P& q) {
   for (std::size_t i = 0; i < poly.size(); ++i)
@@ -39,18 +41,21 @@ TEST(Cutout, HugsADiscWithAConvexPolygon) {
     ASSERT_GE(c.polygon.size(), 3u);
     for (std::size_t i = 0; i < c.polygon.size(); ++i)  // convex, counter-clockwise
       EXPECT_GT(cross(up(c.polygon[i]), up(c.polygon[(i + 1) % c.polygon.size()]),
-                      up(c.polygon[(i + 2) % c.polygon.size()])), 0);
+                      up(c.polygon[(i + 2) % c.polygon.size()])),
+                0);
     for (int y = 0; y < 64; ++y)
       for (int x = 0; x < 64; ++x) {
         if (img.at(x, y).a == 0) continue;
         for (double dx : {0.0, 1.0})
-          for (double dy : {0.0, 1.0}) EXPECT_TRUE(inside(c.polygon, {(x + dx) / 64, (y + dy) / 64})) << k << " " << x << "," << y;
+          for (double dy : {0.0, 1.0})
+            EXPECT_TRUE(inside(c.polygon, {(x + dx) / 64, (y + dy) / 64})) << k << " " << x << "," << y;
       }
     EXPECT_GT(c.area_fraction, std::numbers::pi * 400 / 4096);
     EXPECT_LT(c.area_fraction, k == 4 ? 0.45 : 0.40);
   }
   // More vertices hug tighter.
-  EXPECT_LT(fit_cutout(img, {0, 0, 64, 64}, 8).area_fraction, fit_cutout(img, {0, 0, 64, 64}, 4).area_fraction);
+  EXPECT_LT(fit_cutout(img, {0, 0, 64, 64}, 8).area_fraction,
+            fit_cutout(img, {0, 0, 64, 64}, 4).area_fraction);
 }
 
 // Only the rectangle's own texels count; an empty frame is the whole frame.

@@ -2,10 +2,10 @@
 // card placement, and one clear error per impossible parameter set.
 #include "stages/impostor/layout.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 #include "libs/impostor/octahedral.h"
 
@@ -25,7 +25,8 @@ SourceGeometry tree_like() {
 // Where a point lands in a view's rectangle (pixels, y down).
 Eigen::Vector2d project(const render::BakeView& v, const Vec3& p) {
   const Vec3 a = p - v.center.cast<double>();
-  const double s = a.dot(v.right.cast<double>()) / v.half_width, t = a.dot(v.up.cast<double>()) / v.half_height;
+  const double s = a.dot(v.right.cast<double>()) / v.half_width,
+               t = a.dot(v.up.cast<double>()) / v.half_height;
   return {v.x + (s + 1) * 0.5 * v.w, v.y + (1 - t) * 0.5 * v.h};
 }
 
@@ -47,7 +48,8 @@ TEST(Layout, FramesFitTheSphereInsideThePadding) {
       for (int a = 0; a < 360; a += 15)
         for (int e = -90; e <= 90; e += 15) {
           const double az = a * std::numbers::pi / 180, el = e * std::numbers::pi / 180;
-          const Vec3 p3 = c + g.radius * Vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+          const Vec3 p3 =
+              c + g.radius * Vec3(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
           const Eigen::Vector2d q = project(v, p3);
           EXPECT_GE(q.x(), v.x + 8 - 1e-6);
           EXPECT_LE(q.x(), v.x + v.w - 8 + 1e-6);

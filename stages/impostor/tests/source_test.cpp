@@ -41,7 +41,8 @@ TEST(Source, BadSummariesAreOneLineErrors) {
   };
   EXPECT_EQ(error(R"({"levels": []})"), "x/lod.json: not a lod summary (no 'levels' list)");
   EXPECT_EQ(error(R"({"levels": [{"epsilon_m": 1}]})"), "x/lod.json: levels[0] has no 'file'");
-  EXPECT_EQ(error(R"({"levels": [{"file": "a", "epsilon_m": -1}]})"), "x/lod.json: levels[0] has no valid 'epsilon_m'");
+  EXPECT_EQ(error(R"({"levels": [{"file": "a", "epsilon_m": -1}]})"),
+            "x/lod.json: levels[0] has no valid 'epsilon_m'");
   EXPECT_EQ(error("{").rfind("x/lod.json: invalid JSON: ", 0), 0u);
 }
 

@@ -1,8 +1,8 @@
 // The adapter (impostor_stage.h) end to end: a young oak's lod chain (written by the lod stage)
 // in, the four outputs out, each valid; a mesh in; and the errors a bad input gets.
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "libs/gltf/writer.h"
@@ -43,9 +43,12 @@ TEST(ImpostorStage, BakesFromTheCoarsestLevelWithinATexelAndWritesValidFiles) {
     const fs::path out = tmp / kind;
     fs::create_directories(out);
     FakeStageContext ctx(*stage, {{"lod_oak", "lod", tmp / "lod"}}, out,
-                         {{"kind", Value(kind)}, {"frame_px", Value(std::int64_t(64))}, {"mip_levels", Value(std::int64_t(2))}});
+                         {{"kind", Value(kind)},
+                          {"frame_px", Value(std::int64_t(64))},
+                          {"mip_levels", Value(std::int64_t(2))}});
     stage->run(ctx);
-    EXPECT_EQ(ctx.declared, (std::set<std::string>{"impostor.glb", "impostor.json", "impostor_color.png", "impostor_normal.png"}));
+    EXPECT_EQ(ctx.declared, (std::set<std::string>{"impostor.glb", "impostor.json", "impostor_color.png",
+                                                   "impostor_normal.png"}));
     const impostor::ImpostorInfo info = impostor::read_impostor_json((out / "impostor.json").string());
     EXPECT_EQ(impostor::kind_name(info.kind), kind);
     EXPECT_EQ(info.source_type, "lod");
@@ -84,7 +87,9 @@ TEST(ImpostorStage, BakesAMeshAndRefusesBadInputs) {
   const auto stage = make_impostor_stage();
   fs::create_directories(tmp / "out");
   FakeStageContext ctx(*stage, {{"mesh_quad", "mesh", tmp / "mesh"}}, tmp / "out",
-                       {{"frames", Value(std::int64_t(4))}, {"frame_px", Value(std::int64_t(32))}, {"mip_levels", Value(std::int64_t(1))}});
+                       {{"frames", Value(std::int64_t(4))},
+                        {"frame_px", Value(std::int64_t(32))},
+                        {"mip_levels", Value(std::int64_t(1))}});
   stage->run(ctx);
   const impostor::ImpostorInfo info = impostor::read_impostor_json((tmp / "out" / "impostor.json").string());
   EXPECT_EQ(info.source_type, "mesh");
@@ -104,7 +109,8 @@ TEST(ImpostorStage, BakesAMeshAndRefusesBadInputs) {
   };
   fs::create_directories(tmp / "empty");
   EXPECT_EQ(error(tmp / "empty", "lod"), "input 'input' (lod) has no lod.json");
-  EXPECT_EQ(error(tmp / "empty", "mesh"), "input 'input' (mesh) must hold exactly one .glb or .gltf file, has 0");
+  EXPECT_EQ(error(tmp / "empty", "mesh"),
+            "input 'input' (mesh) must hold exactly one .glb or .gltf file, has 0");
   test::write_file(tmp / "empty" / "lod.json", R"({"levels": [{"file": "lod0.glb", "epsilon_m": 0.01}]})");
   EXPECT_EQ(error(tmp / "empty", "lod"), "input 'input': lod.json lists lod0.glb, which the artifact lacks");
   EXPECT_EQ(error(tmp / "mesh", "mesh", {{"mip_levels", Value(std::int64_t(7))}}),

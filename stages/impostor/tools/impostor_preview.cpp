@@ -15,7 +15,9 @@ using namespace sylva;
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: impostor_preview IN.glb OUT_DIR [hemi_octahedral|octahedral|billboards] [frames] [frame_px]\n");
+    std::fprintf(stderr,
+                 "usage: impostor_preview IN.glb OUT_DIR [hemi_octahedral|octahedral|billboards] [frames] "
+                 "[frame_px]\n");
     return 2;
   }
   const std::filesystem::path out = argv[2];
@@ -38,8 +40,9 @@ int main(int argc, char** argv) {
   image::write_png(b.normal_depth, out / b.info.normal_depth_map);
   std::ofstream(out / "impostor.glb", std::ios::binary) << b.glb;
   std::ofstream(out / "impostor.json") << impostor::write_impostor_json(b.info);
-  std::fprintf(stderr, "%s: baked in %.2f s (%zu triangles, %zu lines); switch distance %.1f m; written to %s\n", argv[1],
-               std::chrono::duration<double>(t1 - t0).count(), scene.triangle_count(), scene.line_count(),
-               b.info.switch_distance_m, out.c_str());
+  std::fprintf(stderr,
+               "%s: baked in %.2f s (%zu triangles, %zu lines); switch distance %.1f m; written to %s\n",
+               argv[1], std::chrono::duration<double>(t1 - t0).count(), scene.triangle_count(),
+               scene.line_count(), b.info.switch_distance_m, out.c_str());
   return 0;
 }

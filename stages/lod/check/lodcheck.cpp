@@ -4,10 +4,6 @@
 // and a distant tree is a few percent of it.
 #include "stages/lod/check/lodcheck.h"
 
-#include "libs/image/coverage.h"
-#include "libs/image/resample.h"
-#include "libs/render/distance_camera.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +12,10 @@
 #include <numbers>
 #include <span>
 #include <utility>
+
+#include "libs/image/coverage.h"
+#include "libs/image/resample.h"
+#include "libs/render/distance_camera.h"
 
 namespace sylva::lod {
 
@@ -33,7 +33,8 @@ std::string view_name(double azimuth_deg) {
 
 std::size_t primitive_count(const render::Scene& s) { return s.triangle_count() + s.line_count(); }
 
-void add_footprint_stats(const image::Image& ref, const image::Image& test, double pixel_threshold, ViewCheck& c) {
+void add_footprint_stats(const image::Image& ref, const image::Image& test, double pixel_threshold,
+                         ViewCheck& c) {
   const image::FootprintStats f = image::footprint_stats(ref, test, pixel_threshold);
   c.footprint_pixels = f.footprint_pixels;
   c.coverage_failing_fraction = f.failing_fraction;
@@ -73,7 +74,8 @@ render::Camera cropped(render::Camera cam, int w, int height_px) {
 
 render::Camera check_camera(const render::Bounds& full_bounds, double distance, double azimuth_deg,
                             double elevation_deg, double fov_y_rad) {
-  render::Camera cam = render::camera_at_box_distance(full_bounds, distance, azimuth_deg, elevation_deg, fov_y_rad);
+  render::Camera cam =
+      render::camera_at_box_distance(full_bounds, distance, azimuth_deg, elevation_deg, fov_y_rad);
   cam.name = view_name(azimuth_deg);  // one elevation per run: views are named by azimuth
   return cam;
 }
@@ -109,8 +111,8 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
     std::vector<render::Camera> cams;
     for (double az : options.azimuths_deg) {
       cams.push_back(check_camera(bounds, s.distance, az, options.elevation_deg, chain_camera.fov_y_rad));
-      it->second.window = std::max(it->second.window,
-                                   options.crop ? crop_window(bounds, cams.back(), frame, kCropMarginPx) : frame);
+      it->second.window = std::max(
+          it->second.window, options.crop ? crop_window(bounds, cams.back(), frame, kCropMarginPx) : frame);
     }
     for (auto& c : cams) c = cropped(c, it->second.window, frame);
     it->second.cameras = std::move(cams);
@@ -146,12 +148,15 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
       if (c.colour.size_mismatch) {
         c.failure = c.colour.failure;
       } else if (c.coverage_failing_fraction > options.max_failing_fraction) {
-        std::snprintf(buf, sizeof buf, "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
-                      100 * c.coverage_failing_fraction, c.footprint_pixels, options.pixel_threshold,
-                      100 * options.max_failing_fraction);
+        std::snprintf(
+            buf, sizeof buf,
+            "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
+            100 * c.coverage_failing_fraction, c.footprint_pixels, options.pixel_threshold,
+            100 * options.max_failing_fraction);
         c.failure = buf;
       } else if (c.coverage_mean_error > options.max_coverage_error) {
-        std::snprintf(buf, sizeof buf, "mean coverage change over the tree's %zu pixels is %.4f (allowed %.4f)",
+        std::snprintf(buf, sizeof buf,
+                      "mean coverage change over the tree's %zu pixels is %.4f (allowed %.4f)",
                       c.footprint_pixels, c.coverage_mean_error, options.max_coverage_error);
         c.failure = buf;
       }

@@ -59,25 +59,25 @@ struct LodCheckOptions {
 
 // One model to check: a level of a chain (or another simplifier's model with the same budget).
 struct CheckSubject {
-  std::string label;       // "sylva", "gltfpack", ...: for reports
-  std::size_t level = 0;   // level index: sets the epsilon and distance below
-  double epsilon = 0;      // m
-  double distance = 0;     // switch distance d, m (> 0)
+  std::string label;      // "sylva", "gltfpack", ...: for reports
+  std::size_t level = 0;  // level index: sets the epsilon and distance below
+  double epsilon = 0;     // m
+  double distance = 0;    // switch distance d, m (> 0)
   render::Scene scene;
 };
 
 struct ViewCheck {
   std::string label;
   std::size_t level = 0;
-  std::string view;        // "az0", "az90", ...
+  std::string view;  // "az0", "az90", ...
   double epsilon = 0, distance = 0;
-  std::size_t footprint_pixels = 0;    // pixels covered (alpha > 0) in either image
+  std::size_t footprint_pixels = 0;      // pixels covered (alpha > 0) in either image
   double coverage_failing_fraction = 0;  // footprint pixels whose coverage changed by > pixel_threshold
   double coverage_mean_error = 0;        // mean |coverage change| over the footprint
   double coverage_bias = 0;              // mean signed change (level - full): > 0 the level covers more
-  image::CompareResult colour;         // RGB over the whole image (threshold 0.016, reported only)
-  double colour_mean_error = 0;        // mean per-channel RGB |difference| over the footprint
-  std::size_t primitives = 0;          // triangles + lines drawn for this subject
+  image::CompareResult colour;           // RGB over the whole image (threshold 0.016, reported only)
+  double colour_mean_error = 0;          // mean per-channel RGB |difference| over the footprint
+  std::size_t primitives = 0;            // triangles + lines drawn for this subject
   bool passed = false;
   std::string failure;  // empty when passed, else one sentence
 };
@@ -89,8 +89,8 @@ render::Camera check_camera(const render::Bounds& full_bounds, double distance, 
 
 // Optional sink for the images of a check: (subject label, level, view, full render, subject
 // render, diff heat-map).
-using CheckImageSink = std::function<void(const ViewCheck&, const image::Image& full, const image::Image& test,
-                                          const image::Image& diff)>;
+using CheckImageSink = std::function<void(const ViewCheck&, const image::Image& full,
+                                          const image::Image& test, const image::Image& diff)>;
 
 // Renders `full` once per distinct (distance, view) and every subject at its distance, compares.
 // Throws render::RenderError when rendering fails. Results in subject order, views inner.

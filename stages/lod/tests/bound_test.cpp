@@ -49,8 +49,9 @@ TEST(ErrorBound, EveryLevelOfEverySpeciesPreset) {
           // Every node of bi's subtree within A(bi) of the full bearer's solid (via bi).
           EXPECT_LE(pre.accumulated[bi], spec.e4);
           for (const SkeletalVector& s : g)
-            worst_removed = std::max(
-                worst_removed, distance_to_solid(pre.skeletons[static_cast<std::size_t>(p)].g, s.p) + s.r + spec.e1 + spec.e2);
+            worst_removed =
+                std::max(worst_removed, distance_to_solid(pre.skeletons[static_cast<std::size_t>(p)].g, s.p) +
+                                            s.r + spec.e1 + spec.e2);
           continue;
         }
         std::size_t seg = 0;

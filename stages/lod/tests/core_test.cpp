@@ -28,21 +28,21 @@ TEST(EdgeFunction, StepsOfEquation11) {
   EXPECT_EQ(edge_count(0.0, 12), 12);
   EXPECT_EQ(edge_count(P(12) * 0.99, 12), 12);  // rho < P_H: H
   EXPECT_EQ(edge_count(P(12), 12), 12);
-  EXPECT_EQ(edge_count(P(7), 12), 7);           // the 7-gon's error is exactly P_7
+  EXPECT_EQ(edge_count(P(7), 12), 7);  // the 7-gon's error is exactly P_7
   EXPECT_EQ(edge_count(P(7) * 0.999, 12), 8);
   EXPECT_EQ(edge_count(P(4), 12), 4);
   EXPECT_EQ(edge_count(0.49, 12), 4);
-  EXPECT_EQ(edge_count(0.5, 12), 3);            // 0.5 <= rho < 2: a prism of 3
+  EXPECT_EQ(edge_count(0.5, 12), 3);  // 0.5 <= rho < 2: a prism of 3
   EXPECT_EQ(edge_count(1.99, 12), 3);
-  EXPECT_EQ(edge_count(2.0, 12), 1);            // rho >= 2: a line
-  EXPECT_EQ(edge_count(INFINITY, 12), 1);       // R = 0
-  EXPECT_DOUBLE_EQ(line_alpha(4.0), 0.5);       // eq. (12)
+  EXPECT_EQ(edge_count(2.0, 12), 1);       // rho >= 2: a line
+  EXPECT_EQ(edge_count(INFINITY, 12), 1);  // R = 0
+  EXPECT_DOUBLE_EQ(line_alpha(4.0), 0.5);  // eq. (12)
   EXPECT_DOUBLE_EQ(line_alpha(1.0), 1.0);
   // Drawn alpha: coverage delta * eq. 12, shared by three overlapping lines.
   EXPECT_NEAR(drawn_line_alpha(0.5, 0.5), 1 - std::cbrt(0.75), 1e-15);
   EXPECT_NEAR(1 - std::pow(1 - drawn_line_alpha(0.5, 0.5), 3), 0.25, 1e-12);  // three lines blend to 0.25
-  EXPECT_NEAR(drawn_line_alpha(0.8, 2.0), 1.0, 1e-15);                       // coverage clamps at 1
-  EXPECT_NEAR(drawn_line_alpha(0.4, 1.0), 1 - std::cbrt(0.6), 1e-15);        // delta = 1: eq. 12 itself
+  EXPECT_NEAR(drawn_line_alpha(0.8, 2.0), 1.0, 1e-15);                        // coverage clamps at 1
+  EXPECT_NEAR(drawn_line_alpha(0.4, 1.0), 1 - std::cbrt(0.6), 1e-15);         // delta = 1: eq. 12 itself
   // Every h-gon chosen keeps its polygonisation error under E3 = rho R.
   for (double rho = 0.001; rho < 2; rho *= 1.1) {
     const int h = edge_count(rho, 1000);
@@ -118,9 +118,10 @@ TEST(InternodeMerging, LongChainGroupsMeetTheBoundsAndCancellationStops) {
   }
   int calls = 0;
   kept.clear();
-  EXPECT_THROW(merge_internodes(sk[0].g, limits, kept, [&] {
-                 if (++calls == 3) throw std::runtime_error("cancelled");
-               }),
+  EXPECT_THROW(merge_internodes(sk[0].g, limits, kept,
+                                [&] {
+                                  if (++calls == 3) throw std::runtime_error("cancelled");
+                                }),
                std::runtime_error);
   EXPECT_EQ(calls, 3);
 }
@@ -260,7 +261,8 @@ TEST(Chain, SwitchDistanceMatchesPixelError) {
   ASSERT_EQ(specs.size(), 6u);
   EXPECT_NEAR(specs.front().epsilon, o.min_error, 1e-15);
   EXPECT_NEAR(specs.back().epsilon, 0.22, 1e-12);
-  for (const auto& s : specs) EXPECT_NEAR(s.delta * pixel_size(o.camera, s.switch_distance), s.epsilon, 1e-12);
+  for (const auto& s : specs)
+    EXPECT_NEAR(s.delta * pixel_size(o.camera, s.switch_distance), s.epsilon, 1e-12);
   o.levels = 9;
   EXPECT_THROW(plan_levels(o), std::invalid_argument);
   o.errors = {0.1, 0.05};
@@ -279,8 +281,9 @@ TEST(Chain, HollyLadderOfFigure8) {
   for (std::size_t i = 0; i < levels.size(); ++i) {
     const LevelCounts& c = levels[i].counts;
     const std::size_t branch_prims = c.quads + c.triangles + c.lines;
-    std::printf("holly eps %.4f m: quads %zu triangles %zu lines %zu leaves %zu branches %zu internodes %zu\n",
-                levels[i].spec.epsilon, c.quads, c.triangles, c.lines, c.leaves, c.branches, c.internodes);
+    std::printf(
+        "holly eps %.4f m: quads %zu triangles %zu lines %zu leaves %zu branches %zu internodes %zu\n",
+        levels[i].spec.epsilon, c.quads, c.triangles, c.lines, c.leaves, c.branches, c.internodes);
     EXPECT_LT(branch_prims, previous) << "level " << i;
     EXPECT_LT(c.total(), i == 0 ? SIZE_MAX : levels[i - 1].counts.total());
     previous = branch_prims;
@@ -483,7 +486,8 @@ TEST(Needles, PairwiseMergingCutByError) {
 // The chain runs its precomputations and levels as parallel tasks: the result must equal the
 // sequential computation bit for bit (counts, alpha and every vertex of every level).
 TEST(Chain, ParallelEqualsSequential) {
-  const tree::Tree& t = test::species_tree(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species/oak.yaml", "young");
+  const tree::Tree& t =
+      test::species_tree(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species/oak.yaml", "young");
   ChainOptions o;
   const std::vector<Level> parallel = build_chain(t, o);
   const Precomputed pre = precompute(t, o);

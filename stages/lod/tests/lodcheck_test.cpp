@@ -58,7 +58,8 @@ render::Scene to_scene(const tree::Tree& t, const Level& level, std::size_t inde
 
 Fixture make_fixture(const std::string& species, int height_px) {
   Fixture f;
-  const tree::Tree& t = test::species_tree(fs::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"), "young");
+  const tree::Tree& t =
+      test::species_tree(fs::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"), "young");
   f.options.camera.height_px = height_px;
   f.options.levels = 4;
   const Precomputed pre = precompute(t, f.options);
@@ -203,11 +204,13 @@ TEST_F(LodCheckRender, AVisibleErrorFails) {
       return bare.scene.materials[static_cast<std::size_t>(p.material)].name == "bark";
     });
   CheckSubject shifted = f.levels[2];
-  const double px = 2 * shifted.distance * std::tan(f.options.camera.fov_y_rad / 2) / f.options.camera.height_px;
+  const double px =
+      2 * shifted.distance * std::tan(f.options.camera.fov_y_rad / 2) / f.options.camera.height_px;
   for (auto& m : shifted.scene.meshes)
     for (auto& p : m.primitives)
       for (auto& v : p.positions) v.y() += static_cast<float>(4 * px);  // up: across both views
-  const auto results = check_subjects(*renderer_, f.full, {bare, shifted}, f.options.camera, LodCheckOptions{});
+  const auto results =
+      check_subjects(*renderer_, f.full, {bare, shifted}, f.options.camera, LodCheckOptions{});
   ASSERT_EQ(results.size(), 4u);
   for (const auto& r : results)
     EXPECT_FALSE(r.passed) << r.label << " " << r.view << " fail " << r.coverage_failing_fraction << " mean "
@@ -224,7 +227,8 @@ TEST(LodCheckScene, BranchesOnlyKeepsBarkPrimitives) {
   const render::Scene b = branches_only(s);
   std::size_t leaf_prims = 0, kept = 0;
   for (const auto& m : s.meshes)
-    for (const auto& p : m.primitives) leaf_prims += s.materials[static_cast<std::size_t>(p.material)].name == "leaves";
+    for (const auto& p : m.primitives)
+      leaf_prims += s.materials[static_cast<std::size_t>(p.material)].name == "leaves";
   for (const auto& m : b.meshes)
     for (const auto& p : m.primitives) {
       const std::string& name = b.materials[static_cast<std::size_t>(p.material)].name;

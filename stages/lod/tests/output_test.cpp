@@ -98,7 +98,8 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     const fs::path in = tmp / (species + "_in"), out = tmp / (species + "_out");
     fs::create_directories(in);
     fs::create_directories(out);
-    tree::Tree t = lod::test::species_tree(fs::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"), "young");
+    tree::Tree t = lod::test::species_tree(
+        fs::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"), "young");
     t.materials.leaf_texture.clear();
     t.materials.bark_texture.clear();
     tree::write_sylt(in / "tree.sylt", t);
@@ -127,7 +128,8 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     EXPECT_EQ(j["nodes"][0]["extensions"]["MSFT_lod"]["ids"], nlohmann::json({1, 2, 3}));
     EXPECT_EQ(j["scene"], 0);
     EXPECT_EQ(j["scenes"][0]["nodes"], nlohmann::json({0}));
-    EXPECT_NE(std::find(j["extensionsUsed"].begin(), j["extensionsUsed"].end(), "MSFT_lod"), j["extensionsUsed"].end());
+    EXPECT_NE(std::find(j["extensionsUsed"].begin(), j["extensionsUsed"].end(), "MSFT_lod"),
+              j["extensionsUsed"].end());
     ASSERT_EQ(j["buffers"].size(), 4u);
     for (int i = 0; i < 4; ++i) {
       const std::string bin = "lod" + std::to_string(i) + ".bin";
@@ -180,8 +182,12 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     EXPECT_EQ(used.size(), j["materials"].size());
     EXPECT_FALSE(j.contains("images"));  // no atlas in this test
     EXPECT_NEAR(summary["levels"][3]["epsilon_m"].get<double>(), 0.22, 1e-12);
-    if (species == "oak") EXPECT_GT(summary["levels"][0]["counts"]["leaves"].get<int>(), 0);
-    else EXPECT_GT(summary["levels"][0]["counts"]["needle_lines"].get<int>() + summary["levels"][0]["counts"]["needle_quads"].get<int>(), 0);
+    if (species == "oak")
+      EXPECT_GT(summary["levels"][0]["counts"]["leaves"].get<int>(), 0);
+    else
+      EXPECT_GT(summary["levels"][0]["counts"]["needle_lines"].get<int>() +
+                    summary["levels"][0]["counts"]["needle_quads"].get<int>(),
+                0);
     // Leaf winding: (b - a) x (c - a) points along the vertex normal, for every leaf triangle.
     std::size_t leaf_triangles = 0, against = 0;
     for (int i = 0; i < 4; ++i) {
@@ -252,7 +258,8 @@ TEST(LodStage, RejectsBadInput) {
   FakeContext empty(*stage, tmp / "in", tmp / "out");
   EXPECT_THROW(stage->run(empty), StageError);
   tree::write_sylt(tmp / "in" / "tree.sylt", lod::test::helix(1, 2, 1, 16, 0.05));
-  FakeContext bad(*stage, tmp / "in", tmp / "out", {{"errors_m", Value(Value::List{Value(0.1), Value(0.05)})}});
+  FakeContext bad(*stage, tmp / "in", tmp / "out",
+                  {{"errors_m", Value(Value::List{Value(0.1), Value(0.05)})}});
   EXPECT_THROW(stage->run(bad), StageError);
 }
 

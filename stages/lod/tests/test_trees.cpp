@@ -18,7 +18,8 @@ tree::Tree helix(double helix_radius, double pitch, int turns, int per_turn, dou
   tree::Branch b;
   for (int i = 0; i <= turns * per_turn; ++i) {
     const double a = 2 * std::numbers::pi * i / per_turn;
-    b.nodes.push_back({{helix_radius * std::cos(a), pitch * i / per_turn, helix_radius * std::sin(a)}, radius});
+    b.nodes.push_back(
+        {{helix_radius * std::cos(a), pitch * i / per_turn, helix_radius * std::sin(a)}, radius});
   }
   t.branches.push_back(b);
   return t;
@@ -26,7 +27,8 @@ tree::Tree helix(double helix_radius, double pitch, int turns, int per_turn, dou
 
 std::vector<std::filesystem::path> species_presets() {
   std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
     if (e.path().extension() == ".yaml") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   return files;

@@ -49,9 +49,11 @@ int main(int argc, char** argv) {
     const image::Image img = renderer->render(scene, cam, ro);
     image::write_png(img, out / ("lod" + std::to_string(i) + ".png"));
     const auto& c = levels[i].counts;
-    std::printf("lod%zu eps %.4f m switch %.1f m: quads %zu tris %zu lines %zu leaves %zu needles %zu/%zu alpha %.3f\n", i,
-                levels[i].spec.epsilon, levels[i].spec.switch_distance, c.quads, c.triangles, c.lines, c.leaves,
-                c.needle_lines, c.needle_quads, levels[i].line_alpha);
+    std::printf(
+        "lod%zu eps %.4f m switch %.1f m: quads %zu tris %zu lines %zu leaves %zu needles %zu/%zu alpha "
+        "%.3f\n",
+        i, levels[i].spec.epsilon, levels[i].spec.switch_distance, c.quads, c.triangles, c.lines, c.leaves,
+        c.needle_lines, c.needle_quads, levels[i].line_alpha);
   }
   return 0;
 }

@@ -46,8 +46,8 @@ void expect_closed_sphere(const Built& b) {
   EXPECT_EQ(b.topo.components, b.joints.components);
   EXPECT_EQ(b.topo.euler, 2 * static_cast<long long>(b.topo.components));
   EXPECT_EQ(b.mesh.quads.size(), b.mesh.positions.size() - 2 * b.topo.components);
-  EXPECT_EQ(b.mesh.positions.size(),
-            4 * (b.skeleton.ring_count() + b.joints.split_joints + b.joints.insets + b.joints.backward_fallbacks));
+  EXPECT_EQ(b.mesh.positions.size(), 4 * (b.skeleton.ring_count() + b.joints.split_joints + b.joints.insets +
+                                          b.joints.backward_fallbacks));
   EXPECT_GT(b.topo.signed_volume, 0) << "faces point inwards";
   EXPECT_EQ(b.mesh.uvs.size(), b.mesh.quads.size());
 }
@@ -127,7 +127,8 @@ TEST(BoxJoints, FiveChildrenOnOneRing) {
   for (int i = 0; i < 5; ++i) {
     const double a = 2 * std::numbers::pi * i / 5 + 0.3;
     const tree::Vec3 d{std::cos(a), 0.3, std::sin(a)};
-    t.branches.push_back(branch({tree::Vec3{0, 1, 0} + d * 0.25, tree::Vec3{0, 1, 0} + d * 1.0}, r[i], 0, 1, 1));
+    t.branches.push_back(
+        branch({tree::Vec3{0, 1, 0} + d * 0.25, tree::Vec3{0, 1, 0} + d * 1.0}, r[i], 0, 1, 1));
   }
   const Built b = build(t);
   expect_closed_sphere(b);

@@ -2,14 +2,13 @@
 // extras, Draco within the quantisation error, deterministic bytes; bad input is a StageError.
 #include "stages/mesh/mesh_stage.h"
 
-#include <gtest/gtest.h>
-
 #include <draco/compression/decode.h>
-#include <nlohmann/json.hpp>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "libs/image/image.h"
@@ -113,7 +112,8 @@ TEST(MeshStage, Declaration) {
     EXPECT_FALSE(p.required()) << p.name;
     names.insert(p.name);
   }
-  for (const char* n : {"max_level", "subdivision", "open_base", "foliage", "draco", "draco_position_bits", "format"})
+  for (const char* n :
+       {"max_level", "subdivision", "open_base", "foliage", "draco", "draco_position_bits", "format"})
     EXPECT_EQ(names.count(n), 1u) << n;
 }
 
@@ -184,7 +184,8 @@ TEST(MeshStage, DracoRoundTripWithinQuantisationError) {
   EXPECT_LT(db.size(), pb.size() / 2);
   // Uncompressed positions of the bark primitive.
   const nlohmann::json pj = glb_json(pb);
-  const nlohmann::json& pacc = pj["accessors"][pj["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<std::size_t>()];
+  const nlohmann::json& pacc =
+      pj["accessors"][pj["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<std::size_t>()];
   const nlohmann::json& pview = pj["bufferViews"][pacc["bufferView"].get<std::size_t>()];
   const std::string pbin = glb_bin(pb);
   const std::size_t n = pacc["count"];
@@ -192,12 +193,14 @@ TEST(MeshStage, DracoRoundTripWithinQuantisationError) {
   std::memcpy(pos.data(), pbin.data() + pview.value("byteOffset", std::size_t{0}), pos.size() * 4);
   double extent = 0;
   for (int c = 0; c < 3; ++c)
-    extent = std::max(extent, pacc["max"][static_cast<std::size_t>(c)].get<double>() - pacc["min"][static_cast<std::size_t>(c)].get<double>());
+    extent = std::max(extent, pacc["max"][static_cast<std::size_t>(c)].get<double>() -
+                                  pacc["min"][static_cast<std::size_t>(c)].get<double>());
   const double tolerance = extent / ((1 << 12) - 1) / 2 * 1.001 + 1e-6;
   // A grid of cells one tolerance wide for the nearest-point search.
   std::map<std::array<long long, 3>, std::vector<std::size_t>> grid;
   auto cell = [&](double x, double y, double z) {
-    return std::array<long long, 3>{std::llround(std::floor(x / tolerance)), std::llround(std::floor(y / tolerance)),
+    return std::array<long long, 3>{std::llround(std::floor(x / tolerance)),
+                                    std::llround(std::floor(y / tolerance)),
                                     std::llround(std::floor(z / tolerance))};
   };
   for (std::size_t i = 0; i < n; ++i) grid[cell(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2])].push_back(i);
@@ -207,12 +210,14 @@ TEST(MeshStage, DracoRoundTripWithinQuantisationError) {
   const nlohmann::json& dview = dj["bufferViews"][ext["bufferView"].get<std::size_t>()];
   const std::string dbin = glb_bin(db);
   draco::DecoderBuffer buffer;
-  buffer.Init(dbin.data() + dview.value("byteOffset", std::size_t{0}), dview["byteLength"].get<std::size_t>());
+  buffer.Init(dbin.data() + dview.value("byteOffset", std::size_t{0}),
+              dview["byteLength"].get<std::size_t>());
   draco::Decoder decoder;
   auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
   ASSERT_TRUE(decoded.ok()) << decoded.status().error_msg();
   const std::unique_ptr<draco::Mesh> dm = std::move(decoded).value();
-  const draco::PointAttribute* att = dm->GetAttributeByUniqueId(ext["attributes"]["POSITION"].get<std::uint32_t>());
+  const draco::PointAttribute* att =
+      dm->GetAttributeByUniqueId(ext["attributes"]["POSITION"].get<std::uint32_t>());
   ASSERT_NE(att, nullptr);
   std::size_t outside = 0;
   for (draco::PointIndex i(0); i < dm->num_points(); ++i) {
@@ -235,8 +240,9 @@ TEST(MeshStage, DracoRoundTripWithinQuantisationError) {
     outside += !found;
   }
   EXPECT_EQ(outside, 0u) << "of " << dm->num_points() << " decoded points";
-  EXPECT_EQ(dj["accessors"][dj["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<std::size_t>()]["count"],
-            dm->num_points());
+  EXPECT_EQ(
+      dj["accessors"][dj["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<std::size_t>()]["count"],
+      dm->num_points());
   SYLVA_EXPECT_VALID_GLTF(draco_out / "tree.glb");
 }
 
@@ -261,23 +267,27 @@ TEST(MeshStage, BadInputIsAStageError) {
   {
     sylva::test::TempDir in;
     sylva::test::write_file(in / "tree.sylt", "not a tree");
-    EXPECT_NE(message(in.path()).find("tree.sylt: not a .sylt file"), std::string::npos) << message(in.path());
+    EXPECT_NE(message(in.path()).find("tree.sylt: not a .sylt file"), std::string::npos)
+        << message(in.path());
   }
   {
     sylva::test::TempDir in;
     tree::Tree t = mesh::test::straight_trunk(3);
     t.materials.bark_texture = "bark.png";
     tree::write_sylt(in / "tree.sylt", t);
-    EXPECT_NE(message(in.path()).find("the tree's bark texture 'bark.png' is not a file of input 'gen'"), std::string::npos)
+    EXPECT_NE(message(in.path()).find("the tree's bark texture 'bark.png' is not a file of input 'gen'"),
+              std::string::npos)
         << message(in.path());
     sylva::test::write_file(in / "bark.png", "GIF89a");
-    EXPECT_NE(message(in.path()).find("texture 'bark.png' is neither a PNG nor a JPEG file"), std::string::npos)
+    EXPECT_NE(message(in.path()).find("texture 'bark.png' is neither a PNG nor a JPEG file"),
+              std::string::npos)
         << message(in.path());
   }
   {
     sylva::test::TempDir in;
     tree::write_sylt(in / "tree.sylt", tree::Tree{});  // an empty tree is a valid .sylt
-    EXPECT_NE(message(in.path()).find("tree.sylt: the tree has no branches: nothing to mesh"), std::string::npos)
+    EXPECT_NE(message(in.path()).find("tree.sylt: the tree has no branches: nothing to mesh"),
+              std::string::npos)
         << message(in.path());
   }
 }

@@ -123,7 +123,8 @@ TEST(Subdivision, CornerScaleGivesTheBranchArea) {
     so.corner_scale = k;
     BarkOptions bo;
     bo.corner_scale = k;
-    const QuadMesh m = subdivide(build_bark_mesh(build_skeleton(test::straight_trunk(9), so), bo, nullptr), levels);
+    const QuadMesh m =
+        subdivide(build_bark_mesh(build_skeleton(test::straight_trunk(9), so), bo, nullptr), levels);
     // Vertices at height 4 (a ring in the middle), sorted by angle: the section polygon.
     std::vector<std::pair<double, Vec3>> ring;
     for (const Vec3& p : m.positions)

@@ -49,7 +49,8 @@ TEST(Surface, AttributesAreValidForGltf) {
   }
   // Triangles wind counter-clockwise seen from outside: their normal agrees with the vertex normals.
   for (std::size_t t = 0; t < p.indices.size(); t += 3) {
-    const Vec3 a = at(p.positions, p.indices[t]), b = at(p.positions, p.indices[t + 1]), c = at(p.positions, p.indices[t + 2]);
+    const Vec3 a = at(p.positions, p.indices[t]), b = at(p.positions, p.indices[t + 1]),
+               c = at(p.positions, p.indices[t + 2]);
     const Vec3 fn = tree::cross(b - a, c - a);
     EXPECT_GT(tree::dot(fn, at(p.normals, p.indices[t])), 0) << "triangle " << t / 3;
   }

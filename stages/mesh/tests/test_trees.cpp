@@ -12,8 +12,8 @@
 
 namespace sylva::mesh::test {
 
-tree::Branch branch(std::vector<tree::Vec3> positions, double radius, std::int32_t parent, std::uint32_t parent_node,
-                    std::uint32_t level, double parent_t) {
+tree::Branch branch(std::vector<tree::Vec3> positions, double radius, std::int32_t parent,
+                    std::uint32_t parent_node, std::uint32_t level, double parent_t) {
   tree::Branch b;
   b.parent = parent;
   b.parent_node = parent_node;
@@ -34,7 +34,8 @@ tree::Tree straight_trunk(int nodes) {
 
 std::vector<std::filesystem::path> species_presets() {
   std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
+  for (const auto& e :
+       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
     if (e.path().extension() == ".yaml") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   return files;

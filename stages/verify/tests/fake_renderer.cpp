@@ -6,7 +6,8 @@
 
 namespace sylva::verify::testing {
 
-std::vector<image::Image> FakeRenderer::render_views(const render::Scene& scene, std::span<const render::Camera> cameras,
+std::vector<image::Image> FakeRenderer::render_views(const render::Scene& scene,
+                                                     std::span<const render::Camera> cameras,
                                                      const render::RenderOptions& options) {
   ++calls;
   int tx = 0;
@@ -15,7 +16,8 @@ std::vector<image::Image> FakeRenderer::render_views(const render::Scene& scene,
   image::Rgba8 color{200, 50, 25, 255};
   if (!scene.materials.empty()) {
     const auto& c = scene.materials[0].base_color;
-    color = {static_cast<std::uint8_t>(std::lround(c.x() * 255)), static_cast<std::uint8_t>(std::lround(c.y() * 255)),
+    color = {static_cast<std::uint8_t>(std::lround(c.x() * 255)),
+             static_cast<std::uint8_t>(std::lround(c.y() * 255)),
              static_cast<std::uint8_t>(std::lround(c.z() * 255)), 255};
   }
   std::vector<image::Image> out;

@@ -27,7 +27,8 @@ class FakeRenderer final : public render::Renderer {
 };
 
 // A GLB with one unit quad node at x = `tx` whose material has base colour `rgb` (linear).
-void write_square_glb(const std::filesystem::path& path, float tx, float r = 0.8f, float g = 0.2f, float b = 0.1f);
+void write_square_glb(const std::filesystem::path& path, float tx, float r = 0.8f, float g = 0.2f,
+                      float b = 0.1f);
 
 // A 100 x 100 camera set without MSAA and views named `views`.
 render::CameraSet small_camera_set(const std::vector<std::string>& views = {"front", "side"}, int size = 100);

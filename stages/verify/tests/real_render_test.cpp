@@ -31,7 +31,8 @@ class RealRenderTest : public ::testing::Test {
     if (renderer_) return;
     const char* require = std::getenv("SYLVA_REQUIRE_GL");
     std::error_code ec;
-    if ((require && std::string(require) == "1") || fs::exists("/usr/share/glvnd/egl_vendor.d/50_mesa.json", ec))
+    if ((require && std::string(require) == "1") ||
+        fs::exists("/usr/share/glvnd/egl_vendor.d/50_mesa.json", ec))
       FAIL() << unavailable_;
     GTEST_SKIP() << unavailable_;
   }
@@ -83,8 +84,8 @@ TEST_F(RealRenderTest, SameSceneTwicePassesExactly) {
 
 // Front view: f = 100 / tan(20°) = 274.7 px per metre at 1 m, 27.47 px/m at 10 m; the 2 m
 // square is 54.9 px wide. Moved by 0.2 m (5.5 px) it changes 2 * 5.5 * 54.9 = 603 of 40,000
-// pixels (1.5 %) plus anti-aliased edge pixels: fails. Moved by 0.02 m (0.55 px), only its two vertical edges change
-// (at most two columns of 55 pixels per edge, 0.55 %): passes.
+// pixels (1.5 %) plus anti-aliased edge pixels: fails. Moved by 0.02 m (0.55 px), only its two vertical edges
+// change (at most two columns of 55 pixels per edge, 0.55 %): passes.
 TEST_F(RealRenderTest, ShiftedSquareFailsWithPredictedFraction) {
   fs::create_directories(refs_);
   run({{"sq", square("a", 0)}}, dir_ / "ref");
@@ -149,7 +150,8 @@ TEST_F(RealRenderTest, RealTreeAgainstItself) {
   const render::CameraSet cams = render::load_camera_set("configs/cameras/verify.yaml");
   const RunEnv first{*renderer_, [&](const std::string& n) { return dir_ / n; }, {}};
   run_verification({{"aspen", tree}}, cams, refs_, {}, first);
-  for (const auto& v : cams.views) fs::copy_file(dir_ / image_file_name("aspen", v.name), refs_ / image_file_name("aspen", v.name));
+  for (const auto& v : cams.views)
+    fs::copy_file(dir_ / image_file_name("aspen", v.name), refs_ / image_file_name("aspen", v.name));
   fs::create_directories(dir_ / "again");
   const RunEnv again{*renderer_, [&](const std::string& n) { return dir_ / "again" / n; }, {}};
   const Report r = run_verification({{"aspen", tree}}, cams, refs_, {}, again);

@@ -5,10 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <vector>
 
@@ -162,17 +161,22 @@ TEST(JunitXml, StructureAndCounts) {
   EXPECT_EQ(tags["testcase"], 4);
   EXPECT_EQ(tags["failure"], 2);
   EXPECT_EQ(tags["error"], 1);
-  EXPECT_NE(x.find("<testsuites name=\"sylva verify\" tests=\"4\" failures=\"2\" errors=\"1\">"), std::string::npos);
-  EXPECT_NE(x.find("<testsuite name=\"verify.mesh_oak\" tests=\"2\" failures=\"1\" errors=\"0\" skipped=\"0\">"),
+  EXPECT_NE(x.find("<testsuites name=\"sylva verify\" tests=\"4\" failures=\"2\" errors=\"1\">"),
             std::string::npos);
+  EXPECT_NE(
+      x.find("<testsuite name=\"verify.mesh_oak\" tests=\"2\" failures=\"1\" errors=\"0\" skipped=\"0\">"),
+      std::string::npos);
   EXPECT_NE(x.find("<testcase name=\"front\" classname=\"verify.mesh_oak\"/>"), std::string::npos);
-  EXPECT_NE(x.find("<failure type=\"missing_reference\" message=\"no reference image &#39;mesh_birch__front.png&#39; "
-                   "in the references directory\">"),
-            std::string::npos);
+  EXPECT_NE(
+      x.find(
+          "<failure type=\"missing_reference\" message=\"no reference image &#39;mesh_birch__front.png&#39; "
+          "in the references directory\">"),
+      std::string::npos);
   EXPECT_NE(x.find("<failure type=\"image_mismatch\" message=\"12.50% of pixels"), std::string::npos);
   // Text from outside (tinygltf messages) is escaped; control characters are dropped.
   EXPECT_NE(x.find("invalid glTF: &quot;&lt;bad&gt;&quot; &amp;   worse"), std::string::npos);
-  EXPECT_NE(x.find("<property name=\"device\" value=\"llvmpipe &lt;test&gt; &amp; co\"/>"), std::string::npos);
+  EXPECT_NE(x.find("<property name=\"device\" value=\"llvmpipe &lt;test&gt; &amp; co\"/>"),
+            std::string::npos);
 }
 
 // report.html: well formed; one section per case with reference / new / diff figures; images are
@@ -235,10 +239,11 @@ TEST(Base64, Rfc4648) {
 
 TEST(SummaryLine, ListsWhatDidNotPass) {
   Report r = sample_report();
-  EXPECT_EQ(summary_line(r),
-            "3 of 4 views did not pass verification: mesh_oak/side: 12.50% of pixels differ by more than 0.016 "
-            "(allowed 1.00%); mesh_birch/front: no reference image 'mesh_birch__front.png' in the references "
-            "directory; mesh_birch/side: out/x/tree.glb: error: invalid glTF: \"<bad>\" & \x01 worse");
+  EXPECT_EQ(
+      summary_line(r),
+      "3 of 4 views did not pass verification: mesh_oak/side: 12.50% of pixels differ by more than 0.016 "
+      "(allowed 1.00%); mesh_birch/front: no reference image 'mesh_birch__front.png' in the references "
+      "directory; mesh_birch/side: out/x/tree.glb: error: invalid glTF: \"<bad>\" & \x01 worse");
   EXPECT_TRUE(summary_line(r, 1).ends_with("; and 2 more")) << summary_line(r, 1);
   r.cases.resize(1);
   EXPECT_EQ(summary_line(r), "all 1 view passed");

@@ -42,7 +42,8 @@ class VerifyCoreTest : public ::testing::Test {
   // Makes the current outputs the references.
   void accept() {
     for (const auto& name : files_in(out_))
-      if (name.find(".diff.") == std::string::npos) fs::copy_file(out_ / name, refs_ / name, fs::copy_options::overwrite_existing);
+      if (name.find(".diff.") == std::string::npos)
+        fs::copy_file(out_ / name, refs_ / name, fs::copy_options::overwrite_existing);
   }
   fs::path glb(const std::string& name, float tx) {
     const fs::path p = dir_ / (name + ".glb");
@@ -118,9 +119,10 @@ TEST_F(VerifyCoreTest, UnchangedScenePasses) {
   EXPECT_EQ(r.views, (std::vector<std::string>{"front", "side"}));
   EXPECT_EQ(r.width, 100);
   EXPECT_EQ(r.msaa, 1);
-  EXPECT_EQ(files_in(out_), (std::set<std::string>{"birch__front.diff.png", "birch__front.png", "birch__side.diff.png",
-                                                   "birch__side.png", "oak__front.diff.png", "oak__front.png",
-                                                   "oak__side.diff.png", "oak__side.png"}));
+  EXPECT_EQ(files_in(out_),
+            (std::set<std::string>{"birch__front.diff.png", "birch__front.png", "birch__side.diff.png",
+                                   "birch__side.png", "oak__front.diff.png", "oak__front.png",
+                                   "oak__side.diff.png", "oak__side.png"}));
   // One upload (render_views call) per asset, every view in it.
   EXPECT_EQ(renderer_.calls, 4);
   EXPECT_EQ(renderer_.views_drawn, 8);
@@ -207,7 +209,9 @@ TEST_F(VerifyCoreTest, UnreadableReference) {
   sylva::test::write_file(refs_ / "oak__front.png", "not a png");
   const Report r = run({{"oak", glb("oak", 0)}});
   EXPECT_EQ(r.cases[0].status, CaseStatus::kError);
-  EXPECT_EQ(r.cases[0].message.rfind("the reference image cannot be read: " + (refs_ / "oak__front.png").string(), 0), 0u)
+  EXPECT_EQ(r.cases[0].message.rfind(
+                "the reference image cannot be read: " + (refs_ / "oak__front.png").string(), 0),
+            0u)
       << r.cases[0].message;
   EXPECT_TRUE(fs::exists(out_ / "oak__front.png"));
   EXPECT_EQ(r.cases[1].status, CaseStatus::kMissingReference);
@@ -257,7 +261,8 @@ TEST_F(VerifyCoreTest, UnwritableOutput) {
     run_verification({{"oak", glb("oak", 0)}}, testing::small_camera_set(), refs_, {}, env);
     FAIL() << "no exception";
   } catch (const VerifyError& e) {
-    EXPECT_EQ(std::string(e.what()), (dir_ / "no" / "such" / "oak__front.png").string() + ": error: cannot write the file");
+    EXPECT_EQ(std::string(e.what()),
+              (dir_ / "no" / "such" / "oak__front.png").string() + ": error: cannot write the file");
   }
 }
 

@@ -18,7 +18,10 @@ class FakeContext : public StageContext {
  public:
   FakeContext(const StageInfo& info, Value::Object with, std::vector<InputArtifact> inputs, fs::path cameras,
               fs::path refs, fs::path out)
-      : inputs_(std::move(inputs)), cameras_(std::move(cameras)), refs_(std::move(refs)), out_(std::move(out)) {
+      : inputs_(std::move(inputs)),
+        cameras_(std::move(cameras)),
+        refs_(std::move(refs)),
+        out_(std::move(out)) {
     for (const ParamSpec& p : info.params)
       if (!p.required()) params_[p.name] = p.default_value;
     for (auto& [k, v] : with) params_[k] = v;
@@ -121,8 +124,8 @@ TEST_F(VerifyStageTest, Declaration) {
     names.push_back(p.name);
     EXPECT_FALSE(p.doc.empty()) << p.name;
   }
-  EXPECT_EQ(names, (std::vector<std::string>{"cameras", "references", "pixel_threshold", "max_failing_fraction",
-                                             "min_psnr_db", "compare_alpha"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"cameras", "references", "pixel_threshold",
+                                             "max_failing_fraction", "min_psnr_db", "compare_alpha"}));
   EXPECT_EQ(info.params[0].type, ParamType::kPath);
   EXPECT_EQ(info.params[1].type, ParamType::kDir);
   EXPECT_EQ(info.params[2].default_value, Value(0.016));
@@ -150,8 +153,8 @@ TEST_F(VerifyStageTest, PassingRunWritesEverything) {
                          "mesh_oak__front.png", "mesh_oak__front.diff.png", "mesh_oak__side.png",
                          "mesh_oak__side.diff.png", "lod_oak.lod0__front.png", "lod_oak.lod0__front.diff.png",
                          "lod_oak.lod0__side.png", "lod_oak.lod0__side.diff.png", "lod_oak.lod1__front.png",
-                         "lod_oak.lod1__front.diff.png", "lod_oak.lod1__side.png", "lod_oak.lod1__side.diff.png",
-                         "report.json", "junit.xml", "report.html"}));
+                         "lod_oak.lod1__front.diff.png", "lod_oak.lod1__side.png",
+                         "lod_oak.lod1__side.diff.png", "report.json", "junit.xml", "report.html"}));
   const auto j = nlohmann::json::parse(test::read_file(out_ / "report.json"));
   EXPECT_EQ(j["passed"], true);
   EXPECT_EQ(j["summary"]["cases"], 6);
@@ -175,14 +178,16 @@ TEST_F(VerifyStageTest, FailingRunIsAStageError) {
   accept();
   verify::testing::write_square_glb(dir_ / "mesh_oak" / "tree.glb", 4);  // the oak moved 4 px
   const std::string moved = error_of();
-  EXPECT_EQ(moved.rfind("2 of 6 views did not pass verification: mesh_oak/front: 2.40% of pixels differ by more "
-                        "than 0.016 (allowed 1.00%); mesh_oak/side: 2.40%",
-                        0),
-            0u)
+  EXPECT_EQ(
+      moved.rfind("2 of 6 views did not pass verification: mesh_oak/front: 2.40% of pixels differ by more "
+                  "than 0.016 (allowed 1.00%); mesh_oak/side: 2.40%",
+                  0),
+      0u)
       << moved;
   // Thresholds come from the parameters.
   EXPECT_NO_THROW(run({{"max_failing_fraction", 0.03}}));
-  EXPECT_NE(error_of({{"min_psnr_db", 60.0}, {"max_failing_fraction", 0.03}}).find("dB is below the minimum 60.00 dB"),
+  EXPECT_NE(error_of({{"min_psnr_db", 60.0}, {"max_failing_fraction", 0.03}})
+                .find("dB is below the minimum 60.00 dB"),
             std::string::npos);
 }
 
@@ -194,7 +199,8 @@ TEST_F(VerifyStageTest, InputWithoutGltfIsAnError) {
 TEST_F(VerifyStageTest, BadCameraSetNamesTheFile) {
   test::write_file(cameras_, "version: 1\nwidth: 0\nheight: 10\nviews: []\n");
   const std::string e = error_of();
-  EXPECT_EQ(e.rfind(cameras_.string() + ":2:8: error: 'width' must be between 1 and 16384, got 0", 0), 0u) << e;
+  EXPECT_EQ(e.rfind(cameras_.string() + ":2:8: error: 'width' must be between 1 and 16384, got 0", 0), 0u)
+      << e;
 }
 
 TEST_F(VerifyStageTest, NoRendererIsAStageError) {
@@ -211,13 +217,16 @@ TEST_F(VerifyStageTest, NoRendererIsAStageError) {
 }
 
 TEST(VerifyThresholds, FromParams) {
-  const verify::Thresholds t = verify::thresholds_from_params(
-      {{"pixel_threshold", 0.02}, {"max_failing_fraction", 0.05}, {"min_psnr_db", 30.0}, {"compare_alpha", false}});
+  const verify::Thresholds t = verify::thresholds_from_params({{"pixel_threshold", 0.02},
+                                                               {"max_failing_fraction", 0.05},
+                                                               {"min_psnr_db", 30.0},
+                                                               {"compare_alpha", false}});
   EXPECT_EQ(t.pixel_threshold, 0.02);
   EXPECT_EQ(t.max_failing_fraction, 0.05);
   EXPECT_EQ(t.min_psnr_db, 30.0);
   EXPECT_FALSE(t.compare_alpha);
-  EXPECT_EQ(verify::thresholds_from_params({{"pixel_threshold", 0}}).pixel_threshold, 0.0);  // ints are reals too
+  EXPECT_EQ(verify::thresholds_from_params({{"pixel_threshold", 0}}).pixel_threshold,
+            0.0);  // ints are reals too
 }
 
 }  // namespace
