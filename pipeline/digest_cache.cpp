@@ -331,6 +331,45 @@ void DigestCache::record(const fs::path& p, const Digest& d, std::int64_t known_
     entries_[key] = Entry{*st, d};
     dirty_ = true;
   }
+  linked_[{st->dev, st->ino}] = {key, d};
+}
+
+void DigestCache::settle_links() {
+  std::lock_guard lock(mu_);
+  if (linked_.empty()) return;  // a no-op linked nothing
+  // The inodes' stats now, after the build's last link (one stat per inode).
+  std::map<std::pair<std::uint64_t, std::uint64_t>, FileInfo> now;
+  for (const auto& [inode, seen] : linked_) {
+    auto cur = fs_.stat(seen.first);
+    if (cur && !cur->is_dir && !cur->is_other && cur->dev == inode.first && cur->ino == inode.second)
+      now.emplace(inode, *cur);
+  }
+  // Another link of one of those inodes: equal in everything but ctime (which links, chmod and
+  // writes change, and a write also changes mtime or size), with the digest this build saw.
+  auto current = [&](const FileInfo& st) -> const FileInfo* {
+    auto it = now.find({st.dev, st.ino});
+    if (it == now.end() || st.is_dir || st.is_other || st.size != it->second.size ||
+        st.mtime_ns != it->second.mtime_ns || st.ctime_ns == it->second.ctime_ns)
+      return nullptr;
+    return &it->second;
+  };
+  std::vector<std::pair<std::string, const FileInfo*>> update;
+  for (const BaseEntry& e : base_)
+    if (const FileInfo* cur = current(e.stat)) {
+      const Digest& d = linked_.at({e.stat.dev, e.stat.ino}).second;
+      if (e.size == d.size && raw_equals_hex(e.hash, d.hash) && !entries_.count(std::string(e.path)))
+        update.emplace_back(std::string(e.path), cur);
+    }
+  for (const auto& [key, entry] : entries_)
+    if (entry)
+      if (const FileInfo* cur = current(entry->stat);
+          cur && entry->digest == linked_.at({cur->dev, cur->ino}).second)
+        update.emplace_back(key, cur);
+  for (const auto& [key, cur] : update) {
+    entries_[key] = Entry{*cur, linked_.at({cur->dev, cur->ino}).second};
+    dirty_ = true;
+  }
+  linked_.clear();
 }
 
 void DigestCache::forget(const fs::path& p) {

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -64,6 +65,15 @@ class DigestCache {
   // the content was written or verified). Stats `p`; keeps nothing if the racy rule fails.
   void record(const std::filesystem::path& p, const Digest& d, std::int64_t known_at);
   void forget(const std::filesystem::path& p);
+  // Publishing hard-links CAS blobs, and every new link of an inode changes its ctime, also under
+  // the records of the other paths that are links of the same blob (two nodes with equal
+  // outputs, a stage passing an input through). Called once at the end of a build, after its
+  // last link: every record of an inode that record() saw this build, with the digest recorded
+  // then and an unchanged size and mtime, takes the inode's current stat. Without it each build
+  // would find those records stale and republish (and re-hash) their nodes, forever. The cost is
+  // the window this build already trusts: an edit that forges mtime between a link and this
+  // call goes unseen, as one between hashing and record() does.
+  void settle_links();
 
   std::optional<PublishedNode> published(const std::string& node);
   void set_published(const std::string& node, PublishedNode p);
@@ -105,6 +115,8 @@ class DigestCache {
   // Changes since load(), by key; nullopt = removed. They shadow the base records.
   std::unordered_map<std::string, std::optional<Entry>> entries_;
   std::unordered_map<std::string, std::optional<PublishedNode>> nodes_;
+  // Inodes record() saw this build ((dev, ino) -> the path and digest it recorded).
+  std::map<std::pair<std::uint64_t, std::uint64_t>, std::pair<std::string, Digest>> linked_;
   bool dirty_ = false;
 };
 

@@ -655,6 +655,7 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
   for (std::size_t i : graph.topo_order())
     if (wanted[i]) summary.nodes.push_back(std::move(reports[i]));
   std::string why;
+  if (!options.dry_run) digests.settle_links();
   if (!options.dry_run && !digests.save(&why))
     errors.push_back("cannot write " + (env.out_dir / ".sylva" / "digests").string() + ": " + why);
   summary.errors = std::move(errors);
