@@ -110,4 +110,67 @@ std::vector<Image> coverage_preserving_mips(const Image& base, float cutoff) {
   return levels;
 }
 
+std::vector<AlphaLevel> box_alpha_mips(const Image& base) {
+  std::vector<AlphaLevel> levels;
+  if (base.empty()) return levels;
+  AlphaLevel l0{base.width(), base.height(), std::vector<float>(base.pixel_count())};
+  const auto& b = base.bytes();
+  for (std::size_t i = 0; i < l0.alpha.size(); ++i) l0.alpha[i] = b[4 * i + 3] / 255.f;
+  levels.push_back(std::move(l0));
+  while (levels.back().width > 1 || levels.back().height > 1) {
+    const AlphaLevel& p = levels.back();
+    AlphaLevel n{std::max(1, p.width / 2), std::max(1, p.height / 2), {}};
+    n.alpha.resize(static_cast<std::size_t>(n.width) * n.height);
+    const int sx = p.width > 1 ? 2 : 1, sy = p.height > 1 ? 2 : 1;
+    for (int y = 0; y < n.height; ++y)
+      for (int x = 0; x < n.width; ++x) {
+        double s = 0;
+        for (int dy = 0; dy < sy; ++dy)
+          for (int dx = 0; dx < sx; ++dx)
+            s += p.alpha[static_cast<std::size_t>(sy * y + dy) * p.width + sx * x + dx];
+        n.alpha[static_cast<std::size_t>(y) * n.width + x] =
+            static_cast<float>(std::round(s / (sx * sy) * 255) / 255);
+      }
+    levels.push_back(std::move(n));
+  }
+  return levels;
+}
+
+namespace {
+
+// Bilinear sample of one level at (u, v) in [0, 1), texel centres at (i + 0.5) / width, REPEAT.
+double bilinear(const AlphaLevel& l, double u, double v) {
+  const double x = u * l.width - 0.5, y = v * l.height - 0.5;
+  const double fx0 = std::floor(x), fy0 = std::floor(y);
+  const double fx = x - fx0, fy = y - fy0;
+  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  const int x0 = wrap(static_cast<int>(fx0), l.width), x1 = wrap(static_cast<int>(fx0) + 1, l.width);
+  const int y0 = wrap(static_cast<int>(fy0), l.height), y1 = wrap(static_cast<int>(fy0) + 1, l.height);
+  auto at = [&](int i, int j) { return l.alpha[static_cast<std::size_t>(j) * l.width + i]; };
+  return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) +
+         fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1));
+}
+
+}  // namespace
+
+double sampled_alpha_coverage(const std::vector<AlphaLevel>& mips, double lod, float cutoff, int step) {
+  if (mips.empty()) return 0;
+  step = std::max(1, step);
+  lod = std::max(0.0, lod);
+  const std::size_t last = mips.size() - 1;
+  const std::size_t l0 = std::min(last, static_cast<std::size_t>(std::floor(lod)));
+  const std::size_t l1 = std::min(last, l0 + 1);
+  const double t = l0 == last ? 0.0 : lod - std::floor(lod);
+  const int w = mips[0].width, h = mips[0].height;
+  std::size_t pass = 0, n = 0;
+  for (int y = 0; y < h; y += step)
+    for (int x = 0; x < w; x += step, ++n) {
+      const double u = (x + 0.5) / w, v = (y + 0.5) / h;
+      double a = bilinear(mips[l0], u, v);
+      if (t > 0) a = (1 - t) * a + t * bilinear(mips[l1], u, v);
+      pass += a >= cutoff ? 1 : 0;
+    }
+  return static_cast<double>(pass) / static_cast<double>(n);
+}
+
 }  // namespace sylva::image

@@ -1,5 +1,5 @@
-// Mip-safe alpha (mip_safe_alpha.h): a sub-cutoff halo whose gain keeps the coverage of plain
-// box-filtered mipmaps closest to the base level's.
+// Mip-safe alpha (mip_safe_alpha.h): a sub-cutoff halo whose gain keeps the coverage drawn from
+// plain box-filtered mipmaps closest to the base level's.
 #include "stages/generate/mip_safe_alpha.h"
 
 #include <algorithm>
@@ -41,11 +41,18 @@ image::Image to_image(const Rgba8& px) {
   return img;
 }
 
-std::vector<double> level_coverage(const Rgba8& px, float cutoff, std::size_t levels) {
-  const std::vector<image::Image> mips = image::coverage_preserving_mips(to_image(px), 0);
+// Alpha-test coverage as a client draws the atlas at each level of detail of `lods`
+// (sampled_alpha_coverage over the box mipmaps), from 4k to 16k positions whatever the size;
+// from lods[strict] on, against a cutoff 2/255 higher: clients round their coarse levels
+// differently (Mesa's 1 x 1 level of an atlas whose mean alpha is 0.4990 is 127/255), so the
+// levels where a card is drawn whole or not must clear the cutoff by more than rounding.
+std::vector<double> drawn_coverage(const Rgba8& px, float cutoff, const std::vector<double>& lods,
+                                   std::size_t strict) {
+  const std::vector<image::AlphaLevel> mips = image::box_alpha_mips(to_image(px));
+  const int step = std::max(1, static_cast<int>(std::sqrt(double(px.width) * px.height / 4096.0)));
   std::vector<double> c;
-  for (std::size_t l = 0; l < std::min(levels, mips.size()); ++l)
-    c.push_back(image::alpha_coverage(mips[l], cutoff));
+  for (std::size_t i = 0; i < lods.size(); ++i)
+    c.push_back(image::sampled_alpha_coverage(mips, lods[i], i < strict ? cutoff : cutoff + 2.f / 255, step));
   return c;
 }
 
@@ -54,10 +61,15 @@ std::vector<double> level_coverage(const Rgba8& px, float cutoff, std::size_t le
 MipSafety make_mip_safe(Rgba8& atlas, int columns, int rows, float cutoff) {
   MipSafety out;
   const int cw = atlas.width / columns, ch = atlas.height / rows;
-  // Levels while a cell is at least 2 texels across (a card a few pixels wide on screen).
-  std::size_t levels = 1;
-  for (int s = std::min(cw, ch); s >= 4; s /= 2) ++levels;
-  out.coverage_plain = level_coverage(atlas, cutoff, levels);
+  // Levels of detail in half steps until a cell is one texel across its short side, and half a
+  // step beyond: far trees draw their cards there (a card two or three pixels long).
+  for (double lod = 0; lod <= std::log2(std::min(cw, ch)) + 0.5 + 1e-9; lod += 0.5) out.lods.push_back(lod);
+  const std::size_t fitted = out.lods.size();
+  // Beyond, down to the 1 x 1 level, a texel covers a cell or more: a card is drawn whole or not.
+  for (double lod = out.lods.back() + 0.5; lod <= std::log2(std::max(atlas.width, atlas.height)) + 1e-9;
+       lod += 0.5)
+    out.lods.push_back(lod);
+  out.coverage_plain = drawn_coverage(atlas, cutoff, out.lods, fitted);
   // The blurred leaf mask of every texel, cell by cell, for a blur radius.
   auto blurred = [&](int r) {
     std::vector<double> halo(static_cast<std::size_t>(atlas.width) * atlas.height, 0.0);
@@ -87,31 +99,44 @@ MipSafety make_mip_safe(Rgba8& atlas, int columns, int rows, float cutoff) {
     }
     return t;
   };
-  // The blur radius and gain whose levels' coverage stays closest (worst relative error) to the
-  // base level's. The gain may exceed the cutoff: the halo is clamped just under it, so a larger
-  // gain widens the plateau of the halo, not its height.
+  // The error of a coverage curve: the largest factor, either way, between the coverage drawn at
+  // a fitted level of detail and the base level's (|ln(c / c0)|; a level where the cards vanish
+  // is infinitely wrong), thinning and thickening by the same factor weighing the same; past the
+  // fitted levels, where a card is drawn whole or not at all, cards must be drawn (coverage at
+  // least the base level's: a denser crown is the lesser error than a bare tree), else the curve
+  // counts as worse than any curve that draws them.
   const double c0 = out.coverage_plain.empty() ? 0 : out.coverage_plain[0];
   auto error = [&](const std::vector<double>& c) {
     double e = 0;
-    for (std::size_t l = 1; l < c.size(); ++l) e = std::max(e, std::abs(c[l] - c0) / std::max(c0, 1e-9));
+    for (std::size_t l = 1; l < fitted; ++l)
+      e = std::max(e, c[l] > 0 && c0 > 0 ? std::abs(std::log(c[l] / c0)) : HUGE_VAL);
+    for (std::size_t l = fitted; l < c.size(); ++l)
+      if (c[l] < c0) e += 1e6;
     return e;
   };
+  // The blur radius (a third of a cell to a whole cell: the coarse levels average whole cells, so
+  // the reserve must reach across the gaps between a twig's leaves) and the gain with the least
+  // error. The gain may exceed the cutoff: the halo is clamped just under it, so a larger gain
+  // widens the plateau of the halo, not its height. Gains in steps of cutoff / 4, then refined
+  // to cutoff / 8 around the best.
   double best_gain = 0, best_error = error(out.coverage_plain);
   int best_radius = 0;
   std::vector<double> best = out.coverage_plain;
-  for (int r : {std::max(1, cw / 24), std::max(1, cw / 12), std::max(1, cw / 6), std::max(1, cw / 3)}) {
-    const std::vector<double> halo = blurred(r);
-    for (int k = 1; k <= 16; ++k) {
-      const double gain = cutoff * k / 8.0;
-      const std::vector<double> c = level_coverage(apply(halo, gain), cutoff, levels);
-      const double e = error(c);
-      if (e < best_error) {
-        best_error = e;
-        best_gain = gain;
-        best_radius = r;
-        best = c;
-      }
+  auto consider = [&](int r, const std::vector<double>& halo, double gain) {
+    const std::vector<double> c = drawn_coverage(apply(halo, gain), cutoff, out.lods, fitted);
+    const double e = error(c);
+    if (e < best_error) {
+      best_error = e, best_gain = gain, best_radius = r, best = c;
     }
+  };
+  for (int r : {std::max(1, cw / 3), std::max(1, cw / 2), cw}) {
+    const std::vector<double> halo = blurred(r);
+    for (int k = 1; k <= 16; ++k) consider(r, halo, cutoff * k / 4.0);
+  }
+  if (best_gain > 0) {
+    const std::vector<double> halo = blurred(best_radius);
+    const double g = best_gain;
+    for (double d : {-1.0, 1.0}) consider(best_radius, halo, g + d * cutoff / 8.0);
   }
   out.gain = best_gain;
   out.radius = best_radius;

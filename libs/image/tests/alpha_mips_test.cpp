@@ -50,5 +50,35 @@ TEST(AlphaMips, TransparentTexelsDoNotDarken) {
   EXPECT_EQ(mips[1].at(0, 0).g, 100);
 }
 
+// The plain chain as clients build it: 2 x 2 means stored in 8 bits, down to 1 x 1. Sampled at
+// lod 0 it is the base's coverage exactly; at lod 1 every sample is the mean of a 2 x 2 block
+// (texel centres of level 1 fall between base texels), so a checkerboard of 0 and 1 (mean 1/2,
+// stored 128/255) passes a 0.5 cutoff everywhere and a 0.6 cutoff nowhere; between two levels
+// the alpha is interpolated linearly.
+TEST(AlphaMips, BoxChainAndDrawnCoverage) {
+  Image img(4, 2, {0, 0, 0, 0});
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x)
+      if ((x + y) % 2 == 0) img.set(x, y, {0, 0, 0, 255});
+  const std::vector<AlphaLevel> mips = box_alpha_mips(img);
+  ASSERT_EQ(mips.size(), 3u);  // 4x2, 2x1, 1x1
+  EXPECT_EQ(mips[1].width, 2);
+  EXPECT_EQ(mips[1].height, 1);
+  EXPECT_FLOAT_EQ(mips[1].alpha[0], 128 / 255.f);
+  EXPECT_EQ(mips[2].width, 1);
+  EXPECT_DOUBLE_EQ(sampled_alpha_coverage(mips, 0, 0.5f), 0.5);
+  EXPECT_DOUBLE_EQ(sampled_alpha_coverage(mips, 1, 0.5f), 1.0);
+  EXPECT_DOUBLE_EQ(sampled_alpha_coverage(mips, 1, 0.6f), 0.0);
+  EXPECT_DOUBLE_EQ(sampled_alpha_coverage(mips, 9, 0.5f), 1.0);  // past the last level: 1 x 1
+  // Half way from lod 0 to 1: covered texels 0.5 x 1 + 0.5 x 0.502 pass 0.7, gaps (0.251) do not.
+  EXPECT_DOUBLE_EQ(sampled_alpha_coverage(mips, 0.5, 0.7f), 0.5);
+  // The blades lose coverage on the plain chain as drawn, more than the stored texels show.
+  const Image base = blades(128);
+  const std::vector<AlphaLevel> chain = box_alpha_mips(base);
+  const double c0 = sampled_alpha_coverage(chain, 0, 0.5f);
+  EXPECT_NEAR(c0, alpha_coverage(base, 0.5f), 1e-12);
+  EXPECT_LT(sampled_alpha_coverage(chain, 3, 0.5f), 0.5 * c0);
+}
+
 }  // namespace
 }  // namespace sylva::image
