@@ -4,12 +4,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <set>
 #include <sstream>
+#include <variant>
 
 namespace sylva::generate {
 
@@ -94,110 +96,109 @@ class Reader {
     fail(n.Mark(), key + ": '" + s + "' is not one of " + list);
   }
 
+  // A numeric key of a parameter block and the member of `S` it sets (real or integer).
+  template <class S>
+  struct Field {
+    const char* key;
+    std::variant<double S::*, int S::*> member;
+  };
+  template <class S, std::size_t N>
+  static std::set<std::string> keys_of(const std::array<Field<S>, N>& fields,
+                                       std::initializer_list<const char*> extra = {}) {
+    std::set<std::string> keys(extra.begin(), extra.end());
+    for (const Field<S>& f : fields) keys.insert(f.key);
+    return keys;
+  }
+  // Sets the member `key` names from `v`; false when `key` is not in `fields`.
+  template <class S, std::size_t N>
+  bool set_field(const std::array<Field<S>, N>& fields, const std::string& key, const YAML::Node& v,
+                 S& s) const {
+    for (const Field<S>& f : fields) {
+      if (key != f.key) continue;
+      if (const auto* d = std::get_if<double S::*>(&f.member))
+        s.** d = real(v, key);
+      else
+        s.*std::get<int S::*>(f.member) = integer(v, key);
+      return true;
+    }
+    return false;
+  }
+
+  static constexpr std::array<Field<Preset>, 16> kParams{{
+      {"Shape", &Preset::shape},
+      {"Levels", &Preset::levels},
+      {"Scale", &Preset::scale},
+      {"ScaleV", &Preset::scale_v},
+      {"BaseSize", &Preset::base_size},
+      {"Ratio", &Preset::ratio},
+      {"Flare", &Preset::flare},
+      {"BaseSplits", &Preset::base_splits},
+      {"AttractionUp", &Preset::attraction_up},
+      {"TreeShapeExponent", &Preset::tree_shape_exponent},
+      {"Leaves", &Preset::leaves},
+      {"LeafScale", &Preset::leaf_scale},
+      {"LeafScaleX", &Preset::leaf_scale_x},
+      {"LeafAreaIndex", &Preset::leaf_area_index},
+      {"FoliageZone", &Preset::foliage_zone},
+      {"CardScale", &Preset::card_scale},
+  }};
+  static constexpr std::array<Field<LevelParams>, 14> kLevel{{
+      {"Branches", &LevelParams::branches},
+      {"Length", &LevelParams::length},
+      {"LengthV", &LevelParams::length_v},
+      {"Taper", &LevelParams::taper},
+      {"SegSplits", &LevelParams::seg_splits},
+      {"SplitAngleV", &LevelParams::split_angle_v},
+      {"CurveRes", &LevelParams::curve_res},
+      {"Curve", &LevelParams::curve},
+      {"CurveV", &LevelParams::curve_v},
+      {"CurveBack", &LevelParams::curve_back},
+      {"DownAngleV", &LevelParams::down_angle_v},
+      {"Rotate", &LevelParams::rotate},
+      {"RotateV", &LevelParams::rotate_v},
+      {"BranchRatio", &LevelParams::branch_ratio},
+  }};
+  static constexpr std::array<Field<LeafLevelParams>, 4> kLeaf{{
+      {"DownAngleV", &LeafLevelParams::down_angle_v},
+      {"Rotate", &LeafLevelParams::rotate},
+      {"RotateV", &LeafLevelParams::rotate_v},
+      {"BranchRatio", &LeafLevelParams::branch_ratio},
+  }};
+
   // `params:` (shared or per age) merged onto `p`; `marks` records where each key was set.
   void apply_params(const YAML::Node& node, Preset& p, Marks& marks, const std::string& what) const {
-    static const std::set<std::string> keys = {
-        "Shape",     "Levels",    "Scale",      "ScaleV",        "BaseSize",
-        "Ratio",     "Flare",     "BaseSplits", "AttractionUp",  "TreeShapeExponent",
-        "Leaves",    "LeafScale", "LeafScaleX", "LeafAreaIndex", "FoliageZone",
-        "CardScale", "levels",    "leaf"};
+    static const std::set<std::string> keys = keys_of(kParams, {"levels", "leaf"});
     for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
       marks[k] = v.Mark();
-      if (k == "Shape")
-        p.shape = integer(v, k);
-      else if (k == "Levels")
-        p.levels = integer(v, k);
-      else if (k == "Scale")
-        p.scale = real(v, k);
-      else if (k == "ScaleV")
-        p.scale_v = real(v, k);
-      else if (k == "BaseSize")
-        p.base_size = real(v, k);
-      else if (k == "Ratio")
-        p.ratio = real(v, k);
-      else if (k == "Flare")
-        p.flare = real(v, k);
-      else if (k == "BaseSplits")
-        p.base_splits = integer(v, k);
-      else if (k == "AttractionUp")
-        p.attraction_up = real(v, k);
-      else if (k == "TreeShapeExponent")
-        p.tree_shape_exponent = real(v, k);
-      else if (k == "Leaves")
-        p.leaves = real(v, k);
-      else if (k == "LeafScale")
-        p.leaf_scale = real(v, k);
-      else if (k == "LeafScaleX")
-        p.leaf_scale_x = real(v, k);
-      else if (k == "LeafAreaIndex")
-        p.leaf_area_index = real(v, k);
-      else if (k == "FoliageZone")
-        p.foliage_zone = real(v, k);
-      else if (k == "CardScale")
-        p.card_scale = real(v, k);
-      else if (k == "leaf")
+      if (set_field(kParams, k, v, p)) return;
+      if (k == "leaf") {
         apply_leaf(v, p.leaf, marks, what + ".leaf");
-      else if (k == "levels") {
-        if (!v.IsSequence()) fail(v.Mark(), what + ".levels: expected a list (index 0 = trunk)");
-        if (v.size() > 8) fail(v.Mark(), what + ".levels: at most 8 levels");
-        if (p.level.size() < v.size())
-          p.level.resize(v.size(), p.level.empty() ? LevelParams{} : p.level.back());
-        for (std::size_t i = 0; i < v.size(); ++i)
-          apply_level(v[i], p.level[i], marks, "levels[" + std::to_string(i) + "]", what);
+        return;
       }
+      // k == "levels"
+      if (!v.IsSequence()) fail(v.Mark(), what + ".levels: expected a list (index 0 = trunk)");
+      if (v.size() > 8) fail(v.Mark(), what + ".levels: at most 8 levels");
+      if (p.level.size() < v.size())
+        p.level.resize(v.size(), p.level.empty() ? LevelParams{} : p.level.back());
+      for (std::size_t i = 0; i < v.size(); ++i)
+        apply_level(v[i], p.level[i], marks, "levels[" + std::to_string(i) + "]", what);
     });
   }
 
   void apply_level(const YAML::Node& node, LevelParams& l, Marks& marks, const std::string& key,
                    const std::string& what) const {
-    static const std::set<std::string> keys = {
-        "Branches", "Length", "LengthV",   "Taper",      "SegSplits", "SplitAngleV", "CurveRes",
-        "Curve",    "CurveV", "CurveBack", "DownAngleV", "Rotate",    "RotateV",     "BranchRatio"};
+    static const std::set<std::string> keys = keys_of(kLevel);
     for_each_key(node, what + "." + key, keys, [&](const std::string& k, const YAML::Node& v) {
       marks[key + "." + k] = v.Mark();
-      if (k == "Branches")
-        l.branches = real(v, k);
-      else if (k == "Length")
-        l.length = real(v, k);
-      else if (k == "LengthV")
-        l.length_v = real(v, k);
-      else if (k == "Taper")
-        l.taper = real(v, k);
-      else if (k == "SegSplits")
-        l.seg_splits = real(v, k);
-      else if (k == "SplitAngleV")
-        l.split_angle_v = real(v, k);
-      else if (k == "CurveRes")
-        l.curve_res = integer(v, k);
-      else if (k == "Curve")
-        l.curve = real(v, k);
-      else if (k == "CurveV")
-        l.curve_v = real(v, k);
-      else if (k == "CurveBack")
-        l.curve_back = real(v, k);
-      else if (k == "DownAngleV")
-        l.down_angle_v = real(v, k);
-      else if (k == "Rotate")
-        l.rotate = real(v, k);
-      else if (k == "RotateV")
-        l.rotate_v = real(v, k);
-      else if (k == "BranchRatio")
-        l.branch_ratio = real(v, k);
+      set_field(kLevel, k, v, l);
     });
   }
 
   void apply_leaf(const YAML::Node& node, LeafLevelParams& l, Marks& marks, const std::string& what) const {
-    static const std::set<std::string> keys = {"DownAngleV", "Rotate", "RotateV", "BranchRatio"};
+    static const std::set<std::string> keys = keys_of(kLeaf);
     for_each_key(node, what, keys, [&](const std::string& k, const YAML::Node& v) {
       marks["leaf." + k] = v.Mark();
-      if (k == "DownAngleV")
-        l.down_angle_v = real(v, k);
-      else if (k == "Rotate")
-        l.rotate = real(v, k);
-      else if (k == "RotateV")
-        l.rotate_v = real(v, k);
-      else if (k == "BranchRatio")
-        l.branch_ratio = real(v, k);
+      set_field(kLeaf, k, v, l);
     });
   }
 
