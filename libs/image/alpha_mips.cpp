@@ -143,9 +143,10 @@ double bilinear(const AlphaLevel& l, double u, double v) {
   const double x = u * l.width - 0.5, y = v * l.height - 0.5;
   const double fx0 = std::floor(x), fy0 = std::floor(y);
   const double fx = x - fx0, fy = y - fy0;
-  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
-  const int x0 = wrap(static_cast<int>(fx0), l.width), x1 = wrap(static_cast<int>(fx0) + 1, l.width);
-  const int y0 = wrap(static_cast<int>(fy0), l.height), y1 = wrap(static_cast<int>(fy0) + 1, l.height);
+  // u, v in [0, 1) put x, y in [-0.5, n - 0.5): the texel before 0 is the last one (REPEAT).
+  const int ix = static_cast<int>(fx0), iy = static_cast<int>(fy0);
+  const int x0 = ix < 0 ? l.width - 1 : ix, x1 = ix + 1 >= l.width ? 0 : ix + 1;
+  const int y0 = iy < 0 ? l.height - 1 : iy, y1 = iy + 1 >= l.height ? 0 : iy + 1;
   auto at = [&](int i, int j) { return l.alpha[static_cast<std::size_t>(j) * l.width + i]; };
   return (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) +
          fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1));

@@ -28,7 +28,7 @@ class GenerateStage : public Stage {
  public:
   GenerateStage() {
     info_.name = "generate";
-    info_.version = 4;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json;
+    info_.version = 5;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json;
                         // 3: needle brushes drawn as projections (tuft, spray); 4: mip-safe halo
                         // chosen on drawn (trilinear) coverage down to one texel per cell
     info_.summary = "parametric tree from a species preset (Weber-Penn with da Vinci/Murray rules)";
@@ -135,6 +135,7 @@ class GenerateStage : public Stage {
         {"card_layers", fit.layers},
         {"elements", fit.elements},
         {"atlas_halo_gain", mips.gain},
+        {"atlas_halo_cap", mips.cap},
         {"atlas_mip_lods", mips.lods},
         {"atlas_mip_coverage", mips.coverage},
         {"atlas_mip_coverage_without_halo", mips.coverage_plain}};

@@ -11,8 +11,8 @@
 // cluster of leaves averages above the cutoff while one over open gaps does not. The gain and the
 // blur radius are chosen, as Castaño chooses his scale, so that the coverage the alpha test keeps
 // when a client DRAWS the atlas (image::sampled_alpha_coverage: trilinear samples of the box
-// mipmaps, which average a coarse level once more than its stored texels show) stays within the
-// smallest factor of the base level's at every level of detail down to cells one texel across.
+// mipmaps, which average a coarse level once more than its stored texels show) stays closest
+// (least mean factor) to the base level's at the levels of detail down to cells one texel across.
 // At the coarsest of those levels a cell is one or two texels: a card there is drawn whole or not
 // at all, and drawn whole (a denser crown) is the lesser error than vanishing (a bare tree).
 #pragma once
@@ -25,6 +25,7 @@ namespace sylva::generate {
 
 struct MipSafety {
   double gain = 0;                     // chosen halo gain (the halo is clamped under the cutoff)
+  double cap = 0;                      // chosen halo ceiling (<= the cutoff less 1/255)
   int radius = 0;                      // chosen blur radius (texels)
   std::vector<double> lods;            // levels of detail measured: 0, 0.5, ... (see make_mip_safe)
   std::vector<double> coverage;        // alpha-test coverage drawn at each of `lods`, [0] = base
