@@ -3,7 +3,8 @@
 // impostor stage's impostor.glb with the switch distance of impostor.json), into the files a game
 // ships:
 //   <species>.glb          every kept level in one file, linked by MSFT_lod + MSFT_screencoverage
-//                          (Babylon.js switches levels by them), the impostor last;
+//                          (three.js's MSFT_lod plugin switches by the coverages;
+//                          Babylon.js reads only the ids), the impostor last;
 //   <species>_lod<k>.glb   each kept mesh level alone (Blender, Godot, Unreal and Unity ignore
 //                          MSFT_lod), k = 0.. in chain order;
 //   <species>_impostor.glb the impostor level alone (when there is one);
