@@ -11,18 +11,12 @@
 #include "libs/gltf/writer.h"
 #include "libs/render/gltf_scene.h"
 #include "stages/pack/pack_core.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::pack {
 namespace {
-
-const unsigned char kPng[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49,
-                              0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06,
-                              0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d, 0x24, 0x00, 0x00, 0x00, 0x11, 0x49, 0x44,
-                              0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x51, 0xa1, 0xf1, 0x1f, 0x84, 0x19, 0x60,
-                              0x0c, 0x00, 0x55, 0xe4, 0x09, 0x9d, 0x58, 0x11, 0xe5, 0x51, 0x00, 0x00, 0x00,
-                              0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
 
 gltf::Mesh tube(int rings, int sides, int buffer) {
   gltf::Mesh m;
@@ -66,8 +60,7 @@ double coverage_at(double d) {
 // Writes lod.gltf, lod0.gltf, lod1.gltf, lod0.bin, lod1.bin, bark.png into dir.
 void write_chain(const std::filesystem::path& dir) {
   gltf::Scene s;
-  s.images.push_back(
-      {"bark.png", "image/png", std::string(reinterpret_cast<const char*>(kPng), sizeof kPng), "bark.png"});
+  s.images.push_back({"bark.png", "image/png", test::tiny_png(), "bark.png"});
   gltf::Material bark;
   bark.name = "bark";
   bark.base_color_texture.image = 0;
@@ -150,8 +143,7 @@ TEST(PackCore, WritesTheChainTheLevelsAndLodJson) {
 ImpostorLevelInput impostor(double switch_distance) {
   ImpostorLevelInput im;
   gltf::Scene& s = im.scene;
-  s.images.push_back(
-      {"impostor.png", "image/png", std::string(reinterpret_cast<const char*>(kPng), sizeof kPng), ""});
+  s.images.push_back({"impostor.png", "image/png", test::tiny_png(), ""});
   gltf::Material m;
   m.name = "impostor";
   m.base_color_texture.image = 0;
@@ -181,14 +173,6 @@ ImpostorLevelInput impostor(double switch_distance) {
   return im;
 }
 
-// The JSON chunk of a GLB (the reader refuses meshopt-compressed buffers; the JSON is what we check).
-nlohmann::json glb_json(const std::string& glb) {
-  EXPECT_GE(glb.size(), 20u);
-  std::uint32_t length = 0;
-  std::memcpy(&length, glb.data() + 12, 4);
-  return nlohmann::json::parse(glb.substr(20, length));
-}
-
 TEST(PackCore, TheImpostorEndsTheChain) {
   test::TempDir dir;
   write_chain(dir.path());
@@ -205,7 +189,7 @@ TEST(PackCore, TheImpostorEndsTheChain) {
   }
   // The chain: three level nodes, the root naming the other two, coverage at each next switch
   // distance (the impostor's from its camera), the impostor node's extras.
-  const nlohmann::json chain = glb_json(files[0].bytes);
+  const nlohmann::json chain = test::parse_glb(files[0].bytes).json;
   ASSERT_EQ(chain["scenes"][0]["nodes"].size(), 1u);
   const nlohmann::json& root = chain["nodes"][chain["scenes"][0]["nodes"][0].get<std::size_t>()];
   ASSERT_EQ(root["extensions"]["MSFT_lod"]["ids"].size(), 2u);
@@ -260,7 +244,7 @@ TEST(PackCore, DropsLevelsTheImpostorOrTheSavingRuleMakeUseless) {
             "saves 0.917 of the primitives of the level before it (960 -> 80), less than min_saving 0.95");
   files = pack_species(in, o);
   ASSERT_EQ(files.size(), 3u);
-  const nlohmann::json one = glb_json(files[0].bytes);
+  const nlohmann::json one = test::parse_glb(files[0].bytes).json;
   ASSERT_EQ(one["nodes"].size(), 1u);
   EXPECT_EQ(one["nodes"][0]["extras"]["MSFT_screencoverage"], nlohmann::json::array({0.0}));
   EXPECT_FALSE(one["nodes"][0].contains("extensions"));
