@@ -100,6 +100,7 @@ std::string media_type_for(std::string_view path) {
   if (ends_with(path, ".json")) return "application/json";
   if (ends_with(path, ".png")) return "image/png";
   if (ends_with(path, ".ktx2")) return "image/ktx2";
+  if (ends_with(path, ".yaml")) return "application/yaml";
   return "application/octet-stream";
 }
 
@@ -150,13 +151,39 @@ std::string write_manifest(const Manifest& manifest) {
     check(s->chain);
     check(s->lod_json);
     for (const auto& l : s->levels) check(l);
-    js.push_back({{"name", s->name}, {"chain", s->chain}, {"lod_json", s->lod_json}, {"levels", s->levels}});
+    json e = {{"name", s->name}, {"chain", s->chain}, {"lod_json", s->lod_json}, {"levels", s->levels}};
+    if (!s->impostor.empty()) {
+      check(s->impostor);
+      e["impostor"] = s->impostor;
+    }
+    js.push_back(std::move(e));
   }
-  const json j = {{"format", "sylva-pack-manifest"},
-                  {"version", manifest.version},
-                  {"files", std::move(jf)},
-                  {"species", std::move(js)},
-                  {"total_bytes", manifest.total_bytes()}};
+  std::vector<const ForestEntry*> forests;
+  for (const auto& f : manifest.forests) forests.push_back(&f);
+  std::sort(forests.begin(), forests.end(),
+            [](const ForestEntry* a, const ForestEntry* b) { return a->name < b->name; });
+  json jforests = json::array();
+  for (const ForestEntry* f : forests) {
+    auto check = [&](const std::string& p) {
+      if (!listed.count(p))
+        throw ManifestError("manifest: forest '" + f->name + "' names '" + p + "', which is not in the pack");
+    };
+    check(f->tileset);
+    check(f->instances);
+    std::vector<std::string> tiles = f->tiles, all = f->files;
+    std::sort(tiles.begin(), tiles.end());
+    std::sort(all.begin(), all.end());
+    for (const auto& p : tiles) check(p);
+    for (const auto& p : all) check(p);
+    jforests.push_back({{"name", f->name},
+                        {"tileset", f->tileset},
+                        {"instances", f->instances},
+                        {"tiles", tiles},
+                        {"files", all}});
+  }
+  const json j = {{"format", "sylva-pack-manifest"}, {"version", manifest.version},
+                  {"files", std::move(jf)},          {"species", std::move(js)},
+                  {"forests", std::move(jforests)},  {"total_bytes", manifest.total_bytes()}};
   return j.dump(2) + "\n";
 }
 
@@ -182,10 +209,11 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
   if (r.string(j, "(root)", "format") != "sylva-pack-manifest")
     r.fail("format", "expected \"sylva-pack-manifest\"");
   const std::uint64_t version = r.unsigned_integer(j, "(root)", "version");
-  if (version != kManifestVersion)
-    r.fail("version", std::to_string(version) + " is not supported (this sylva reads version " +
+  if (version != 1 && version != kManifestVersion)
+    r.fail("version", std::to_string(version) + " is not supported (this sylva reads versions 1 to " +
                           std::to_string(kManifestVersion) + ")");
   Manifest m;
+  m.version = static_cast<int>(version);
   std::set<std::string> paths;
   const json& files = r.array(j, "(root)", "files");
   for (std::size_t i = 0; i < files.size(); ++i) {
@@ -227,7 +255,34 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
       if (!levels[k].is_string()) r.fail(at, "expected a string");
       e.levels.push_back(listed(levels[k].get<std::string>(), at));
     }
+    if (s.is_object() && s.contains("impostor"))
+      e.impostor = listed(r.path(s, where, "impostor"), where + ".impostor");
     m.species.push_back(std::move(e));
+  }
+  if (version >= 2) {
+    const json& forests = r.array(j, "(root)", "forests");
+    for (std::size_t i = 0; i < forests.size(); ++i) {
+      const std::string where = "forests[" + std::to_string(i) + "]";
+      const json& f = forests[i];
+      ForestEntry e;
+      e.name = r.string(f, where, "name");
+      auto listed = [&](const std::string& p, const std::string& at) {
+        if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
+        return p;
+      };
+      e.tileset = listed(r.path(f, where, "tileset"), where + ".tileset");
+      e.instances = listed(r.path(f, where, "instances"), where + ".instances");
+      for (const char* key : {"tiles", "files"}) {
+        const json& list = r.array(f, where, key);
+        std::vector<std::string>& into = std::string(key) == "tiles" ? e.tiles : e.files;
+        for (std::size_t k = 0; k < list.size(); ++k) {
+          const std::string at = where + "." + key + "[" + std::to_string(k) + "]";
+          if (!list[k].is_string()) r.fail(at, "expected a string");
+          into.push_back(listed(list[k].get<std::string>(), at));
+        }
+      }
+      m.forests.push_back(std::move(e));
+    }
   }
   const std::uint64_t total = r.unsigned_integer(j, "(root)", "total_bytes");
   if (total != m.total_bytes())

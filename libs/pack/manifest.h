@@ -23,7 +23,7 @@
 
 namespace sylva::pack {
 
-inline constexpr int kManifestVersion = 1;
+inline constexpr int kManifestVersion = 2;  // reads 1 (no forests) and 2
 
 // A manifest that cannot be read: what() names the file and the JSON element.
 class ManifestError : public std::runtime_error {
@@ -54,13 +54,27 @@ struct SpeciesEntry {
   std::string chain;                // the MSFT_lod file, e.g. "oak.glb"
   std::string lod_json;             // e.g. "oak.lod.json"
   std::vector<std::string> levels;  // one file per level, nearest first: "oak_lod0.glb", ...
+  // the impostor level's file (also the last of `levels`), empty when the chain has none
+  std::string impostor;
   friend bool operator==(const SpeciesEntry&, const SpeciesEntry&) = default;
+};
+
+// One forest in the pack (a `forest` artifact's files, copied under their own names: its glTF
+// tiles name the species' level files and .bin buffers by those names).
+struct ForestEntry {
+  std::string name;                // e.g. "forest"
+  std::string tileset;             // the 3D Tiles tileset, e.g. "tileset.json"
+  std::string instances;           // instances.json
+  std::vector<std::string> tiles;  // the tile glTF files (tile_<ix>_<iz>_lod<L>.gltf), sorted
+  std::vector<std::string> files;  // every file of the forest (tiles and tileset included), sorted
+  friend bool operator==(const ForestEntry&, const ForestEntry&) = default;
 };
 
 struct Manifest {
   int version = kManifestVersion;
   std::vector<FileEntry> files;       // sorted by path on write
   std::vector<SpeciesEntry> species;  // sorted by name on write
+  std::vector<ForestEntry> forests;   // sorted by name on write
   std::uint64_t total_bytes() const;  // sum of the files' sizes (written, checked on read)
   const FileEntry* file(std::string_view path) const;
   friend bool operator==(const Manifest&, const Manifest&) = default;
@@ -70,11 +84,12 @@ struct Manifest {
 FileEntry describe_file(std::string path, std::string_view bytes, Producer producer);
 
 // "model/gltf-binary" (.glb), "model/gltf+json" (.gltf), "application/json" (.json),
-// "image/png", "image/ktx2", "application/octet-stream" (.bin and anything else).
+// "image/png", "image/ktx2", "application/yaml" (.yaml), "application/octet-stream" (.bin and
+// anything else).
 std::string media_type_for(std::string_view path);
 
 // Canonical bytes (header comment). Throws ManifestError when two files share a path, or a
-// species names a file the manifest does not list.
+// species or forest names a file the manifest does not list.
 std::string write_manifest(const Manifest& manifest);
 
 // Parses manifest bytes; `source` names them in messages ("out/x/pack/manifest.json"). Checks the

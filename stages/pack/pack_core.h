@@ -1,14 +1,26 @@
 // Stage `pack`'s core (issue 14; docs/stages/pack.md): one species' LOD chain, as the lod stage
-// wrote it (lod.gltf with MSFT_lod over lod<i>.gltf levels), into the files a game ships:
-//   <species>.glb        every level in one file, linked by MSFT_lod + MSFT_screencoverage
-//                        (Babylon.js switches levels by them);
-//   <species>_lod<i>.glb each level alone (Blender, Godot, Unreal and Unity ignore MSFT_lod);
-//   <species>.lod.json   engine-neutral: levels, switch distances, screen coverage, sizes.
+// wrote it (lod.gltf with MSFT_lod over lod<i>.gltf levels), and optionally its impostor (the
+// impostor stage's impostor.glb with the switch distance of impostor.json), into the files a game
+// ships:
+//   <species>.glb          every kept level in one file, linked by MSFT_lod + MSFT_screencoverage
+//                          (three.js's MSFT_lod plugin switches by the coverages;
+//                          Babylon.js reads only the ids), the impostor last;
+//   <species>_lod<k>.glb   each kept mesh level alone (Blender, Godot, Unreal and Unity ignore
+//                          MSFT_lod), k = 0.. in chain order;
+//   <species>_impostor.glb the impostor level alone (when there is one);
+//   <species>.lod.json     engine-neutral: levels, switch distances, screen coverage, sizes.
+// Levels kept (select_levels): mesh level 0; every further mesh level whose switch distance lies
+// before the impostor's (from there the impostor is proven and has fewer primitives) and that
+// saves at least min_saving of the primitives of the level kept before it (otherwise the finer
+// level, proven from its own switch distance on, is drawn instead); the impostor when it saves
+// min_saving over the last kept mesh level.
 // Every mesh is reordered by meshoptimizer (vertex cache, overdraw, fetch) and compressed as
 // asked; textures are the lod stage's PNGs, byte for byte. Pure over the scenes read from the
 // lod files: no file system, no clock.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +44,20 @@ struct PackOptions {
   double position_error = 0.25;  // (0, 1]
   int normal_bits = 8;           // 1..16
   int texcoord_bits = 12;        // 1..16
+  // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
+  // kept before it; [0, 1).
+  double min_saving = 0.1;
+};
+
+// The impostor level: impostor.glb read back, and impostor.json's numbers (libs/impostor).
+struct ImpostorLevelInput {
+  gltf::Scene scene;                // impostor.glb
+  std::string kind;                 // impostor.json kind ("billboards", "hemi_octahedral", ...)
+  double epsilon_m = 0;             // impostor.json error.epsilon_m()
+  double pixel_error_px = 0;        // delta
+  double switch_distance_m = 0;     // from here on the impostor is within delta px
+  double fov_y_rad = 0;             // the camera its switch distance is for
+  std::vector<std::string> inputs;  // input files (impostor.json, impostor.glb)
 };
 
 // The position grid for a mesh at a level of spatial error `epsilon` (m): the fewest bits B
@@ -57,11 +83,26 @@ struct SpeciesInput {
   std::vector<gltf::Scene> levels;                     // lod<i>.gltf, i = 0..n-1
   std::vector<std::vector<std::string>> level_inputs;  // input files of each level (gltf, bin, png)
   std::vector<std::string> chain_inputs;               // input files of the chain
+  std::optional<ImpostorLevelInput> impostor;          // the chain's last level, when given
 };
 
-// The species' files: chain GLB, level GLBs (nearest first), lod.json; in that order. Throws
-// std::invalid_argument when the chain is not an MSFT_lod chain over the levels (its root node
-// names n-1 others, each node holds a level with epsilon_m and switch_distance_m extras).
+// What select_levels decided for one candidate level (mesh levels in lod order, then the impostor).
+struct LevelChoice {
+  bool impostor = false;
+  std::size_t source_level = 0;  // index into SpeciesInput::levels (mesh levels)
+  double switch_distance_m = 0;
+  std::uint64_t primitives = 0;  // triangles + lines + points
+  bool kept = false;
+  std::string reason;  // why a level was dropped (empty when kept)
+};
+// Throws std::invalid_argument like pack_species for a malformed chain.
+std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions& options);
+
+// The species' files: chain GLB, kept level GLBs (nearest first, the impostor last), lod.json; in
+// that order. Throws std::invalid_argument when the chain is not an MSFT_lod chain over the
+// levels (its root node names n-1 others, each node holds a level with epsilon_m and
+// switch_distance_m extras), or when the impostor's camera differs from the chain's (its switch
+// distance would be for another view).
 std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options);
 
 }  // namespace sylva::pack

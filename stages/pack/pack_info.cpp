@@ -5,13 +5,18 @@ namespace sylva {
 StageInfo pack_stage_info() {
   StageInfo info;
   info.name = "pack";
-  info.version = 3;
+  info.version = 4;
   info.summary =
-      "game-ready asset pack: per species an MSFT_lod GLB, one GLB per level and lod.json, "
-      "compressed; manifest.json";
+      "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
+      "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
   info.output_type = "pack";
-  info.outputs = {"*.glb", "*.lod.json", "manifest.json"};
-  info.inputs = {{"lod"}, 1, -1, "one lod chain per species, in `species` order"};
+  // The pack's own files, and a forest's (any name the forest stage writes: it is copied as is).
+  info.outputs = {};
+  info.inputs = {{"lod", "impostor", "forest"},
+                 1,
+                 -1,
+                 "one lod chain per species, in `species` order; optionally one impostor per species (same "
+                 "order: the chain's last level); forests (in `forests` order)"};
   info.params = {
       Param::string_list("species")
           .items(1, std::nullopt)
@@ -27,6 +32,12 @@ StageInfo pack_stage_info() {
           .range(0.001, 1)
           .describe("largest position rounding error, as a fraction of each level's epsilon_m"),
       Param::integer("normal_bits", 8).range(4, 16).describe("bits per octahedral normal component"),
+      Param::real("min_saving", 0.1)
+          .range(0, 0.99)
+          .describe("keep a level only if it saves at least this fraction of the primitives of the level "
+                    "kept before it"),
+      Param::string_list("forests", Value::List{})
+          .describe("the name of each forest input, in `needs` order ([a-z0-9_-]+): the manifest's forests"),
       Param::integer("texcoord_bits", 12)
           .range(8, 16)
           .describe("bits per texture coordinate (uvs in [0, 1])"),

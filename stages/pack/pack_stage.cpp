@@ -1,11 +1,18 @@
-// The adapter of stage `pack`: names each input by `species`, reads its lod files (libs/gltf
-// reader), runs the core and writes the files and manifest.json (libs/pack).
+// The adapter of stage `pack`: names each lod input (and the impostor input beside it) by
+// `species`, reads the lod files and impostor.glb (libs/gltf reader) and impostor.json
+// (libs/impostor), runs the core, copies each forest input's files, and writes manifest.json
+// (libs/pack).
 #include "stages/pack/pack_stage.h"
 
+#include <fnmatch.h>
+
+#include <filesystem>
+#include <map>
 #include <regex>
 #include <set>
 
 #include "libs/gltf/reader.h"
+#include "libs/impostor/impostor_json.h"
 #include "libs/pack/manifest.h"
 #include "stages/pack/pack_core.h"
 #include "stages/pack/pack_info.h"
@@ -21,10 +28,23 @@ class PackStage : public Stage {
 
   void run(StageContext& ctx) const override {
     const Value::List& names = ctx.param("species").as_list();
-    const auto& inputs = ctx.inputs();
-    if (names.size() != inputs.size())
+    const Value::List& forest_names = ctx.param("forests").as_list();
+    std::vector<const InputArtifact*> lods, impostors, forests;
+    for (const InputArtifact& in : ctx.inputs())
+      (in.type == "impostor" ? impostors : in.type == "forest" ? forests : lods).push_back(&in);
+    if (names.size() != lods.size())
       throw StageError("`species` names " + std::to_string(names.size()) + " species but the node has " +
-                       std::to_string(inputs.size()) + " inputs (one name per input, in `needs` order)");
+                       std::to_string(lods.size()) +
+                       " lod inputs (one name per lod input, in `needs` order)");
+    if (!impostors.empty() && impostors.size() != lods.size())
+      throw StageError(
+          "the node has " + std::to_string(impostors.size()) + " impostor inputs for " +
+          std::to_string(lods.size()) +
+          " lod inputs (none, or one per species: the i-th impostor input ends species[i]'s chain)");
+    if (forest_names.size() != forests.size())
+      throw StageError("`forests` names " + std::to_string(forest_names.size()) +
+                       " forests but the node has " + std::to_string(forests.size()) +
+                       " forest inputs (one name per forest input, in `needs` order)");
     pack::PackOptions options;
     const std::string& c = ctx.string("compression");
     options.compression = c == "none"    ? pack::Compression::kNone
@@ -35,29 +55,56 @@ class PackStage : public Stage {
     options.position_error = ctx.real("position_error");
     options.normal_bits = static_cast<int>(ctx.integer("normal_bits"));
     options.texcoord_bits = static_cast<int>(ctx.integer("texcoord_bits"));
+    options.min_saving = ctx.real("min_saving");
 
     static const std::regex kName("[a-z0-9_-]+");
     std::set<std::string> seen;
+    std::map<std::string, std::string> written;  // output name -> what wrote it (collisions)
+    auto claim = [&](const std::string& name, const std::string& what) {
+      const auto [it, fresh] = written.emplace(name, what);
+      if (!fresh)
+        throw StageError("two files of the pack are named '" + name + "': " + it->second + " and " + what);
+    };
     pack::Manifest manifest;
-    for (std::size_t k = 0; k < inputs.size(); ++k) {
+    for (std::size_t k = 0; k < lods.size(); ++k) {
       const std::string& species = names[k].as_string();
       if (!std::regex_match(species, kName))
         throw StageError("`species` entry '" + species.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
       if (!seen.insert(species).second) throw StageError("`species` names '" + species + "' twice");
-      const InputArtifact& in = inputs[k];
+      const InputArtifact& in = *lods[k];
+      const InputArtifact* imp = impostors.empty() ? nullptr : impostors[k];
       ctx.check_cancelled();
-      const std::vector<pack::PackedFile> files = pack::pack_species(read_species(in, species), options);
+      pack::SpeciesInput s = read_species(in, species);
+      if (imp) s.impostor = read_impostor(*imp);
+      std::vector<pack::PackedFile> files;
+      try {
+        files = pack::pack_species(s, options);
+      } catch (const std::invalid_argument& e) {
+        throw StageError("species '" + species + "' (input '" + in.node + "'" +
+                         (imp ? ", impostor '" + imp->node + "'" : std::string()) + "): " + e.what());
+      }
       ctx.check_cancelled();
-      pack::SpeciesEntry entry{species, files.front().name, files.back().name, {}};
+      pack::SpeciesEntry entry{species, files.front().name, files.back().name, {}, {}};
       for (std::size_t f = 1; f + 1 < files.size(); ++f) entry.levels.push_back(files[f].name);
+      if (imp && entry.levels.back() == species + "_impostor.glb") entry.impostor = entry.levels.back();
       for (const pack::PackedFile& f : files) {
+        claim(f.name, "species '" + species + "'");
         pack::Producer producer{info_.name, info_.version, {}};
-        for (const std::string& name : f.inputs)
-          producer.inputs.emplace(in.type + "/" + name, in.file(name)->digest);
+        for (const std::string& name : f.inputs) {
+          const InputArtifact& from = name.rfind("impostor/", 0) == 0 ? *imp : in;
+          const std::string file = name.rfind("impostor/", 0) == 0 ? name.substr(9) : name;
+          producer.inputs.emplace(from.type + "/" + file, from.file(file)->digest);
+        }
         manifest.files.push_back(pack::describe_file(f.name, f.bytes, std::move(producer)));
         ctx.write_output(f.name, f.bytes);
       }
       manifest.species.push_back(std::move(entry));
+    }
+    for (std::size_t k = 0; k < forests.size(); ++k) {
+      const std::string& name = forest_names[k].as_string();
+      if (!std::regex_match(name, kName))
+        throw StageError("`forests` entry '" + name.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
+      manifest.forests.push_back(copy_forest(ctx, *forests[k], name, claim, manifest));
     }
     ctx.write_output("manifest.json", pack::write_manifest(manifest));
   }
@@ -94,6 +141,70 @@ class PackStage : public Stage {
     s.chain_inputs.insert(s.chain_inputs.end(), shared.begin(), shared.end());
     if (s.levels.empty()) throw StageError("input '" + in.node + "' has no lod0.gltf");
     return s;
+  }
+
+  // impostor.glb (the level every client draws) and impostor.json's error model (libs/impostor).
+  // Input names carry the prefix "impostor/" so that the manifest names the right artifact.
+  static pack::ImpostorLevelInput read_impostor(const InputArtifact& in) {
+    const ArtifactFile* json = in.file("impostor.json");
+    const ArtifactFile* glb = in.file("impostor.glb");
+    if (!json || !glb)
+      throw StageError("input '" + in.node +
+                       "' has no impostor.json and impostor.glb (is it an impostor node?)");
+    pack::ImpostorLevelInput out;
+    try {
+      const impostor::ImpostorInfo info = impostor::read_impostor_json(json->path.string());
+      out.kind = impostor::kind_name(info.kind);
+      out.epsilon_m = info.error.epsilon_m();
+      out.pixel_error_px = info.pixel_error_px;
+      out.switch_distance_m = info.switch_distance_m;
+      out.fov_y_rad = info.camera.fov_y_rad;
+    } catch (const impostor::ImpostorFormatError& e) {
+      throw StageError("input '" + in.node + "': " + e.what());
+    }
+    if (!(out.switch_distance_m > 0) || !(out.epsilon_m > 0))
+      throw StageError("input '" + in.node + "': impostor.json has no positive switch distance and epsilon");
+    try {
+      out.scene = gltf::read_scene(glb->path);
+    } catch (const gltf::ReadError& e) {
+      throw StageError("input '" + in.node + "': " + e.what());
+    }
+    out.inputs = {"impostor/impostor.json", "impostor/impostor.glb"};
+    return out;
+  }
+
+  // Every file of a forest artifact, copied under its own name (its tiles name the species'
+  // level files by those names); the manifest's forest entry lists them.
+  template <class Claim>
+  pack::ForestEntry copy_forest(StageContext& ctx, const InputArtifact& in, const std::string& name,
+                                Claim& claim, pack::Manifest& manifest) const {
+    pack::ForestEntry e;
+    e.name = name;
+    if (!in.file("tileset.json") || !in.file("instances.json"))
+      throw StageError("input '" + in.node +
+                       "' has no tileset.json and instances.json (is it a forest node?)");
+    e.tileset = "tileset.json";
+    e.instances = "instances.json";
+    for (const ArtifactFile& f : in.files) {
+      ctx.check_cancelled();
+      claim(f.name, "forest '" + name + "'");
+      const std::filesystem::path to = ctx.output_path(f.name);
+      std::error_code ec;
+      std::filesystem::copy_file(f.path, to, std::filesystem::copy_options::overwrite_existing, ec);
+      if (ec) throw StageError("cannot copy " + f.path.string() + " into the pack: " + ec.message());
+      const std::uintmax_t size = std::filesystem::file_size(to, ec);
+      if (ec) throw StageError("cannot read " + to.string() + ": " + ec.message());
+      pack::FileEntry entry;
+      entry.path = f.name;
+      entry.sha256 = f.digest;  // a byte-for-byte copy of a verified input file
+      entry.size = size;
+      entry.media_type = pack::media_type_for(f.name);
+      entry.producer = {info_.name, info_.version, {{in.type + "/" + f.name, f.digest}}};
+      manifest.files.push_back(std::move(entry));
+      e.files.push_back(f.name);
+      if (fnmatch("tile_*_lod*.gltf", f.name.c_str(), 0) == 0) e.tiles.push_back(f.name);
+    }
+    return e;
   }
 
   StageInfo info_;

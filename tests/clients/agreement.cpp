@@ -165,7 +165,7 @@ std::string read_all(const fs::path& p) {
 }  // namespace
 
 ClientResult run_threejs(const std::vector<ClientRender>& renders, const std::vector<LodCheck>& lod_checks,
-                         const fs::path& work_dir) {
+                         const fs::path& work_dir, const std::vector<LoadCheck>& load_checks) {
   const render::Lighting li;
   nlohmann::json jobs = {{"width", kViewSize},
                          {"height", kViewSize},
@@ -175,7 +175,10 @@ ClientResult run_threejs(const std::vector<ClientRender>& renders, const std::ve
                            {"light_color", vec(li.light_color)},
                            {"direction_to_light", vec(li.direction_to_light.normalized())}}},
                          {"renders", nlohmann::json::array()},
-                         {"lod_checks", nlohmann::json::array()}};
+                         {"lod_checks", nlohmann::json::array()},
+                         {"load_checks", nlohmann::json::array()}};
+  for (const LoadCheck& l : load_checks)
+    jobs["load_checks"].push_back({{"file", fs::absolute(l.file).string()}, {"msft_lod", l.msft_lod}});
   for (const ClientRender& r : renders) {
     const render::Camera& c = r.camera;
     jobs["renders"].push_back({{"file", fs::absolute(r.file).string()},

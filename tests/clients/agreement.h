@@ -74,8 +74,15 @@ struct ClientResult {
   std::string message;    // stderr of the script on failure
   nlohmann::json result;  // RESULT.json
 };
+// A file three.js only loads (no picture): the primitives it would draw, per MSFT_lod level when
+// msft_lod (RESULT.json "load_checks").
+struct LoadCheck {
+  std::filesystem::path file;
+  bool msft_lod = false;
+};
 ClientResult run_threejs(const std::vector<ClientRender>& renders, const std::vector<LodCheck>& lod_checks,
-                         const std::filesystem::path& work_dir);
+                         const std::filesystem::path& work_dir,
+                         const std::vector<LoadCheck>& load_checks = {});
 
 // One row of the agreement table.
 struct Row {

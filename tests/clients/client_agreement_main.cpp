@@ -116,12 +116,15 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
         }
       }
     }
-    // An asset pack (stage pack): each species' coarsest level file, EXT_meshopt_compression
-    // (three.js decodes it with its MeshoptDecoder, sylva with libs/render/meshopt_decode.h).
+    // An asset pack (stage pack): each species' coarsest mesh level file and its impostor level,
+    // EXT_meshopt_compression (three.js decodes it with its MeshoptDecoder, sylva with
+    // libs/render/meshopt_decode.h). Every pack file is also loaded and counted (pack_loads).
     if (fs::exists(n / "manifest.json")) {
       for (const auto& sp : pack::read_manifest(n / "manifest.json").species) {
-        const std::string f = sp.levels.back();
+        const std::size_t meshes = sp.levels.size() - (sp.impostor.empty() ? 0 : 1);
+        const std::string f = sp.levels[meshes - 1];
         out.push_back({n / f, node + "/" + f, has_lines(gltf_json(n / f)) ? Kind::kLineLevel : Kind::kLevel});
+        if (!sp.impostor.empty()) out.push_back({n / sp.impostor, node + "/" + sp.impostor, Kind::kImpostor});
       }
     }
   }
@@ -172,6 +175,34 @@ fs::path make_control(const fs::path& src, const fs::path& dir, const std::strin
   return out;
 }
 
+// Every GLB of every pack under out_dir, to be loaded by three.js: each species' chain (with the
+// MSFT_lod plugin) and each level file, with the primitives the pack's lod.json says each level has.
+struct PackLoad {
+  clients::LoadCheck check;
+  std::string label;
+  nlohmann::json expected;  // [{triangles, lines}] per level
+};
+std::vector<PackLoad> pack_loads(const fs::path& out_dir) {
+  std::vector<PackLoad> out;
+  std::vector<fs::path> nodes;
+  for (const auto& e : fs::directory_iterator(out_dir))
+    if (e.is_directory() && fs::exists(e.path() / "manifest.json")) nodes.push_back(e.path());
+  std::sort(nodes.begin(), nodes.end());
+  for (const fs::path& n : nodes)
+    for (const auto& sp : pack::read_manifest(n / "manifest.json").species) {
+      const nlohmann::json lod = nlohmann::json::parse(read_all(n / sp.lod_json));
+      nlohmann::json all = nlohmann::json::array();
+      for (const auto& l : lod["levels"])
+        all.push_back({{"triangles", l["triangles"]}, {"lines", l["lines"]}});
+      const std::string node = n.filename().string();
+      out.push_back({{n / sp.chain, true}, node + "/" + sp.chain, all});
+      for (std::size_t i = 0; i < sp.levels.size() && i < all.size(); ++i)
+        out.push_back(
+            {{n / sp.levels[i], false}, node + "/" + sp.levels[i], nlohmann::json::array({all[i]})});
+    }
+  return out;
+}
+
 struct Rendered {
   Subject subject;
   std::vector<render::Camera> cameras;
@@ -189,8 +220,10 @@ int main(int argc, char** argv) {
   const char* req = std::getenv("SYLVA_REQUIRE_CLIENTS");
   const bool require = req && std::string(req) == "1";
   std::vector<Subject> files;
+  std::vector<PackLoad> loads;
   try {
     files = subjects(out_dir);
+    loads = pack_loads(out_dir);
   } catch (const std::exception& e) {
     std::cerr << "sylva_client_agreement: " << out_dir.string() << ": " << e.what() << "\n";
     return 2;
@@ -317,7 +350,9 @@ int main(int argc, char** argv) {
   }
 
   // 4. three.js, all at once (one browser).
-  const clients::ClientResult cr = clients::run_threejs(jobs, lod_checks, report / "work");
+  std::vector<clients::LoadCheck> load_checks;
+  for (const PackLoad& l : loads) load_checks.push_back(l.check);
+  const clients::ClientResult cr = clients::run_threejs(jobs, lod_checks, report / "work", load_checks);
   if (cr.unavailable) {
     std::cout << "three.js is not available: " << cr.message;
     return require ? 1 : 77;
@@ -450,8 +485,29 @@ int main(int argc, char** argv) {
       if (shown != int(i) && !clamped) all_ok = false;
     }
   }
-  std::ofstream(report / "agreement.json")
-      << nlohmann::json{{"rows", table}, {"controls", control_rows}, {"lod", lod_rows}}.dump(2) << "\n";
+  // 8. Every pack GLB loads in three.js and draws the primitives its lod.json names: the chain's
+  // MSFT_lod levels (the impostor last) one by one, and each level file.
+  if (!loads.empty()) std::printf("\npack files in three.js (loaded, primitives counted):\n");
+  nlohmann::json load_rows = nlohmann::json::array();
+  for (std::size_t k = 0; k < loads.size(); ++k) {
+    const nlohmann::json& got = cr.result["load_checks"][k];
+    const nlohmann::json& want = loads[k].expected;
+    nlohmann::json levels = got.value("levels", nlohmann::json::array());
+    bool ok = levels.size() == want.size();
+    for (std::size_t i = 0; ok && i < want.size(); ++i)
+      ok = levels[i]["triangles"] == want[i]["triangles"] && levels[i]["lines"] == want[i]["lines"];
+    std::printf("  %-36s %zu level(s) (lod.json: %zu), primitives %s  %s\n", loads[k].label.c_str(),
+                levels.size(), want.size(), ok ? "as lod.json" : "DIFFER", ok ? "ok" : "WRONG");
+    if (!ok) std::printf("    three.js %s\n    lod.json %s\n", levels.dump().c_str(), want.dump().c_str());
+    all_ok &= ok;
+    load_rows.push_back({{"file", loads[k].label}, {"threejs", levels}, {"lod_json", want}, {"passed", ok}});
+  }
+  std::ofstream(report / "agreement.json") << nlohmann::json{{"rows", table},
+                                                             {"controls", control_rows},
+                                                             {"lod", lod_rows},
+                                                             {"pack_loads", load_rows}}
+                                                  .dump(2)
+                                           << "\n";
   std::printf("\n%s; images in %s\n", all_ok ? "every client agrees" : "DISAGREEMENT (rows above)",
               report.string().c_str());
   return all_ok ? 0 : 1;

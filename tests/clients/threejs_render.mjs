@@ -14,9 +14,14 @@
 //                    "camera": { "eye": [..], "target": [..], "up": [..], "fov_y_deg": 45,
 //                                "near": 0.1, "far": 100 } }, ... ],
 //     "lod_checks": [ { "file": "/abs/lod.gltf", "fov_y_deg": 45, "radius": 24.0,
-//                       "distances": [d, ...] }, ... ] }
+//                       "distances": [d, ...] }, ... ],
+//     "load_checks": [ { "file": "/abs/oak.glb", "msft_lod": true }, ... ] }
 // RESULT.json: { "renders": [{ "out", "ms" }], "lod_checks": [{ "file", "levels", "shown": [level per
-//   distance] }], "renderer": "<WebGL renderer string>" }
+//   distance] }], "load_checks": [{ "file", "levels": [{ "triangles", "lines", "points" }] }],
+//   "renderer": "<WebGL renderer string>" }
+// A load check loads the file as a three.js user would (with the MSFT_lod plugin when msft_lod:
+// then one entry per LOD level the plugin made, else one for the whole scene) and counts the
+// primitives three.js would draw.
 //
 // The page gets every file through Playwright request interception on a made-up origin
 // (http://sylva.invalid/): no server, no network. Lighting matches libs/render's Lighting:
@@ -142,12 +147,37 @@ window.lodJob = async (o, job) => {
   });
   return { levels: lod.levels.length, level_distances: lod.levels.map((l) => l.distance), shown };
 };
+// Triangles, line segments and points three.js draws for the objects under root.
+function counts(root) {
+  const c = { triangles: 0, lines: 0, points: 0 };
+  root.traverse((x) => {
+    const g = x.geometry;
+    if (!g) return;
+    const n = g.index ? g.index.count : g.attributes.position.count;
+    if (x.isLineSegments) c.lines += n / 2;
+    else if (x.isLine) c.lines += Math.max(0, n - 1);
+    else if (x.isPoints) c.points += n;
+    else if (x.isMesh) c.triangles += n / 3;
+  });
+  return c;
+}
+
+window.loadJob = async (o, job) => {
+  const url = '${ORIGIN}/fs' + job.file;
+  if (!job.msft_lod) return { levels: [counts((await loader([]).loadAsync(url)).scene)] };
+  const gltf = await loader([(p) => new GLTFLodExtension(p, { calculateDistance: (level) => level })])
+      .loadAsync(url);
+  let lod = null;
+  gltf.scene.traverse((x) => { if (x.isLOD && !lod) lod = x; });
+  if (!lod) throw new Error(job.file + ': the MSFT_lod plugin made no LOD object');
+  return { levels: lod.levels.map((l) => counts(l.object)) };
+};
 window.setupRenderer = setup;
 window.ready = true;
 </script></body></html>`;
 
 const roots = [modules];
-for (const j of [...(jobs.renders ?? []), ...(jobs.lod_checks ?? [])]) roots.push(path.dirname(path.resolve(j.file)));
+for (const j of [...(jobs.renders ?? []), ...(jobs.lod_checks ?? []), ...(jobs.load_checks ?? [])]) roots.push(path.dirname(path.resolve(j.file)));
 
 function contentType(p) {
   if (p.endsWith('.js') || p.endsWith('.mjs')) return 'text/javascript';
@@ -187,7 +217,7 @@ try {
   await page.goto(ORIGIN + '/');
   await page.waitForFunction(() => window.ready === true, null, { timeout: 60000 });
   const o = { width: jobs.width, height: jobs.height, antialias: jobs.antialias ?? true, lighting: jobs.lighting };
-  const result = { renderer: await page.evaluate((o) => window.setupRenderer(o), o), renders: [], lod_checks: [] };
+  const result = { renderer: await page.evaluate((o) => window.setupRenderer(o), o), renders: [], lod_checks: [], load_checks: [] };
   for (const job of jobs.renders ?? []) {
     const t0 = Date.now();
     try {
@@ -207,6 +237,16 @@ try {
     } catch (e) {
       process.stderr.write(`threejs_render: ${job.file}: ${String(e).split('\n')[0]}\n`);
       result.lod_checks.push({ file: job.file, error: String(e).split('\n')[0] });
+      failed = true;
+    }
+  }
+  for (const job of jobs.load_checks ?? []) {
+    try {
+      const r = await page.evaluate(([o, job]) => window.loadJob(o, job), [o, job]);
+      result.load_checks.push({ file: job.file, ...r });
+    } catch (e) {
+      process.stderr.write(`threejs_render: ${job.file}: ${String(e).split('\n')[0]}\n`);
+      result.load_checks.push({ file: job.file, error: String(e).split('\n')[0] });
       failed = true;
     }
   }

@@ -14,31 +14,15 @@
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/scene.h"
 #include "libs/gltf/writer.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::gltf {
 namespace {
 
-struct Glb {
-  nlohmann::json json;
-  std::string bin;
-};
-
-Glb parse_glb(const std::string& b) {
-  auto le32 = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    std::memcpy(&v, b.data() + at, 4);
-    return static_cast<std::size_t>(v);
-  };
-  Glb out;
-  EXPECT_EQ(b.substr(0, 4), "glTF");
-  EXPECT_EQ(le32(8), b.size());
-  const std::size_t json_len = le32(12);
-  out.json = nlohmann::json::parse(b.substr(20, json_len));
-  if (20 + json_len + 8 <= b.size()) out.bin = b.substr(20 + json_len + 8, le32(20 + json_len));
-  return out;
-}
+using test::Glb;
+using test::parse_glb;
 
 // A wavy n x n grid of triangles (shuffled, so the optimisers have work) and a polyline.
 Scene sample(int n) {

@@ -8,25 +8,17 @@
 #include <cmath>
 
 #include "libs/gltf/writer.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::gltf {
 namespace {
 
-// A 2x2 RGBA PNG.
-const unsigned char kPng[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49,
-                              0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06,
-                              0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d, 0x24, 0x00, 0x00, 0x00, 0x11, 0x49, 0x44,
-                              0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x51, 0xa1, 0xf1, 0x1f, 0x84, 0x19, 0x60,
-                              0x0c, 0x00, 0x55, 0xe4, 0x09, 0x9d, 0x58, 0x11, 0xe5, 0x51, 0x00, 0x00, 0x00,
-                              0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
-
 // Two levels as lod.gltf has them: a mesh of textured triangles and one of lines with a colour
 // per vertex, linked by MSFT_lod, with extras everywhere.
 Scene chain_scene() {
   Scene s;
-  s.images.push_back(
-      {"leaves.png", "image/png", std::string(reinterpret_cast<const char*>(kPng), sizeof kPng), ""});
+  s.images.push_back({"leaves.png", "image/png", test::tiny_png(), ""});
   Material leaf;
   leaf.name = "leaves";
   leaf.base_color = {0.2f, 0.5f, 0.1f, 1};
@@ -86,7 +78,7 @@ TEST(GltfReader, GlbReadsBackToTheSameBytes) {
   EXPECT_EQ(encode(back), bytes);
   ASSERT_EQ(back.nodes.size(), 2u);
   EXPECT_EQ(back.nodes[0].extensions["MSFT_lod"]["ids"][0], 1);
-  EXPECT_EQ(back.images.at(0).bytes.size(), sizeof kPng);  // the PNG as it was, not decoded
+  EXPECT_EQ(back.images.at(0).bytes.size(), test::tiny_png().size());  // the PNG as it was, not decoded
   EXPECT_EQ(back.meshes[1].primitives[0].colors[3], 0.5f);
 }
 

@@ -12,11 +12,15 @@
 #include <cstring>
 
 #include "libs/gltf/scene.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::gltf {
 namespace {
+
+using test::Glb;
+using test::parse_glb;
 
 Node make_node(std::string name, int mesh = -1, std::vector<int> children = {}) {
   Node n;
@@ -31,16 +35,6 @@ WriteOptions gltf_text() {
   o.format = FileFormat::kGltf;
   return o;
 }
-
-// A 2x2 RGBA PNG.
-const unsigned char kPng[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49,
-                              0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06,
-                              0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d, 0x24, 0x00, 0x00, 0x00, 0x11, 0x49, 0x44,
-                              0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x51, 0xa1, 0xf1, 0x1f, 0x84, 0x19, 0x60,
-                              0x0c, 0x00, 0x55, 0xe4, 0x09, 0x9d, 0x58, 0x11, 0xe5, 0x51, 0x00, 0x00, 0x00,
-                              0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
-
-std::string png_bytes() { return std::string(reinterpret_cast<const char*>(kPng), sizeof kPng); }
 
 // An n x n grid of quads in the XZ plane (y = a gentle bump), facing +Y, with every attribute.
 Primitive grid(int n) {
@@ -66,7 +60,7 @@ Primitive grid(int n) {
 
 Scene textured_scene() {
   Scene s;
-  s.images.push_back({"bark.png", "image/png", png_bytes(), ""});
+  s.images.push_back({"bark.png", "image/png", test::tiny_png(), ""});
   Material m;
   m.name = "bark";
   m.base_color_texture.image = 0;
@@ -124,27 +118,6 @@ std::vector<T> read_accessor(const tinygltf::Model& m, int index) {
   return out;
 }
 
-// The JSON and binary chunks of a GLB (tinygltf 2.7 cannot load Draco primitives: it rejects
-// an indices accessor without a buffer view, which is how the extension stores them).
-struct Glb {
-  nlohmann::json json;
-  std::string bin;
-};
-
-Glb parse_glb(const std::string& b) {
-  auto le32 = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    std::memcpy(&v, b.data() + at, 4);
-    return static_cast<std::size_t>(v);
-  };
-  Glb out;
-  EXPECT_EQ(b.substr(0, 4), "glTF");
-  const std::size_t json_len = le32(12);
-  out.json = nlohmann::json::parse(b.substr(20, json_len));
-  if (20 + json_len + 8 <= b.size()) out.bin = b.substr(20 + json_len + 8, le32(20 + json_len));
-  return out;
-}
-
 std::filesystem::path write(const test::TempDir& dir, const std::string& name, const std::string& bytes) {
   const auto path = dir / name;
   test::write_file(path, bytes);
@@ -188,7 +161,7 @@ TEST(GltfWriter, GlbRoundTripsThroughTinygltfAndValidates) {
   const tinygltf::BufferView& iv = m.bufferViews[static_cast<std::size_t>(m.images[0].bufferView)];
   EXPECT_EQ(
       std::string(reinterpret_cast<const char*>(m.buffers[0].data.data() + iv.byteOffset), iv.byteLength),
-      png_bytes());
+      test::tiny_png());
   EXPECT_EQ(m.asset.extras.Get("sylva").Get("stage").Get<std::string>(), "test");
   EXPECT_EQ(m.asset.extras.Get("sylva").Get("statistics").Get("quads").Get<int>(), 16);
   EXPECT_EQ(m.meshes[0].primitives[0].extras.Get("part").Get<std::string>(), "bark");
@@ -213,7 +186,7 @@ TEST(GltfWriter, GltfTextFormIsSelfContained) {
 // remapped. (The oak's LOD chain carried 12 unused materials and the pine's an unused image.)
 TEST(GltfWriter, UnusedMaterialsAndImagesAreNotWritten) {
   Scene s = textured_scene();
-  s.images.insert(s.images.begin(), {"unused.png", "image/png", png_bytes(), ""});
+  s.images.insert(s.images.begin(), {"unused.png", "image/png", test::tiny_png(), ""});
   for (Material& m : s.materials) {
     m.base_color_texture.image = 1;
     m.normal_texture.image = -1;
@@ -246,7 +219,7 @@ TEST(GltfWriter, ExternalBuffersAndImagesAreSharedFiles) {
   ASSERT_EQ(a.resources.size(), 2u);
   EXPECT_EQ(a.resources[0].name, "tree.bin");
   EXPECT_EQ(a.resources[1].name, "bark.png");
-  EXPECT_EQ(a.resources[1].bytes, png_bytes());
+  EXPECT_EQ(a.resources[1].bytes, test::tiny_png());
   const nlohmann::json ja = nlohmann::json::parse(a.gltf);
   EXPECT_EQ(ja["buffers"],
             nlohmann::json::parse(R"([{"byteLength": )" + std::to_string(a.resources[0].bytes.size()) +

@@ -16,7 +16,7 @@ Manifest sample() {
   m.files.push_back(describe_file("oak_lod0.glb", "level zero", p));
   m.files.push_back(describe_file("oak.glb", "chain", p));
   m.files.push_back(describe_file("oak.lod.json", "{}", p));
-  m.species.push_back({"oak", "oak.glb", "oak.lod.json", {"oak_lod0.glb"}});
+  m.species.push_back({"oak", "oak.glb", "oak.lod.json", {"oak_lod0.glb"}, ""});
   return m;
 }
 
@@ -87,8 +87,8 @@ TEST(PackManifest, ReadErrorsNameTheElement) {
     EXPECT_NE(at, std::string::npos) << from;
     return t.replace(at, from.size(), to);
   };
-  EXPECT_EQ(error_of(replaced("\"version\": 1", "\"version\": 7")),
-            "m.json: version: 7 is not supported (this sylva reads version 1)");
+  EXPECT_EQ(error_of(replaced("\"version\": 2", "\"version\": 7")),
+            "m.json: version: 7 is not supported (this sylva reads versions 1 to 2)");
   EXPECT_EQ(error_of(replaced("\"path\": \"oak.glb\"", "\"path\": \"../oak.glb\"")),
             "m.json: files[0].path: '../oak.glb' is not a plain relative path");
   EXPECT_EQ(error_of(replaced("\"size\": 5", "\"size\": -5")),
@@ -100,6 +100,61 @@ TEST(PackManifest, ReadErrorsNameTheElement) {
             "m.json: files[0].sha256: expected 64 lowercase hex digits");
   EXPECT_EQ(error_of(replaced("\"chain\": \"oak.glb\"", "\"chain\": \"pine.glb\"")),
             "m.json: species[0].chain: 'pine.glb' is not in files");
+}
+
+Manifest with_forest() {
+  Manifest m = sample();
+  Producer p{"pack", 4, {{"forest/tileset.json", kDigestA}}};
+  for (const char* name : {"tileset.json", "instances.json", "tile_0_0_lod0.gltf", "tile_0_0.bin"})
+    m.files.push_back(describe_file(name, name, p));
+  m.files.push_back(describe_file("oak_impostor.glb", "cards", p));
+  m.species[0].levels.push_back("oak_impostor.glb");
+  m.species[0].impostor = "oak_impostor.glb";
+  m.forests.push_back({"forest",
+                       "tileset.json",
+                       "instances.json",
+                       {"tile_0_0_lod0.gltf"},
+                       {"instances.json", "tile_0_0.bin", "tile_0_0_lod0.gltf", "tileset.json"}});
+  return m;
+}
+
+TEST(PackManifest, ForestsAndImpostorsRoundTrip) {
+  const Manifest m = with_forest();
+  const std::string text = write_manifest(m);
+  EXPECT_NE(text.find("\"forests\": [\n    {\n      \"files\": [\n        \"instances.json\""),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\"impostor\": \"oak_impostor.glb\""), std::string::npos);
+  const Manifest back = parse_manifest(text, "m.json");
+  EXPECT_EQ(back.forests, m.forests);
+  EXPECT_EQ(back.species, m.species);
+  EXPECT_EQ(back.file("tile_0_0.bin")->media_type, "application/octet-stream");
+  EXPECT_EQ(media_type_for("cameras.yaml"), "application/yaml");
+  // A forest naming an unlisted file is refused on write and on read.
+  Manifest bad = m;
+  bad.forests[0].tiles.push_back("tile_9_9_lod0.gltf");
+  try {
+    write_manifest(bad);
+    FAIL();
+  } catch (const ManifestError& e) {
+    EXPECT_STREQ(e.what(), "manifest: forest 'forest' names 'tile_9_9_lod0.gltf', which is not in the pack");
+  }
+  std::string t = text;
+  const std::string from = "\"tileset\": \"tileset.json\"";
+  t.replace(t.find(from), from.size(), "\"tileset\": \"tiles.json\"");
+  EXPECT_EQ(error_of(t), "m.json: forests[0].tileset: 'tiles.json' is not in files");
+}
+
+TEST(PackManifest, ReadsVersionOneWithoutForests) {
+  std::string text = write_manifest(sample());
+  const std::string v = "\"version\": 2", forests = "\"forests\": [],\n";
+  text.replace(text.find(v), v.size(), "\"version\": 1");
+  ASSERT_NE(text.find(forests), std::string::npos) << text;
+  text.erase(text.find(forests), forests.size());
+  const Manifest back = parse_manifest(text, "m.json");
+  EXPECT_EQ(back.version, 1);
+  EXPECT_TRUE(back.forests.empty());
+  EXPECT_EQ(back.species, sample().species);
 }
 
 TEST(PackManifest, DiffListsAddedChangedRemoved) {

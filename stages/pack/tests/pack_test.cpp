@@ -5,23 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "libs/gltf/reader.h"
 #include "libs/gltf/writer.h"
 #include "libs/render/gltf_scene.h"
 #include "stages/pack/pack_core.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::pack {
 namespace {
-
-const unsigned char kPng[] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49,
-                              0x48, 0x44, 0x52, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06,
-                              0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d, 0x24, 0x00, 0x00, 0x00, 0x11, 0x49, 0x44,
-                              0x41, 0x54, 0x78, 0xda, 0x63, 0x38, 0x51, 0xa1, 0xf1, 0x1f, 0x84, 0x19, 0x60,
-                              0x0c, 0x00, 0x55, 0xe4, 0x09, 0x9d, 0x58, 0x11, 0xe5, 0x51, 0x00, 0x00, 0x00,
-                              0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
 
 gltf::Mesh tube(int rings, int sides, int buffer) {
   gltf::Mesh m;
@@ -54,11 +49,18 @@ gltf::Node level_node(int i, double eps, double d) {
   return n;
 }
 
+// The lod stage's screen coverage at distance d for the chain's camera (45 deg): the bounding
+// sphere of level 0 (tube(40, 12): 0.2 x 8 x 0.2 m) over the screen.
+const double kRadius = 0.5 * std::sqrt(0.2 * 0.2 + 8.0 * 8.0 + 0.2 * 0.2);
+double coverage_at(double d) {
+  const double t = std::tan(0.785398163397448 / 2);
+  return std::min(1.0, 3.141592653589793 * kRadius * kRadius / ((2 * d * t) * (2 * d * t)));
+}
+
 // Writes lod.gltf, lod0.gltf, lod1.gltf, lod0.bin, lod1.bin, bark.png into dir.
 void write_chain(const std::filesystem::path& dir) {
   gltf::Scene s;
-  s.images.push_back(
-      {"bark.png", "image/png", std::string(reinterpret_cast<const char*>(kPng), sizeof kPng), "bark.png"});
+  s.images.push_back({"bark.png", "image/png", test::tiny_png(), "bark.png"});
   gltf::Material bark;
   bark.name = "bark";
   bark.base_color_texture.image = 0;
@@ -67,7 +69,7 @@ void write_chain(const std::filesystem::path& dir) {
   s.buffer_uris = {"lod0.bin", "lod1.bin"};
   s.nodes = {level_node(0, 0.001, 2.5), level_node(1, 0.01, 25)};
   s.nodes[0].extensions = {{"MSFT_lod", {{"ids", {1}}}}};
-  s.nodes[0].extras["MSFT_screencoverage"] = {1.0, 0.05};
+  s.nodes[0].extras["MSFT_screencoverage"] = {coverage_at(25), 0.0};
   s.roots = {0};
   s.extras = {{"sylva_stage", "lod"}};
   const gltf::EncodedFiles chain = gltf::encode_external(s);
@@ -118,7 +120,8 @@ TEST(PackCore, WritesTheChainTheLevelsAndLodJson) {
   }
   const std::string& glb = files[0].bytes;
   EXPECT_NE(glb.find("\"MSFT_lod\":{\"ids\":[1]}"), std::string::npos);
-  EXPECT_NE(glb.find("\"MSFT_screencoverage\":[1.0,0.05]"), std::string::npos);
+  EXPECT_NE(glb.find("\"MSFT_screencoverage\":[" + nlohmann::json(coverage_at(25)).dump() + ",0.0]"),
+            std::string::npos);
   EXPECT_NE(glb.find("\"EXT_meshopt_compression\""), std::string::npos);
   const nlohmann::json lod = nlohmann::json::parse(files[3].bytes);
   EXPECT_EQ(lod["chain"], "oak.glb");
@@ -126,10 +129,142 @@ TEST(PackCore, WritesTheChainTheLevelsAndLodJson) {
   EXPECT_EQ(lod["levels"][1]["file"], "oak_lod1.glb");
   EXPECT_EQ(lod["levels"][1]["switch_distance_m"], 25.0);
   EXPECT_EQ(lod["levels"][1]["epsilon_m"], 0.01);
-  EXPECT_EQ(lod["levels"][1]["screen_coverage"], 0.05);
+  EXPECT_EQ(lod["levels"][0]["screen_coverage"], coverage_at(25));
+  EXPECT_EQ(lod["levels"][1]["screen_coverage"], 0.0);
+  EXPECT_EQ(lod["levels"][1]["kind"], "mesh");
+  EXPECT_EQ(lod["levels"][1]["source_level"], 1);
+  EXPECT_TRUE(lod["dropped"].empty());
   EXPECT_EQ(lod["levels"][0]["triangles"], 40u * 12u * 2u);
   EXPECT_EQ(lod["levels"][1]["triangles"], 10u * 4u * 2u);
   EXPECT_EQ(lod["levels"][1]["bytes"], files[2].bytes.size());
+}
+
+// impostor.glb as the impostor stage writes it: cards in one unlit BLEND material over one image.
+ImpostorLevelInput impostor(double switch_distance) {
+  ImpostorLevelInput im;
+  gltf::Scene& s = im.scene;
+  s.images.push_back({"impostor.png", "image/png", test::tiny_png(), ""});
+  gltf::Material m;
+  m.name = "impostor";
+  m.base_color_texture.image = 0;
+  m.alpha_mode = gltf::AlphaMode::kBlend;
+  m.unlit = true;
+  m.double_sided = true;
+  s.materials.push_back(m);
+  gltf::Mesh mesh;
+  gltf::Primitive p;
+  p.positions = {-0.1f, 0, 0,     0.1f, 0, 0,    0.1f, 8, 0,    -0.1f, 8, 0,
+                 0,     0, -0.1f, 0,    0, 0.1f, 0,    8, 0.1f, 0,     8, -0.1f};
+  p.texcoords = {0, 1, 0.5f, 1, 0.5f, 0, 0, 0, 0.5f, 1, 1, 1, 1, 0, 0.5f, 0};
+  p.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7};
+  p.material = 0;
+  mesh.primitives.push_back(p);
+  s.meshes.push_back(mesh);
+  gltf::Node n;
+  n.mesh = 0;
+  s.nodes.push_back(n);
+  s.roots = {0};
+  im.kind = "billboards";
+  im.epsilon_m = 0.5;
+  im.pixel_error_px = 0.5;
+  im.switch_distance_m = switch_distance;
+  im.fov_y_rad = 0.785398163397448;
+  im.inputs = {"impostor/impostor.json", "impostor/impostor.glb"};
+  return im;
+}
+
+TEST(PackCore, TheImpostorEndsTheChain) {
+  test::TempDir dir;
+  write_chain(dir.path());
+  SpeciesInput in = read_input(dir.path());
+  in.impostor = impostor(400);
+  const std::vector<PackedFile> files = pack_species(in, {});
+  ASSERT_EQ(files.size(), 5u);
+  EXPECT_EQ(files[3].name, "oak_impostor.glb");
+  EXPECT_EQ(files[3].inputs, in.impostor->inputs);
+  EXPECT_EQ(files[0].inputs.back(), "impostor/impostor.glb");
+  for (std::size_t i = 0; i < 4; ++i) {
+    test::write_file(dir / files[i].name, files[i].bytes);
+    SYLVA_EXPECT_VALID_GLTF(dir / files[i].name);
+  }
+  // The chain: three level nodes, the root naming the other two, coverage at each next switch
+  // distance (the impostor's from its camera), the impostor node's extras.
+  const nlohmann::json chain = test::parse_glb(files[0].bytes).json;
+  ASSERT_EQ(chain["scenes"][0]["nodes"].size(), 1u);
+  const nlohmann::json& root = chain["nodes"][chain["scenes"][0]["nodes"][0].get<std::size_t>()];
+  ASSERT_EQ(root["extensions"]["MSFT_lod"]["ids"].size(), 2u);
+  const std::vector<double> coverage = root["extras"]["MSFT_screencoverage"];
+  ASSERT_EQ(coverage.size(), 3u);
+  EXPECT_EQ(coverage[0], coverage_at(25));
+  EXPECT_NEAR(coverage[1], coverage_at(400), 1e-7 * coverage_at(400));  // radius from float positions
+  EXPECT_EQ(coverage[2], 0.0);
+  const nlohmann::json& last = chain["nodes"][root["extensions"]["MSFT_lod"]["ids"][1].get<std::size_t>()];
+  EXPECT_EQ(last["extras"]["kind"], "impostor");
+  EXPECT_EQ(last["extras"]["switch_distance_m"], 400.0);
+  EXPECT_EQ(chain["images"].size(), 2u);  // bark once (shared by both mesh levels), the impostor's
+  const nlohmann::json lod = nlohmann::json::parse(files[4].bytes);
+  ASSERT_EQ(lod["levels"].size(), 3u);
+  EXPECT_EQ(lod["levels"][2]["kind"], "impostor");
+  EXPECT_EQ(lod["levels"][2]["impostor_kind"], "billboards");
+  EXPECT_EQ(lod["levels"][2]["source_level"], -1);
+  EXPECT_EQ(lod["levels"][2]["primitives"], 4u);
+  EXPECT_EQ(lod["levels"][2]["epsilon_m"], 0.5);
+  EXPECT_EQ(lod["levels"][2]["bytes"], files[3].bytes.size());
+}
+
+TEST(PackCore, DropsLevelsTheImpostorOrTheSavingRuleMakeUseless) {
+  test::TempDir dir;
+  write_chain(dir.path());
+  SpeciesInput in = read_input(dir.path());
+  // The impostor is proven from 20 m, before level 1's 25 m: level 1 is never drawn.
+  in.impostor = impostor(20);
+  std::vector<LevelChoice> c = select_levels(in, {});
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_TRUE(c[0].kept);
+  EXPECT_FALSE(c[1].kept);
+  EXPECT_EQ(c[1].reason, "the impostor is proven from 20 m, before this level's switch distance 25 m");
+  EXPECT_TRUE(c[2].kept);
+  std::vector<PackedFile> files = pack_species(in, {});
+  ASSERT_EQ(files.size(), 4u);
+  EXPECT_EQ(files[1].name, "oak_lod0.glb");
+  EXPECT_EQ(files[2].name, "oak_impostor.glb");
+  nlohmann::json lod = nlohmann::json::parse(files[3].bytes);
+  ASSERT_EQ(lod["dropped"].size(), 1u);
+  EXPECT_EQ(lod["dropped"][0]["source_level"], 1);
+  EXPECT_EQ(lod["dropped"][0]["primitives"], 80u);
+  // Level 1 (80 triangles) saves 1 - 80/960 = 0.917 of level 0's: kept at min_saving 0.9, dropped at 0.95.
+  in.impostor.reset();
+  PackOptions o;
+  o.min_saving = 0.9;
+  EXPECT_TRUE(select_levels(in, o)[1].kept);
+  o.min_saving = 0.95;
+  c = select_levels(in, o);
+  EXPECT_FALSE(c[1].kept);
+  EXPECT_EQ(c[1].reason,
+            "saves 0.917 of the primitives of the level before it (960 -> 80), less than min_saving 0.95");
+  files = pack_species(in, o);
+  ASSERT_EQ(files.size(), 3u);
+  const nlohmann::json one = test::parse_glb(files[0].bytes).json;
+  ASSERT_EQ(one["nodes"].size(), 1u);
+  EXPECT_EQ(one["nodes"][0]["extras"]["MSFT_screencoverage"], nlohmann::json::array({0.0}));
+  EXPECT_FALSE(one["nodes"][0].contains("extensions"));
+}
+
+TEST(PackCore, RefusesAnImpostorForAnotherCamera) {
+  test::TempDir dir;
+  write_chain(dir.path());
+  SpeciesInput in = read_input(dir.path());
+  in.impostor = impostor(400);
+  in.impostor->fov_y_rad = 0.5;
+  try {
+    pack_species(in, {});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "the impostor's camera (vertical fov 28.647890 deg) is not the lod chain's (45.000000 deg): its "
+        "switch distance is for another view");
+  }
 }
 
 TEST(PackCore, CompressionChoices) {
