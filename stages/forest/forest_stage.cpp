@@ -66,6 +66,11 @@ struct SpeciesInput {
   bool has_impostor = false;
   ImpostorLevel impostor;
   double impostor_epsilon_m = 0;
+  // A (hemi-)octahedral impostor: its impostor.json (maps renamed to the forest's copies) and maps.
+  bool octahedral = false;
+  impostor::ImpostorInfo impostor_info;
+  const ArtifactFile* color_map = nullptr;
+  const ArtifactFile* normal_depth_map = nullptr;
 };
 
 std::size_t primitive_count(const json& g) {
@@ -143,7 +148,8 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
 }
 
 // The species' impostor artifact: impostor.json (libs/impostor's reader: its epsilon) and
-// impostor.glb, which becomes the species' last level.
+// impostor.glb, which becomes the species' last level; for the (hemi-)octahedral kinds also the
+// two maps, which renderers with the reference shader draw (impostor.glb is then their fallback).
 void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInput& s) {
   const ArtifactFile* ij = in.file("impostor.json");
   const ArtifactFile* glb = in.file("impostor.glb");
@@ -153,6 +159,17 @@ void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInpu
     const impostor::ImpostorInfo info =
         impostor::parse_impostor_json(read_file(ij->path), in.node + "/impostor.json");
     s.impostor_epsilon_m = info.error.epsilon_m();
+    if (info.kind != impostor::Kind::kBillboards) {
+      s.octahedral = true;
+      s.color_map = in.file(info.color_map);
+      s.normal_depth_map = in.file(info.normal_depth_map);
+      if (!s.color_map || !s.normal_depth_map)
+        throw StageError("input '" + in.node + "' (impostor) has no " + info.color_map + " and " +
+                         info.normal_depth_map + " though impostor.json names them");
+      s.impostor_info = info;
+      s.impostor_info.color_map = name + "_impostor_color.png";
+      s.impostor_info.normal_depth_map = name + "_impostor_normal_depth.png";
+    }
   } catch (const impostor::ImpostorFormatError& e) {
     throw StageError(e.what());
   }
@@ -304,12 +321,12 @@ class ForestStage final : public Stage {
         for (std::size_t l = 0; l < levels.size(); ++l)
           sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
                                levels[l].at("epsilon_m").get<double>(),
-                               levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false});
+                               levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false, ""});
         if (in.has_impostor)
           sp.levels.push_back(
               {names[s] + "_impostor.gltf", in.impostor_epsilon_m,
                switch_distance_m(in.impostor_epsilon_m, sp.pixel_error_px, sp.fov_y_deg, sp.height_px),
-               in.primitives.back(), true});
+               in.primitives.back(), true, in.octahedral ? names[s] + "_impostor.json" : ""});
       } catch (const json::exception& e) {
         throw StageError("input '" + in.node + "': lod.json: " + e.what());
       }
@@ -344,6 +361,12 @@ class ForestStage final : public Stage {
       if (in.has_impostor) {
         ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
         ctx.write_output(in.impostor.source.bin_name, in.impostor.bin);
+        if (in.octahedral) {
+          ctx.write_output(f.species[s].levels.back().octahedral,
+                           impostor::write_impostor_json(in.impostor_info));
+          copy(ctx, in.color_map->path, in.impostor_info.color_map);
+          copy(ctx, in.normal_depth_map->path, in.impostor_info.normal_depth_map);
+        }
       }
       for (const ArtifactFile* im : in.images) copy(ctx, im->path, names[s] + "_" + im->name);
     }

@@ -87,10 +87,10 @@ TEST(ImpostorLevel, SwitchDistanceIsEpsilonOverDeltaTimesPixelSize) {
 
 TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {
   Species with;
-  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false});
-  with.levels.push_back({"imp", 0.5, 9, 2, true});  // 4 levels
+  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false, ""});
+  with.levels.push_back({"imp", 0.5, 9, 2, true, ""});  // 4 levels
   Species without;
-  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false});
+  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false, ""});
   const int n = 4;
   EXPECT_EQ(species_level(with, 0, n), 0u);
   EXPECT_EQ(species_level(with, 2, n), 2u);
@@ -113,9 +113,9 @@ TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
   Species s;
   s.name = "a";
   s.bounds = {{-1, 0, -1}, {1, 5, 1}};
-  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false},
-              {"a_lod1.gltf", 0.3, 600, 5, false},
-              {"a_impostor.gltf", 0.1, 200, 2, true}};
+  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false, ""},
+              {"a_lod1.gltf", 0.3, 600, 5, false, ""},
+              {"a_impostor.gltf", 0.1, 200, 2, true, ""}};
   f.species = {s};
   f.instances = {{0, 0, 0, {0, 0, 0}, 0, {1, 1, 1}}};
   f.tiles = {{0, 0, {{-1, 0, -1}, {1, 5, 1}}, {0}}};
