@@ -150,6 +150,7 @@ EncodedForest write_instances(const Forest& f) {
   j["nodes_per_node"] = f.nodes_per_node;
   j["method"] = f.method;
   j["seed"] = f.seed;
+  if (!f.ground.empty()) j["ground"] = f.ground;
   json species = json::array();
   for (std::size_t s = 0; s < f.species.size(); ++s) {
     json sj = species_json(f.species[s]);
@@ -211,6 +212,11 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   f.nodes_per_node = int(r.uint(j, "nodes_per_node", "the file", 1u << 20));
   f.method = r.string(j, "method", "the file");
   f.seed = r.uint(j, "seed", "the file", UINT64_MAX);
+  if (j.contains("ground")) {
+    f.ground = r.string(j, "ground", "the file");
+    if (f.ground.empty() || f.ground.find_first_of("/\\") != std::string::npos || f.ground[0] == '.')
+      r.fail("ground must be a file name of this artifact");
+  }
   const json& species = r.array(j, "species", "the file");
   for (std::size_t s = 0; s < species.size(); ++s) {
     const std::string w = "species[" + std::to_string(s) + "]";

@@ -113,6 +113,9 @@ struct Forest {
   int nodes_per_node = 64;
   std::string method;  // "celba" or "poisson"
   std::uint64_t seed = 0;
+  // The ground mesh of the forest's area (a GLB of this artifact, object space = the forest's
+  // frame; docs/stages/forest.md "Ground"), drawn under the trees. Empty = none; written only when set.
+  std::string ground;
   std::vector<Species> species;
   std::vector<SpeciesStats> stats;  // per species
   std::vector<Instance> instances;  // by id: instances[i].id == i

@@ -110,7 +110,10 @@ ForestView ForestView::load(const std::filesystem::path& instances_json) {
         make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
                             image::read_image(dir / info.normal_depth_map), g));
   }
+  Scene ground;
+  if (!f.ground.empty()) ground = load_gltf_scene(dir / f.ground);
   ForestView view(std::move(f), std::move(levels));
+  if (!ground.meshes.empty()) view.set_ground(std::move(ground));
   for (std::size_t s = 0; s < octahedral.size(); ++s)
     if (octahedral[s]) view.set_octahedral(s, std::move(octahedral[s]));
   return view;
@@ -132,6 +135,8 @@ ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> le
 
 void ForestView::set_full_detail(std::size_t species, Scene scene) { full_.at(species) = std::move(scene); }
 
+void ForestView::set_ground(Scene ground) { ground_ = std::move(ground); }
+
 void ForestView::set_octahedral(std::size_t species, std::shared_ptr<const ImpostorAtlas> atlas) {
   octahedral_.at(species) = std::move(atlas);
 }
@@ -139,6 +144,7 @@ void ForestView::set_octahedral(std::size_t species, std::shared_ptr<const Impos
 Bounds ForestView::bounds() const {
   Bounds b;
   for (const Bounds& t : tree_bounds_) b.extend(t);
+  b.extend(ground_.bounds());
   return b;
 }
 
@@ -206,6 +212,8 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       }
       append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds, stats.primitives);
     }
+  // Last of the opaque draws: where trees stand, the ground fails the depth test.
+  if (!ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
   return scene;
 }
 

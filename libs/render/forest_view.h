@@ -38,8 +38,9 @@ struct ForestViewOptions {
 
 struct ForestViewStats {
   std::size_t trees = 0, trees_drawn = 0, tiles_drawn = 0;
-  std::size_t impostors = 0;           // trees drawn as (hemi-)octahedral impostors (in trees_drawn)
-  std::size_t primitives = 0;          // triangles + lines + points drawn (an impostor: its 2-triangle quad)
+  std::size_t impostors = 0;  // trees drawn as (hemi-)octahedral impostors (in trees_drawn)
+  std::size_t primitives =
+      0;  // triangles + lines + points drawn (an impostor: its 2-triangle quad; the ground)
   std::vector<std::size_t> per_level;  // trees drawn at each level index (full detail: index 0)
 };
 
@@ -52,6 +53,8 @@ class ForestView {
   ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels);
 
   const forest::Forest& forest() const { return forest_; }
+  // The ground (Forest::ground's mesh, forest frame), drawn in every view after the trees.
+  void set_ground(Scene ground);
   // Species s's octahedral impostor, drawn for its last level instead of that level's mesh.
   void set_octahedral(std::size_t species, std::shared_ptr<const ImpostorAtlas> atlas);
   // The full-detail model of species s (object space), for ForestViewOptions::full_detail.
@@ -65,7 +68,7 @@ class ForestView {
                                    const RenderOptions& options, const ForestViewOptions& view = {},
                                    std::vector<ForestViewStats>* stats = nullptr);
 
-  // World box of the whole forest (every tree's box).
+  // World box of the whole forest (every tree's box and the ground).
   Bounds bounds() const;
 
  private:
@@ -79,6 +82,7 @@ class ForestView {
   std::vector<Bounds> tree_bounds_;                               // world box per instance
   std::vector<Mat4> tree_matrix_;                                 // world matrix per instance
   std::vector<Bounds> tile_bounds_;
+  Scene ground_;  // may be empty
 };
 
 // Cameras of a camera set for a forest: explicit eye/target views are used as they are; orbit

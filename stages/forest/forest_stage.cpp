@@ -13,10 +13,12 @@
 #include <regex>
 #include <sstream>
 
+#include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
 #include "stages/forest/forest_info.h"
+#include "stages/forest/ground.h"
 #include "stages/forest/hierarchy.h"
 #include "stages/forest/impostor_level.h"
 #include "stages/forest/layout.h"
@@ -304,6 +306,7 @@ class ForestStage final : public Stage {
     f.nodes_per_node = int(ctx.integer("nodes_per_node"));
     f.method = ctx.string("method");
     f.seed = std::uint64_t(ctx.integer("seed"));
+    f.ground = "ground.glb";
     f.stats = layout.stats;
     for (std::size_t s = 0; s < lp.species.size(); ++s) {
       const SpeciesInput& in = inputs[s];
@@ -347,6 +350,14 @@ class ForestStage final : public Stage {
     f.binary_table = f.instances.size() >= binary_from;
 
     // 4. Outputs.
+    const gltf::Scene ground = ground_scene(lp.terrain, f.extent_min, f.extent_max);
+    ctx.write_output(f.ground, gltf::encode(ground));
+    Box3 ground_bounds{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    const std::vector<float>& gp = ground.meshes[0].primitives[0].positions;
+    for (std::size_t i = 0; i < gp.size(); ++i) {
+      ground_bounds.min[i % 3] = std::min(ground_bounds.min[i % 3], double(gp[i]));
+      ground_bounds.max[i % 3] = std::max(ground_bounds.max[i % 3], double(gp[i]));
+    }
     const EncodedForest enc = write_instances(f);
     ctx.write_output(kInstancesJson, enc.json);
     if (f.binary_table) ctx.write_output(kInstancesBin, enc.bin);
@@ -396,9 +407,12 @@ class ForestStage final : public Stage {
     const Value::Object& geo = ctx.param("georeference").as_object();
     const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(),
                          geo.at("height_m").as_real()};
-    ctx.write_output("tileset.json", tileset_json(f, level_count, g, [&](std::size_t t, int l) {
-                       return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
-                     }));
+    ctx.write_output("tileset.json", tileset_json(
+                                         f, level_count, g,
+                                         [&](std::size_t t, int l) {
+                                           return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
+                                         },
+                                         ground_bounds));
     const Value::Object& cams = ctx.param("cameras").as_object();
     ForestCameraOptions co;
     co.width_px = int(cams.at("width_px").as_int());

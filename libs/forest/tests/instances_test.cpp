@@ -26,6 +26,7 @@ Forest sample_forest(bool binary) {
               {"oak_impostor.gltf", 0.4, 1100, 12, true, "oak_impostor.json"}};
   f.species.push_back(s);
   f.stats.push_back({3, 2, 1});
+  f.ground = "ground.glb";
   f.instances.push_back({0, 0, 0, {-10.125, 1.5, 3.0 / 7.0}, 0.1, {1.1, 0.9, 1.0}});
   f.instances.push_back({1, 0, 1, {20, 0, -1e-9}, 6.2, {1, 1, 1}});
   f.tiles.push_back({0, 0, {{-13, 1.4, -2}, {-7, 14, 3}}, {0}});

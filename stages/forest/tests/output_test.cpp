@@ -203,7 +203,14 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
         EXPECT_EQ(s.triangle_count(), 12 * t.instances.size());
       }
     }
-  for (const char* f2 : {"a_lod0.gltf", "a_lod1.gltf", "b_lod0.gltf"}) gltfs.push_back(out / f2);
+  for (const char* f2 : {"a_lod0.gltf", "a_lod1.gltf", "b_lod0.gltf", "ground.glb"})
+    gltfs.push_back(out / f2);
+  // The ground: the flat 100 x 60 m quad under the trees.
+  ASSERT_EQ(f.ground, "ground.glb");
+  const render::Scene ground = render::load_gltf_scene(out / f.ground);
+  EXPECT_EQ(ground.triangle_count(), 2u);
+  EXPECT_EQ(ground.bounds().min, render::Vec3(-50, 0, -30));
+  EXPECT_EQ(ground.bounds().max, render::Vec3(50, 0, 30));
   for (const auto& v : sylva::test::validate_gltf(gltfs)) {
     if (v.skipped) GTEST_SKIP() << v.skip_reason;
     EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << v.report;
@@ -213,7 +220,14 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
   const auto ts = nlohmann::json::parse(sylva::test::read_file(out / "tileset.json"));
   EXPECT_EQ(ts["asset"]["version"], "1.1");
   EXPECT_EQ(ts["root"]["transform"].size(), 16u);
+  std::size_t grounds = 0;
   std::function<void(const nlohmann::json&)> walk = [&](const nlohmann::json& n) {
+    if (n.contains("content") && n["content"]["uri"] == "ground.glb") {
+      ++grounds;  // a leaf under the root: drawn wherever trees are
+      EXPECT_EQ(n["geometricError"].get<double>(), 0.0);
+      EXPECT_FALSE(n.contains("children"));
+      return;
+    }
     EXPECT_EQ(n["refine"], "REPLACE");
     if (n.contains("content")) {
       const std::string uri = n["content"]["uri"];
@@ -231,6 +245,10 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
     for (const auto& c : n.value("children", nlohmann::json::array())) walk(c);
   };
   walk(ts["root"]);
+  EXPECT_EQ(grounds, 1u);
+  bool ground_child = false;
+  for (const auto& c : ts["root"]["children"]) ground_child = ground_child || c.contains("content");
+  EXPECT_TRUE(ground_child);
 
   // cameras.yaml is a camera set libs/render reads.
   const render::CameraSet cams = render::load_camera_set(out / "cameras.yaml");
