@@ -213,7 +213,7 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds, stats.primitives);
     }
   // Last of the opaque draws: where trees stand, the ground fails the depth test.
-  if (!ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
+  if (o.ground && !ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
   return scene;
 }
 

@@ -34,6 +34,7 @@ struct ForestViewOptions {
   double pixel_error_px = 0;  // delta' of the view; 0 = each species' own chain delta
   bool full_detail = false;   // draw every tree with the full-detail model (set_full_detail), no LOD
   bool cull = true;           // frustum culling (off: every tree is drawn)
+  bool ground = true;         // draw the ground (off for coverage checks: it would cover every pixel)
 };
 
 struct ForestViewStats {
