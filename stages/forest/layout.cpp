@@ -27,7 +27,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "stages/forest/box_quadtree.h"
+#include "stages/forest/box_grid.h"
 
 namespace sylva::forest {
 
@@ -213,7 +213,15 @@ class Placer {
 
   LayoutResult celba() {
     const double size = std::max(p_.width_m, p_.depth_m);
-    BoxQuadtree q(-0.5 * size, -0.5 * size, size);
+    // Cells two footprints wide (twice the ground diagonal of the largest scaled box; measured
+    // against 1x, 3x and 4x with bench_forest: speed only, the query finds every overlapping box
+    // whatever the cell size).
+    double cell = 1;
+    for (const SpeciesRule& sp : p_.species)
+      cell = std::max(cell,
+                      std::hypot(sp.bounds.max[0] - sp.bounds.min[0], sp.bounds.max[2] - sp.bounds.min[2]) *
+                          std::max(sp.scale_x[1], sp.scale_z[1]));
+    BoxGrid q(-0.5 * size, -0.5 * size, size, 2 * cell);
     auto insert = [&](PlacedTree t) {
       q.insert(t.box);
       out_.trees.push_back(std::move(t));
