@@ -7,7 +7,7 @@
 //    yaw, the axis-aligned box of its four rotated ground corners: a conservative box, so a
 //    yawed tree is never accepted with more overlap than Celba's test allows.
 //  - Algorithm 8 rejects as soon as ONE overlapping box exceeds the allowed fraction (the volumes
-//    are not summed); the quadtree query stops at the first such box.
+//    are not summed); the grid query stops at the first such box.
 //  - Where a density map, exclusions or terrain limits forbid a spot, the position is drawn again
 //    (rejection sampling of the allowed area) without spending one of Celba's retries, which are
 //    for overlaps only; the expected count is then density x allowed area (allowed_fraction), so
