@@ -122,8 +122,9 @@ class RenderCommand final : public CliCommand {
           std::vector<render::ForestViewStats> stats;
           std::vector<image::Image> imgs = fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1),
                                                      render::options_for(set), fo, &stats);
-          std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn, %zu primitives\n",
-                       cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].primitives);
+          std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn (%zu as impostors), %zu primitives\n",
+                       cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].impostors,
+                       stats[0].primitives);
           images.push_back({cams[i], std::move(imgs[0])});
         }
       } else {

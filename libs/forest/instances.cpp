@@ -25,11 +25,13 @@ json vec(const Vec3d& v) { return json::array({v[0], v[1], v[2]}); }
 json box_json(const Box3& b) { return {{"min", vec(b.min)}, {"max", vec(b.max)}}; }
 
 json level_json(const Level& l) {
-  return {{"file", l.file},
-          {"epsilon_m", l.epsilon_m},
-          {"switch_distance_m", l.switch_distance_m},
-          {"primitives", l.primitives},
-          {"impostor", l.impostor}};
+  json j = {{"file", l.file},
+            {"epsilon_m", l.epsilon_m},
+            {"switch_distance_m", l.switch_distance_m},
+            {"primitives", l.primitives},
+            {"impostor", l.impostor}};
+  if (!l.octahedral.empty()) j["octahedral"] = l.octahedral;
+  return j;
 }
 
 json species_json(const Species& s) {
@@ -148,6 +150,7 @@ EncodedForest write_instances(const Forest& f) {
   j["nodes_per_node"] = f.nodes_per_node;
   j["method"] = f.method;
   j["seed"] = f.seed;
+  if (!f.ground.empty()) j["ground"] = f.ground;
   json species = json::array();
   for (std::size_t s = 0; s < f.species.size(); ++s) {
     json sj = species_json(f.species[s]);
@@ -209,6 +212,11 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   f.nodes_per_node = int(r.uint(j, "nodes_per_node", "the file", 1u << 20));
   f.method = r.string(j, "method", "the file");
   f.seed = r.uint(j, "seed", "the file", UINT64_MAX);
+  if (j.contains("ground")) {
+    f.ground = r.string(j, "ground", "the file");
+    if (f.ground.empty() || f.ground.find_first_of("/\\") != std::string::npos || f.ground[0] == '.')
+      r.fail("ground must be a file name of this artifact");
+  }
   const json& species = r.array(j, "species", "the file");
   for (std::size_t s = 0; s < species.size(); ++s) {
     const std::string w = "species[" + std::to_string(s) + "]";
@@ -233,6 +241,12 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
       lv.switch_distance_m = r.real(levels[l], "switch_distance_m", lw, 0);
       lv.primitives = r.uint(levels[l], "primitives", lw, UINT64_MAX);
       lv.impostor = r.boolean(levels[l], "impostor", lw);
+      if (levels[l].contains("octahedral")) {
+        lv.octahedral = r.string(levels[l], "octahedral", lw);
+        if (!lv.impostor || lv.octahedral.empty() ||
+            lv.octahedral.find_first_of("/\\") != std::string::npos || lv.octahedral[0] == '.')
+          r.fail(lw + ".octahedral must be a file name of this artifact, on the impostor level only");
+      }
       sp.levels.push_back(std::move(lv));
     }
     const json& st = r.at(sj, "stats", w);

@@ -50,6 +50,11 @@ struct Level {
   double switch_distance_m = 0;  // d = epsilon / (delta s(1)); level 0's is where it starts
   std::size_t primitives = 0;    // triangles + lines + points of the level mesh
   bool impostor = false;         // the impostor level (the species' last, when it has one)
+  // A (hemi-)octahedral impostor: its impostor.json in this artifact (maps beside it), which a
+  // renderer with the reference shader draws instead of `file` (the impostor's fallback cards,
+  // for plain glTF clients). Empty for billboards, whose cards are the impostor. Written only
+  // when set.
+  std::string octahedral;
   friend bool operator==(const Level&, const Level&) = default;
 };
 
@@ -108,6 +113,9 @@ struct Forest {
   int nodes_per_node = 64;
   std::string method;  // "celba" or "poisson"
   std::uint64_t seed = 0;
+  // The ground mesh of the forest's area (a GLB of this artifact, object space = the forest's
+  // frame; docs/stages/forest.md "Ground"), drawn under the trees. Empty = none; written only when set.
+  std::string ground;
   std::vector<Species> species;
   std::vector<SpeciesStats> stats;  // per species
   std::vector<Instance> instances;  // by id: instances[i].id == i

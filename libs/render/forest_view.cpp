@@ -1,14 +1,18 @@
 // Forest views (forest_view.h). Each view builds its own Scene: the textures and materials of
 // the (species, level) meshes it uses and those meshes with the chosen trees' world matrices as
 // instances, so the renderer draws one instanced call per primitive for the opaque and masked
-// parts (its BLEND pass still draws per instance, far to near).
+// parts (its BLEND pass still draws per instance, far to near); (hemi-)octahedral impostor levels
+// become Scene::impostors sets (the atlas shared, not copied, between views).
 #include "libs/render/forest_view.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "libs/image/image_io.h"
+#include "libs/impostor/impostor_json.h"
 #include "libs/render/gltf_scene.h"
+#include "libs/render/impostor_atlas.h"
 
 namespace sylva::render {
 
@@ -84,16 +88,42 @@ ForestView ForestView::load(const std::filesystem::path& instances_json) {
   forest::Forest f = forest::read_instances(instances_json);
   std::vector<std::vector<Scene>> levels;
   const std::filesystem::path dir = instances_json.parent_path();
+  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral;
   for (const forest::Species& s : f.species) {
     std::vector<Scene> ls;
     for (const forest::Level& l : s.levels) ls.push_back(load_gltf_scene(dir / l.file));
     levels.push_back(std::move(ls));
+    octahedral.push_back(nullptr);
+    const forest::Level& last = s.levels.back();
+    if (last.octahedral.empty()) continue;
+    const impostor::ImpostorInfo info = impostor::read_impostor_json((dir / last.octahedral).string());
+    ImpostorGeometry g;
+    g.frames_per_side = info.frames_per_side;
+    g.hemi = info.hemi;
+    g.center = Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
+    g.radius = float(info.sphere_radius);
+    g.half_extent = float(info.frame_half_extent);
+    g.frame_px = info.frame_px;
+    g.padding_px = info.padding_px;
+    g.mip_levels = info.mip_levels;
+    octahedral.back() = std::make_shared<const ImpostorAtlas>(
+        make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
+                            image::read_image(dir / info.normal_depth_map), g));
   }
-  return ForestView(std::move(f), std::move(levels));
+  Scene ground;
+  if (!f.ground.empty()) ground = load_gltf_scene(dir / f.ground);
+  ForestView view(std::move(f), std::move(levels));
+  if (!ground.meshes.empty()) view.set_ground(std::move(ground));
+  for (std::size_t s = 0; s < octahedral.size(); ++s)
+    if (octahedral[s]) view.set_octahedral(s, std::move(octahedral[s]));
+  return view;
 }
 
 ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels)
-    : forest_(std::move(forest)), levels_(std::move(levels)), full_(forest_.species.size()) {
+    : forest_(std::move(forest)),
+      levels_(std::move(levels)),
+      full_(forest_.species.size()),
+      octahedral_(forest_.species.size()) {
   for (const forest::Instance& in : forest_.instances) {
     const forest::Species& sp = forest_.species.at(in.species);
     const auto m = forest::instance_matrix(sp, in);
@@ -105,9 +135,16 @@ ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> le
 
 void ForestView::set_full_detail(std::size_t species, Scene scene) { full_.at(species) = std::move(scene); }
 
+void ForestView::set_ground(Scene ground) { ground_ = std::move(ground); }
+
+void ForestView::set_octahedral(std::size_t species, std::shared_ptr<const ImpostorAtlas> atlas) {
+  octahedral_.at(species) = std::move(atlas);
+}
+
 Bounds ForestView::bounds() const {
   Bounds b;
   for (const Bounds& t : tree_bounds_) b.extend(t);
+  b.extend(ground_.bounds());
   return b;
 }
 
@@ -167,8 +204,16 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       std::vector<Mat4> worlds;
       worlds.reserve(drawn[s][l].size());
       for (const auto& [d, i] : drawn[s][l]) worlds.push_back(tree_matrix_[i]);
+      if (!o.full_detail && octahedral_[s] && l + 1 == forest_.species[s].levels.size()) {
+        stats.impostors += worlds.size();
+        stats.primitives += 2 * worlds.size();
+        scene.impostors.push_back({octahedral_[s], std::move(worlds)});
+        continue;
+      }
       append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds, stats.primitives);
     }
+  // Last of the opaque draws: where trees stand, the ground fails the depth test.
+  if (o.ground && !ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
   return scene;
 }
 

@@ -8,7 +8,10 @@
 // every surface of the level is at least its switch distance away, as `sylva lodcheck` proves
 // it. The species' chain was built for a pixel error delta; a view may allow another delta'
 // (ForestViewOptions::pixel_error_px): the switch distances then scale by delta / delta'.
-// The impostor, when a species has one, is simply its last level.
+// The impostor, when a species has one, is its last level: a (hemi-)octahedral impostor (the
+// level's `octahedral` impostor.json) is drawn by the scene renderer with the reference impostor
+// shader (Scene::impostors, instanced, in the trees' depth buffer); billboards are drawn as the
+// level's mesh of cards like every other level.
 //
 // Frustum culling: a tile's box, then each tree's box, against the six planes of the view
 // (Celba §4.6.3: "compute the AABB's effective radius and test it as a sphere against the plane"
@@ -31,22 +34,30 @@ struct ForestViewOptions {
   double pixel_error_px = 0;  // delta' of the view; 0 = each species' own chain delta
   bool full_detail = false;   // draw every tree with the full-detail model (set_full_detail), no LOD
   bool cull = true;           // frustum culling (off: every tree is drawn)
+  bool ground = true;         // draw the ground (off for coverage checks: it would cover every pixel)
 };
 
 struct ForestViewStats {
   std::size_t trees = 0, trees_drawn = 0, tiles_drawn = 0;
-  std::size_t primitives = 0;          // triangles + lines + points drawn
+  std::size_t impostors = 0;  // trees drawn as (hemi-)octahedral impostors (in trees_drawn)
+  std::size_t primitives =
+      0;  // triangles + lines + points drawn (an impostor: its 2-triangle quad; the ground)
   std::vector<std::size_t> per_level;  // trees drawn at each level index (full detail: index 0)
 };
 
 class ForestView {
  public:
-  // Loads instances.json (+ .bin) and every species level glTF beside it. Throws
-  // forest::FormatError or SceneLoadError (one line, naming the file).
+  // Loads instances.json (+ .bin), every species level glTF beside it and the (hemi-)octahedral
+  // impostors' impostor.json and maps. Throws forest::FormatError, SceneLoadError,
+  // impostor::ImpostorFormatError, image::ImageError or RenderError (one line, naming the file).
   static ForestView load(const std::filesystem::path& instances_json);
   ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels);
 
   const forest::Forest& forest() const { return forest_; }
+  // The ground (Forest::ground's mesh, forest frame), drawn in every view after the trees.
+  void set_ground(Scene ground);
+  // Species s's octahedral impostor, drawn for its last level instead of that level's mesh.
+  void set_octahedral(std::size_t species, std::shared_ptr<const ImpostorAtlas> atlas);
   // The full-detail model of species s (object space), for ForestViewOptions::full_detail.
   void set_full_detail(std::size_t species, Scene scene);
 
@@ -58,7 +69,7 @@ class ForestView {
                                    const RenderOptions& options, const ForestViewOptions& view = {},
                                    std::vector<ForestViewStats>* stats = nullptr);
 
-  // World box of the whole forest (every tree's box).
+  // World box of the whole forest (every tree's box and the ground).
   Bounds bounds() const;
 
  private:
@@ -66,11 +77,13 @@ class ForestView {
                    ForestViewStats& stats);
 
   forest::Forest forest_;
-  std::vector<std::vector<Scene>> levels_;  // [species][level]
-  std::vector<Scene> full_;                 // [species], may be empty scenes
-  std::vector<Bounds> tree_bounds_;         // world box per instance
-  std::vector<Mat4> tree_matrix_;           // world matrix per instance
+  std::vector<std::vector<Scene>> levels_;                        // [species][level]
+  std::vector<Scene> full_;                                       // [species], may be empty scenes
+  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral_;  // [species], may be null
+  std::vector<Bounds> tree_bounds_;                               // world box per instance
+  std::vector<Mat4> tree_matrix_;                                 // world matrix per instance
   std::vector<Bounds> tile_bounds_;
+  Scene ground_;  // may be empty
 };
 
 // Cameras of a camera set for a forest: explicit eye/target views are used as they are; orbit

@@ -6,7 +6,8 @@
 // into a per-instance attribute buffer (model matrix at locations 5-8, normal matrix at 9-11),
 // so the opaque pass is one instanced draw per primitive. The blend pass draws each
 // (primitive, instance) separately, far to near, with the matrices as constant attributes and a
-// per-draw index buffer holding the elements sorted far to near.
+// per-draw index buffer holding the elements sorted far to near. Scene::impostors are drawn
+// between the two passes by impostor_draw.h (the reference impostor shader, same depth buffer).
 //
 // Determinism: nothing depends on timing or on hash-table order; every sort is a stable sort
 // with an index tie-break; llvmpipe rasterises deterministically.
@@ -19,6 +20,7 @@
 
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
+#include "libs/render/impostor_draw.h"
 #include "libs/render/renderer.h"
 
 namespace sylva::render {
@@ -199,6 +201,7 @@ class GlRenderer final : public Renderer {
     program_ = detail::link_program(kVertexShader, kFragmentShader, "scene");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
     glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, line_width_range_);
     check_gl("initialisation");
   }
@@ -207,6 +210,7 @@ class GlRenderer final : public Renderer {
     try {
       CurrentContext current(*ctx_);
       glDeleteProgram(program_);
+      impostors_.destroy();
     } catch (...) {
       // The context is going away with us; nothing else to release.
     }
@@ -223,11 +227,12 @@ class GlRenderer final : public Renderer {
     glGetError();  // start from a clean error state
     const Target target = make_target(gl, options);
     const Uploaded up = upload(gl, scene);
+    const detail::ImpostorDrawer::Uploaded imp = impostors_.upload(gl, scene.impostors, max_texture_size_);
     check_gl("upload");
     std::vector<image::Image> images;
     images.reserve(cameras.size());
     for (const Camera& cam : cameras) {
-      draw(scene, up, cam, options, target);
+      draw(scene, up, imp, cam, options, target);
       images.push_back(read_back(target, options));
       check_gl("drawing");
     }
@@ -458,8 +463,8 @@ class GlRenderer final : public Renderer {
     }
   }
 
-  void draw(const Scene& scene, const Uploaded& up, const Camera& cam, const RenderOptions& o,
-            const Target& t) const {
+  void draw(const Scene& scene, const Uploaded& up, const detail::ImpostorDrawer::Uploaded& imp,
+            const Camera& cam, const RenderOptions& o, const Target& t) {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, o.width, o.height);
     const bool transparent = o.background.a == 0;
@@ -525,6 +530,12 @@ class GlRenderer final : public Renderer {
         glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr,
                                 GLsizei(instances));
       }
+    }
+
+    // Impostors: behind what pass 1 drew where it is nearer, blended over it elsewhere.
+    if (!scene.impostors.empty()) {
+      impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
+      glUseProgram(program_);
     }
 
     // Pass 2: blended, far to near (Zhang et al. 2017, 6.1), depth test on, depth write off.
@@ -610,8 +621,10 @@ class GlRenderer final : public Renderer {
   std::unique_ptr<detail::GlContext> ctx_;
   std::mutex mutex_;
   GLuint program_ = 0;
+  detail::ImpostorDrawer impostors_;
   GLint max_samples_ = 1;
   GLint max_size_ = 4096;
+  GLint max_texture_size_ = 4096;
   float line_width_range_[2] = {1.f, 1.f};
 };
 

@@ -51,6 +51,13 @@ Bounds Scene::bounds() const {
     for (const Primitive& p : mesh.primitives) local.extend(p.bounds());
     for (const Mat4& m : mesh.instances) out.extend(local.transformed(m));
   }
+  for (const ImpostorSet& set : impostors) {
+    if (!set.atlas) continue;
+    Bounds sphere;
+    sphere.extend(set.atlas->center - Vec3::Constant(set.atlas->radius));
+    sphere.extend(set.atlas->center + Vec3::Constant(set.atlas->radius));
+    for (const Mat4& m : set.instances) out.extend(sphere.transformed(m));
+  }
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,33 @@ struct Mesh {
   std::vector<Mat4> instances;  // world matrices; the mesh is drawn once per entry
 };
 
+// A (hemi-)octahedral impostor as the reference shader draws it (shaders/octahedral_impostor.*,
+// docs/stages/impostor.md "The reference shader"; the fields follow impostor.json): both maps
+// atlas_px x atlas_px RGBA8, top row first, ALREADY premultiplied by coverage
+// (premultiply_impostor_maps() in impostor_draw.h turns impostor.json's straight PNGs into them).
+struct ImpostorAtlas {
+  std::string name;                        // for messages
+  int atlas_px = 0;                        // frames_per_side * frame_px
+  std::vector<std::uint8_t> color;         // sRGB(linear rgb * a), a = coverage
+  std::vector<std::uint8_t> normal_depth;  // rgb = (normal * 0.5 + 0.5) * a, a = depth
+  int frames_per_side = 16;
+  bool hemi = true;
+  Vec3 center = Vec3::Zero();  // sphere centre, object space
+  float radius = 1;            // sphere radius R
+  float half_extent = 1;       // frame half extent W
+  int frame_px = 256;
+  int padding_px = 16;
+  int mip_levels = 4;  // GL_TEXTURE_MAX_LEVEL of both maps
+};
+
+// Instances of one impostor (object -> world: rotation, translation, uniform scale). The atlas
+// is shared, not copied, between the scenes that draw it.
+struct ImpostorSet {
+  std::shared_ptr<const ImpostorAtlas> atlas;
+  std::vector<Mat4> instances;
+  int parallax_steps = 16;  // ray-march steps per frame (0 = flat frames)
+};
+
 struct Scene {
   std::string source;  // file the scene came from (for messages), may be empty
   // What the renderer ignored, one line each ("uses glTF extension 'KHR_texture_transform',
@@ -91,8 +119,12 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Material> materials;
   std::vector<Mesh> meshes;
+  // Drawn after the opaque and masked primitives (depth test on, no depth write, every instance
+  // of every set far to near by its sphere centre, blended with alpha = coverage), before the
+  // BLEND primitives.
+  std::vector<ImpostorSet> impostors;
 
-  Bounds bounds() const;  // world-space box over every instance of every primitive
+  Bounds bounds() const;  // world-space box over every instance of every primitive and impostor
   // Element counts over all instances (for logs and benchmarks).
   std::size_t triangle_count() const;
   std::size_t line_count() const;

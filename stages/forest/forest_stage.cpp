@@ -13,10 +13,12 @@
 #include <regex>
 #include <sstream>
 
+#include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
 #include "stages/forest/forest_info.h"
+#include "stages/forest/ground.h"
 #include "stages/forest/hierarchy.h"
 #include "stages/forest/impostor_level.h"
 #include "stages/forest/layout.h"
@@ -66,6 +68,11 @@ struct SpeciesInput {
   bool has_impostor = false;
   ImpostorLevel impostor;
   double impostor_epsilon_m = 0;
+  // A (hemi-)octahedral impostor: its impostor.json (maps renamed to the forest's copies) and maps.
+  bool octahedral = false;
+  impostor::ImpostorInfo impostor_info;
+  const ArtifactFile* color_map = nullptr;
+  const ArtifactFile* normal_depth_map = nullptr;
 };
 
 std::size_t primitive_count(const json& g) {
@@ -143,7 +150,8 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
 }
 
 // The species' impostor artifact: impostor.json (libs/impostor's reader: its epsilon) and
-// impostor.glb, which becomes the species' last level.
+// impostor.glb, which becomes the species' last level; for the (hemi-)octahedral kinds also the
+// two maps, which renderers with the reference shader draw (impostor.glb is then their fallback).
 void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInput& s) {
   const ArtifactFile* ij = in.file("impostor.json");
   const ArtifactFile* glb = in.file("impostor.glb");
@@ -153,6 +161,17 @@ void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInpu
     const impostor::ImpostorInfo info =
         impostor::parse_impostor_json(read_file(ij->path), in.node + "/impostor.json");
     s.impostor_epsilon_m = info.error.epsilon_m();
+    if (info.kind != impostor::Kind::kBillboards) {
+      s.octahedral = true;
+      s.color_map = in.file(info.color_map);
+      s.normal_depth_map = in.file(info.normal_depth_map);
+      if (!s.color_map || !s.normal_depth_map)
+        throw StageError("input '" + in.node + "' (impostor) has no " + info.color_map + " and " +
+                         info.normal_depth_map + " though impostor.json names them");
+      s.impostor_info = info;
+      s.impostor_info.color_map = name + "_impostor_color.png";
+      s.impostor_info.normal_depth_map = name + "_impostor_normal_depth.png";
+    }
   } catch (const impostor::ImpostorFormatError& e) {
     throw StageError(e.what());
   }
@@ -287,6 +306,7 @@ class ForestStage final : public Stage {
     f.nodes_per_node = int(ctx.integer("nodes_per_node"));
     f.method = ctx.string("method");
     f.seed = std::uint64_t(ctx.integer("seed"));
+    f.ground = "ground.glb";
     f.stats = layout.stats;
     for (std::size_t s = 0; s < lp.species.size(); ++s) {
       const SpeciesInput& in = inputs[s];
@@ -304,12 +324,12 @@ class ForestStage final : public Stage {
         for (std::size_t l = 0; l < levels.size(); ++l)
           sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
                                levels[l].at("epsilon_m").get<double>(),
-                               levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false});
+                               levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false, ""});
         if (in.has_impostor)
           sp.levels.push_back(
               {names[s] + "_impostor.gltf", in.impostor_epsilon_m,
                switch_distance_m(in.impostor_epsilon_m, sp.pixel_error_px, sp.fov_y_deg, sp.height_px),
-               in.primitives.back(), true});
+               in.primitives.back(), true, in.octahedral ? names[s] + "_impostor.json" : ""});
       } catch (const json::exception& e) {
         throw StageError("input '" + in.node + "': lod.json: " + e.what());
       }
@@ -330,6 +350,14 @@ class ForestStage final : public Stage {
     f.binary_table = f.instances.size() >= binary_from;
 
     // 4. Outputs.
+    const gltf::Scene ground = ground_scene(lp.terrain, f.extent_min, f.extent_max);
+    ctx.write_output(f.ground, gltf::encode(ground));
+    Box3 ground_bounds{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+    const std::vector<float>& gp = ground.meshes[0].primitives[0].positions;
+    for (std::size_t i = 0; i < gp.size(); ++i) {
+      ground_bounds.min[i % 3] = std::min(ground_bounds.min[i % 3], double(gp[i]));
+      ground_bounds.max[i % 3] = std::max(ground_bounds.max[i % 3], double(gp[i]));
+    }
     const EncodedForest enc = write_instances(f);
     ctx.write_output(kInstancesJson, enc.json);
     if (f.binary_table) ctx.write_output(kInstancesBin, enc.bin);
@@ -344,6 +372,12 @@ class ForestStage final : public Stage {
       if (in.has_impostor) {
         ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
         ctx.write_output(in.impostor.source.bin_name, in.impostor.bin);
+        if (in.octahedral) {
+          ctx.write_output(f.species[s].levels.back().octahedral,
+                           impostor::write_impostor_json(in.impostor_info));
+          copy(ctx, in.color_map->path, in.impostor_info.color_map);
+          copy(ctx, in.normal_depth_map->path, in.impostor_info.normal_depth_map);
+        }
       }
       for (const ArtifactFile* im : in.images) copy(ctx, im->path, names[s] + "_" + im->name);
     }
@@ -373,9 +407,12 @@ class ForestStage final : public Stage {
     const Value::Object& geo = ctx.param("georeference").as_object();
     const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(),
                          geo.at("height_m").as_real()};
-    ctx.write_output("tileset.json", tileset_json(f, level_count, g, [&](std::size_t t, int l) {
-                       return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
-                     }));
+    ctx.write_output("tileset.json", tileset_json(
+                                         f, level_count, g,
+                                         [&](std::size_t t, int l) {
+                                           return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
+                                         },
+                                         ground_bounds));
     const Value::Object& cams = ctx.param("cameras").as_object();
     ForestCameraOptions co;
     co.width_px = int(cams.at("width_px").as_int());

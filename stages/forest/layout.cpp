@@ -7,7 +7,7 @@
 //    yaw, the axis-aligned box of its four rotated ground corners: a conservative box, so a
 //    yawed tree is never accepted with more overlap than Celba's test allows.
 //  - Algorithm 8 rejects as soon as ONE overlapping box exceeds the allowed fraction (the volumes
-//    are not summed); the quadtree query stops at the first such box.
+//    are not summed); the grid query stops at the first such box.
 //  - Where a density map, exclusions or terrain limits forbid a spot, the position is drawn again
 //    (rejection sampling of the allowed area) without spending one of Celba's retries, which are
 //    for overlaps only; the expected count is then density x allowed area (allowed_fraction), so
@@ -27,7 +27,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "stages/forest/box_quadtree.h"
+#include "stages/forest/box_grid.h"
 
 namespace sylva::forest {
 
@@ -213,7 +213,15 @@ class Placer {
 
   LayoutResult celba() {
     const double size = std::max(p_.width_m, p_.depth_m);
-    BoxQuadtree q(-0.5 * size, -0.5 * size, size);
+    // Cells two footprints wide (twice the ground diagonal of the largest scaled box; measured
+    // against 1x, 3x and 4x with bench_forest: speed only, the query finds every overlapping box
+    // whatever the cell size).
+    double cell = 1;
+    for (const SpeciesRule& sp : p_.species)
+      cell = std::max(cell,
+                      std::hypot(sp.bounds.max[0] - sp.bounds.min[0], sp.bounds.max[2] - sp.bounds.min[2]) *
+                          std::max(sp.scale_x[1], sp.scale_z[1]));
+    BoxGrid q(-0.5 * size, -0.5 * size, size, 2 * cell);
     auto insert = [&](PlacedTree t) {
       q.insert(t.box);
       out_.trees.push_back(std::move(t));

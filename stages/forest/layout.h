@@ -5,9 +5,9 @@
 // (SizeDeviationX/Y/Z Min/Max), a base rotation about X, Y, Z and translation along Y; the types
 // are placed in order (type 0 first), each tree at a uniform random position with a random scale;
 // its box (the type's base-transformed box, scaled) is tested against the boxes already placed,
-// found through a quadtree, and the tree is rejected when the overlap volume with ANY ONE placed
-// box exceeds AllowIntersection times its own volume; a rejected tree is drawn again up to
-// NumberOfRetries times, then dropped (the forest may hold fewer trees than requested).
+// found through an index (Celba: a quadtree; here a uniform grid, box_grid.h), and the tree is rejected when
+// the overlap volume with ANY ONE placed box exceeds AllowIntersection times its own volume; a rejected tree
+// is drawn again up to NumberOfRetries times, then dropped (the forest may hold fewer trees than requested).
 //
 // Beyond Celba (his §4.5.4 "possible improvements", and what scatter tools offer), each optional:
 // an explicit seed (same inputs -> same forest); a random yaw (the box tested is then the
@@ -19,7 +19,7 @@
 //
 // Placement order (and so the ids): explicit positions, then rows, then the random fill (types in
 // order). Explicit and row trees are not overlap-tested (they are the user's intent) but enter
-// the quadtree, so the random fill keeps clear of them; they do obey the exclusion polygons and
+// the index, so the random fill keeps clear of them; they do obey the exclusion polygons and
 // the species' slope and altitude limits (a tree that breaks one is reported as dropped).
 //
 // Conventions: metres, Y up; the area is [-width/2, width/2] x [-depth/2, depth/2]; a tree's

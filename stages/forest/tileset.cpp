@@ -53,7 +53,8 @@ std::size_t species_level(const Species& s, int tile_level, int level_count) {
 }
 
 std::string tileset_json(const Forest& forest, int level_count, const Georeference& geo,
-                         const std::function<std::string(std::size_t, int)>& content_uri) {
+                         const std::function<std::string(std::size_t, int)>& content_uri,
+                         const Box3& ground_bounds) {
   // The error of drawing none of a subtree's trees: the tallest tree's height.
   double empty_error = 0;
   for (const Instance& in : forest.instances) {
@@ -140,6 +141,13 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
             {"geometricError", empty_error},
             {"refine", "REPLACE"},
             {"children", json::array({root})}};
+  }
+  if (!forest.ground.empty()) {
+    if (!root.contains("children")) root["children"] = json::array();
+    root["children"].push_back({{"boundingVolume", box_volume(ground_bounds)},
+                                {"geometricError", 0.0},
+                                {"content", {{"uri", forest.ground}}}});
+    root["boundingVolume"] = box_volume(any ? merge(bounds, ground_bounds) : ground_bounds);
   }
   const auto m = enu_to_ecef(geo);
   root["transform"] = json(std::vector<double>(m.begin(), m.end()));

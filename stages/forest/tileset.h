@@ -41,9 +41,13 @@ struct Georeference {
 // which draws every species' last level (its impostor, when it has one).
 std::size_t species_level(const Species& s, int tile_level, int level_count);
 
-// `level_count` levels per chain; content uri of tile t at level L = content_uri(t, L).
+// `level_count` levels per chain; content uri of tile t at level L = content_uri(t, L). When the
+// forest has a ground (Forest::ground), the root gets one more child: a leaf tile (geometricError
+// 0) with the ground as content and `ground_bounds` (its box, forest frame) as volume, so clients
+// draw the ground wherever they draw trees; the root's volume then covers it too.
 std::string tileset_json(const Forest& forest, int level_count, const Georeference& geo,
-                         const std::function<std::string(std::size_t tile, int level)>& content_uri);
+                         const std::function<std::string(std::size_t tile, int level)>& content_uri,
+                         const Box3& ground_bounds = {});
 
 // Column-major east-north-up -> ECEF (WGS84) matrix at the georeference.
 std::array<double, 16> enu_to_ecef(const Georeference& geo);

@@ -19,7 +19,8 @@
 //   - `near`: the eye a few metres above the forest's middle: Cesium must refine the tiles under
 //     it to level 0 (full detail) and draw it.
 // The last tile level's contents must have been requested and loaded (Cesium loads a chain's
-// ancestors on its way down) even when no view shows them.
+// ancestors on its way down) even when no view shows them. The forest's ground (instances.json
+// `ground`, a leaf tile under the root) must be drawn in both views; it is not a tile level.
 // It fails (exit 1) when the tileset or any tile content fails to load, the page logs an error,
 // a view draws nothing, or a view shows the wrong levels. RESULT.json records per view the tile
 // levels drawn, the tiles loaded and the covered pixels; PNG_PREFIX<view>.png are the frames.
@@ -90,6 +91,7 @@ const job = {
   width: 480,
   height: 270,
   lastLevel: levelCount - 1,
+  ground: forest.ground ?? null,  // the ground tile's content: drawn in every view, not a tile level
   levelErrors,
   rootError: tileset.root.geometricError,
   margin: size + height,  // Cesium measures to each tile's box: within this of the forest's centre
@@ -164,10 +166,12 @@ window.runJob = async (job) => {
     gl.readPixels(0, 0, canvas.width, canvas.height, gl.RGBA, gl.UNSIGNED_BYTE, px);
     let covered = 0;
     for (let i = 0; i < px.length; i += 4) if (px[i] + px[i + 1] + px[i + 2] > 12) ++covered;
-    const levels = [...shown].map((u) => { const m = /_lod(\\d+)\\.gltf/.exec(u); return m ? Number(m[1]) : -1; });
+    const ground = job.ground && [...shown].some((u) => u.endsWith(job.ground));
+    const levels = [...shown].filter((u) => !job.ground || !u.endsWith(job.ground))
+                     .map((u) => { const m = /_lod(\\d+)\\.gltf/.exec(u); return m ? Number(m[1]) : -1; });
     results.push({
       name: v.name, range, expected_level: expected, canvas: [canvas.width, canvas.height, canvas.clientWidth, canvas.clientHeight], frames, ms: Date.now() - t0, tiles_loaded: tileset.tilesLoaded,
-      contents_shown: shown.size, levels: [...new Set(levels)].sort((a, b) => a - b), covered_pixels: covered,
+      contents_shown: shown.size, ground_shown: ground, levels: [...new Set(levels)].sort((a, b) => a - b), covered_pixels: covered,
       png: canvas.toDataURL('image/png').split(',')[1],
       statistics: { visited: tileset.statistics.visited, selected: tileset.statistics.selected,
                     commands: tileset.statistics.numberOfCommands,
@@ -248,6 +252,8 @@ try {
     fail(`view far: levels ${far.levels.join(',')} drawn at ${far.range.toFixed(0)} m, expected only ${far.expected_level}`);
   if (!out.files_requested.some((f) => f.endsWith(`_lod${job.lastLevel}.gltf`)))
     fail(`the last tile level's contents (_lod${job.lastLevel}.gltf) were never requested`);
+  if (job.ground && !(far.ground_shown && near.ground_shown))
+    fail(`the ground (${job.ground}) was not drawn in both views (far ${far.ground_shown}, near ${near.ground_shown})`);
   if (!near.levels.includes(0)) fail(`view near: levels ${near.levels.join(',')} drawn, level 0 (full detail) missing`);
   process.stdout.write(`cesium_tileset: far (${far.range.toFixed(0)} m) levels [${far.levels}] (${far.contents_shown} contents, ` +
                        `${far.covered_pixels} px), near levels [${near.levels}] (${near.contents_shown} contents, ` +

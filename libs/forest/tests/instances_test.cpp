@@ -22,9 +22,11 @@ Forest sample_forest(bool binary) {
   s.bounds = {{-3, 0, -2.5}, {3, 12.25, 2.5}};
   s.base_rotation_deg = {0, 90, 0};
   s.base_translation_y_m = -0.1;
-  s.levels = {{"oak_lod0.gltf", 0.001, 2.6, 1000, false}, {"oak_impostor.gltf", 0.4, 1100, 12, true}};
+  s.levels = {{"oak_lod0.gltf", 0.001, 2.6, 1000, false, ""},
+              {"oak_impostor.gltf", 0.4, 1100, 12, true, "oak_impostor.json"}};
   f.species.push_back(s);
   f.stats.push_back({3, 2, 1});
+  f.ground = "ground.glb";
   f.instances.push_back({0, 0, 0, {-10.125, 1.5, 3.0 / 7.0}, 0.1, {1.1, 0.9, 1.0}});
   f.instances.push_back({1, 0, 1, {20, 0, -1e-9}, 6.2, {1, 1, 1}});
   f.tiles.push_back({0, 0, {{-13, 1.4, -2}, {-7, 14, 3}}, {0}});
@@ -61,6 +63,17 @@ TEST(Instances, BadInputNamesTheProblem) {
     FAIL();
   } catch (const FormatError& err) {
     EXPECT_STREQ(err.what(), "i.json: error: instance 0 names species 5, which does not exist");
+  }
+  std::string o = write_instances(sample_forest(false)).json;
+  o.replace(o.find("\"oak_impostor.json\""), 19, "\"../x.json\"");
+  try {
+    parse_instances(o, "", "i.json");
+    FAIL();
+  } catch (const FormatError& err) {
+    EXPECT_STREQ(
+        err.what(),
+        "i.json: error: species[0].levels[1].octahedral must be a file name of this artifact, on the "
+        "impostor level only");
   }
   EXPECT_THROW(parse_instances("{", "", "i.json"), FormatError);
   EXPECT_THROW(parse_instances("[]", "", "i.json"), FormatError);

@@ -51,11 +51,14 @@ std::vector<ForestViewCheck> check_forest(render::ForestView& view, render::Rend
   std::vector<ForestViewCheck> out;
   for (const render::Camera& cam : cameras) {
     // Levels chosen for delta pixels of this image: delta' = delta H / height_px at the chain's H.
+    // Judged on the trees' coverage: the ground (the same in both views) would cover every pixel.
     render::ForestViewOptions lod;
+    lod.ground = false;
     const Species& s0 = view.forest().species.at(0);
     lod.pixel_error_px = s0.pixel_error_px * double(s0.height_px) / double(o.height_px);
     render::ForestViewOptions full;
     full.full_detail = true;
+    full.ground = false;
     std::vector<render::ForestViewStats> ls, fs;
     const std::span<const render::Camera> one(&cam, 1);
     image::Image lod_img = view.render(renderer, one, ro, lod, &ls).front();

@@ -7,42 +7,13 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "libs/gltf/writer.h"
-#include "libs/image/png.h"
+#include "stages/forest/tests/card_glb.h"
 #include "stages/forest/tileset.h"
 
 namespace sylva::forest {
 namespace {
 
-// A one-card GLB with an embedded 1x1 PNG, as the impostor stage writes impostor.glb.
-std::string card_glb() {
-  gltf::Scene s;
-  gltf::Image im;
-  im.name = "impostor.png";
-  const std::vector<std::uint8_t> png = image::encode_png(image::Image(2, 2, image::Rgba8{40, 90, 30, 255}));
-  im.bytes.assign(png.begin(), png.end());
-  s.images.push_back(im);
-  gltf::Material m;
-  m.name = "impostor";
-  m.unlit = true;
-  m.base_color_texture = gltf::TextureRef{0};
-  s.materials.push_back(m);
-  gltf::Primitive p;
-  p.positions = {-1, 0, 0, 1, 0, 0, 1, 2, 0, -1, 2, 0};
-  p.texcoords = {0, 1, 1, 1, 1, 0, 0, 0};
-  p.indices = {0, 1, 2, 0, 2, 3};
-  p.material = 0;
-  gltf::Mesh mesh;
-  mesh.name = "impostor";
-  mesh.primitives.push_back(p);
-  s.meshes.push_back(mesh);
-  gltf::Node n;
-  n.name = "impostor";
-  n.mesh = 0;
-  s.nodes.push_back(n);
-  s.roots = {0};
-  return gltf::encode(s);
-}
+using testing::card_glb;
 
 TEST(ImpostorLevel, SplitsTheGlbIntoJsonAndItsBuffer) {
   const std::string glb = card_glb();
@@ -87,10 +58,10 @@ TEST(ImpostorLevel, SwitchDistanceIsEpsilonOverDeltaTimesPixelSize) {
 
 TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {
   Species with;
-  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false});
-  with.levels.push_back({"imp", 0.5, 9, 2, true});  // 4 levels
+  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false, ""});
+  with.levels.push_back({"imp", 0.5, 9, 2, true, ""});  // 4 levels
   Species without;
-  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false});
+  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false, ""});
   const int n = 4;
   EXPECT_EQ(species_level(with, 0, n), 0u);
   EXPECT_EQ(species_level(with, 2, n), 2u);
@@ -113,9 +84,9 @@ TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
   Species s;
   s.name = "a";
   s.bounds = {{-1, 0, -1}, {1, 5, 1}};
-  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false},
-              {"a_lod1.gltf", 0.3, 600, 5, false},
-              {"a_impostor.gltf", 0.1, 200, 2, true}};
+  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false, ""},
+              {"a_lod1.gltf", 0.3, 600, 5, false, ""},
+              {"a_impostor.gltf", 0.1, 200, 2, true, ""}};
   f.species = {s};
   f.instances = {{0, 0, 0, {0, 0, 0}, 0, {1, 1, 1}}};
   f.tiles = {{0, 0, {{-1, 0, -1}, {1, 5, 1}}, {0}}};

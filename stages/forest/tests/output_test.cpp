@@ -13,8 +13,10 @@
 #include "libs/image/png.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/render/camera.h"
+#include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
 #include "stages/forest/forest_stage.h"
+#include "stages/forest/tests/card_glb.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
@@ -203,7 +205,14 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
         EXPECT_EQ(s.triangle_count(), 12 * t.instances.size());
       }
     }
-  for (const char* f2 : {"a_lod0.gltf", "a_lod1.gltf", "b_lod0.gltf"}) gltfs.push_back(out / f2);
+  for (const char* f2 : {"a_lod0.gltf", "a_lod1.gltf", "b_lod0.gltf", "ground.glb"})
+    gltfs.push_back(out / f2);
+  // The ground: the flat 100 x 60 m quad under the trees.
+  ASSERT_EQ(f.ground, "ground.glb");
+  const render::Scene ground = render::load_gltf_scene(out / f.ground);
+  EXPECT_EQ(ground.triangle_count(), 2u);
+  EXPECT_EQ(ground.bounds().min, render::Vec3(-50, 0, -30));
+  EXPECT_EQ(ground.bounds().max, render::Vec3(50, 0, 30));
   for (const auto& v : sylva::test::validate_gltf(gltfs)) {
     if (v.skipped) GTEST_SKIP() << v.skip_reason;
     EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << v.report;
@@ -213,7 +222,14 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
   const auto ts = nlohmann::json::parse(sylva::test::read_file(out / "tileset.json"));
   EXPECT_EQ(ts["asset"]["version"], "1.1");
   EXPECT_EQ(ts["root"]["transform"].size(), 16u);
+  std::size_t grounds = 0;
   std::function<void(const nlohmann::json&)> walk = [&](const nlohmann::json& n) {
+    if (n.contains("content") && n["content"]["uri"] == "ground.glb") {
+      ++grounds;  // a leaf under the root: drawn wherever trees are
+      EXPECT_EQ(n["geometricError"].get<double>(), 0.0);
+      EXPECT_FALSE(n.contains("children"));
+      return;
+    }
     EXPECT_EQ(n["refine"], "REPLACE");
     if (n.contains("content")) {
       const std::string uri = n["content"]["uri"];
@@ -231,6 +247,10 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
     for (const auto& c : n.value("children", nlohmann::json::array())) walk(c);
   };
   walk(ts["root"]);
+  EXPECT_EQ(grounds, 1u);
+  bool ground_child = false;
+  for (const auto& c : ts["root"]["children"]) ground_child = ground_child || c.contains("content");
+  EXPECT_TRUE(ground_child);
 
   // cameras.yaml is a camera set libs/render reads.
   const render::CameraSet cams = render::load_camera_set(out / "cameras.yaml");
@@ -284,40 +304,15 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
 }
 
 // An impostor artifact as the impostor stage writes one: impostor.glb (one card, embedded image)
-// and impostor.json with epsilon 0.005 + 0.02 + 0.01 = 0.035 m.
-InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& node) {
+// and impostor.json with epsilon 0.005 + 0.02 + 0.01 = 0.035 m; `hemi`: a hemi-octahedral one
+// (2 x 2 frames of 64 px) with its two maps.
+InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& node, bool hemi = false) {
   fs::create_directories(dir);
-  gltf::Scene s;
-  gltf::Image im;
-  im.name = "impostor.png";
-  const std::vector<std::uint8_t> png = image::encode_png(image::Image(2, 2, image::Rgba8{40, 90, 30, 255}));
-  im.bytes.assign(png.begin(), png.end());
-  s.images.push_back(im);
-  gltf::Material m;
-  m.name = "impostor";
-  m.unlit = true;
-  m.alpha_mode = gltf::AlphaMode::kBlend;
-  m.base_color_texture.image = 0;
-  s.materials.push_back(m);
-  gltf::Primitive p;
-  const float fh = float(h);
-  p.positions = {-1, 0, 0, 1, 0, 0, 1, fh, 0, -1, fh, 0};
-  p.normals = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  p.texcoords = {0, 1, 1, 1, 1, 0, 0, 0};
-  p.indices = {0, 1, 2, 0, 2, 3};
-  p.material = 0;
-  gltf::Mesh mesh;
-  mesh.name = "impostor";
-  mesh.primitives.push_back(p);
-  s.meshes.push_back(mesh);
-  gltf::Node n;
-  n.name = "impostor";
-  n.mesh = 0;
-  s.nodes.push_back(n);
-  s.roots = {0};
-  sylva::test::write_file(dir / "impostor.glb", gltf::encode(s));
+  sylva::test::write_file(dir / "impostor.glb", forest::testing::card_glb(h, true, true));
   impostor::ImpostorInfo i;
-  i.kind = impostor::Kind::kBillboards;
+  i.kind = hemi ? impostor::Kind::kHemiOctahedral : impostor::Kind::kBillboards;
+  i.hemi = hemi;
+  i.frames_per_side = hemi ? 2 : 0;
   i.frame_px = 64;
   i.atlas_width_px = i.atlas_height_px = 128;
   i.padding_px = 8;
@@ -351,7 +346,53 @@ InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& no
   in.node = node;
   in.type = "impostor";
   for (const char* f : {"impostor.glb", "impostor.json"}) in.files.push_back({f, dir / f, "0"});
+  if (hemi)
+    for (const char* f : {"impostor_color.png", "impostor_normal.png"}) {
+      const std::vector<std::uint8_t> png = image::encode_png(
+          image::Image(128, 128, image::Rgba8{std::uint8_t(f[9] == 'c' ? 60 : 128), 100, 40, 255}));
+      sylva::test::write_file(dir / f, std::string(png.begin(), png.end()));
+      in.files.push_back({f, dir / f, "0"});
+    }
   return in;
+}
+
+// A (hemi-)octahedral impostor input: the fallback cards are the tile level, the impostor itself
+// (impostor.json naming the forest's copies of both maps) is what forest views draw.
+TEST_F(ForestOutput, OctahedralImpostorIsCopiedForTheShader) {
+  inputs_.push_back(fake_impostor(dir_ / "imp_a", 8, "imp_a", true));
+  inputs_.push_back(fake_impostor(dir_ / "imp_b", 5, "imp_b"));
+  const Value::Object params = {
+      {"size_m", Value(Value::List{60.0, 60.0})},
+      {"tile_size_m", Value(30.0)},
+      {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})}};
+  const fs::path out = dir_ / "oct";
+  const forest::Forest f = run(out, params);
+  EXPECT_EQ(f.species[0].levels.back().octahedral, "a_impostor.json");
+  EXPECT_EQ(f.species[0].levels.back().file, "a_impostor.gltf");
+  EXPECT_EQ(f.species[1].levels.back().octahedral, "");  // billboards: the cards are the impostor
+  const impostor::ImpostorInfo copy = impostor::read_impostor_json((out / "a_impostor.json").string());
+  EXPECT_EQ(copy.color_map, "a_impostor_color.png");
+  EXPECT_EQ(copy.normal_depth_map, "a_impostor_normal_depth.png");
+  EXPECT_EQ(sylva::test::read_file(out / copy.color_map),
+            sylva::test::read_file(dir_ / "imp_a/impostor_color.png"));
+  EXPECT_EQ(sylva::test::read_file(out / copy.normal_depth_map),
+            sylva::test::read_file(dir_ / "imp_a/impostor_normal.png"));
+  EXPECT_FALSE(fs::exists(out / "b_impostor.json"));
+  // A forest view loads it as an impostor of 2 x 2 frames of 64 px (no GL needed to load).
+  const render::ForestView view = render::ForestView::load(out / "instances.json");
+  EXPECT_EQ(view.forest().species[0].levels.back().octahedral, "a_impostor.json");
+  // Maps missing from the input: a clear error naming them.
+  InputArtifact broken = fake_impostor(dir_ / "imp_c", 8, "imp_c", true);
+  broken.files.pop_back();
+  inputs_[2] = broken;
+  try {
+    run(dir_ / "oct2", params);
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_STREQ(e.what(),
+                 "input 'imp_c' (impostor) has no impostor_color.png and impostor_normal.png though "
+                 "impostor.json names them");
+  }
 }
 
 TEST_F(ForestOutput, ImpostorIsEachSpeciesLastLevel) {

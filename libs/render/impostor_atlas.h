@@ -1,0 +1,29 @@
+// The maps of a (hemi-)octahedral impostor as the scene renderer draws them (Scene::impostors,
+// scene.h): impostor.json's straight-alpha PNGs premultiplied by coverage, the contract of the
+// reference shader (shaders/octahedral_impostor.frag: "Both maps are uploaded premultiplied by
+// coverage"), so that texture filtering and mip levels weight every texel by what it covers.
+#pragma once
+
+#include <string>
+
+#include "libs/image/image.h"
+#include "libs/render/scene.h"
+
+namespace sylva::render {
+
+struct ImpostorGeometry {
+  int frames_per_side = 16;
+  bool hemi = true;
+  Vec3 center = Vec3::Zero();
+  float radius = 1, half_extent = 1;
+  int frame_px = 256, padding_px = 16, mip_levels = 4;
+};
+
+// color: sRGB RGB with straight alpha = coverage; normal_depth: rgb = normal * 0.5 + 0.5, a =
+// depth (docs/stages/impostor.md "Maps"). Premultiplied: colour rgb = sRGB(linear(rgb) * a),
+// normal rgb = round(rgb * a / 255), alpha and depth unchanged. Throws RenderError (one line,
+// naming `name`) when the maps are not both frames_per_side * frame_px square.
+ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
+                                  const image::Image& normal_depth, const ImpostorGeometry& geometry);
+
+}  // namespace sylva::render

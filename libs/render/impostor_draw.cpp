@@ -1,0 +1,155 @@
+// Impostors inside the scene renderer (impostor_draw.h).
+#include "libs/render/impostor_draw.h"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "libs/render/impostor_renderer.h"
+
+namespace sylva::render::detail {
+
+namespace {
+
+GLuint upload_map(GlObjects& gl, const std::vector<std::uint8_t>& rgba, int px, bool srgb, int mip_levels) {
+  const GLuint id = gl.texture();
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, px, px, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               rgba.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, std::max(0, mip_levels));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mip_levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  if (mip_levels > 0) glGenerateMipmap(GL_TEXTURE_2D);
+  return id;
+}
+
+}  // namespace
+
+void ImpostorDrawer::destroy() {
+  if (program_) glDeleteProgram(program_);
+  program_ = 0;
+}
+
+ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector<ImpostorSet>& sets,
+                                                GLint max_texture_px) {
+  Uploaded up;
+  if (sets.empty()) return up;
+  if (!program_)
+    program_ = link_program(octahedral_impostor_vertex_shader(), octahedral_impostor_fragment_shader(),
+                            "octahedral impostor");
+  for (const ImpostorSet& s : sets) {
+    if (!s.atlas) throw RenderError("an impostor set has no atlas");
+    const ImpostorAtlas& a = *s.atlas;
+    const std::size_t bytes = std::size_t(a.atlas_px) * std::size_t(a.atlas_px) * 4;
+    if (a.frames_per_side < 2 || a.frame_px < 1 || a.atlas_px != a.frames_per_side * a.frame_px ||
+        a.atlas_px > max_texture_px || a.color.size() != bytes || a.normal_depth.size() != bytes)
+      throw RenderError("impostor '" + a.name + "': its atlas is not " + std::to_string(a.frames_per_side) +
+                        " x " + std::to_string(a.frame_px) + " px frames with both maps (at most " +
+                        std::to_string(max_texture_px) + " px here)");
+    if (!(a.radius > 0) || !(a.half_extent >= a.radius) || a.padding_px < 0 || 2 * a.padding_px >= a.frame_px)
+      throw RenderError(
+          "impostor '" + a.name +
+          "': geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
+    up.color.push_back(upload_map(gl, a.color, a.atlas_px, true, a.mip_levels));
+    up.normal_depth.push_back(upload_map(gl, a.normal_depth, a.atlas_px, false, a.mip_levels));
+  }
+  const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
+  up.vao = gl.vertex_array();
+  glBindVertexArray(up.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, upload_array(gl, GL_ARRAY_BUFFER, corners));
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+  up.instances = gl.buffer();
+  glBindBuffer(GL_ARRAY_BUFFER, up.instances);
+  for (GLuint c = 0; c < 4; ++c) {
+    glEnableVertexAttribArray(1 + c);
+    glVertexAttribDivisor(1 + c, 1);
+  }
+  glBindVertexArray(0);
+  return up;
+}
+
+void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& up, const Camera& cam,
+                          float aspect, const Lighting& lighting) {
+  if (sets.empty()) return;
+  // Far to near over all sets (more negative view z = farther).
+  struct Key {
+    float z;
+    std::uint32_t set, instance;
+  };
+  std::vector<Key> keys;
+  const Mat4 view = cam.view_matrix();
+  for (std::size_t s = 0; s < sets.size(); ++s)
+    for (std::size_t i = 0; i < sets[s].instances.size(); ++i) {
+      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->center.homogeneous()).hnormalized();
+      keys.push_back({(view * w.homogeneous())(2), std::uint32_t(s), std::uint32_t(i)});
+    }
+  if (keys.empty()) return;
+  std::stable_sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) { return a.z < b.z; });
+  std::vector<float> models;
+  models.reserve(keys.size() * 16);
+  for (const Key& k : keys) {
+    const Mat4& m = sets[k.set].instances[k.instance];
+    models.insert(models.end(), m.data(), m.data() + 16);
+  }
+  glBindVertexArray(up.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, up.instances);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(models.size() * sizeof(float)), models.data(), GL_STREAM_DRAW);
+
+  glUseProgram(program_);
+  auto u = [&](const char* n) { return glGetUniformLocation(program_, n); };
+  glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, view.data());
+  glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, cam.projection_matrix(aspect).data());
+  glUniform3fv(u("u_eye"), 1, cam.eye.data());
+  glUniform3fv(u("u_ambient"), 1, lighting.ambient.data());
+  glUniform3fv(u("u_light_color"), 1, lighting.light_color.data());
+  const Vec3 l =
+      lighting.direction_to_light.norm() > 0 ? lighting.direction_to_light.normalized() : Vec3::UnitY();
+  glUniform3fv(u("u_light_dir"), 1, l.data());
+  glUniform1i(u("u_color"), 0);
+  glUniform1i(u("u_normal_depth"), 1);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_BLEND);
+  glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  std::size_t current = sets.size();
+  for (std::size_t begin = 0; begin < keys.size();) {
+    std::size_t end = begin + 1;
+    while (end < keys.size() && keys[end].set == keys[begin].set) ++end;
+    const std::size_t s = keys[begin].set;
+    if (s != current) {
+      current = s;
+      const ImpostorAtlas& a = *sets[s].atlas;
+      glUniform1i(u("u_frames"), a.frames_per_side);
+      glUniform1i(u("u_hemi"), a.hemi);
+      glUniform3fv(u("u_center"), 1, a.center.data());
+      glUniform1f(u("u_radius"), a.radius);
+      glUniform1f(u("u_half_extent"), a.half_extent);
+      glUniform1f(u("u_padding"), float(a.padding_px) / float(a.frame_px));
+      glUniform1i(u("u_parallax_steps"), std::clamp(sets[s].parallax_steps, 0, 64));
+      glUniform1f(u("u_atlas_px"), float(a.atlas_px));
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, up.color[s]);
+      glActiveTexture(GL_TEXTURE1);
+      glBindTexture(GL_TEXTURE_2D, up.normal_depth[s]);
+    }
+    // The run's matrices start at instance `begin` of the sorted buffer.
+    for (GLuint c = 0; c < 4; ++c)
+      glVertexAttribPointer(
+          1 + c, 4, GL_FLOAT, GL_FALSE, 16 * sizeof(float),
+          reinterpret_cast<const void*>(std::uintptr_t((begin * 16 + c * 4) * sizeof(float))));
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(end - begin));
+    begin = end;
+  }
+  glActiveTexture(GL_TEXTURE0);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glBindVertexArray(0);
+}
+
+}  // namespace sylva::render::detail

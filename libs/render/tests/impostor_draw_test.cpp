@@ -1,0 +1,227 @@
+// Scene::impostors: the scene renderer draws (hemi-)octahedral impostors with the reference shader
+// exactly as ImpostorRenderer::render_octahedral does (the drawer `sylva impostorcheck` proves),
+// and in the same depth buffer as the meshes. A hand-made atlas: every frame a disc of one colour
+// with a constant depth and normal, so each expectation follows from the shader's contract.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "libs/image/image_io.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/impostor_atlas.h"
+#include "libs/render/impostor_renderer.h"
+#include "libs/render/renderer.h"
+#include "libs/render/testing/gltf_builder.h"
+#include "tests/support/test_support.h"
+
+namespace sylva::render {
+namespace {
+
+using image::Image;
+using image::Rgba8;
+
+constexpr Rgba8 kBackground{191, 204, 217, 255};
+constexpr Rgba8 kDisc{200, 40, 40, 255};
+
+struct Maps {
+  Image color, normal_depth;
+  ImpostorGeometry geometry;
+};
+
+// 4 x 4 frames of 32 px, padding 4 (2 mip levels): a disc of radius 12 px = the sphere (R = 1 m,
+// W = R F / (F - 2 padding)), normal +Z (object space), depth 0.5 = the sphere's centre plane.
+Maps disc_maps() {
+  Maps m;
+  ImpostorGeometry& g = m.geometry;
+  g.frames_per_side = 4;
+  g.frame_px = 32;
+  g.padding_px = 4;
+  g.mip_levels = 2;
+  g.radius = 1;
+  g.half_extent = 32.f / 24.f;
+  const int px = g.frames_per_side * g.frame_px;
+  m.color = Image(px, px, {0, 0, 0, 0});
+  m.normal_depth = Image(px, px, {0, 0, 0, 0});
+  for (int y = 0; y < px; ++y)
+    for (int x = 0; x < px; ++x) {
+      const double fx = (x % g.frame_px) + 0.5 - 16, fy = (y % g.frame_px) + 0.5 - 16;
+      if (fx * fx + fy * fy > 12.0 * 12.0) continue;
+      m.color.set(x, y, kDisc);
+      m.normal_depth.set(x, y, {128, 128, 255, 128});
+    }
+  return m;
+}
+
+Camera look(const Vec3& eye) {
+  Camera c;
+  c.eye = eye;
+  c.target = Vec3::Zero();
+  c.fov_y_deg = 45;
+  c.z_near = 0.05f;
+  c.z_far = 50.f;
+  return c;
+}
+
+Mat4 translation(const Vec3& t) {
+  Mat4 m = Mat4::Identity();
+  m.block<3, 1>(0, 3) = t;
+  return m;
+}
+
+class ImpostorDrawTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    try {
+      renderer_ = Renderer::create_headless();
+      impostors_ = ImpostorRenderer::create_headless();
+    } catch (const RenderUnavailableError& e) {
+      unavailable_ = e.what();
+    }
+  }
+  static void TearDownTestSuite() {
+    renderer_.reset();
+    impostors_.reset();
+  }
+  void SetUp() override {
+    if (renderer_ && impostors_) return;
+    const char* require = std::getenv("SYLVA_REQUIRE_GL");
+    std::error_code ec;
+    if ((require && std::string(require) == "1") ||
+        std::filesystem::exists("/usr/share/glvnd/egl_vendor.d/50_mesa.json", ec))
+      FAIL() << unavailable_;
+    GTEST_SKIP() << unavailable_;
+  }
+
+  static std::unique_ptr<Renderer> renderer_;
+  static std::unique_ptr<ImpostorRenderer> impostors_;
+  static std::string unavailable_;
+  test::TempDir dir_;
+};
+
+std::unique_ptr<Renderer> ImpostorDrawTest::renderer_;
+std::unique_ptr<ImpostorRenderer> ImpostorDrawTest::impostors_;
+std::string ImpostorDrawTest::unavailable_;
+
+RenderOptions options() {
+  RenderOptions o;
+  o.width = o.height = 96;
+  o.msaa = 4;
+  return o;
+}
+
+Scene impostor_scene(const Maps& m, std::vector<Mat4> instances) {
+  Scene s;
+  s.source = "impostor test";
+  s.impostors.push_back({std::make_shared<const ImpostorAtlas>(
+                             make_impostor_atlas("disc", m.color, m.normal_depth, m.geometry)),
+                         std::move(instances)});
+  return s;
+}
+
+// Same pixels as the reference drawer, for overlapping instances drawn far to near.
+TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawer) {
+  const Maps m = disc_maps();
+  const std::vector<Mat4> instances = {translation(Vec3(0.6f, 0, -1)), translation(Vec3(0, 0, 0)),
+                                       translation(Vec3(-0.8f, 0.3f, 0.5f))};
+  const Camera cam = look(Vec3(0, 0.5f, 5));
+  OctahedralImpostor ref;
+  ref.color = m.color;
+  ref.normal_depth = m.normal_depth;
+  ref.frames_per_side = m.geometry.frames_per_side;
+  ref.frame_px = m.geometry.frame_px;
+  ref.padding_px = m.geometry.padding_px;
+  ref.mip_levels = m.geometry.mip_levels;
+  ref.radius = m.geometry.radius;
+  ref.half_extent = m.geometry.half_extent;
+  ref.instances = instances;
+  const Image want = impostors_->render_octahedral(ref, std::span<const Camera>(&cam, 1), options()).front();
+  const Image got = renderer_->render(impostor_scene(m, instances), cam, options());
+  ASSERT_EQ(got.bytes().size(), want.bytes().size());
+  std::size_t differ = 0, drawn = 0;
+  for (std::size_t i = 0; i < got.bytes().size(); i += 4) {
+    differ += std::memcmp(&got.bytes()[i], &want.bytes()[i], 4) != 0;
+    drawn += got.bytes()[i] != kBackground.r;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_GT(drawn, 1000u);  // three discs of ~13 px radius
+  const Rgba8 corner = got.at(1, 1);
+  EXPECT_EQ(corner.r, kBackground.r);
+  EXPECT_EQ(corner.b, kBackground.b);
+}
+
+// One depth buffer: an opaque quad in front of the impostor hides it, one behind is hidden by it.
+TEST_F(ImpostorDrawTest, MeshesInFrontHideImpostorsAndImpostorsHideMeshesBehind) {
+  const Maps m = disc_maps();
+  testing::GltfBuilder b;
+  const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 1)});
+  const int quad = b.add_mesh({testing::quad(1.f, blue)});
+  // Front: covers x in [-0.9, -0.1] at z = 1.5; back: 6 m wide at z = -2.
+  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(-0.5f, 0, 1.5f), .scale = Vec3(0.8f, 0.8f, 1)}));
+  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(0, 0, -2), .scale = Vec3(6, 6, 1)}));
+  b.write_glb(dir_ / "quads.glb");
+  Scene s = load_gltf_scene(dir_ / "quads.glb");
+  s.impostors = impostor_scene(m, {Mat4::Identity()}).impostors;
+  const Camera cam = look(Vec3(0, 0, 5));
+  const RenderOptions o = options();
+  const Image img = renderer_->render(s, cam, o);
+  image::write_png(img, dir_ / "depth.png");
+  // Centre right of the disc: the impostor (red, lit), over the blue quad behind it.
+  const Rgba8 disc = img.at(56, 48);
+  EXPECT_GT(disc.r, 100);
+  EXPECT_LT(disc.b, 60);
+  // Left of centre, where the front quad is: blue.
+  const Rgba8 front = img.at(38, 48);
+  EXPECT_LT(front.r, 30);
+  EXPECT_GT(front.b, 100);
+  // Outside the disc: the back quad (blue), not the background.
+  const Rgba8 back = img.at(48, 10);
+  EXPECT_LT(back.r, 30);
+  EXPECT_GT(back.b, 100);
+}
+
+TEST_F(ImpostorDrawTest, BadAtlasesAreClearErrors) {
+  Maps m = disc_maps();
+  Scene s;
+  s.impostors.push_back({nullptr, {Mat4::Identity()}});
+  EXPECT_THROW(
+      {
+        try {
+          renderer_->render(s, look(Vec3(0, 0, 5)), options());
+        } catch (const RenderError& e) {
+          EXPECT_STREQ(e.what(), "an impostor set has no atlas");
+          throw;
+        }
+      },
+      RenderError);
+  m.geometry.frame_px = 16;
+  try {
+    make_impostor_atlas("disc", m.color, m.normal_depth, m.geometry);
+    FAIL() << "no error";
+  } catch (const RenderError& e) {
+    EXPECT_STREQ(e.what(),
+                 "impostor 'disc': its maps must be 64x64 pixels (frames_per_side x frame_px), got 128x128");
+  }
+}
+
+// Premultiplied by coverage: half-covered texels darken (in linear light) by half.
+TEST(ImpostorAtlas, PremultipliesByCoverage) {
+  ImpostorGeometry g;
+  g.frames_per_side = 2;
+  g.frame_px = 1;
+  g.padding_px = 0;
+  Image color(2, 2, {255, 128, 0, 255}), nd(2, 2, {200, 100, 255, 77});
+  color.set(1, 0, {255, 128, 0, 128});
+  color.set(0, 1, {255, 128, 0, 0});
+  const ImpostorAtlas a = make_impostor_atlas("t", color, nd, g);
+  EXPECT_EQ(a.color[0], 255);  // opaque: unchanged
+  EXPECT_EQ(a.color[1], 128);
+  EXPECT_EQ(a.color[4], 188);  // 255 * sRGB(linear(1) * 128 / 255) = 187.8
+  EXPECT_EQ(a.color[7], 128);
+  EXPECT_EQ(a.normal_depth[4], (200 * 128 + 127) / 255);
+  EXPECT_EQ(a.normal_depth[7], 77);  // depth unchanged
+  EXPECT_EQ(a.color[8], 0);          // uncovered
+  EXPECT_EQ(a.normal_depth[8], 0);
+}
+
+}  // namespace
+}  // namespace sylva::render
