@@ -156,9 +156,24 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
     const FrameMeans means = frame_means(maps.color, maps.normal_depth, rect_of(v));
     if (billboards && card.name == "top" && means.coverage > 0)
       card.center[1] += means.depth * v.depth_radius;  // the mean height of what is seen from above
-    const CutoutResult cut = fit_cutout(maps.color, rect_of(v), p.cutout_vertices);
-    card.cutout = cut.polygon;
-    fill += cut.area_fraction;
+    if (std::abs(card.dir[1]) < 0.5) {
+      // Vertical cards stand through the trunk's foot, not the box centre: moving a card along its
+      // own direction moves nothing of what its (orthographic) frame shows, and through the foot
+      // the trunk is drawn where it stands, so the trunk of a card seen from aside, and the line
+      // a card seen edge-on makes, fall on the tree's own trunk.
+      const double shift =
+          (geo.foot[0] - card.center[0]) * card.dir[0] + (geo.foot[2] - card.center[2]) * card.dir[2];
+      for (int k = 0; k < 3; ++k) card.center[std::size_t(k)] += shift * card.dir[std::size_t(k)];
+      // A crown polygon and a trunk polygon (cutout.h fit_split_cutout says why).
+      const SplitCutout cut = fit_split_cutout(maps.color, rect_of(v), p.cutout_vertices);
+      card.cutout = cut.upper;
+      card.lower_cutout = cut.lower;
+      fill += cut.area_fraction;
+    } else {
+      const CutoutResult cut = fit_cutout(maps.color, rect_of(v), p.cutout_vertices);
+      card.cutout = cut.polygon;
+      fill += cut.area_fraction;
+    }
     GlbCard g;
     g.card = card;
     const Vec3 dir(card.dir[0], card.dir[1], card.dir[2]);
