@@ -69,19 +69,6 @@ SourceGeometry measure(const render::Scene& scene) {
           r2 = std::max(r2, w.squaredNorm());
           h2 = std::max(h2, w.x() * w.x() + w.z() * w.z());
         }
-  // The foot: the mean of the vertices in the lowest 2 % of the height (the trunk's base ring).
-  const double foot_top = b.min.y() + 0.02 * (b.max.y() - b.min.y());
-  Vec3 foot = Vec3::Zero();
-  double feet = 0;
-  for (const render::Mesh& mesh : scene.meshes)
-    for (const render::Mat4& m : mesh.instances)
-      for (const render::Primitive& p : mesh.primitives)
-        for (const render::Vec3& v : p.positions) {
-          const Vec3 w = (m * v.homogeneous()).hnormalized().cast<double>();
-          if (w.y() <= foot_top) foot += w, feet += 1;
-        }
-  g.foot = feet > 0 ? to_array(Vec3(foot.x() / feet, b.min.y(), foot.z() / feet))
-                    : to_array(Vec3(c.x(), b.min.y(), c.z()));
   // Float rounding of the vertices: widen by a part in 10^5 so no vertex sits outside.
   g.radius = std::sqrt(r2) * (1 + 1e-5) + 1e-6;
   g.horizontal_radius = std::sqrt(h2) * (1 + 1e-5) + 1e-6;

@@ -33,11 +33,9 @@ struct SourceGeometry {
   Vec3d center{};                // the box centre: the sphere's centre and the cards' axis
   double radius = 0;             // largest distance of a vertex from the centre
   double horizontal_radius = 0;  // largest distance of a vertex from the vertical axis through the centre
-  Vec3d foot{};                  // where the trunk meets the ground: the mean x, z of the vertices in the
-                                 // lowest 2 % of the height, at the bottom of the box
 };
 
-// Bounds, sphere, axis radius and foot over every instance of every primitive's vertices. Throws
+// Bounds, sphere and axis radius over every instance of every primitive's vertices. Throws
 // std::invalid_argument for a scene without vertices.
 SourceGeometry measure(const render::Scene& scene);
 
