@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -86,6 +87,9 @@ class ImpostorcheckCommand final : public CliCommand {
            "ray-march steps of the reference shader through each frame's depth map (0 = flat frames)")
         ->capture_default_str()
         ->check(CLI::Range(0, 64));
+    sub->add_flag("--search-distance", search_,
+                  "find the nearest distance at which the check passes (bisection over multiples of the "
+                  "switch distance, 1/16..64, to 10 %); reports it and the check there (no images)");
     sub->add_flag("--no-images", no_images_,
                   "do not write the renders and heat maps (impostorcheck.json only)");
     return sub;
@@ -205,10 +209,34 @@ class ImpostorcheckCommand final : public CliCommand {
       };
       if (pixel_threshold_opt_->count() == 0)
         options_.pixel_threshold = std::min(1.0, subject.info.pixel_error_px);
-      results = impostor::check_impostor(scene_renderer, impostor_renderer, full, subject, options_, baseline,
-                                         sink);
+      std::optional<impostor::DistanceSearchResult> search;
+      if (search_) {
+        const impostor::DistanceStepSink step_sink = [&](const impostor::DistanceSearchStep& st) {
+          if (cancelled(io)) throw Cancelled();
+          std::fprintf(io.out, "  search %s: x%.4f = %.1f m %s%s\n", node.name.c_str(), st.scale,
+                       st.distance_m, st.passed ? "passed" : "FAILED: ", st.passed ? "" : st.failure.c_str());
+          std::fflush(io.out);
+        };
+        search = impostor::find_proven_distance(scene_renderer, impostor_renderer, full, subject, options_,
+                                                {}, baseline, step_sink);
+        results = search->at_proven;
+        options_.distance_scale = search->proven_scale;
+      } else {
+        results = impostor::check_impostor(scene_renderer, impostor_renderer, full, subject, options_,
+                                           baseline, sink);
+      }
       write_json(dir / "impostorcheck.json", node, subject.info, reference, full_triangles, full_lines,
-                 baseline, results);
+                 baseline, results, search ? &*search : nullptr);
+      if (search)
+        std::fprintf(
+            io.out,
+            "sylva impostorcheck: node '%s' proven from %.1f m%s (x%.4f of the error model's %.1f m)\n",
+            node.name.c_str(), search->proven_distance_m, search->below_lo ? " or nearer" : "",
+            search->proven_scale, search->model_distance_m);
+      if (search && search->proven_distance_m <= 0) {
+        staged->commit();
+        return fail("no distance up to 64 x the switch distance passes");
+      }
       if (cancelled(io)) throw Cancelled();
       staged->commit();
     } catch (const Cancelled&) {
@@ -299,8 +327,8 @@ class ImpostorcheckCommand final : public CliCommand {
 
   void write_json(const fs::path& file, const NodeDecl& node, const impostor::ImpostorInfo& info,
                   const std::string& reference, std::size_t full_triangles, std::size_t full_lines,
-                  const impostor::ColourBaseline& baseline,
-                  const impostor::ImpostorCheckResult& result) const {
+                  const impostor::ColourBaseline& baseline, const impostor::ImpostorCheckResult& result,
+                  const impostor::DistanceSearchResult* search) const {
     const std::vector<impostor::ImpostorViewCheck>& results = result.views;
     nlohmann::json j;
     j["node"] = node.name;
@@ -347,6 +375,19 @@ class ImpostorcheckCommand final : public CliCommand {
                        {"failure", c.failure}});
     }
     j["views"] = views;
+    if (search) {
+      nlohmann::json steps = nlohmann::json::array();
+      for (const auto& st : search->steps)
+        steps.push_back({{"scale", st.scale},
+                         {"distance_m", st.distance_m},
+                         {"passed", st.passed},
+                         {"failure", st.failure}});
+      j["distance_search"] = {{"model_distance_m", search->model_distance_m},
+                              {"proven_distance_m", search->proven_distance_m},
+                              {"proven_scale", search->proven_scale},
+                              {"passed_at_smallest_scale", search->below_lo},
+                              {"steps", steps}};
+    }
     j["colour_mean_error"] = result.colour_mean;
     j["failure"] = result.failure;
     j["passed"] = result.passed();
@@ -364,6 +405,7 @@ class ImpostorcheckCommand final : public CliCommand {
   CLI::Option* pixel_threshold_opt_ = nullptr;
   std::vector<double> azimuths_, elevations_;
   bool no_images_ = false;
+  bool search_ = false;
 };
 
 }  // namespace

@@ -167,17 +167,22 @@ std::string write_impostor_json(const ImpostorInfo& info) {
   j["source"] = {{"type", info.source_type}, {"file", info.source_file}, {"level", info.source_level}};
   Json cards = Json::array();
   for (const Card& c : info.cards) {
-    Json poly = Json::array();
-    for (const Vec2d& p : c.cutout) poly.push_back(Json::array({p[0], p[1]}));
-    cards.push_back({{"name", c.name},
-                     {"dir", vec(c.dir)},
-                     {"right", vec(c.right)},
-                     {"up", vec(c.up)},
-                     {"center", vec(c.center)},
-                     {"half_width_m", c.half_width},
-                     {"half_height_m", c.half_height},
-                     {"rect_px", Json::array({c.x, c.y, c.w, c.h})},
-                     {"cutout_uv", poly}});
+    auto polygon = [](const std::vector<Vec2d>& points) {
+      Json poly = Json::array();
+      for (const Vec2d& p : points) poly.push_back(Json::array({p[0], p[1]}));
+      return poly;
+    };
+    Json card = {{"name", c.name},
+                 {"dir", vec(c.dir)},
+                 {"right", vec(c.right)},
+                 {"up", vec(c.up)},
+                 {"center", vec(c.center)},
+                 {"half_width_m", c.half_width},
+                 {"half_height_m", c.half_height},
+                 {"rect_px", Json::array({c.x, c.y, c.w, c.h})},
+                 {"cutout_uv", polygon(c.cutout)}};
+    if (!c.lower_cutout.empty()) card["lower_cutout_uv"] = polygon(c.lower_cutout);
+    cards.push_back(std::move(card));
   }
   j["glb"] = {{"file", "impostor.glb"}, {"triangles", info.glb_triangles}, {"cards", cards}};
   return j.dump(2) + "\n";
@@ -270,17 +275,20 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
     if (c.x < 0 || c.y < 0 || c.w < 1 || c.h < 1 || c.x + c.w > info.atlas_width_px ||
         c.y + c.h > info.atlas_height_px)
       r.fail("'" + path + ".rect_px' lies outside the atlas");
-    const Json& poly = r.at(cj, "cutout_uv", path);
-    if (!poly.is_array() || poly.size() < 3 || poly.size() > 16)
-      r.fail("'" + path + ".cutout_uv' must list 3..16 points");
-    for (const Json& p : poly) {
-      if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-        r.fail("'" + path + ".cutout_uv' points must be [u, v]");
-      const double u = p[0].get<double>(), w = p[1].get<double>();
-      if (!(u >= -1e-9 && u <= 1 + 1e-9 && w >= -1e-9 && w <= 1 + 1e-9))
-        r.fail("'" + path + ".cutout_uv' points must lie in [0, 1]^2");
-      c.cutout.push_back({u, w});
-    }
+    auto polygon = [&](const Json& poly, const std::string& key, std::vector<Vec2d>& out) {
+      if (!poly.is_array() || poly.size() < 3 || poly.size() > 16)
+        r.fail("'" + path + "." + key + "' must list 3..16 points");
+      for (const Json& p : poly) {
+        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+          r.fail("'" + path + "." + key + "' points must be [u, v]");
+        const double u = p[0].get<double>(), w = p[1].get<double>();
+        if (!(u >= -1e-9 && u <= 1 + 1e-9 && w >= -1e-9 && w <= 1 + 1e-9))
+          r.fail("'" + path + "." + key + "' points must lie in [0, 1]^2");
+        out.push_back({u, w});
+      }
+    };
+    polygon(r.at(cj, "cutout_uv", path), "cutout_uv", c.cutout);
+    if (cj.contains("lower_cutout_uv")) polygon(cj.at("lower_cutout_uv"), "lower_cutout_uv", c.lower_cutout);
     info.cards.push_back(std::move(c));
   }
   return info;

@@ -36,13 +36,17 @@ using Vec2d = std::array<double, 2>;
 // centre + [-half_width, half_width] right + [-half_height, half_height] up, facing `dir`, that
 // shows the atlas rectangle [x, x + w) x [y, y + h) (pixels, top-left origin) of the frame baked
 // from `dir`; `cutout` is the convex polygon (counter-clockwise seen from `dir`, 4..8 vertices,
-// in frame uv: (0,0) top-left, (1,1) bottom-right of the rectangle) that the card's geometry is.
+// in frame uv: (0,0) top-left, (1,1) bottom-right of the rectangle) that the card's geometry is;
+// `lower_cutout`, when not empty, a second convex polygon (3..16 vertices) below it, sharing no
+// area with it: the card is split at a row so that a wide crown and a narrow trunk each get a
+// tight polygon (stages/impostor/cutout.h says why).
 struct Card {
   std::string name;
   Vec3d dir{}, right{}, up{}, center{};
   double half_width = 0, half_height = 0;
   int x = 0, y = 0, w = 0, h = 0;
   std::vector<Vec2d> cutout;
+  std::vector<Vec2d> lower_cutout;
   friend bool operator==(const Card&, const Card&) = default;
 };
 

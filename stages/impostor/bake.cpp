@@ -92,6 +92,48 @@ image::Image prelit(const image::Image& color, const image::Image& nd) {
   return out;
 }
 
+// Where the trunk stands (x, z): every vertical card's frame shows the tree's lowest texels, the
+// trunk's foot, at some offset along the card's `right`; the point whose offsets along every
+// card's `right` best match them (least squares). The foot is the coverage-weighted mean column
+// of a frame's lowest covered rows (the lowest 1 % of the frame's height, at least two rows). With
+// fewer than two independent directions, the box centre.
+std::array<double, 2> trunk_foot(const image::Image& color, const Layout& layout) {
+  double a = 0, b = 0, c = 0, rx = 0, rz = 0;  // normal equations [a b; b c] f = (rx, rz)
+  std::array<double, 2> centre{0, 0};
+  for (std::size_t k = 0; k < layout.cards.size(); ++k) {
+    const Card& card = layout.cards[k];
+    if (std::abs(card.dir[1]) >= 0.5) continue;
+    centre = {card.center[0], card.center[2]};
+    const render::BakeView& v = layout.views[std::size_t(layout.card_view[k])];
+    const auto& bytes = color.bytes();
+    auto alpha = [&](int x, int y) {
+      return bytes[(std::size_t(v.y + y) * std::size_t(color.width()) + std::size_t(v.x + x)) * 4 + 3] /
+             255.0;
+    };
+    int lowest = -1;
+    for (int y = v.h - 1; y >= 0 && lowest < 0; --y)
+      for (int x = 0; x < v.w; ++x)
+        if (alpha(x, y) > 0) {
+          lowest = y;
+          break;
+        }
+    if (lowest < 0) continue;
+    const int rows = std::max(2, v.h / 100);
+    double sum = 0, weight = 0;
+    for (int y = std::max(0, lowest - rows + 1); y <= lowest; ++y)
+      for (int x = 0; x < v.w; ++x) sum += alpha(x, y) * (x + 0.5), weight += alpha(x, y);
+    const double u = sum / weight / v.w;
+    const double m =
+        card.center[0] * card.right[0] + card.center[2] * card.right[2] + (2 * u - 1) * card.half_width;
+    a += card.right[0] * card.right[0], b += card.right[0] * card.right[2],
+        c += card.right[2] * card.right[2];
+    rx += card.right[0] * m, rz += card.right[2] * m;
+  }
+  const double det = a * c - b * b;
+  if (std::abs(det) < 1e-6) return centre;
+  return {(c * rx - b * rz) / det, (a * rz - b * rx) / det};
+}
+
 }  // namespace
 
 double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry) {
@@ -147,7 +189,11 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
     }
   }
 
-  // 5-6. Cards: top-card height, normals, cutouts.
+  // 5-6. Cards: top-card height, normals, cutouts. Vertical cards stand through the trunk's foot
+  // rather than the box centre: moving a card along its own direction moves nothing of what its
+  // orthographic frame shows, and through the foot the trunk is drawn where it stands, so a card
+  // seen from aside, or edge-on as a line, puts the trunk on the tree's own trunk.
+  const std::array<double, 2> foot = trunk_foot(maps.color, layout);
   std::vector<GlbCard> glb_cards;
   double fill = 0;
   for (std::size_t c = 0; c < layout.cards.size(); ++c) {
@@ -156,9 +202,21 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
     const FrameMeans means = frame_means(maps.color, maps.normal_depth, rect_of(v));
     if (billboards && card.name == "top" && means.coverage > 0)
       card.center[1] += means.depth * v.depth_radius;  // the mean height of what is seen from above
-    const CutoutResult cut = fit_cutout(maps.color, rect_of(v), p.cutout_vertices);
-    card.cutout = cut.polygon;
-    fill += cut.area_fraction;
+    if (std::abs(card.dir[1]) < 0.5) {
+      // Vertical cards stand through the trunk's foot, not the box centre (above).
+      const double shift =
+          (foot[0] - card.center[0]) * card.dir[0] + (foot[1] - card.center[2]) * card.dir[2];
+      for (int k = 0; k < 3; ++k) card.center[std::size_t(k)] += shift * card.dir[std::size_t(k)];
+      // A crown polygon and a trunk polygon (cutout.h fit_split_cutout says why).
+      const SplitCutout cut = fit_split_cutout(maps.color, rect_of(v), p.cutout_vertices, p.cutout_vertices);
+      card.cutout = cut.upper;
+      card.lower_cutout = cut.lower;
+      fill += cut.area_fraction;
+    } else {
+      const CutoutResult cut = fit_cutout(maps.color, rect_of(v), p.cutout_vertices);
+      card.cutout = cut.polygon;
+      fill += cut.area_fraction;
+    }
     GlbCard g;
     g.card = card;
     const Vec3 dir(card.dir[0], card.dir[1], card.dir[2]);

@@ -28,4 +28,23 @@ struct CutoutResult {
 CutoutResult fit_cutout(const image::Image& color, const PixelRect& rect, int max_vertices,
                         int alpha_threshold = 0);
 
+// The same texels as two convex polygons, one above the other (sharing at most a row boundary):
+// `upper` of at most max_vertices, `lower` of at most lower_vertices, split at the row boundary
+// that gives the least total area, or one polygon (`lower` empty) when no split is smaller. A
+// tree's crown is wide and its trunk narrow: one convex polygon around both holds wide empty
+// wedges beside the trunk down to the ground, and k-vertex reduction puts fictitious corners
+// there, metres from the trunk at ground level. A card seen nearly edge-on (the fallback cross's
+// other plane in a front view) is a sliver sampled at its coarsest mip level, whose mean colour
+// and coverage then fill the whole polygon; in perspective its ground corners, nearer to the
+// viewer than the trunk, project below the foot: a stray line below the tree. With the split
+// the lower polygon hugs the trunk, so the sliver reaches only where the tree itself reaches (a
+// polygon's points project onto the rows its texels' real points project onto, for a viewer in
+// its plane). Every reduction vertex stays inside its piece's rows, so the pieces never overlap.
+struct SplitCutout {
+  std::vector<std::array<double, 2>> upper, lower;  // frame uv as CutoutResult::polygon; lower may be empty
+  double area_fraction = 1;                         // both polygons' area / frame area
+};
+SplitCutout fit_split_cutout(const image::Image& color, const PixelRect& rect, int max_vertices,
+                             int lower_vertices = 4, int alpha_threshold = 0);
+
 }  // namespace sylva::impostor

@@ -50,11 +50,17 @@ double area(const std::vector<Uv>& p) {
 }  // namespace
 
 std::vector<std::vector<std::array<double, 2>>> card_pieces(const Card& c) {
-  if (!vertical(c)) return {c.cutout};
   std::vector<std::vector<Uv>> out;
-  for (bool left : {true, false}) {
-    std::vector<Uv> half = clip_half(c.cutout, left);
-    if (half.size() >= 3 && area(half) > 1e-9) out.push_back(std::move(half));
+  for (const std::vector<Uv>* poly : {&c.cutout, &c.lower_cutout}) {
+    if (poly->empty()) continue;
+    if (!vertical(c)) {
+      out.push_back(*poly);
+      continue;
+    }
+    for (bool left : {true, false}) {
+      std::vector<Uv> half = clip_half(*poly, left);
+      if (half.size() >= 3 && area(half) > 1e-9) out.push_back(std::move(half));
+    }
   }
   return out;
 }

@@ -40,8 +40,9 @@ struct GlbAlpha {
 std::string encode_impostor_glb(const std::vector<GlbCard>& cards, const GlbImage& image,
                                 const GlbAlpha& alpha, const nlohmann::json& extras);
 
-// The polygons (card uv, counter-clockwise) a card is written as: a vertical card's cutout cut at
-// u = 1/2 (the vertical through its centre) into its non-degenerate halves; the top card whole.
+// The polygons (card uv, counter-clockwise) a card is written as: each of a vertical card's
+// cutout polygons (the cutout, then the lower cutout when there is one) cut at u = 1/2 (the
+// vertical through its centre) into its non-degenerate halves; the top card whole.
 std::vector<std::vector<std::array<double, 2>>> card_pieces(const Card& c);
 
 // Triangles encode_impostor_glb writes for these cards (a fan per piece).

@@ -4,7 +4,7 @@ namespace sylva {
 
 namespace {
 // Bump whenever the bytes of any output can change (maps, impostor.json, impostor.glb).
-constexpr int kVersion = 3;
+constexpr int kVersion = 4;
 }  // namespace
 
 StageInfo impostor_stage_info() {

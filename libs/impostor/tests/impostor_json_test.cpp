@@ -39,7 +39,8 @@ ImpostorInfo sample() {
   c.center = {0, 1.5, 0};
   c.half_width = c.half_height = 2.4;
   c.x = 192, c.y = 0, c.w = 64, c.h = 64;
-  c.cutout = {{0.1, 0.9}, {0.9, 0.9}, {0.8, 0.1}, {0.2, 0.1}};
+  c.cutout = {{0.1, 0.6}, {0.9, 0.6}, {0.8, 0.1}, {0.2, 0.1}};
+  c.lower_cutout = {{0.45, 0.9}, {0.55, 0.9}, {0.55, 0.6}, {0.45, 0.6}};
   i.cards.push_back(c);
   i.glb_triangles = 2;
   return i;

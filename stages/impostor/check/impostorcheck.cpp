@@ -165,6 +165,61 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
   return result;
 }
 
+DistanceSearchResult find_proven_distance(render::Renderer& scene_renderer,
+                                          render::ImpostorRenderer& impostor_renderer,
+                                          const render::Scene& full, const ImpostorSubject& subject,
+                                          ImpostorCheckOptions o, const DistanceSearchOptions& search,
+                                          const ColourBaseline& baseline, const DistanceStepSink& step_sink) {
+  DistanceSearchResult out;
+  out.model_distance_m = subject.info.switch_distance_m;
+  auto run = [&](double scale) {
+    o.distance_scale = scale;
+    ImpostorCheckResult r = check_impostor(scene_renderer, impostor_renderer, full, subject, o, baseline);
+    DistanceSearchStep step;
+    step.scale = scale;
+    step.distance_m = out.model_distance_m * scale;
+    step.passed = r.passed();
+    for (const ImpostorViewCheck& v : r.views)
+      if (!v.passed && step.failure.empty()) step.failure = v.view + ": " + v.failure;
+    if (step.failure.empty()) step.failure = r.failure;
+    out.steps.push_back(step);
+    if (step_sink) step_sink(step);
+    return r;
+  };
+  double pass = search.hi, fail = 0;
+  ImpostorCheckResult at_pass = run(pass);
+  while (!at_pass.passed()) {
+    fail = pass;
+    if (pass >= 64) return out;  // nothing passed
+    pass *= 2;
+    at_pass = run(pass);
+  }
+  if (fail == 0) {
+    ImpostorCheckResult at_lo = run(search.lo);
+    if (at_lo.passed()) {
+      out.below_lo = true;
+      pass = search.lo;
+      at_pass = std::move(at_lo);
+    } else {
+      fail = search.lo;
+    }
+  }
+  while (fail > 0 && pass / fail > 1 + search.tolerance) {
+    const double mid = std::sqrt(pass * fail);
+    ImpostorCheckResult r = run(mid);
+    if (r.passed()) {
+      pass = mid;
+      at_pass = std::move(r);
+    } else {
+      fail = mid;
+    }
+  }
+  out.proven_scale = pass;
+  out.proven_distance_m = out.model_distance_m * pass;
+  out.at_proven = std::move(at_pass);
+  return out;
+}
+
 bool ImpostorCheckResult::passed() const {
   if (!failure.empty()) return false;
   for (const auto& v : views)

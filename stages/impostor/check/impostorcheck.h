@@ -108,6 +108,40 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
                                    const ImpostorSubject& subject, const ImpostorCheckOptions& options,
                                    const ColourBaseline& baseline = {}, const ImpostorImageSink& sink = {});
 
+// The nearest distance at which the check passes: the proof's switch distance, as opposed to the
+// error model's (a sufficient bound: it sums each term's worst case). Searched over multiples of
+// the model's distance: the check runs at `hi` (1 = the model's distance), doubling it while it
+// fails (up to 64); then at `lo`; then bisects in log space between the last failing and the
+// first passing multiple until they differ by less than `tolerance` (relative). The coverage and
+// colour judgement is check_impostor's, from the same views. Passing is not monotonic in the
+// distance in principle (the colour bound follows the baseline), so the result is the passing
+// end of the final bracket, checked there: every distance reported passed.
+struct DistanceSearchOptions {
+  double lo = 1.0 / 16;    // smallest multiple of the model's distance tried
+  double hi = 1.0;         // first multiple tried
+  double tolerance = 0.1;  // stop when failing and passing multiples differ by less than this
+};
+struct DistanceSearchStep {
+  double scale = 0, distance_m = 0;
+  bool passed = false;
+  std::string failure;  // the first failing view's (or the views' mean colour) reason
+};
+struct DistanceSearchResult {
+  double model_distance_m = 0;
+  double proven_distance_m = 0;  // 0: no multiple up to 64 passed
+  double proven_scale = 0;
+  bool below_lo = false;  // it passed at `lo` already: the proven distance is an upper bound
+  std::vector<DistanceSearchStep> steps;
+  ImpostorCheckResult at_proven;  // the check at the proven distance
+};
+using DistanceStepSink = std::function<void(const DistanceSearchStep&)>;
+DistanceSearchResult find_proven_distance(render::Renderer& scene_renderer,
+                                          render::ImpostorRenderer& impostor_renderer,
+                                          const render::Scene& full, const ImpostorSubject& subject,
+                                          ImpostorCheckOptions options, const DistanceSearchOptions& search,
+                                          const ColourBaseline& baseline = {},
+                                          const DistanceStepSink& step_sink = {});
+
 // The smallest angle (degrees) between `view` (centre toward the eye) and a direction the
 // impostor was baked from.
 double nearest_frame_angle_deg(const ImpostorInfo& info, const Vec3& view);

@@ -195,5 +195,38 @@ TEST(ImpostorCheck, AColourMapInTheWrongColourSpaceFailsOnColour) {
   }
 }
 
+// The distance search (find_proven_distance): the proven distance passes, a tenth nearer fails
+// (the bracket it ends on), every step reported is what the check says at that distance, and the
+// proof lies below the error model's sufficient bound.
+TEST(ImpostorCheck, TheDistanceSearchEndsOnAPassingDistanceWithAFailingOneJustNearer) {
+  const ImpostorSubject s = bake(params());
+  ColourBaseline baseline;
+  baseline.scene = &oak_chain().levels.back();
+  ImpostorCheckOptions o;  // 8 of the 36 views: the search runs the check several times
+  o.azimuths_deg = {7.5, 97.5, 187.5, 277.5};
+  o.elevations_deg = {4, 33};
+  DistanceSearchOptions search;
+  search.lo = 1.0 / 8;
+  search.tolerance = 0.25;
+  const DistanceSearchResult r =
+      find_proven_distance(render::shared_renderer(), render::shared_impostor_renderer(), oak_chain().full, s,
+                           o, search, baseline);
+  ASSERT_GT(r.proven_distance_m, 0);
+  EXPECT_TRUE(r.at_proven.passed());
+  EXPECT_LE(r.proven_distance_m, s.info.switch_distance_m);
+  EXPECT_DOUBLE_EQ(r.model_distance_m, s.info.switch_distance_m);
+  double nearest_fail = 0;
+  for (const DistanceSearchStep& st : r.steps) {
+    if (!st.passed && st.scale < r.proven_scale) nearest_fail = std::max(nearest_fail, st.scale);
+    if (st.passed) EXPECT_GE(st.scale, r.proven_scale);
+  }
+  if (!r.below_lo) {
+    ASSERT_GT(nearest_fail, 0);
+    EXPECT_LE(r.proven_scale / nearest_fail, 1 + search.tolerance + 1e-12);
+    o.distance_scale = nearest_fail;
+    EXPECT_FALSE(run(s, o).passed());
+  }
+}
+
 }  // namespace
 }  // namespace sylva::impostor

@@ -70,5 +70,34 @@ TEST(Cutout, WorksInItsRectangleAndFallsBackToTheFrame) {
   EXPECT_THROW(fit_cutout(img, {0, 0, 16, 16}, 2), std::invalid_argument);
 }
 
+// A crown (a disc) over a trunk (a narrow bar to the bottom, beside the disc's centre): split
+// into a crown polygon and a trunk polygon that together contain every covered texel, do not
+// overlap (the trunk polygon lies below the crown polygon) and cost far less than one polygon;
+// the trunk polygon is no wider at the bottom than the trunk and a texel.
+TEST(Cutout, SplitsACrownFromItsTrunk) {
+  image::Image img = disc(128, 56, 44, 36);
+  for (int y = 70; y < 128; ++y)
+    for (int x = 70; x < 76; ++x) img.set(x, y, {255, 255, 255, 255});
+  const CutoutResult one = fit_cutout(img, {0, 0, 128, 128}, 8);
+  const SplitCutout two = fit_split_cutout(img, {0, 0, 128, 128}, 8);
+  ASSERT_FALSE(two.lower.empty());
+  EXPECT_LE(two.upper.size(), 8u);
+  EXPECT_LE(two.lower.size(), 4u);
+  EXPECT_LT(two.area_fraction, 0.85 * one.area_fraction);
+  double upper_bottom = 0, lower_top = 1, bottom_lo = 1, bottom_hi = 0;
+  for (const P& q : two.upper) upper_bottom = std::max(upper_bottom, q[1]);
+  for (const P& q : two.lower) lower_top = std::min(lower_top, q[1]);
+  EXPECT_LE(upper_bottom, lower_top + 1e-12);  // no texel of the frame lies in both
+  for (const P& q : two.lower)
+    if (q[1] > 1 - 1.5 / 128) bottom_lo = std::min(bottom_lo, q[0]), bottom_hi = std::max(bottom_hi, q[0]);
+  EXPECT_LE((bottom_hi - bottom_lo) * 128, 6 + 1 + 1e-9);
+  for (int y = 0; y < 128; ++y)
+    for (int x = 0; x < 128; ++x)
+      if (img.at(x, y).a > 0) {
+        const P q{(x + 0.5) / 128, (y + 0.5) / 128};
+        EXPECT_TRUE(inside(two.upper, q) || inside(two.lower, q)) << x << ", " << y;
+      }
+}
+
 }  // namespace
 }  // namespace sylva::impostor
