@@ -3,6 +3,7 @@
 //     branch of a tree at one epsilon; items/s = input internodes per second;
 //   - BM_Chain/<preset>: the whole chain (precompute incl. FSA/E5 forests + every level) of every
 //     adult preset with the default options (6 levels, 1 mm .. 0.22 m);
+//   - BM_ChainClusters/<preset>: the same chain with card clusters (card_cluster_px 0.35);
 //   - BM_LeafForest/<preset>, BM_NeedleForest/<preset>: the one-off agglomeration alone (FSA leaf
 //     collapse, E5 needle merging; pair_merge.h), the part of the chain that dominated it;
 //   - BM_MergeStraightChain/<nodes>: merging one straight, gently wavy branch of 5k-80k nodes at
@@ -68,6 +69,19 @@ void BM_Chain(benchmark::State& state, const std::string& species) {
   state.counters["leaves"] = static_cast<double>(t.leaves.size());
   state.counters["needles"] = static_cast<double>(t.needles.size());
   state.counters["branches"] = static_cast<double>(t.branches.size());
+}
+
+// The chain with card clusters on (card_cluster_px 0.35, as the default recipe's birch): the
+// extra cost is the cluster forest and the overlap rasters of the coarse levels' clusters.
+void BM_ChainClusters(benchmark::State& state, const std::string& species) {
+  const tree::Tree& t = adult(species);
+  lod::ChainOptions o;
+  o.card_cluster_px = 0.35;
+  for (auto _ : state) {
+    auto levels = lod::build_chain(t, o);
+    benchmark::DoNotOptimize(levels.data());
+  }
+  state.counters["leaves"] = static_cast<double>(t.leaves.size());
 }
 
 void BM_LeafForest(benchmark::State& state, const std::string& species) {
@@ -157,6 +171,8 @@ BENCHMARK_CAPTURE(BM_Chain, weeping_willow, std::string("weeping_willow"))
 BENCHMARK_CAPTURE(BM_Chain, white_poplar, std::string("white_poplar"))
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ChainClusters, birch, std::string("birch"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_ChainClusters, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LeafForest, oak, std::string("oak"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_LeafForest, white_poplar, std::string("white_poplar"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_NeedleForest, scots_pine, std::string("scots_pine"))->Unit(benchmark::kMillisecond);

@@ -86,6 +86,14 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
         if (options.foliage) pre.leaf_forest = build_leaf_forest(tree.leaves, tree.materials);
       },
       [&] {
+        if (!options.foliage || !(options.card_cluster_px > 0) || !(options.card_size_px > 0)) return;
+        std::vector<LeafQuad> cards;
+        cards.reserve(tree.leaves.size());
+        for (const tree::Leaf& l : tree.leaves) cards.push_back(leaf_quad(l, tree.materials));
+        pre.card_forest = build_card_forest(std::move(cards), options.card_seed,
+                                            options.card_cluster_px / options.card_size_px);
+      },
+      [&] {
         if (options.foliage) pre.needle_forest = build_needle_forest(tree.needles);
       });
   return pre;
@@ -135,8 +143,21 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
     // lies within A(b) <= E4 of its bearer's surface, so its leaves hang at most E4 from drawn
     // bark, while deleting them would move canopy by their whole extent (docs/stages/lod.md).
     if (!tree.leaves.empty()) {
-      std::vector<std::uint32_t> active = pre.leaf_forest.forest.cut_by_error(spec.e5);
-      leaf_geometry(pre.leaf_forest, active, level.leaves);
+      // FSA's cut by E5, or the card clusters' cut at kappa pixels of this level's switch
+      // distance (s = epsilon / delta m per pixel there) where that one has fewer cards: each is
+      // within its own bound (foliage.h: geometric, card_clusters.h: coverage moved <= kappa px).
+      const std::vector<std::uint32_t> active = pre.leaf_forest.forest.cut_by_error(spec.e5);
+      std::vector<std::uint32_t> clustered;
+      if (options.card_cluster_px > 0 && spec.epsilon > 0 && spec.delta > 0 && !pre.card_forest.cards.empty())
+        clustered = pre.card_forest.forest.cut_by_error(options.card_cluster_px * spec.epsilon / spec.delta);
+      if (!clustered.empty() && clustered.size() < active.size()) {
+        std::vector<LeafQuad> cards;
+        cards.reserve(clustered.size());
+        for (std::uint32_t id : clustered) cards.push_back(cluster_card(pre.card_forest, id));
+        leaf_geometry(cards, level.leaves);
+      } else {
+        leaf_geometry(pre.leaf_forest, active, level.leaves);
+      }
     }
     if (!tree.needles.empty()) {
       std::vector<std::uint32_t> active = pre.needle_forest.forest.cut_by_error(spec.e5);

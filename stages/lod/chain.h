@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "libs/tree/tree.h"
+#include "stages/lod/card_clusters.h"
 #include "stages/lod/foliage.h"
 #include "stages/lod/internodes.h"
 #include "stages/lod/needles.h"
@@ -47,6 +48,12 @@ struct ChainOptions {
   int max_edges = 12;                                         // H, >= 3
   bool topology = true;                                       // E4 branch decimation
   bool foliage = true;                                        // leaf collapse (FSA) and needle merging (E5)
+  // kappa: a level's cards may also be the card clusters' cut at spread <= kappa pixels at its
+  // switch distance (card_clusters.h), used where it has fewer cards than FSA's; 0 = off.
+  double card_cluster_px = 0.0;
+  // sigma: ... and only cards whose half-diagonal is at most sigma pixels there are clustered.
+  double card_size_px = 1.5;
+  std::uint64_t card_seed = 0;  // draws the clusters' survivors (the stage: StageContext::rng)
   // Called between branches and inside long merges (may be empty); may throw to stop the chain
   // (the stage passes StageContext::check_cancelled). Called from several threads at once.
   std::function<void()> check_cancelled;
@@ -98,6 +105,7 @@ struct Precomputed {
   std::vector<double> accumulated;   // A(b), topology.h
   std::vector<double> subtree_area;  // side-on area of each branch's subtree, m^2 (topology.h)
   LeafForest leaf_forest;
+  CardForest card_forest;  // built when card_cluster_px > 0
   NeedleForest needle_forest;
   std::vector<char> card_twigs;  // per branch: drawn by its twig/shoot cards, so not drawn as bark
 };

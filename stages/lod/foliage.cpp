@@ -120,13 +120,19 @@ LeafForest build_leaf_forest(std::span<const tree::Leaf> leaves, const tree::Mat
 }
 
 void leaf_geometry(const LeafForest& forest, std::span<const std::uint32_t> active, LeafGeometry& out) {
+  std::vector<LeafQuad> quads;
+  quads.reserve(active.size());
+  for (std::uint32_t id : active) quads.push_back(forest.quads[id]);
+  leaf_geometry(quads, out);
+}
+
+void leaf_geometry(std::span<const LeafQuad> quads, LeafGeometry& out) {
   // One allocation per level instead of repeated growth (tens of thousands of leaves).
-  out.positions.reserve(out.positions.size() + 12 * active.size());
-  out.normals.reserve(out.normals.size() + 12 * active.size());
-  out.texcoords.reserve(out.texcoords.size() + 8 * active.size());
-  out.indices.reserve(out.indices.size() + 6 * active.size());
-  for (std::uint32_t id : active) {
-    const LeafQuad& q = forest.quads[id];
+  out.positions.reserve(out.positions.size() + 12 * quads.size());
+  out.normals.reserve(out.normals.size() + 12 * quads.size());
+  out.texcoords.reserve(out.texcoords.size() + 8 * quads.size());
+  out.indices.reserve(out.indices.size() + 6 * quads.size());
+  for (const LeafQuad& q : quads) {
     const auto base = static_cast<std::uint32_t>(out.positions.size() / 3);
     for (int i = 0; i < 4; ++i) {
       out.positions.insert(out.positions.end(), {static_cast<float>(q.v[i].x), static_cast<float>(q.v[i].y),

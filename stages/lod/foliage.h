@@ -62,4 +62,7 @@ struct LeafGeometry {
 // Appends the quads `active` (element ids of forest.quads) as geometry.
 void leaf_geometry(const LeafForest& forest, std::span<const std::uint32_t> active, LeafGeometry& out);
 
+// Appends `quads` as geometry (the card clusters' cut, card_clusters.h).
+void leaf_geometry(std::span<const LeafQuad> quads, LeafGeometry& out);
+
 }  // namespace sylva::lod

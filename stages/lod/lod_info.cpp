@@ -10,7 +10,8 @@ StageInfo lod_stage_info() {
   // 4: merging by exponential + binary search (groups may differ). 5: line alpha per vertex
   // (COLOR_0), decimated branches' coverage carried onto their bearers' lines.
   // 6: twigs drawn by cards carry no coverage onto their bearers.
-  info.version = 6;
+  // 7: card clusters (card_clusters.h) cut the coarse levels' cards.
+  info.version = 7;
   info.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
   info.output_type = "lod";
   info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png"};
@@ -46,6 +47,14 @@ StageInfo lod_stage_info() {
       Param::integer("max_edges", 12).range(3, 64).describe("H: most edges of an end polygon (eq. 9)"),
       Param::boolean("topology", true).describe("topology simplification by E4 (§5.3)"),
       Param::boolean("foliage", true).describe("leaf collapse (FSA) and needle merging (E5)"),
+      Param::real("card_cluster_px", 0.0)
+          .range(0, 16)
+          .describe("kappa: card clusters' spread (px at the level's switch distance) for the coarse "
+                    "levels' card cut; 0 = FSA only"),
+      Param::real("card_size_px", 1.5)
+          .range(0.01, 16)
+          .describe("sigma: only cards of half-diagonal <= sigma px at the level's switch distance are "
+                    "clustered"),
       Param::boolean("ribbons", false)
           .describe("also write lod<i>_ribbons.gltf: line levels as three-sided ribbons for clients "
                     "without LINES"),

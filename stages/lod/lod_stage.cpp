@@ -50,6 +50,7 @@ class LodStage : public Stage {
     // 2. Options.
     lod::ChainOptions o = chain_options_from_params(ctx.params());
     o.check_cancelled = [&ctx] { ctx.check_cancelled(); };  // inside the long loops, not only after
+    o.card_seed = ctx.rng("card_clusters").next_u64();      // the card clusters' survivors
     // 3. The chain (pure core).
     std::vector<lod::Level> levels;
     try {
@@ -101,6 +102,8 @@ lod::ChainOptions chain_options_from_params(const Value::Object& params) {
   o.max_edges = static_cast<int>(at("max_edges").as_int());
   o.topology = at("topology").as_bool();
   o.foliage = at("foliage").as_bool();
+  o.card_cluster_px = at("card_cluster_px").as_real();
+  o.card_size_px = at("card_size_px").as_real();
   return o;
 }
 

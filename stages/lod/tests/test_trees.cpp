@@ -34,17 +34,18 @@ std::vector<std::filesystem::path> species_presets() {
   return files;
 }
 
-const tree::Tree& species_tree(const std::filesystem::path& preset, const std::string& age) {
+const tree::Tree& species_tree(const std::filesystem::path& preset, const std::string& age, bool cards) {
   static std::mutex mu;
   static std::map<std::string, tree::Tree> cache;
   std::lock_guard<std::mutex> lock(mu);
-  const std::string key = preset.string() + "|" + age;
+  const std::string key = preset.string() + "|" + age + (cards ? "|cards" : "");
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
   const generate::SpeciesPreset species = generate::load_species_preset(preset);
   generate::GenerateOptions o;
   o.max_node_spacing = 0.5;
   o.name = species.species + "/" + age + " seed 1";
+  if (cards) o.foliage = generate::FoliageMode::kCards;
   Rng rng(1, "tree");
   tree::Tree t = generate::generate_tree(species.age(age).params, o, rng);
   return cache.emplace(key, std::move(t)).first->second;

@@ -17,8 +17,10 @@ tree::Tree helix(double helix_radius, double pitch, int turns, int per_turn, dou
 // configs/species/*.yaml, sorted.
 std::vector<std::filesystem::path> species_presets();
 
-// A preset's tree (seed 1, max node spacing 0.5 m), cached per (preset, age).
-const tree::Tree& species_tree(const std::filesystem::path& preset, const std::string& age);
+// A preset's tree (seed 1, max node spacing 0.5 m), cached per (preset, age, cards), with single
+// leaves/needles or, `cards` true, the preset's twig/shoot cards (as the generate stage's default).
+const tree::Tree& species_tree(const std::filesystem::path& preset, const std::string& age,
+                               bool cards = false);
 
 // The tree uniformly scaled (positions, radii, foliage) so its height is `height` m.
 tree::Tree scaled_to_height(const tree::Tree& t, double height);

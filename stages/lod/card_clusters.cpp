@@ -1,0 +1,199 @@
+// Card clusters: a coverage-preserving cut of the cards for the coarse levels.
+// Seeds: Cook, Halstead, Planck, Ryu 2007, "Stochastic simplification of aggregate detail"
+// (prune aggregate detail, scale the survivors to keep the area); Remolar et al. (FSA/VDF) §3–4
+// (the four-vertex leaf as the unit, a binary forest cut per level). Definitions: card_clusters.h.
+#include "stages/lod/card_clusters.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace sylva::lod {
+
+using tree::Vec3;
+
+namespace {
+
+// The merged cluster's centroid (area-weighted; the midpoint for two zero-area elements).
+Vec3 merged_centroid(const CardCluster& a, const CardCluster& b) {
+  const double w = a.area + b.area;
+  if (!(w > 0)) return (a.centroid + b.centroid) * 0.5;
+  return (a.centroid * a.area + b.centroid * b.area) * (1.0 / w);
+}
+
+double merged_spread(const CardCluster& a, const CardCluster& b, const Vec3& c) {
+  return std::max(length(c - a.centroid) + a.spread, length(c - b.centroid) + b.spread);
+}
+
+struct ClusterMetric {
+  CardCluster key(const CardCluster& c) const { return c; }
+  Vec3 center(const CardCluster& k) const { return k.centroid; }
+  double cost(const CardCluster& a, const CardCluster& b, double /*bound*/) const {
+    return merged_spread(a, b, merged_centroid(a, b));
+  }
+  // The centroid lies on the segment between the two centres, so r_z >= max(|c - c_a|, |c - c_b|)
+  // >= d / 2, and r_z >= |c - c_a| + r_a >= r_a. The slack covers rounding.
+  double lower_bound(const CardCluster& a, double distance) const {
+    return std::max(0.5 * distance, a.spread) - 1e-12;
+  }
+};
+
+// A uniform number in [0, 1) from (seed, i, j): SplitMix64 (Steele, Lea, Flood 2014) over the
+// three words; deterministic and independent of the merge order's threads.
+double unit_hash(std::uint64_t seed, std::uint32_t i, std::uint32_t j) {
+  std::uint64_t x = seed ^ (static_cast<std::uint64_t>(i) << 32 | j);
+  for (int r = 0; r < 2; ++r) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+  }
+  return static_cast<double>(x >> 11) * 0x1.0p-53;
+}
+
+// Projected quad corners on the plane orthogonal to a direction.
+struct Quad2 {
+  std::array<double, 8> p;  // x0 y0 x1 y1 ...
+};
+
+// Inside a convex quad (either winding), boundary included.
+bool inside(const Quad2& q, double x, double y) {
+  bool pos = false, neg = false;
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    const double ex = q.p[2 * j] - q.p[2 * i], ey = q.p[2 * j + 1] - q.p[2 * i + 1];
+    const double c = ex * (y - q.p[2 * i + 1]) - ey * (x - q.p[2 * i]);
+    pos |= c > 0;
+    neg |= c < 0;
+    if (pos && neg) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+CardForest build_card_forest(std::vector<LeafQuad> cards, std::uint64_t seed, double size_weight) {
+  CardForest cf;
+  cf.cards = std::move(cards);
+  cf.clusters.reserve(2 * cf.cards.size());
+  for (std::uint32_t i = 0; i < cf.cards.size(); ++i) {
+    const LeafQuad& q = cf.cards[i];
+    double half = 0;
+    for (const Vec3& v : q.v) half = std::max(half, length(v - q.center()));
+    cf.clusters.push_back({q.center(), 0.0, q.area, half, i});
+  }
+  cf.forest =
+      agglomerate(cf.clusters, ClusterMetric{},
+                  [seed, size_weight](const CardCluster& a, const CardCluster& b, double, double) {
+                    CardCluster z;
+                    z.centroid = merged_centroid(a, b);
+                    z.spread = merged_spread(a, b, z.centroid);
+                    z.area = a.area + b.area;
+                    z.size = std::max(a.size, b.size);
+                    // Cook's random pruning within the cluster: a's survivor with
+                    // probability A_a / (A_a + A_b), so every card survives its cluster
+                    // with probability proportional to its area (the product telescopes)
+                    // and no orientation is favoured (crossed cards' layers alike).
+                    const double u = unit_hash(seed, a.survivor, b.survivor);
+                    z.survivor = u * z.area < a.area ? a.survivor : b.survivor;
+                    return std::pair<CardCluster, double>(z, std::max(z.spread, size_weight * z.size));
+                  });
+  return cf;
+}
+
+double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members) {
+  if (members.size() < 2) return 1.0;
+  constexpr int kGrid = 16;
+  const double r3 = 1 / std::sqrt(3.0);
+  static constexpr int kDirs = 7;
+  const std::array<Vec3, kDirs> dirs = {
+      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {r3, r3, r3}, {r3, r3, -r3}, {r3, -r3, r3}, {-r3, r3, r3}}};
+  double union_area = 0, sum_area = 0;
+  std::vector<Quad2> quads(members.size());
+  for (const Vec3& v : dirs) {
+    // An orthonormal basis (u, w) of the plane orthogonal to v.
+    const Vec3 helper = std::abs(v.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    const Vec3 u = normalized(cross(v, helper));
+    const Vec3 w = cross(v, u);
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const LeafQuad& q = cards[members[m]];
+      for (int i = 0; i < 4; ++i) {
+        const double x = dot(q.v[i], u), y = dot(q.v[i], w);
+        quads[m].p[2 * i] = x;
+        quads[m].p[2 * i + 1] = y;
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+      }
+    }
+    if (!(x1 > x0) || !(y1 > y0)) continue;
+    const double dx = (x1 - x0) / kGrid, dy = (y1 - y0) / kGrid;
+    std::array<char, kGrid * kGrid> covered{};
+    std::size_t hits = 0, cells = 0;
+    for (const Quad2& q : quads) {
+      double qx0 = q.p[0], qx1 = q.p[0], qy0 = q.p[1], qy1 = q.p[1];
+      for (int i = 1; i < 4; ++i) {
+        qx0 = std::min(qx0, q.p[2 * i]);
+        qx1 = std::max(qx1, q.p[2 * i]);
+        qy0 = std::min(qy0, q.p[2 * i + 1]);
+        qy1 = std::max(qy1, q.p[2 * i + 1]);
+      }
+      // Cells whose centre may lie in the quad's box.
+      const int i0 = std::max(0, static_cast<int>(std::floor((qx0 - x0) / dx - 0.5)));
+      const int i1 = std::min(kGrid - 1, static_cast<int>(std::ceil((qx1 - x0) / dx - 0.5)));
+      const int j0 = std::max(0, static_cast<int>(std::floor((qy0 - y0) / dy - 0.5)));
+      const int j1 = std::min(kGrid - 1, static_cast<int>(std::ceil((qy1 - y0) / dy - 0.5)));
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          if (!inside(q, x0 + (i + 0.5) * dx, y0 + (j + 0.5) * dy)) continue;
+          ++hits;
+          char& c = covered[static_cast<std::size_t>(j * kGrid + i)];
+          cells += c == 0;
+          c = 1;
+        }
+    }
+    union_area += static_cast<double>(cells) * dx * dy;
+    sum_area += static_cast<double>(hits) * dx * dy;
+  }
+  if (!(sum_area > 0)) return 1.0;
+  return std::clamp(union_area / sum_area, 0.0, 1.0);
+}
+
+LeafQuad cluster_card(const CardForest& cf, std::uint32_t id) {
+  const std::size_t n = cf.forest.original;
+  if (id < n) return cf.cards[id];
+  std::vector<std::uint32_t> members, stack{id};
+  while (!stack.empty()) {
+    const std::uint32_t e = stack.back();
+    stack.pop_back();
+    if (e < n) {
+      members.push_back(e);
+    } else {
+      stack.push_back(static_cast<std::uint32_t>(cf.forest.left[e]));
+      stack.push_back(static_cast<std::uint32_t>(cf.forest.right[e]));
+    }
+  }
+  std::sort(members.begin(), members.end());
+  const CardCluster& c = cf.clusters[id];
+  const LeafQuad& s = cf.cards[c.survivor];
+  const double target = overlap_ratio(cf.cards, members) * c.area;
+  LeafQuad q = s;
+  const double k = s.area > 0 ? std::sqrt(target / s.area) : 1.0;
+  const Vec3 centre = s.center();
+  for (Vec3& v : q.v) v = c.centroid + (v - centre) * k;
+  q.area = s.area * k * k;
+  return q;
+}
+
+std::vector<LeafQuad> cluster_cut(const CardForest& cf, double max_error) {
+  std::vector<LeafQuad> out;
+  const std::vector<std::uint32_t> active = cf.forest.cut_by_error(max_error);
+  out.reserve(active.size());
+  for (std::uint32_t id : active) out.push_back(cluster_card(cf, id));
+  return out;
+}
+
+}  // namespace sylva::lod

@@ -1,0 +1,81 @@
+// Card clustering for the coarse levels: stratified, coverage-preserving pruning of aggregate
+// detail.
+//
+// Seeds: Cook, Halstead, Planck, Ryu 2007, "Stochastic simplification of aggregate detail"
+// (SIGGRAPH, ACM TOG 26(3) 79): when many small elements (leaves) fall into few pixels, draw a
+// subset of them and scale the survivors so that the total area — hence the expected pixel
+// coverage — is kept, with the pruned fraction set by the elements' size on screen; Remolar et
+// al. (FSA/VDF, seed 004) §3–4: the leaf (four vertices) is the unit, a sequence of collapses
+// recorded once as a binary forest and cut per level. docs/stages/lod.md ("Card clusters").
+//
+// Our criterion (the papers name the idea, not these definitions):
+//   * A binary forest over the leaf quads (cards) by greedy agglomeration (pair_merge.h): a
+//     cluster z of cards has the area-weighted centroid c_z of its cards' centres and the spread
+//     r_z, an upper bound of the distance from c_z to any of its cards' centres:
+//       c_z = (A_a c_a + A_b c_b) / (A_a + A_b),
+//       r_z = max(|c_z - c_a| + r_a, |c_z - c_b| + r_b)    (r = 0 for one card)     [m]
+//     and the pair of lowest r_z merges first. err(z) = max(r_z, h_z), h_z the largest
+//     half-diagonal of its cards (monotone towards the roots): cards are clustered only where
+//     they are themselves small on screen (Cook et al. prune where elements are small), so the
+//     orientation a cluster's survivor imposes on its cards (crossed cards become one) is not
+//     resolved.
+//   * A level of spatial error epsilon and pixel error delta is seen from its switch distance,
+//     where a pixel measures s = epsilon / delta metres (DESIGN.md). Its cards are the cut of the
+//     forest at err <= kappa s (kappa = `card_cluster_px`): every card's coverage moves by at most
+//     kappa pixels, the aggregate-detail counterpart of the branches' delta-pixel bound.
+//   * Each cluster of the cut is drawn as ONE card (Cook's survivor, FSA's four-vertex unit): the
+//     survivor, a member drawn with probability proportional to its area (Cook's random pruning;
+//     at each merge a's survivor with probability A_a / (A_a + A_b), from a hash of the seed and
+//     the two survivors' ids, so no orientation — no layer of crossed cards — is favoured), moved
+//     to c_z and scaled about its centre to the area
+//     A_z = rho_z sum A_i: the sum of its cards' areas (Cook's area preservation) times the
+//     cluster's overlap ratio rho_z = sum_v U_v / sum_v S_v over 7 directions v (the 3 axes and
+//     the 4 body diagonals), U_v the area of the union of the cards projected along v and S_v the
+//     sum of their projected areas, both counted on the same 16 x 16 raster of the cluster's
+//     projected box. rho = 1 for cards that do not overlap; overlapping cards (a conifer shoot
+//     cluster) keep their union, not the sum of their areas, which over-covers.
+//   The survivor keeps its normal, uvs (its own whole atlas cell) and winding.
+// Clustering is a choice between two cuts per level (chain.cpp): the one with fewer cards.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "stages/lod/foliage.h"
+#include "stages/lod/pair_merge.h"
+
+namespace sylva::lod {
+
+struct CardCluster {
+  tree::Vec3 centroid;         // area-weighted mean of the cards' centres, m
+  double spread = 0;           // upper bound of |centroid - card centre| over the cards, m
+  double area = 0;             // sum of the cards' quad areas, m^2
+  double size = 0;             // largest half-diagonal of its cards, m
+  std::uint32_t survivor = 0;  // id of the original card drawn for the cluster
+};
+
+struct CardForest {
+  std::vector<LeafQuad> cards;        // the originals (leaf_quad of each tree leaf)
+  std::vector<CardCluster> clusters;  // one per element: originals, then one per merge
+  BinaryForest forest;                // error = max(spread, size) of the merged elements
+};
+
+// The cluster forest of `cards` (deterministic: ties on ids, pair_merge.h; survivors drawn from
+// `seed`). `size_weight` w =
+// kappa / sigma: a merged element's error is max(r_z, w h_z), so the cut at kappa s keeps
+// clusters with spread <= kappa s whose cards are at most sigma s (half-diagonal).
+CardForest build_card_forest(std::vector<LeafQuad> cards, std::uint64_t seed = 0, double size_weight = 1.0);
+
+// rho (file comment) of the cards `members` (ids into cards), in (0, 1]; 1 for one card or
+// cards with no projected area.
+double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members);
+
+// The card drawn for element `id` of the forest: the original for a single card, else the
+// survivor moved to the centroid and scaled to rho * area (file comment).
+LeafQuad cluster_card(const CardForest& forest, std::uint32_t id);
+
+// The cards of a level: the cut at err <= max_error (m), one card per cluster.
+std::vector<LeafQuad> cluster_cut(const CardForest& forest, double max_error);
+
+}  // namespace sylva::lod
