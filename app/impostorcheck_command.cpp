@@ -88,8 +88,9 @@ class ImpostorcheckCommand final : public CliCommand {
         ->capture_default_str()
         ->check(CLI::Range(0, 64));
     sub->add_flag("--search-distance", search_,
-                  "find the nearest distance at which the check passes (bisection over multiples of the "
-                  "switch distance, 1/16..64, to 10 %); reports it and the check there (no images)");
+                  "find the nearest distance at which the check passes: bisection over multiples of the "
+                  "switch distance between --distance-scale S and S/16 (doubling S while it fails, to 64 S), "
+                  "to 10 %; reports it and the check there (no images)");
     sub->add_flag("--no-images", no_images_,
                   "do not write the renders and heat maps (impostorcheck.json only)");
     return sub;
@@ -217,8 +218,13 @@ class ImpostorcheckCommand final : public CliCommand {
                        st.distance_m, st.passed ? "passed" : "FAILED: ", st.passed ? "" : st.failure.c_str());
           std::fflush(io.out);
         };
+        // The search starts at --distance-scale (billboards: far below the error model's distance,
+        // where they are degenerate) and goes down to a 16th of it.
+        impostor::DistanceSearchOptions range;
+        range.hi = options_.distance_scale;
+        range.lo = options_.distance_scale / 16;
         search = impostor::find_proven_distance(scene_renderer, impostor_renderer, full, subject, options_,
-                                                {}, baseline, step_sink);
+                                                range, baseline, step_sink);
         results = search->at_proven;
         options_.distance_scale = search->proven_scale;
       } else {

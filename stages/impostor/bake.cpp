@@ -251,7 +251,10 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   info.error.view_m = billboards
                           ? geo.radius * std::sin(billboard_max_view_angle(p.layout.cards, p.layout.top_card))
                           : geo.radius * view_error_factor(p.layout.frames_per_side, info.hemi);
-  info.switch_distance_m = switch_distance(p.camera, info.error, p.pixel_error);
+  // The error model's distance, or the one a recipe records because impostorcheck proved it (the
+  // error terms stay the model's: they say why the model's distance is what it is).
+  info.switch_distance_m =
+      p.switch_distance_m > 0 ? p.switch_distance_m : switch_distance(p.camera, info.error, p.pixel_error);
   info.source_type = source.type;
   info.source_file = source.file;
   info.source_level = source.level;

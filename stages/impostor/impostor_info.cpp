@@ -42,6 +42,11 @@ StageInfo impostor_stage_info() {
       Param::real("pixel_error", 0.5)
           .range(0.01, 100)
           .describe("permitted pixel error delta (px) of the switch distance"),
+      Param::real("switch_distance_m", 0.0)
+          .range(0.0, 1e7)
+          .describe(
+              "the switch distance impostor.json records (m); 0: the error model's. Set it to what "
+              "`sylva impostorcheck --search-distance` proves: impostorcheck then checks it at every run"),
   };
   return info;
 }

@@ -169,6 +169,7 @@ impostor::BakeParams bake_params_from(const Value::Object& params) {
   p.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
   p.camera.height_px = int(cam.at("height_px").as_int());
   p.pixel_error = at("pixel_error").as_real();
+  p.switch_distance_m = at("switch_distance_m").as_real();
   return p;
 }
 

@@ -96,6 +96,20 @@ TEST(ImpostorStage, BakesAMeshAndRefusesBadInputs) {
   EXPECT_EQ(info.source_file, "tree.glb");
   EXPECT_EQ(info.source_level, -1);
   EXPECT_DOUBLE_EQ(info.error.source_m, 0);
+  EXPECT_GT(info.switch_distance_m, 0);
+  {  // A recorded (proven) switch distance replaces the model's; the error terms stay.
+    fs::create_directories(tmp / "out_proven");
+    FakeStageContext proven(*stage, {{"mesh_quad", "mesh", tmp / "mesh"}}, tmp / "out_proven",
+                            {{"frames", Value(std::int64_t(4))},
+                             {"frame_px", Value(std::int64_t(32))},
+                             {"mip_levels", Value(std::int64_t(1))},
+                             {"switch_distance_m", Value(12.5)}});
+    stage->run(proven);
+    const impostor::ImpostorInfo p =
+        impostor::read_impostor_json((tmp / "out_proven" / "impostor.json").string());
+    EXPECT_DOUBLE_EQ(p.switch_distance_m, 12.5);
+    EXPECT_EQ(p.error, info.error);
+  }
 
   auto error = [&](const fs::path& in, const std::string& type, const Value::Object& over = {}) {
     fs::create_directories(tmp / "bad_out");
