@@ -218,7 +218,9 @@ TEST(ImpostorCheck, TheDistanceSearchEndsOnAPassingDistanceWithAFailingOneJustNe
   double nearest_fail = 0;
   for (const DistanceSearchStep& st : r.steps) {
     if (!st.passed && st.scale < r.proven_scale) nearest_fail = std::max(nearest_fail, st.scale);
-    if (st.passed) EXPECT_GE(st.scale, r.proven_scale);
+    if (st.passed) {
+      EXPECT_GE(st.scale, r.proven_scale);
+    }
   }
   if (!r.below_lo) {
     ASSERT_GT(nearest_fail, 0);

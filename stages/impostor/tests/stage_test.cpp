@@ -105,10 +105,10 @@ TEST(ImpostorStage, BakesAMeshAndRefusesBadInputs) {
                              {"mip_levels", Value(std::int64_t(1))},
                              {"switch_distance_m", Value(12.5)}});
     stage->run(proven);
-    const impostor::ImpostorInfo p =
+    const impostor::ImpostorInfo proven_info =
         impostor::read_impostor_json((tmp / "out_proven" / "impostor.json").string());
-    EXPECT_DOUBLE_EQ(p.switch_distance_m, 12.5);
-    EXPECT_EQ(p.error, info.error);
+    EXPECT_DOUBLE_EQ(proven_info.switch_distance_m, 12.5);
+    EXPECT_EQ(proven_info.error, info.error);
   }
 
   auto error = [&](const fs::path& in, const std::string& type, const Value::Object& over = {}) {
