@@ -103,6 +103,7 @@ class ImpostorcheckCommand final : public CliCommand {
     const auto selected =
         select_stage_nodes(*recipe, recipe_, kImpostorStage, nodes_, "docs/stages/impostor.md", io);
     if (!selected) return kExitUsage;
+    start_scale_ = options_.distance_scale;
     if (!azimuths_.empty()) options_.azimuths_deg = azimuths_;
     if (!elevations_.empty()) options_.elevations_deg = elevations_;
     const std::string out_root = global_option(parent_, "--out").value_or("out");
@@ -221,12 +222,13 @@ class ImpostorcheckCommand final : public CliCommand {
         // The search starts at --distance-scale (billboards: far below the error model's distance,
         // where they are degenerate) and goes down to a 16th of it.
         impostor::DistanceSearchOptions range;
-        range.hi = options_.distance_scale;
-        range.lo = options_.distance_scale / 16;
+        range.hi = start_scale_;
+        range.lo = start_scale_ / 16;
         search = impostor::find_proven_distance(scene_renderer, impostor_renderer, full, subject, options_,
                                                 range, baseline, step_sink);
         results = search->at_proven;
-        options_.distance_scale = search->proven_scale;
+        options_.distance_scale =
+            search->proven_scale;  // for the report; the next node starts at start_scale_
       } else {
         results = impostor::check_impostor(scene_renderer, impostor_renderer, full, subject, options_,
                                            baseline, sink);
@@ -412,6 +414,7 @@ class ImpostorcheckCommand final : public CliCommand {
   std::vector<double> azimuths_, elevations_;
   bool no_images_ = false;
   bool search_ = false;
+  double start_scale_ = 1;  // --distance-scale as given (a search reports each node at its own)
 };
 
 }  // namespace

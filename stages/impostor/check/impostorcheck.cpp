@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <stdexcept>
 
 #include "libs/image/compare.h"
 #include "libs/image/coverage.h"
@@ -170,8 +171,11 @@ DistanceSearchResult find_proven_distance(render::Renderer& scene_renderer,
                                           const render::Scene& full, const ImpostorSubject& subject,
                                           ImpostorCheckOptions o, const DistanceSearchOptions& search,
                                           const ColourBaseline& baseline, const DistanceStepSink& step_sink) {
+  if (!(search.hi > 0 && search.lo > 0 && search.lo <= search.hi && search.tolerance > 0))
+    throw std::invalid_argument("distance search: need 0 < lo <= hi and tolerance > 0");
   DistanceSearchResult out;
   out.model_distance_m = subject.info.switch_distance_m;
+  bool vanished = false;  // every view's footprint was empty: farther can only be emptier
   auto run = [&](double scale) {
     o.distance_scale = scale;
     ImpostorCheckResult r = check_impostor(scene_renderer, impostor_renderer, full, subject, o, baseline);
@@ -182,6 +186,9 @@ DistanceSearchResult find_proven_distance(render::Renderer& scene_renderer,
     for (const ImpostorViewCheck& v : r.views)
       if (!v.passed && step.failure.empty()) step.failure = v.view + ": " + v.failure;
     if (step.failure.empty()) step.failure = r.failure;
+    vanished =
+        !r.views.empty() && std::all_of(r.views.begin(), r.views.end(),
+                                        [](const ImpostorViewCheck& v) { return v.footprint_pixels == 0; });
     out.steps.push_back(step);
     if (step_sink) step_sink(step);
     return r;
@@ -190,7 +197,7 @@ DistanceSearchResult find_proven_distance(render::Renderer& scene_renderer,
   ImpostorCheckResult at_pass = run(pass);
   while (!at_pass.passed()) {
     fail = pass;
-    if (pass >= 64) return out;  // nothing passed
+    if (pass >= 64 * search.hi || vanished) return out;  // nothing passed
     pass *= 2;
     at_pass = run(pass);
   }

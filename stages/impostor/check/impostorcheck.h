@@ -111,9 +111,9 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
 // The nearest distance at which the check passes: the proof's switch distance, as opposed to the
 // error model's (a sufficient bound: it sums each term's worst case). Searched over multiples of
 // the model's distance: the check runs at `hi` (1 = the model's distance), doubling it while it
-// fails (up to 64); then at `lo`; then bisects in log space between the last failing and the
-// first passing multiple until they differ by less than `tolerance` (relative). The coverage and
-// colour judgement is check_impostor's, from the same views. Passing is not monotonic in the
+// fails (up to 64 hi, or until no view covers a pixel); then at `lo`; then bisects in log space between the
+// last failing and the first passing multiple until they differ by less than `tolerance` (relative). The
+// coverage and colour judgement is check_impostor's, from the same views. Passing is not monotonic in the
 // distance in principle (the colour bound follows the baseline), so the result is the passing
 // end of the final bracket, checked there: every distance reported passed.
 struct DistanceSearchOptions {
@@ -141,6 +141,7 @@ DistanceSearchResult find_proven_distance(render::Renderer& scene_renderer,
                                           ImpostorCheckOptions options, const DistanceSearchOptions& search,
                                           const ColourBaseline& baseline = {},
                                           const DistanceStepSink& step_sink = {});
+// (Throws std::invalid_argument unless 0 < lo <= hi and tolerance > 0.)
 
 // The smallest angle (degrees) between `view` (centre toward the eye) and a direction the
 // impostor was baked from.
