@@ -9,6 +9,39 @@
 
 namespace sylva::render {
 
+// One table row per alpha that occurs: sRGB(linear(c) * a / 255) for every c, instead of two
+// pow() per channel.
+void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std::uint8_t>& normal_depth) {
+  std::array<double, 256> lin{};
+  for (int i = 0; i < 256; ++i) {
+    const double c = i / 255.0;
+    lin[std::size_t(i)] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  }
+  auto srgb8 = [](double c) {
+    c = std::clamp(c, 0.0, 1.0);
+    return std::uint8_t(
+        std::lround(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055)));
+  };
+  std::vector<std::array<std::uint8_t, 256>> table;  // [a][c], built for the alphas that occur
+  std::array<int, 256> row_of{};
+  row_of.fill(-1);
+  for (std::size_t i = 0; i < color.size(); i += 4) {
+    const int al = color[i + 3];
+    if (al == 255) continue;
+    if (row_of[std::size_t(al)] < 0) {
+      row_of[std::size_t(al)] = int(table.size());
+      std::array<std::uint8_t, 256> t{};
+      for (int c = 0; c < 256; ++c) t[std::size_t(c)] = al == 0 ? 0 : srgb8(lin[std::size_t(c)] * al / 255.0);
+      table.push_back(t);
+    }
+    const auto& t = table[std::size_t(row_of[std::size_t(al)])];
+    for (std::size_t c = 0; c < 3; ++c) {
+      color[i + c] = t[color[i + c]];
+      normal_depth[i + c] = std::uint8_t((normal_depth[i + c] * al + 127) / 255);
+    }
+  }
+}
+
 ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
                                   const image::Image& normal_depth, const ImpostorGeometry& g) {
   const int px = g.frames_per_side * g.frame_px;
@@ -30,35 +63,7 @@ ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
   a.mip_levels = g.mip_levels;
   a.color = color.bytes();
   a.normal_depth = normal_depth.bytes();
-  // sRGB(linear(c) * a / 255) for every (c, a): a table instead of two pow() per channel.
-  std::array<double, 256> lin{};
-  for (int i = 0; i < 256; ++i) {
-    const double c = i / 255.0;
-    lin[std::size_t(i)] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-  }
-  auto srgb8 = [](double c) {
-    c = std::clamp(c, 0.0, 1.0);
-    return std::uint8_t(
-        std::lround(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055)));
-  };
-  std::vector<std::array<std::uint8_t, 256>> table;  // [a][c], built for the alphas that occur
-  std::array<int, 256> row_of{};
-  row_of.fill(-1);
-  for (std::size_t i = 0; i < a.color.size(); i += 4) {
-    const int al = a.color[i + 3];
-    if (al == 255) continue;
-    if (row_of[std::size_t(al)] < 0) {
-      row_of[std::size_t(al)] = int(table.size());
-      std::array<std::uint8_t, 256> t{};
-      for (int c = 0; c < 256; ++c) t[std::size_t(c)] = al == 0 ? 0 : srgb8(lin[std::size_t(c)] * al / 255.0);
-      table.push_back(t);
-    }
-    const auto& t = table[std::size_t(row_of[std::size_t(al)])];
-    for (std::size_t c = 0; c < 3; ++c) {
-      a.color[i + c] = t[a.color[i + c]];
-      a.normal_depth[i + c] = std::uint8_t((a.normal_depth[i + c] * al + 127) / 255);
-    }
-  }
+  premultiply_impostor_maps(a.color, a.normal_depth);
   return a;
 }
 

@@ -4,7 +4,9 @@
 // coverage"), so that texture filtering and mip levels weight every texel by what it covers.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "libs/image/image.h"
 #include "libs/render/scene.h"
@@ -18,6 +20,12 @@ struct ImpostorGeometry {
   float radius = 1, half_extent = 1;
   int frame_px = 256, padding_px = 16, mip_levels = 4;
 };
+
+// Premultiplies an impostor's maps in place, the reference shader's contract: colour rgb =
+// sRGB(linear(rgb) * a), normal rgb = round(rgb * a / 255), alpha and depth unchanged. Both are
+// RGBA8 rows of the same size (color's alpha = coverage). Used by the scene renderer's atlases and
+// by impostor_renderer.cpp.
+void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std::uint8_t>& normal_depth);
 
 // color: sRGB RGB with straight alpha = coverage; normal_depth: rgb = normal * 0.5 + 0.5, a =
 // depth (docs/stages/impostor.md "Maps"). Premultiplied: colour rgb = sRGB(linear(rgb) * a),

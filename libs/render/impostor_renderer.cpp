@@ -28,6 +28,7 @@
 
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
+#include "libs/render/impostor_atlas.h"
 
 namespace sylva::render {
 namespace {
@@ -700,26 +701,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   };
   static PremultipliedMaps premultiply(const image::Image& color, const image::Image& normal_depth) {
     PremultipliedMaps out{color, normal_depth};
-    std::array<double, 256> lin{};
-    for (int i = 0; i < 256; ++i) {
-      const double c = i / 255.0;
-      lin[std::size_t(i)] = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-    }
-    auto srgb8 = [](double c) {
-      c = std::clamp(c, 0.0, 1.0);
-      return std::uint8_t(
-          std::lround(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055)));
-    };
-    auto& cb = out.color.bytes();
-    auto& nb = out.normal_depth.bytes();
-    for (std::size_t i = 0; i < cb.size(); i += 4) {
-      const int a = cb[i + 3];
-      if (a == 255) continue;
-      for (std::size_t c = 0; c < 3; ++c) {
-        cb[i + c] = a == 0 ? 0 : srgb8(lin[cb[i + c]] * a / 255.0);
-        nb[i + c] = std::uint8_t((nb[i + c] * a + 127) / 255);
-      }
-    }
+    premultiply_impostor_maps(out.color.bytes(), out.normal_depth.bytes());
     return out;
   }
 
