@@ -143,6 +143,7 @@ constexpr int kInstanceFloats = 16 + 9;
 
 using detail::check_gl;
 using detail::CurrentContext;
+using detail::gl_mode;
 using detail::GlObjects;
 using detail::upload_array;
 using detail::upload_texture;
@@ -450,17 +451,6 @@ class GlRenderer final : public Renderer {
     if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
     if (p.colors.empty()) glVertexAttrib4f(kColor, 1, 1, 1, 1);
     if (p.sizes.empty() || p.topology != Topology::kPoints) glVertexAttrib1f(kSize, -1.f);
-  }
-
-  static GLenum gl_mode(Topology t) {
-    switch (t) {
-      case Topology::kLines:
-        return GL_LINES;
-      case Topology::kPoints:
-        return GL_POINTS;
-      default:
-        return GL_TRIANGLES;
-    }
   }
 
   void draw(const Scene& scene, const Uploaded& up, const detail::ImpostorDrawer::Uploaded& imp,

@@ -108,6 +108,17 @@ GLuint link_program(const char* vertex_source, const char* fragment_source, cons
   return program;
 }
 
+GLenum gl_mode(Topology t) {
+  switch (t) {
+    case Topology::kLines:
+      return GL_LINES;
+    case Topology::kPoints:
+      return GL_POINTS;
+    default:
+      return GL_TRIANGLES;
+  }
+}
+
 GLint gl_wrap(Wrap w) {
   switch (w) {
     case Wrap::kClampToEdge:

@@ -63,6 +63,9 @@ GLuint upload_array(GlObjects& gl, GLenum target, const std::vector<T>& data) {
 
 GLint gl_wrap(Wrap w);
 
+// The GL primitive mode of a topology (GL_LINES, GL_POINTS, else GL_TRIANGLES).
+GLenum gl_mode(Topology t);
+
 // Uploads an 8-bit sRGB-encoded RGBA texture (sampling returns linear values) with its sampler
 // state; mipmaps are generated when the texture asks for them. Throws RenderError for
 // inconsistent sizes.

@@ -35,6 +35,7 @@ namespace {
 
 using detail::check_gl;
 using detail::CurrentContext;
+using detail::gl_mode;
 using detail::GlObjects;
 using detail::upload_array;
 
@@ -146,17 +147,6 @@ struct BakePrimitive {
   GLsizei index_count = 0;
   bool blend = false;
 };
-
-GLenum gl_mode(Topology t) {
-  switch (t) {
-    case Topology::kLines:
-      return GL_LINES;
-    case Topology::kPoints:
-      return GL_POINTS;
-    default:
-      return GL_TRIANGLES;
-  }
-}
 
 void check_bake_primitive(const Scene& scene, const Primitive& p) {
   const std::size_t n = p.positions.size();

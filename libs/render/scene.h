@@ -87,7 +87,7 @@ struct Mesh {
 // A (hemi-)octahedral impostor as the reference shader draws it (shaders/octahedral_impostor.*,
 // docs/stages/impostor.md "The reference shader"; the fields follow impostor.json): both maps
 // atlas_px x atlas_px RGBA8, top row first, ALREADY premultiplied by coverage
-// (premultiply_impostor_maps() in impostor_draw.h turns impostor.json's straight PNGs into them).
+// (premultiply_impostor_maps() in impostor_atlas.h turns impostor.json's straight PNGs into them).
 struct ImpostorAtlas {
   std::string name;                        // for messages
   int atlas_px = 0;                        // frames_per_side * frame_px
