@@ -19,6 +19,7 @@
 #include "app/recipe_build.h"
 #include "app/report_dir.h"
 #include "libs/image/image_io.h"
+#include "libs/impostor/error_model.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_renderer.h"
 #include "libs/render/renderer.h"
@@ -256,6 +257,19 @@ class ImpostorcheckCommand final : public CliCommand {
                        report_dir, io);
   }
 
+  // The error model's switch distance; impostor.json's differs when the recipe recorded one
+  // (the stage's switch_distance_m, e.g. what --search-distance proved).
+  static double model_distance(const impostor::ImpostorInfo& info) {
+    return impostor::switch_distance(info.camera, info.error, info.pixel_error_px);
+  }
+  static std::string recorded_text(const impostor::ImpostorInfo& info) {
+    const double model = model_distance(info);
+    if (std::abs(info.switch_distance_m - model) <= 1e-6 * model) return "";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " (recorded by the recipe; the error model's: %.1f m)", model);
+    return buf;
+  }
+
   int print_table(const NodeDecl& node, const impostor::ImpostorInfo& info, const std::string& reference,
                   std::size_t full_triangles, std::size_t full_lines,
                   const impostor::ColourBaseline& baseline, const impostor::ImpostorCheckResult& result,
@@ -265,9 +279,9 @@ class ImpostorcheckCommand final : public CliCommand {
     std::fprintf(
         io.out,
         "impostorcheck %s: %s, %s; epsilon %.4f m (source %.4f + texel %.4f + view %.4f), delta %.3g px, "
-        "switch distance %.1f m%s\n",
+        "switch distance %.1f m%s%s\n",
         node.name.c_str(), impostor::kind_name(info.kind), grid_text(info).c_str(), e.epsilon_m(), e.source_m,
-        e.texel_m, e.view_m, info.pixel_error_px, info.switch_distance_m,
+        e.texel_m, e.view_m, info.pixel_error_px, info.switch_distance_m, recorded_text(info).c_str(),
         options_.distance_scale != 1 ? (" (checked at x" + number(options_.distance_scale) + ")").c_str()
                                      : "");
     std::fprintf(
@@ -349,6 +363,7 @@ class ImpostorcheckCommand final : public CliCommand {
                       {"view", info.error.view_m},
                       {"total", info.error.epsilon_m()}};
     j["switch_distance_m"] = info.switch_distance_m;
+    j["model_switch_distance_m"] = model_distance(info);
     j["distance_scale"] = options_.distance_scale;
     j["thresholds"] = {{"pixel_threshold", options_.pixel_threshold},
                        {"max_failing_fraction", options_.max_failing_fraction},

@@ -1,7 +1,8 @@
 #!/bin/sh
 # ctest impostorcheck_default_recipe: `sylva impostorcheck` on the hemi-octahedral impostors of a
 # recipe in the verify gate's output directory (nodes impostor_*; the billboards' model distance
-# is degenerate, docs/stages/impostor.md "Billboards"), then the Khronos glTF-Validator on every
+# is degenerate, docs/stages/impostor.md "Billboards"), each at the proven distance the recipe
+# records for it (fails when one is judged at the error model's), then the Khronos glTF-Validator on every
 # impostor GLB the recipe writes (impostor_* and billboards_*).
 # usage: run_impostorcheck.sh SYLVA RECIPE OUT_DIR [DATA_FILE]
 # Exits 77 (ctest: skipped) when DATA_FILE, third-party data the recipe reads, is missing.
@@ -16,11 +17,22 @@ fi
 args=""
 for d in "$out"/*/impostor_*; do [ -d "$d" ] && args="$args --node $(basename "$d")"; done
 [ -n "$args" ] || { echo "no impostor_* node built under $out" >&2; exit 1; }
-"$sylva" --out "$out" impostorcheck "$recipe" --no-images $args
+report=$("$sylva" --out "$out" impostorcheck "$recipe" --no-images $args)
 rc=$?
+printf '%s\n' "$report"
 if [ $rc -ne 0 ]; then
   echo "impostorcheck FAILED (exit $rc) for $recipe: see the table above" >&2
   exit $rc
+fi
+# Every impostor_* node records the distance `sylva impostorcheck --search-distance` proved (the
+# stage's switch_distance_m), so the check above judged it there, not at the error model's
+# sufficient distance (docs/stages/impostor.md, "Proven distances").
+unrecorded=$(printf '%s\n' "$report" | grep '^impostorcheck impostor_' | grep -v 'recorded by the recipe')
+if [ -n "$unrecorded" ]; then
+  echo "$recipe: these impostors are judged at the error model's distance; record their proven" >&2
+  echo "distance (switch_distance_m, from sylva impostorcheck --search-distance):" >&2
+  printf '%s\n' "$unrecorded" >&2
+  exit 1
 fi
 glbs=$(find "$out" -mindepth 3 -maxdepth 3 -name 'impostor.glb' -not -path '*/cache/*' | sort)
 [ -n "$glbs" ] || { echo "no impostor.glb under $out" >&2; exit 1; }
