@@ -1,42 +1,14 @@
-// The forest lodcheck (see forestcheck.h). The footprint statistics are the tree lodcheck's
-// (stages/lod/check/lodcheck.cpp, computed the same way: no stage includes another's files).
+// The forest lodcheck (see forestcheck.h), judged as the tree lodcheck judges a level
+// (libs/check/judge.h: the same footprint statistics, bounds and sentences).
 #include "stages/forest/check/forestcheck.h"
 
-#include <cmath>
-#include <cstdio>
+#include <algorithm>
 
+#include "libs/check/judge.h"
 #include "libs/image/compare.h"
 #include "libs/image/resample.h"
 
 namespace sylva::forest {
-
-namespace {
-
-void footprint_stats(const image::Image& ref, const image::Image& test, double threshold,
-                     ForestViewCheck& c) {
-  const auto& rb = ref.bytes();
-  const auto& tb = test.bytes();
-  double sum = 0, bias = 0, colour = 0;
-  std::size_t failing = 0;
-  for (std::size_t p = 0; p + 3 < rb.size() && p + 3 < tb.size(); p += 4) {
-    if (rb[p + 3] == 0 && tb[p + 3] == 0) continue;
-    ++c.footprint_pixels;
-    const double d = (int(tb[p + 3]) - int(rb[p + 3])) / 255.0;
-    sum += std::abs(d);
-    bias += d;
-    failing += std::abs(d) > threshold ? 1 : 0;
-    for (int ch = 0; ch < 3; ++ch)
-      colour += std::abs(int(rb[p + std::size_t(ch)]) - int(tb[p + std::size_t(ch)])) / 255.0;
-  }
-  if (c.footprint_pixels == 0) return;
-  const double n = double(c.footprint_pixels);
-  c.coverage_failing_fraction = double(failing) / n;
-  c.coverage_mean_error = sum / n;
-  c.coverage_bias = bias / n;
-  c.colour_mean_error = colour / (3 * n);
-}
-
-}  // namespace
 
 std::vector<ForestViewCheck> check_forest(render::ForestView& view, render::Renderer& renderer,
                                           const std::vector<render::Camera>& cameras,
@@ -48,6 +20,10 @@ std::vector<ForestViewCheck> check_forest(render::ForestView& view, render::Rend
   ro.msaa = o.msaa;
   ro.line_width_px = float(k);
   ro.background.a = 0;
+  check::CoverageThresholds thresholds;
+  thresholds.pixel_threshold = o.pixel_threshold;
+  thresholds.max_failing_fraction = o.max_failing_fraction;
+  thresholds.max_coverage_error = o.max_coverage_error;
   std::vector<ForestViewCheck> out;
   for (const render::Camera& cam : cameras) {
     // Levels chosen for delta pixels of this image: delta' = delta H / height_px at the chain's H.
@@ -73,21 +49,13 @@ std::vector<ForestViewCheck> check_forest(render::ForestView& view, render::Rend
     c.lod_primitives = ls.front().primitives;
     c.full_primitives = fs.front().primitives;
     c.per_level = ls.front().per_level;
-    footprint_stats(full_img, lod_img, o.pixel_threshold, c);
-    char buf[256];
-    if (c.coverage_failing_fraction > o.max_failing_fraction) {
-      std::snprintf(
-          buf, sizeof buf,
-          "coverage of %.2f%% of the forest's %zu pixels changed by more than %.3g (allowed %.2f%%)",
-          100 * c.coverage_failing_fraction, c.footprint_pixels, o.pixel_threshold,
-          100 * o.max_failing_fraction);
-      c.failure = buf;
-    } else if (c.coverage_mean_error > o.max_coverage_error) {
-      std::snprintf(buf, sizeof buf,
-                    "mean coverage change over the forest's %zu pixels is %.4f (allowed %.4f)",
-                    c.footprint_pixels, c.coverage_mean_error, o.max_coverage_error);
-      c.failure = buf;
-    }
+    const check::ViewJudgement j = check::judge_coverage(full_img, lod_img, thresholds, "forest");
+    c.footprint_pixels = j.stats.footprint_pixels;
+    c.coverage_failing_fraction = j.stats.failing_fraction;
+    c.coverage_mean_error = j.stats.coverage_mean_error;
+    c.coverage_bias = j.stats.coverage_bias;
+    c.colour_mean_error = j.stats.colour_mean_error;
+    c.failure = j.failure;
     c.passed = c.failure.empty();
     if (sink) {
       image::CompareOptions heat;

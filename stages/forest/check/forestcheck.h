@@ -1,6 +1,6 @@
 // `sylva lodcheck` on a forest: every view of the forest's camera set drawn twice, once with each
 // tree at the LOD level its distance selects (libs/render/forest_view.h) and once with every tree
-// at full detail, and judged as the tree lodcheck judges a level (stages/lod/check/lodcheck.h):
+// at full detail, and judged as the tree lodcheck judges a level (libs/check/judge.h):
 // over the forest's footprint (pixels either image covers, transparent background so alpha is
 // coverage) a pixel fails when its coverage changes by more than delta, and a view passes when at
 // most max_failing_fraction of the footprint fails and the mean coverage change is at most

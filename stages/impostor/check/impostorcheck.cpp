@@ -1,15 +1,15 @@
 // DESIGN.md's error model checked in image space for impostors (impostorcheck.h): renders from
 // libs/render (the verifier's renderer for the full detail and the billboard cards, the reference
-// impostor shader for the octahedral kinds), statistics from libs/image (coverage.h), judged as
-// lodcheck judges LOD levels, plus the colour of what both renders cover.
+// impostor shader for the octahedral kinds), statistics and verdict from libs/check (judge.h), the
+// coverage judged as lodcheck judges LOD levels, plus the colour of what both renders cover.
 #include "stages/impostor/check/impostorcheck.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
+#include "libs/check/judge.h"
 #include "libs/image/compare.h"
 #include "libs/image/coverage.h"
 #include "libs/image/resample.h"
@@ -106,12 +106,18 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
     primitives = 2 * subject.octahedral.instances.size();
   }
 
+  check::CoverageThresholds thresholds;
+  thresholds.pixel_threshold = o.pixel_threshold;
+  thresholds.max_failing_fraction = o.max_failing_fraction;
+  thresholds.max_coverage_error = o.max_coverage_error;
+  thresholds.empty_fails = true;  // the distance search stops where no view covers a pixel
   image::CompareOptions heat;
   heat.pixel_threshold = o.pixel_threshold;
   std::vector<ImpostorViewCheck>& out = result.views;
   for (std::size_t v = 0; v < cams.size(); ++v) {
     const image::Image r = image::downsample(ref[v], k), t = image::downsample(test[v], k);
-    const image::FootprintStats f = image::footprint_stats(r, t, o.pixel_threshold);
+    const check::ViewJudgement j = check::judge_coverage(r, t, thresholds, "tree");
+    const image::FootprintStats& f = j.stats;
     ImpostorViewCheck c;
     c.label = subject.label;
     c.view = cams[v].name;
@@ -126,43 +132,19 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
     c.colour_mean_error = f.colour_mean_error;
     c.shade_mean_error = f.shade_mean_error;
     c.primitives = primitives;
-    char buf[256];
-    if (c.footprint_pixels == 0) {
-      c.failure = "neither render covers a pixel";
-    } else if (c.coverage_failing_fraction > o.max_failing_fraction) {
-      std::snprintf(buf, sizeof buf,
-                    "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
-                    100 * c.coverage_failing_fraction, c.footprint_pixels, o.pixel_threshold,
-                    100 * o.max_failing_fraction);
-      c.failure = buf;
-    } else if (c.coverage_mean_error > o.max_coverage_error) {
-      std::snprintf(buf, sizeof buf, "mean coverage change over the tree's %zu pixels is %.4f (allowed %.4f)",
-                    c.footprint_pixels, c.coverage_mean_error, o.max_coverage_error);
-      c.failure = buf;
-    }
-    c.colour_bound = baseline_colour.empty()
-                         ? o.max_colour_error
-                         : std::max(o.max_colour_error, o.colour_ratio * baseline_colour[v]);
+    c.failure = j.failure;
+    c.colour_bound = check::colour_bound(o.max_colour_error, o.colour_ratio,
+                                         baseline_colour.empty() ? -1 : baseline_colour[v]);
     c.baseline_colour = baseline_colour.empty() ? -1 : baseline_colour[v];
-    if (!c.failure.empty()) {
-    } else if (c.shade_mean_error > c.colour_bound) {
-      std::snprintf(buf, sizeof buf,
-                    "mean colour difference where both cover the tree is %.4f (allowed %.4f)",
-                    c.shade_mean_error, c.colour_bound);
-      c.failure = buf;
-    }
+    if (c.failure.empty()) c.failure = check::colour_failure(c.shade_mean_error, c.colour_bound);
     c.passed = c.failure.empty();
     if (sink) sink(c, r, t, image::diff_heatmap(r, t, heat));
     result.colour_mean += c.shade_mean_error / double(cams.size());
     out.push_back(std::move(c));
   }
-  if (!baseline_colour.empty() && result.colour_mean > result.baseline_colour_mean + o.colour_tolerance) {
-    char buf[256];
-    std::snprintf(
-        buf, sizeof buf, "mean colour difference over the views is %.4f, more than the %s's %.4f + %.3g",
-        result.colour_mean, baseline.label.c_str(), result.baseline_colour_mean, o.colour_tolerance);
-    result.failure = buf;
-  }
+  if (!baseline_colour.empty())
+    result.failure = check::mean_colour_failure(result.colour_mean, result.baseline_colour_mean,
+                                                o.colour_tolerance, baseline.label);
   return result;
 }
 

@@ -4,7 +4,7 @@
 //
 // Seeds: DESIGN.md "LOD error model" (a representation of spatial error epsilon is within delta
 // pixels from d = epsilon / (delta s(1)) on); Zhang et al. 2017 §3; the impostor's epsilon is
-// libs/impostor/error_model.h's. The judgement is lodcheck's (stages/lod/check, docs/stages/lod.md):
+// libs/impostor/error_model.h's. The judgement is lodcheck's (libs/check/judge.h, docs/stages/lod.md):
 //  - camera: the impostor's fov and an H-pixel image scale (H its camera's height), the eye at the
 //    switch distance from the nearest point of the full-detail box (libs/render/distance_camera.h),
 //    cropped around the tree (same pixels as the full H x H image, far fewer to draw);

@@ -1,7 +1,7 @@
 // Zhang et al. 2017 §3 (delta, epsilon, s(d)), checked in image space: the renders come from
-// libs/render (the verifier's renderer), the comparison from libs/image (OpenImageIO). Only the
-// footprint numbers are computed here, because the library's statistics are over the whole frame
-// and a distant tree is a few percent of it.
+// libs/render (the verifier's renderer), the verdict from libs/check (judge.h: coverage over the
+// tree's footprint, since a distant tree is a few percent of the frame), the colour numbers and
+// the heat-map from libs/image (OpenImageIO).
 #include "stages/lod/check/lodcheck.h"
 
 #include <algorithm>
@@ -13,7 +13,7 @@
 #include <span>
 #include <utility>
 
-#include "libs/image/coverage.h"
+#include "libs/check/judge.h"
 #include "libs/image/resample.h"
 #include "libs/render/distance_camera.h"
 
@@ -32,16 +32,6 @@ std::string view_name(double azimuth_deg) {
 }
 
 std::size_t primitive_count(const render::Scene& s) { return s.triangle_count() + s.line_count(); }
-
-void add_footprint_stats(const image::Image& ref, const image::Image& test, double pixel_threshold,
-                         ViewCheck& c) {
-  const image::FootprintStats f = image::footprint_stats(ref, test, pixel_threshold);
-  c.footprint_pixels = f.footprint_pixels;
-  c.coverage_failing_fraction = f.failing_fraction;
-  c.coverage_mean_error = f.coverage_mean_error;
-  c.coverage_bias = f.coverage_bias;
-  c.colour_mean_error = f.colour_mean_error;
-}
 
 // The side (px) of the centred square window of an H x H image from `cam` that holds the box
 // `b` with `margin_px` to spare: the largest offset of a projected corner from the image centre
@@ -125,6 +115,10 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
   image::CompareOptions co;  // colour, reported only
   co.compare_alpha = false;
   co.max_failing_fraction = 1.0;
+  check::CoverageThresholds thresholds;
+  thresholds.pixel_threshold = options.pixel_threshold;
+  thresholds.max_failing_fraction = options.max_failing_fraction;
+  thresholds.max_coverage_error = options.max_coverage_error;
   image::CompareOptions heat;  // the heat-map: red where coverage or colour changed by > threshold
   heat.pixel_threshold = options.pixel_threshold;
   std::vector<ViewCheck> out;
@@ -143,23 +137,13 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
       c.distance = s.distance;
       c.primitives = primitive_count(s.scene);
       c.colour = image::compare_images(ref, test, co);
-      add_footprint_stats(ref, test, options.pixel_threshold, c);
-      char buf[256];
-      if (c.colour.size_mismatch) {
-        c.failure = c.colour.failure;
-      } else if (c.coverage_failing_fraction > options.max_failing_fraction) {
-        std::snprintf(
-            buf, sizeof buf,
-            "coverage of %.2f%% of the tree's %zu pixels changed by more than %.3g (allowed %.2f%%)",
-            100 * c.coverage_failing_fraction, c.footprint_pixels, options.pixel_threshold,
-            100 * options.max_failing_fraction);
-        c.failure = buf;
-      } else if (c.coverage_mean_error > options.max_coverage_error) {
-        std::snprintf(buf, sizeof buf,
-                      "mean coverage change over the tree's %zu pixels is %.4f (allowed %.4f)",
-                      c.footprint_pixels, c.coverage_mean_error, options.max_coverage_error);
-        c.failure = buf;
-      }
+      const check::ViewJudgement j = check::judge_coverage(ref, test, thresholds, "tree");
+      c.footprint_pixels = j.stats.footprint_pixels;
+      c.coverage_failing_fraction = j.stats.failing_fraction;
+      c.coverage_mean_error = j.stats.coverage_mean_error;
+      c.coverage_bias = j.stats.coverage_bias;
+      c.colour_mean_error = j.stats.colour_mean_error;
+      c.failure = c.colour.size_mismatch ? c.colour.failure : j.failure;
       c.passed = c.failure.empty();
       if (sink) sink(c, ref, test, image::diff_heatmap(ref, test, heat));
       out.push_back(std::move(c));

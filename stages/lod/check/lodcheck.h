@@ -20,7 +20,8 @@
 // the footprint is small. Colour is reported (OpenImageIO's comparison over RGB, and the mean
 // over the footprint) but not judged: unlit lines with three fixed normals are
 // not lit like the cylinders they replace (Zhang §5.5, §6), a tone change the bound says nothing
-// about. docs/stages/lod.md justifies the thresholds.
+// about. The verdict is libs/check's (judge.h), shared with impostorcheck and the forest check;
+// docs/stages/lod.md justifies the thresholds.
 #pragma once
 
 #include <cstddef>
