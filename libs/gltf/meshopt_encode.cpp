@@ -96,14 +96,31 @@ std::vector<unsigned int> read_indices(const unsigned char* p, const ViewUse& u)
 }
 
 std::string encode_view(const unsigned char* data, const ViewUse& u) {
+  const MeshoptMode mode = u.kind == Kind::kAttributes  ? MeshoptMode::kAttributes
+                           : u.kind == Kind::kTriangles ? MeshoptMode::kTriangles
+                                                        : MeshoptMode::kIndices;
+  return encode_meshopt_view(data, mode, u.count, u.stride);
+}
+
+}  // namespace
+
+std::string encode_meshopt_view(const unsigned char* data, MeshoptMode mode, std::size_t count,
+                                std::size_t stride) {
+  // Index codec version 1 (EXT_meshopt_compression decoders read 0 and 1); meshoptimizer keeps
+  // the choice in a global, set once.
+  static std::once_flag once;
+  std::call_once(once, [] { meshopt_encodeIndexVersion(1); });
+  ViewUse u;
+  u.count = count;
+  u.stride = stride;
   std::vector<unsigned char> out;
   std::size_t n = 0;
-  switch (u.kind) {
-    case Kind::kAttributes:
+  switch (mode) {
+    case MeshoptMode::kAttributes:
       out.resize(meshopt_encodeVertexBufferBound(u.count, u.stride));
       n = meshopt_encodeVertexBuffer(out.data(), out.size(), data, u.count, u.stride);
       break;
-    case Kind::kTriangles: {
+    case MeshoptMode::kTriangles: {
       const std::vector<unsigned int> idx = read_indices(data, u);
       unsigned int max_index = 0;
       for (unsigned int i : idx) max_index = std::max(max_index, i);
@@ -111,7 +128,7 @@ std::string encode_view(const unsigned char* data, const ViewUse& u) {
       n = meshopt_encodeIndexBuffer(out.data(), out.size(), idx.data(), idx.size());
       break;
     }
-    case Kind::kIndices: {
+    case MeshoptMode::kIndices: {
       const std::vector<unsigned int> idx = read_indices(data, u);
       unsigned int max_index = 0;
       for (unsigned int i : idx) max_index = std::max(max_index, i);
@@ -119,21 +136,12 @@ std::string encode_view(const unsigned char* data, const ViewUse& u) {
       n = meshopt_encodeIndexSequence(out.data(), out.size(), idx.data(), idx.size());
       break;
     }
-    case Kind::kRaw:
-      break;
   }
   if (n == 0) throw GltfError("meshoptimizer could not encode a buffer view");
   return std::string(reinterpret_cast<const char*>(out.data()), n);
 }
 
-}  // namespace
-
 std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters) {
-  // Index codec version 1 (EXT_meshopt_compression decoders read 0 and 1); meshoptimizer keeps
-  // the choice in a global, set once.
-  static std::once_flag once;
-  std::call_once(once, [] { meshopt_encodeIndexVersion(1); });
-
   const std::vector<ViewUse> uses = classify(model);
   std::vector<unsigned char> source;
   if (!model.buffers.empty()) source.swap(model.buffers[0].data);

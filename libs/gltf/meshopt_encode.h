@@ -1,6 +1,7 @@
 // Private to libs/gltf: a built tinygltf model -> GLB bytes with EXT_meshopt_compression.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <string>
 
@@ -18,5 +19,13 @@ namespace sylva::gltf::detail {
 // `filters` names the meshopt filter of views whose bytes are already filtered (view index ->
 // "OCTAHEDRAL", ...); such a view must be compressed. Deterministic. Throws GltfError.
 std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters = {});
+
+// One view's bytes through a meshoptimizer codec: kAttributes (the vertex codec; `stride` a
+// multiple of 4, at most 252), kTriangles (the index codec, version 1; count a multiple of 3) or
+// kIndices (the index sequence codec); indices are `stride` = 2 or 4 bytes. `data` holds count x
+// stride bytes. Throws GltfError when the codec fails.
+enum class MeshoptMode { kAttributes, kTriangles, kIndices };
+std::string encode_meshopt_view(const unsigned char* data, MeshoptMode mode, std::size_t count,
+                                std::size_t stride);
 
 }  // namespace sylva::gltf::detail

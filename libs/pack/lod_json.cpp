@@ -2,28 +2,32 @@
 
 #include <nlohmann/json.hpp>
 
+#include "libs/pack/level_json.h"
+
 namespace sylva::pack {
+
+nlohmann::json level_json(const LodLevel& l) {
+  nlohmann::json level = {{"file", l.file},
+                          {"kind", l.kind},
+                          {"source_level", l.source_level},
+                          {"primitives", l.primitives},
+                          {"epsilon_m", l.epsilon_m},
+                          {"pixel_error_px", l.pixel_error_px},
+                          {"switch_distance_m", l.switch_distance_m},
+                          {"screen_coverage", l.screen_coverage},
+                          {"triangles", l.triangles},
+                          {"lines", l.lines},
+                          {"bytes", l.bytes},
+                          {"position_bits", l.position_bits},
+                          {"position_error_m", l.position_error_m},
+                          {"position_float", l.position_float}};
+  if (!l.impostor_kind.empty()) level["impostor_kind"] = l.impostor_kind;
+  return level;
+}
 
 std::string write_lod_json(const LodDescription& d) {
   nlohmann::json levels = nlohmann::json::array();
-  for (const LodLevel& l : d.levels) {
-    nlohmann::json level = {{"file", l.file},
-                            {"kind", l.kind},
-                            {"source_level", l.source_level},
-                            {"primitives", l.primitives},
-                            {"epsilon_m", l.epsilon_m},
-                            {"pixel_error_px", l.pixel_error_px},
-                            {"switch_distance_m", l.switch_distance_m},
-                            {"screen_coverage", l.screen_coverage},
-                            {"triangles", l.triangles},
-                            {"lines", l.lines},
-                            {"bytes", l.bytes},
-                            {"position_bits", l.position_bits},
-                            {"position_error_m", l.position_error_m},
-                            {"position_float", l.position_float}};
-    if (!l.impostor_kind.empty()) level["impostor_kind"] = l.impostor_kind;
-    levels.push_back(std::move(level));
-  }
+  for (const LodLevel& l : d.levels) levels.push_back(level_json(l));
   nlohmann::json dropped = nlohmann::json::array();
   for (const DroppedLevel& l : d.dropped)
     dropped.push_back({{"kind", l.kind},

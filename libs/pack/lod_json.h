@@ -37,6 +37,7 @@ struct LodLevel {
   int position_bits = 0;
   double position_error_m = 0;
   bool position_float = false;
+  friend bool operator==(const LodLevel&, const LodLevel&) = default;
 };
 
 struct DroppedLevel {

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "libs/pack/level_json.h"
 #include "pipeline/digest.h"
 
 namespace sylva::pack {
@@ -68,6 +69,43 @@ class Reader {
     std::string d = string(obj, where, key);
     if (!is_hex_digest(d)) fail(where + "." + key, "expected 64 lowercase hex digits");
     return d;
+  }
+  double number(const json& obj, const std::string& where, const char* key) const {
+    const json& v = member(obj, where, key);
+    if (!v.is_number()) fail(where + "." + key, "expected a number");
+    return v.get<double>();
+  }
+  int integer(const json& obj, const std::string& where, const char* key) const {
+    const json& v = member(obj, where, key);
+    if (!v.is_number_integer() || v.get<std::int64_t>() < -1 || v.get<std::int64_t>() > 1'000'000)
+      fail(where + "." + key, "expected an integer from -1 to 1000000");
+    return v.get<int>();
+  }
+  bool boolean(const json& obj, const std::string& where, const char* key) const {
+    const json& v = member(obj, where, key);
+    if (!v.is_boolean()) fail(where + "." + key, "expected true or false");
+    return v.get<bool>();
+  }
+  // A level object (level_json.h).
+  LodLevel level(const json& obj, const std::string& where) const {
+    LodLevel l;
+    l.file = path(obj, where, "file");
+    l.kind = string(obj, where, "kind");
+    if (l.kind != "mesh" && l.kind != "impostor") fail(where + ".kind", "expected \"mesh\" or \"impostor\"");
+    if (obj.contains("impostor_kind")) l.impostor_kind = string(obj, where, "impostor_kind");
+    l.source_level = integer(obj, where, "source_level");
+    l.epsilon_m = number(obj, where, "epsilon_m");
+    l.pixel_error_px = number(obj, where, "pixel_error_px");
+    l.switch_distance_m = number(obj, where, "switch_distance_m");
+    l.screen_coverage = number(obj, where, "screen_coverage");
+    l.primitives = unsigned_integer(obj, where, "primitives");
+    l.triangles = unsigned_integer(obj, where, "triangles");
+    l.lines = unsigned_integer(obj, where, "lines");
+    l.bytes = unsigned_integer(obj, where, "bytes");
+    l.position_bits = integer(obj, where, "position_bits");
+    l.position_error_m = number(obj, where, "position_error_m");
+    l.position_float = boolean(obj, where, "position_float");
+    return l;
   }
   std::string path(const json& obj, const std::string& where, const char* key) const {
     std::string p = string(obj, where, key);
@@ -150,8 +188,13 @@ std::string write_manifest(const Manifest& manifest) {
     };
     check(s->chain);
     check(s->lod_json);
-    for (const auto& l : s->levels) check(l);
-    json e = {{"name", s->name}, {"chain", s->chain}, {"lod_json", s->lod_json}, {"levels", s->levels}};
+    json levels = json::array();
+    for (const LodLevel& l : s->levels) {
+      check(l.file);
+      levels.push_back(level_json(l));
+    }
+    json e = {
+        {"name", s->name}, {"chain", s->chain}, {"lod_json", s->lod_json}, {"levels", std::move(levels)}};
     if (!s->impostor.empty()) {
       check(s->impostor);
       e["impostor"] = s->impostor;
@@ -181,7 +224,7 @@ std::string write_manifest(const Manifest& manifest) {
                         {"tiles", tiles},
                         {"files", all}});
   }
-  const json j = {{"format", "sylva-pack-manifest"}, {"version", manifest.version},
+  const json j = {{"format", "sylva-pack-manifest"}, {"version", kManifestVersion},
                   {"files", std::move(jf)},          {"species", std::move(js)},
                   {"forests", std::move(jforests)},  {"total_bytes", manifest.total_bytes()}};
   return j.dump(2) + "\n";
@@ -209,7 +252,7 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
   if (r.string(j, "(root)", "format") != "sylva-pack-manifest")
     r.fail("format", "expected \"sylva-pack-manifest\"");
   const std::uint64_t version = r.unsigned_integer(j, "(root)", "version");
-  if (version != 1 && version != kManifestVersion)
+  if (version < 1 || version > std::uint64_t(kManifestVersion))
     r.fail("version", std::to_string(version) + " is not supported (this sylva reads versions 1 to " +
                           std::to_string(kManifestVersion) + ")");
   Manifest m;
@@ -252,8 +295,18 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
     const json& levels = r.array(s, where, "levels");
     for (std::size_t k = 0; k < levels.size(); ++k) {
       const std::string at = where + ".levels[" + std::to_string(k) + "]";
-      if (!levels[k].is_string()) r.fail(at, "expected a string");
-      e.levels.push_back(listed(levels[k].get<std::string>(), at));
+      LodLevel l;
+      if (version < 3) {
+        if (!levels[k].is_string()) r.fail(at, "expected a string");
+        l.file = listed(levels[k].get<std::string>(), at);
+      } else {
+        l = r.level(levels[k], at);
+        listed(l.file, at + ".file");
+        if (l.bytes != m.file(l.file)->size)
+          r.fail(at + ".bytes", std::to_string(l.bytes) + " is not the size of '" + l.file + "' (" +
+                                    std::to_string(m.file(l.file)->size) + ")");
+      }
+      e.levels.push_back(std::move(l));
     }
     if (s.is_object() && s.contains("impostor"))
       e.impostor = listed(r.path(s, where, "impostor"), where + ".impostor");

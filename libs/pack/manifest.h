@@ -21,9 +21,12 @@
 #include <string_view>
 #include <vector>
 
+#include "libs/pack/lod_json.h"
+
 namespace sylva::pack {
 
-inline constexpr int kManifestVersion = 2;  // reads 1 (no forests) and 2
+// Writes version 3; reads 1 (no forests, level file names only), 2 (level file names only) and 3.
+inline constexpr int kManifestVersion = 3;
 
 // A manifest that cannot be read: what() names the file and the JSON element.
 class ManifestError : public std::runtime_error {
@@ -50,10 +53,14 @@ struct FileEntry {
 
 // One species' chain in the pack.
 struct SpeciesEntry {
-  std::string name;                 // e.g. "oak"
-  std::string chain;                // the MSFT_lod file, e.g. "oak.glb"
-  std::string lod_json;             // e.g. "oak.lod.json"
-  std::vector<std::string> levels;  // one file per level, nearest first: "oak_lod0.glb", ...
+  std::string name;      // e.g. "oak"
+  std::string chain;     // the MSFT_lod file, e.g. "oak.glb"
+  std::string lod_json;  // e.g. "oak.lod.json"
+  // One entry per level, nearest first: its file ("oak_lod0.glb", ...) and, from version 3, its
+  // numbers as lod.json states them (epsilon, delta, switch distance, screen coverage,
+  // primitives, bytes, position grid; libs/pack/lod_json.h). A version 1 or 2 manifest gives
+  // the file only (every number 0, kind "mesh").
+  std::vector<LodLevel> levels;
   // the impostor level's file (also the last of `levels`), empty when the chain has none
   std::string impostor;
   friend bool operator==(const SpeciesEntry&, const SpeciesEntry&) = default;
@@ -71,7 +78,7 @@ struct ForestEntry {
 };
 
 struct Manifest {
-  int version = kManifestVersion;
+  int version = kManifestVersion;     // as read; write_manifest always writes kManifestVersion
   std::vector<FileEntry> files;       // sorted by path on write
   std::vector<SpeciesEntry> species;  // sorted by name on write
   std::vector<ForestEntry> forests;   // sorted by name on write

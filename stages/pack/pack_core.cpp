@@ -203,7 +203,8 @@ std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions
   return out;
 }
 
-std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options) {
+std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options,
+                                     LodDescription* description) {
   const ParsedChain parsed = parse_chain(in);
   const std::vector<LevelChoice> choice = select_levels(in, options);
 
@@ -380,6 +381,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
     d.levels.push_back(k.level);
   }
   out.push_back({in.species + ".lod.json", write_lod_json(d), chain_inputs});
+  if (description) *description = std::move(d);
   return out;
 }
 

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "libs/gltf/scene.h"
+#include "libs/pack/lod_json.h"
 
 namespace sylva::pack {
 
@@ -102,7 +103,9 @@ std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions
 // that order. Throws std::invalid_argument when the chain is not an MSFT_lod chain over the
 // levels (its root node names n-1 others, each node holds a level with epsilon_m and
 // switch_distance_m extras), or when the impostor's camera differs from the chain's (its switch
-// distance would be for another view).
-std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options);
+// distance would be for another view). `description`, when not null, receives what lod.json
+// states (the kept levels' numbers, the dropped levels), for the manifest.
+std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options,
+                                     LodDescription* description = nullptr);
 
 }  // namespace sylva::pack

@@ -5,7 +5,7 @@ namespace sylva {
 StageInfo pack_stage_info() {
   StageInfo info;
   info.name = "pack";
-  info.version = 4;
+  info.version = 6;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
       "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
@@ -36,6 +36,10 @@ StageInfo pack_stage_info() {
           .range(0, 0.99)
           .describe("keep a level only if it saves at least this fraction of the primitives of the level "
                     "kept before it"),
+      Param::choice("forest_compression", {"none", "meshopt"}, "meshopt")
+          .describe(
+              "the forests' .gltf tiles and level files: EXT_meshopt_compression over their shared .bin "
+              "buffers (lossless), or copied as the forest stage wrote them"),
       Param::string_list("forests", Value::List{})
           .describe("the name of each forest input, in `needs` order ([a-z0-9_-]+): the manifest's forests"),
       Param::integer("texcoord_bits", 12)

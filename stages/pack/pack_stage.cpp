@@ -1,17 +1,22 @@
 // The adapter of stage `pack`: names each lod input (and the impostor input beside it) by
 // `species`, reads the lod files and impostor.glb (libs/gltf reader) and impostor.json
-// (libs/impostor), runs the core, copies each forest input's files, and writes manifest.json
-// (libs/pack).
+// (libs/impostor), runs the core, compresses or copies each forest input's files, and writes
+// manifest.json (libs/pack).
 #include "stages/pack/pack_stage.h"
 
 #include <fnmatch.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
+#include <sstream>
 
+#include "libs/gltf/meshopt_files.h"
 #include "libs/gltf/reader.h"
+#include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/pack/manifest.h"
 #include "stages/pack/pack_core.h"
@@ -77,16 +82,17 @@ class PackStage : public Stage {
       pack::SpeciesInput s = read_species(in, species);
       if (imp) s.impostor = read_impostor(*imp);
       std::vector<pack::PackedFile> files;
+      pack::LodDescription described;
       try {
-        files = pack::pack_species(s, options);
+        files = pack::pack_species(s, options, &described);
       } catch (const std::invalid_argument& e) {
         throw StageError("species '" + species + "' (input '" + in.node + "'" +
                          (imp ? ", impostor '" + imp->node + "'" : std::string()) + "): " + e.what());
       }
       ctx.check_cancelled();
-      pack::SpeciesEntry entry{species, files.front().name, files.back().name, {}, {}};
-      for (std::size_t f = 1; f + 1 < files.size(); ++f) entry.levels.push_back(files[f].name);
-      if (imp && entry.levels.back() == species + "_impostor.glb") entry.impostor = entry.levels.back();
+      pack::SpeciesEntry entry{
+          species, files.front().name, files.back().name, std::move(described.levels), {}};
+      if (imp && entry.levels.back().kind == "impostor") entry.impostor = entry.levels.back().file;
       for (const pack::PackedFile& f : files) {
         claim(f.name, "species '" + species + "'");
         pack::Producer producer{info_.name, info_.version, {}};
@@ -104,7 +110,8 @@ class PackStage : public Stage {
       const std::string& name = forest_names[k].as_string();
       if (!std::regex_match(name, kName))
         throw StageError("`forests` entry '" + name.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
-      manifest.forests.push_back(copy_forest(ctx, *forests[k], name, claim, manifest));
+      manifest.forests.push_back(copy_forest(ctx, *forests[k], name,
+                                             ctx.string("forest_compression") == "meshopt", claim, manifest));
     }
     ctx.write_output("manifest.json", pack::write_manifest(manifest));
   }
@@ -173,11 +180,13 @@ class PackStage : public Stage {
     return out;
   }
 
-  // Every file of a forest artifact, copied under its own name (its tiles name the species'
-  // level files by those names); the manifest's forest entry lists them.
+  // Every file of a forest artifact under its own name (its tiles name the species' level files
+  // by those names); with `compress`, its .gltf files and the .bin buffers they name through
+  // EXT_meshopt_compression (libs/gltf/meshopt_files.h: lossless, the same codecs as the
+  // species' GLBs), every other file copied byte for byte. The manifest's forest entry lists them.
   template <class Claim>
   pack::ForestEntry copy_forest(StageContext& ctx, const InputArtifact& in, const std::string& name,
-                                Claim& claim, pack::Manifest& manifest) const {
+                                bool compress, Claim& claim, pack::Manifest& manifest) const {
     pack::ForestEntry e;
     e.name = name;
     if (!in.file("tileset.json") || !in.file("instances.json"))
@@ -185,26 +194,81 @@ class PackStage : public Stage {
                        "' has no tileset.json and instances.json (is it a forest node?)");
     e.tileset = "tileset.json";
     e.instances = "instances.json";
+    // The rewritten files, and for each the input files it is made from: a .gltf from itself and
+    // the .bin files it names; a .bin from itself and the .gltf files naming it (their views set
+    // its layout).
+    gltf::GltfFileSet rewritten;
+    std::map<std::string, std::set<std::string>> made_from;
+    if (compress) {
+      gltf::GltfFileSet set;
+      for (const ArtifactFile& f : in.files) {
+        const bool is_gltf = f.name.size() > 5 && f.name.ends_with(".gltf");
+        if (!is_gltf && !f.name.ends_with(".bin")) continue;
+        ctx.check_cancelled();
+        (is_gltf ? set.gltf : set.bins)[f.name] = read_file(f.path);
+      }
+      for (const auto& [file, text] : set.gltf) {
+        made_from[file].insert(file);
+        const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+        if (!j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) continue;
+        for (const auto& b : j["buffers"]) {
+          if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string()) continue;
+          const std::string uri = b["uri"].get<std::string>();
+          if (!set.bins.count(uri)) continue;
+          made_from[file].insert(uri);
+          made_from[uri].insert({uri, file});
+        }
+      }
+      try {
+        rewritten = gltf::meshopt_compress_files(set);
+      } catch (const gltf::GltfError& err) {
+        throw StageError("input '" + in.node + "': " + err.what());
+      }
+      // Only files whose bytes changed are written anew.
+      for (auto* map : {&rewritten.gltf, &rewritten.bins})
+        for (auto it = map->begin(); it != map->end();)
+          it = (map == &rewritten.gltf ? set.gltf : set.bins).at(it->first) == it->second ? map->erase(it)
+                                                                                          : std::next(it);
+    }
     for (const ArtifactFile& f : in.files) {
       ctx.check_cancelled();
       claim(f.name, "forest '" + name + "'");
-      const std::filesystem::path to = ctx.output_path(f.name);
-      std::error_code ec;
-      std::filesystem::copy_file(f.path, to, std::filesystem::copy_options::overwrite_existing, ec);
-      if (ec) throw StageError("cannot copy " + f.path.string() + " into the pack: " + ec.message());
-      const std::uintmax_t size = std::filesystem::file_size(to, ec);
-      if (ec) throw StageError("cannot read " + to.string() + ": " + ec.message());
       pack::FileEntry entry;
-      entry.path = f.name;
-      entry.sha256 = f.digest;  // a byte-for-byte copy of a verified input file
-      entry.size = size;
-      entry.media_type = pack::media_type_for(f.name);
-      entry.producer = {info_.name, info_.version, {{in.type + "/" + f.name, f.digest}}};
+      const std::string* bytes = nullptr;
+      if (const auto g = rewritten.gltf.find(f.name); g != rewritten.gltf.end()) bytes = &g->second;
+      if (const auto b = rewritten.bins.find(f.name); b != rewritten.bins.end()) bytes = &b->second;
+      if (bytes) {
+        pack::Producer producer{info_.name, info_.version, {}};
+        for (const std::string& from : made_from.at(f.name))
+          producer.inputs.emplace(in.type + "/" + from, in.file(from)->digest);
+        entry = pack::describe_file(f.name, *bytes, std::move(producer));
+        ctx.write_output(f.name, *bytes);
+      } else {
+        const std::filesystem::path to = ctx.output_path(f.name);
+        std::error_code ec;
+        std::filesystem::copy_file(f.path, to, std::filesystem::copy_options::overwrite_existing, ec);
+        if (ec) throw StageError("cannot copy " + f.path.string() + " into the pack: " + ec.message());
+        const std::uintmax_t size = std::filesystem::file_size(to, ec);
+        if (ec) throw StageError("cannot read " + to.string() + ": " + ec.message());
+        entry.path = f.name;
+        entry.sha256 = f.digest;  // a byte-for-byte copy of a verified input file
+        entry.size = size;
+        entry.media_type = pack::media_type_for(f.name);
+        entry.producer = {info_.name, info_.version, {{in.type + "/" + f.name, f.digest}}};
+      }
       manifest.files.push_back(std::move(entry));
       e.files.push_back(f.name);
       if (fnmatch("tile_*_lod*.gltf", f.name.c_str(), 0) == 0) e.tiles.push_back(f.name);
     }
     return e;
+  }
+
+  static std::string read_file(const std::filesystem::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    if (!f && !f.eof()) throw StageError("cannot read " + p.string());
+    return ss.str();
   }
 
   StageInfo info_;

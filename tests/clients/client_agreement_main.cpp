@@ -122,7 +122,7 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
     if (fs::exists(n / "manifest.json")) {
       for (const auto& sp : pack::read_manifest(n / "manifest.json").species) {
         const std::size_t meshes = sp.levels.size() - (sp.impostor.empty() ? 0 : 1);
-        const std::string f = sp.levels[meshes - 1];
+        const std::string f = sp.levels[meshes - 1].file;
         out.push_back({n / f, node + "/" + f, has_lines(gltf_json(n / f)) ? Kind::kLineLevel : Kind::kLevel});
         if (!sp.impostor.empty()) out.push_back({n / sp.impostor, node + "/" + sp.impostor, Kind::kImpostor});
       }
@@ -197,8 +197,9 @@ std::vector<PackLoad> pack_loads(const fs::path& out_dir) {
       const std::string node = n.filename().string();
       out.push_back({{n / sp.chain, true}, node + "/" + sp.chain, all});
       for (std::size_t i = 0; i < sp.levels.size() && i < all.size(); ++i)
-        out.push_back(
-            {{n / sp.levels[i], false}, node + "/" + sp.levels[i], nlohmann::json::array({all[i]})});
+        out.push_back({{n / sp.levels[i].file, false},
+                       node + "/" + sp.levels[i].file,
+                       nlohmann::json::array({all[i]})});
     }
   return out;
 }

@@ -10,13 +10,36 @@ namespace {
 
 const std::string kDigestA(64, 'a');
 
+LodLevel named(std::string file) {
+  LodLevel l;
+  l.file = std::move(file);
+  return l;
+}
+
+// A level with every number set (bytes: the size of "level zero").
+LodLevel level0() {
+  LodLevel l;
+  l.file = "oak_lod0.glb";
+  l.epsilon_m = 0.001;
+  l.pixel_error_px = 0.5;
+  l.switch_distance_m = 2.5;
+  l.screen_coverage = 0.75;
+  l.primitives = 1234;
+  l.triangles = 1200;
+  l.lines = 34;
+  l.bytes = 10;
+  l.position_bits = 15;
+  l.position_error_m = 0.0002;
+  return l;
+}
+
 Manifest sample() {
   Manifest m;
   Producer p{"pack", 1, {{"lod/lod0.gltf", kDigestA}}};
   m.files.push_back(describe_file("oak_lod0.glb", "level zero", p));
   m.files.push_back(describe_file("oak.glb", "chain", p));
   m.files.push_back(describe_file("oak.lod.json", "{}", p));
-  m.species.push_back({"oak", "oak.glb", "oak.lod.json", {"oak_lod0.glb"}, ""});
+  m.species.push_back({"oak", "oak.glb", "oak.lod.json", {level0()}, ""});
   return m;
 }
 
@@ -59,7 +82,7 @@ TEST(PackManifest, WriteRefusesDuplicatesAndUnlistedChainFiles) {
   m.files.push_back(m.files[0]);
   EXPECT_THROW(write_manifest(m), ManifestError);
   m = sample();
-  m.species[0].levels.push_back("oak_lod1.glb");
+  m.species[0].levels.push_back(named("oak_lod1.glb"));
   try {
     write_manifest(m);
     FAIL();
@@ -87,8 +110,8 @@ TEST(PackManifest, ReadErrorsNameTheElement) {
     EXPECT_NE(at, std::string::npos) << from;
     return t.replace(at, from.size(), to);
   };
-  EXPECT_EQ(error_of(replaced("\"version\": 2", "\"version\": 7")),
-            "m.json: version: 7 is not supported (this sylva reads versions 1 to 2)");
+  EXPECT_EQ(error_of(replaced("\"version\": 3", "\"version\": 7")),
+            "m.json: version: 7 is not supported (this sylva reads versions 1 to 3)");
   EXPECT_EQ(error_of(replaced("\"path\": \"oak.glb\"", "\"path\": \"../oak.glb\"")),
             "m.json: files[0].path: '../oak.glb' is not a plain relative path");
   EXPECT_EQ(error_of(replaced("\"size\": 5", "\"size\": -5")),
@@ -108,7 +131,12 @@ Manifest with_forest() {
   for (const char* name : {"tileset.json", "instances.json", "tile_0_0_lod0.gltf", "tile_0_0.bin"})
     m.files.push_back(describe_file(name, name, p));
   m.files.push_back(describe_file("oak_impostor.glb", "cards", p));
-  m.species[0].levels.push_back("oak_impostor.glb");
+  LodLevel impostor = named("oak_impostor.glb");
+  impostor.kind = "impostor";
+  impostor.impostor_kind = "billboards";
+  impostor.source_level = -1;
+  impostor.bytes = 5;  // "cards"
+  m.species[0].levels.push_back(impostor);
   m.species[0].impostor = "oak_impostor.glb";
   m.forests.push_back({"forest",
                        "tileset.json",
@@ -145,16 +173,64 @@ TEST(PackManifest, ForestsAndImpostorsRoundTrip) {
   EXPECT_EQ(error_of(t), "m.json: forests[0].tileset: 'tiles.json' is not in files");
 }
 
+// Version 3 states every level's numbers, as lod.json does; they round-trip exactly, a level whose
+// bytes are not its file's size is refused, and a missing number is named.
+TEST(PackManifest, LevelsCarryTheirNumbers) {
+  const std::string text = write_manifest(sample());
+  EXPECT_NE(
+      text.find("\"levels\": [\n        {\n          \"bytes\": 10,\n          \"epsilon_m\": 0.001,\n"),
+      std::string::npos)
+      << text;
+  EXPECT_NE(text.find("\"switch_distance_m\": 2.5"), std::string::npos);
+  EXPECT_NE(text.find("\"position_bits\": 15"), std::string::npos);
+  const Manifest back = parse_manifest(text, "m.json");
+  ASSERT_EQ(back.species[0].levels.size(), 1u);
+  EXPECT_EQ(back.species[0].levels[0], level0());
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto at = t.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return t.replace(at, from.size(), to);
+  };
+  EXPECT_EQ(error_of(replaced("\"bytes\": 10", "\"bytes\": 11")),
+            "m.json: species[0].levels[0].bytes: 11 is not the size of 'oak_lod0.glb' (10)");
+  EXPECT_EQ(error_of(replaced("\"epsilon_m\": 0.001,\n", "")),
+            "m.json: species[0].levels[0]: missing \"epsilon_m\"");
+  EXPECT_EQ(error_of(replaced("\"switch_distance_m\": 2.5", "\"switch_distance_m\": \"far\"")),
+            "m.json: species[0].levels[0].switch_distance_m: expected a number");
+  EXPECT_EQ(error_of(replaced("\"kind\": \"mesh\"", "\"kind\": \"cloud\"")),
+            "m.json: species[0].levels[0].kind: expected \"mesh\" or \"impostor\"");
+}
+
+// Version 2: levels are file names; read as levels with the file only.
+TEST(PackManifest, ReadsVersionTwoLevelNames) {
+  std::string text = write_manifest(sample());
+  const std::string v = "\"version\": 3";
+  text.replace(text.find(v), v.size(), "\"version\": 2");
+  const std::size_t from = text.find("\"levels\": [");
+  const std::size_t to = text.find("]", from);
+  text.replace(from, to + 1 - from, "\"levels\": [\"oak_lod0.glb\"]");
+  const Manifest back = parse_manifest(text, "m.json");
+  EXPECT_EQ(back.version, 2);
+  ASSERT_EQ(back.species[0].levels.size(), 1u);
+  EXPECT_EQ(back.species[0].levels[0], named("oak_lod0.glb"));
+  // Written back, it is a version 3 manifest.
+  EXPECT_NE(write_manifest(back).find("\"version\": 3"), std::string::npos);
+}
+
 TEST(PackManifest, ReadsVersionOneWithoutForests) {
   std::string text = write_manifest(sample());
-  const std::string v = "\"version\": 2", forests = "\"forests\": [],\n";
+  const std::string v = "\"version\": 3", forests = "\"forests\": [],\n";
   text.replace(text.find(v), v.size(), "\"version\": 1");
   ASSERT_NE(text.find(forests), std::string::npos) << text;
   text.erase(text.find(forests), forests.size());
+  const std::size_t from = text.find("\"levels\": [");
+  text.replace(from, text.find("]", from) + 1 - from, "\"levels\": [\"oak_lod0.glb\"]");
   const Manifest back = parse_manifest(text, "m.json");
   EXPECT_EQ(back.version, 1);
   EXPECT_TRUE(back.forests.empty());
-  EXPECT_EQ(back.species, sample().species);
+  ASSERT_EQ(back.species.size(), 1u);
+  EXPECT_EQ(back.species[0].levels, std::vector<LodLevel>{named("oak_lod0.glb")});
 }
 
 TEST(PackManifest, DiffListsAddedChangedRemoved) {

@@ -65,8 +65,45 @@ if (bad.length) { console.error("changed although only the birch preset did: " +
 for (const n of ["birch.glb", "birch.lod.json", "birch_lod0.glb", "birch_impostor.glb", "birch_leaves.png"])
   if (!changed.has(n)) { console.error(n + " did not change although birch\u2019s leaf colour did"); process.exit(1); }
 const tiles = [...changed].filter((n) => n.startsWith("tile_"));
-console.log(`changed: ${changed.size} files (${tiles.length} forest tiles, each naming a changed birch buffer)`);
+// Exactly: every one of the birch chain files (chain, kept levels, lod.json), the forest birch
+// files the leaf colour reaches and the 4 impostor-level tiles that name the birch impostor buffer.
+const m = JSON.parse(fs.readFileSync(path.join(dir, "manifest.json"), "utf8"));
+const birch = m.species.find((s) => s.name === "birch");
+const own = new Set([birch.chain, birch.lod_json, ...birch.levels.map((l) => l.file)]);
+const forestBirch = [...changed].filter((n) => n.startsWith("birch") && !own.has(n));
+const got = { own: [...changed].filter((n) => own.has(n)).length, forest: forestBirch.length, tiles: tiles.length };
+const want = { own: own.size, forest: 3, tiles: 4 };
+if (JSON.stringify(got) !== JSON.stringify(want)) {
+  console.error(`changed ${JSON.stringify(got)}, expected ${JSON.stringify(want)}: ${[...changed].join(" ")}`);
+  process.exit(1);
+}
+console.log(`changed: ${changed.size} files (${own.size} of the birch chain, ${forestBirch.join(" ")}, ${tiles.length} forest tiles, each naming a changed birch buffer)`);
 ' "$pack2" "$changed" || fail "the changed files are not exactly birch's and what names them"
+
+# The manifest states every level's numbers exactly as the species' lod.json does; every forest
+# .gltf is meshopt-compressed (its shared .bin buffers: EXT_meshopt_compression).
+node -e '
+const fs = require("fs"), path = require("path");
+const dir = process.argv[1];
+const m = JSON.parse(fs.readFileSync(path.join(dir, "manifest.json"), "utf8"));
+if (m.version !== 3) { console.error("manifest version " + m.version + ", expected 3"); process.exit(1); }
+if (m.species.length !== 3) { console.error("manifest lists " + m.species.length + " species, expected 3"); process.exit(1); }
+for (const s of m.species) {
+  const lod = JSON.parse(fs.readFileSync(path.join(dir, s.lod_json), "utf8"));
+  if (JSON.stringify(s.levels) !== JSON.stringify(lod.levels)) {
+    console.error(s.name + ": manifest levels " + JSON.stringify(s.levels) + " are not lod.json levels " + JSON.stringify(lod.levels));
+    process.exit(1);
+  }
+  for (const l of s.levels)
+    if (!(l.epsilon_m > 0 && l.switch_distance_m > 0 && l.primitives > 0 && l.bytes === m.files.find((f) => f.path === l.file).size)) {
+      console.error(s.name + ": level " + l.file + " lacks its numbers: " + JSON.stringify(l)); process.exit(1);
+    }
+}
+const gltfs = m.forests[0].files.filter((n) => n.endsWith(".gltf"));
+const plain = gltfs.filter((n) => !(JSON.parse(fs.readFileSync(path.join(dir, n), "utf8")).extensionsRequired ?? []).includes("EXT_meshopt_compression"));
+if (plain.length) { console.error("forest glTF files not compressed: " + plain.join(" ")); process.exit(1); }
+console.log(`manifest: ${m.species.map((s) => s.levels.length).join("+")} levels with their numbers; ${gltfs.length} forest glTF files meshopt-compressed`);
+' "$pack2" || fail "the manifest's levels or the forest's compression are wrong"
 
 "$sylva" pack diff "$work/pack1/manifest.json" "$pack2/manifest.json" --json > "$work/diff.json"
 node -e '
