@@ -1,6 +1,14 @@
 // EGL without a window: an OpenGL (desktop, 3.3 core) context made current with no surface
 // (EGL_KHR_surfaceless_context), on a display from EGL_EXT_platform_device or
 // EGL_MESA_platform_surfaceless. Rendering goes to framebuffer objects only.
+//
+// An EGLDisplay belongs to the process, not to the caller: eglGetPlatformDisplayEXT hands every
+// caller the same display for the same device, eglInitialize of an initialised display does
+// nothing, and eglTerminate marks every context of the display for deletion, other renderers'
+// included; a context that is not current at that moment is gone at once (EGL 1.5 §3.2, §3.4).
+// Pipeline nodes create and destroy renderers on
+// several threads at once, so the displays are counted (DisplayUse below): the first user
+// initialises a display, the last one terminates it, under one mutex.
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
@@ -11,6 +19,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <vector>
 
 #include "libs/render/renderer.h"
@@ -59,13 +69,50 @@ std::string egl_error_name(EGLint e) {
   }
 }
 
+// How many contexts of this file use each display it initialised.
+class DisplayUse {
+ public:
+  // eglInitialize for the first user; false (and no use counted) when that fails.
+  bool acquire(EGLDisplay display) {
+    const std::lock_guard lock(mutex_);
+    int& users = users_[display];
+    if (users == 0) {
+      EGLint major = 0, minor = 0;
+      if (!eglInitialize(display, &major, &minor)) {
+        users_.erase(display);
+        return false;
+      }
+    }
+    ++users;
+    return true;
+  }
+  // eglTerminate when the last user goes.
+  void release(EGLDisplay display) {
+    const std::lock_guard lock(mutex_);
+    const auto it = users_.find(display);
+    if (it == users_.end() || --it->second > 0) return;
+    users_.erase(it);
+    eglTerminate(display);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<EGLDisplay, int> users_;
+};
+
+// Never destroyed: a renderer may outlive static destruction (a global in a test or a tool).
+DisplayUse& display_use() {
+  static DisplayUse* use = new DisplayUse;
+  return *use;
+}
+
 class EglContext final : public GlContext {
  public:
   EglContext(EGLDisplay display, EGLContext context) : display_(display), context_(context) {}
   ~EglContext() override {
     eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(display_, context_);
-    eglTerminate(display_);
+    display_use().release(display_);
   }
   void make_current() override {
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
@@ -87,20 +134,19 @@ std::unique_ptr<EglContext> try_display(EGLDisplay display, std::string& why) {
     why = "no display (" + egl_error_name(eglGetError()) + ")";
     return nullptr;
   }
-  EGLint major = 0, minor = 0;
-  if (!eglInitialize(display, &major, &minor)) {
+  if (!display_use().acquire(display)) {
     why = "eglInitialize failed (" + egl_error_name(eglGetError()) + ")";
     return nullptr;
   }
   const char* exts = eglQueryString(display, EGL_EXTENSIONS);
   if (!has_extension(exts, "EGL_KHR_surfaceless_context")) {
     why = "EGL_KHR_surfaceless_context is not supported";
-    eglTerminate(display);
+    display_use().release(display);
     return nullptr;
   }
   if (!eglBindAPI(EGL_OPENGL_API)) {
     why = "desktop OpenGL is not supported (" + egl_error_name(eglGetError()) + ")";
-    eglTerminate(display);
+    display_use().release(display);
     return nullptr;
   }
   EGLConfig config = EGL_NO_CONFIG_KHR;
@@ -110,7 +156,7 @@ std::unique_ptr<EglContext> try_display(EGLDisplay display, std::string& why) {
     EGLint n = 0;
     if (!eglChooseConfig(display, attribs, &config, 1, &n) || n < 1) {
       why = "no EGL config supports desktop OpenGL";
-      eglTerminate(display);
+      display_use().release(display);
       return nullptr;
     }
   }
@@ -124,13 +170,13 @@ std::unique_ptr<EglContext> try_display(EGLDisplay display, std::string& why) {
   EGLContext ctx = eglCreateContext(display, config, EGL_NO_CONTEXT, ctx_attribs);
   if (ctx == EGL_NO_CONTEXT) {
     why = "cannot create an OpenGL 3.3 core context (" + egl_error_name(eglGetError()) + ")";
-    eglTerminate(display);
+    display_use().release(display);
     return nullptr;
   }
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx)) {
     why = "cannot make the context current (" + egl_error_name(eglGetError()) + ")";
     eglDestroyContext(display, ctx);
-    eglTerminate(display);
+    display_use().release(display);
     return nullptr;
   }
   auto out = std::make_unique<EglContext>(display, ctx);

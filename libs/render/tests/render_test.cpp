@@ -505,6 +505,33 @@ TEST_F(RenderTest, SharedAcrossThreads) {
   for (const Image& g : got) EXPECT_EQ(g, want);
 }
 
+// Renderers in one process share EGL's display: creating and destroying other renderers beside
+// this one (in turn, then from threads at once, as pipeline nodes do) leaves it drawing the same.
+TEST_F(RenderTest, OtherRenderersComingAndGoingLeaveThisOneWorking) {
+  GltfBuilder b;
+  const int tex = b.add_texture(quadrant_texture());
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::cube(1.f, b.add_material({.texture = tex}))})}));
+  const Scene scene = load(b);
+  const Camera cam = look(Vec3(2.0f, 2.2f, 3.0f));
+  const RenderOptions o = small(64);
+  const Image want = render(scene, cam, o);
+  {
+    auto other = Renderer::create_headless();
+    EXPECT_EQ(other->render(scene, cam, o), want);
+  }
+  EXPECT_EQ(render(scene, cam, o), want);
+  std::vector<int> same(3, 0);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < same.size(); ++i)
+    threads.emplace_back([&, i] {
+      for (int k = 0; k < 4; ++k) same[i] += Renderer::create_headless()->render(scene, cam, o) == want;
+    });
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(render(scene, cam, o), want) << k;
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(same, std::vector<int>(3, 4));
+  EXPECT_EQ(render(scene, cam, o), want);
+}
+
 // A transparent background gives alpha 0 around the object and straight colour on it.
 TEST_F(RenderTest, TransparentBackground) {
   GltfBuilder b;
