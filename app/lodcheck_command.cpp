@@ -19,6 +19,7 @@
 #include "app/gfx_module.h"
 #include "app/recipe_build.h"
 #include "app/report_dir.h"
+#include "libs/image/coverage.h"
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
@@ -50,6 +51,15 @@ std::string read_bytes(const fs::path& p) {
 // JSON has no infinity: identical images have PSNR +inf.
 nlohmann::json finite_or_null(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+// A view's coverage and colour numbers under the report's key names (shared by tree and forest views).
+nlohmann::json footprint_json(const image::FootprintStats& s) {
+  return {{"footprint_pixels", s.footprint_pixels},
+          {"coverage_failing_fraction", s.failing_fraction},
+          {"coverage_mean_error", s.coverage_mean_error},
+          {"coverage_bias", s.coverage_bias},
+          {"colour_mean_error", s.colour_mean_error}};
 }
 
 // The full-detail model of lod node `node` (app/full_detail.h) as a scene; `glb` receives the
@@ -355,13 +365,9 @@ class LodcheckCommand final : public CliCommand {
                          {"trees_per_level", c.per_level},
                          {"lod_primitives", c.lod_primitives},
                          {"full_primitives", c.full_primitives},
-                         {"footprint_pixels", c.footprint_pixels},
-                         {"coverage_failing_fraction", c.coverage_failing_fraction},
-                         {"coverage_mean_error", c.coverage_mean_error},
-                         {"coverage_bias", c.coverage_bias},
-                         {"colour_mean_error", c.colour_mean_error},
                          {"passed", c.passed},
                          {"failure", c.failure}});
+        views.back().update(footprint_json(c.stats));
       }
       j["views"] = views;
       j["passed"] = passed;
@@ -390,8 +396,8 @@ class LodcheckCommand final : public CliCommand {
                                                  double(c.full_primitives)
                                            : 0;
       std::fprintf(io.out, "  %-10s %6zu %12zu %12zu %+7.1f%% %9zu %7.3f %8.5f %+8.5f  %s\n", c.view.c_str(),
-                   c.trees_drawn, c.lod_primitives, c.full_primitives, pct, c.footprint_pixels,
-                   100 * c.coverage_failing_fraction, c.coverage_mean_error, c.coverage_bias,
+                   c.trees_drawn, c.lod_primitives, c.full_primitives, pct, c.stats.footprint_pixels,
+                   100 * c.stats.failing_fraction, c.stats.coverage_mean_error, c.stats.coverage_bias,
                    c.passed ? "ok" : ("FAIL: " + c.failure).c_str());
     }
     std::fprintf(io.out, "sylva lodcheck: node '%s' %s (%zu/%zu views passed); report: %s\n", name,
@@ -423,8 +429,8 @@ class LodcheckCommand final : public CliCommand {
       }
       std::fprintf(io.out, "  %-10s %5zu %9.4f %9.2f %6s %10zu %9zu %7.3f %8.5f %+8.5f %8.5f  %s\n",
                    c.label.c_str(), c.level, c.epsilon, c.distance, c.view.c_str(), c.primitives,
-                   c.footprint_pixels, 100 * c.coverage_failing_fraction, c.coverage_mean_error,
-                   c.coverage_bias, c.colour_mean_error,
+                   c.stats.footprint_pixels, 100 * c.stats.failing_fraction, c.stats.coverage_mean_error,
+                   c.stats.coverage_bias, c.stats.colour_mean_error,
                    !is_sylva  ? "-"
                    : c.passed ? "ok"
                               : ("FAIL: " + c.failure).c_str());
@@ -461,16 +467,12 @@ class LodcheckCommand final : public CliCommand {
                        {"epsilon_m", c.epsilon},
                        {"distance_m", c.distance},
                        {"primitives", c.primitives},
-                       {"footprint_pixels", c.footprint_pixels},
-                       {"coverage_failing_fraction", c.coverage_failing_fraction},
-                       {"coverage_mean_error", c.coverage_mean_error},
-                       {"coverage_bias", c.coverage_bias},
-                       {"colour_mean_error", c.colour_mean_error},
                        {"colour_max_error", c.colour.max_error},
                        {"colour_psnr_db", finite_or_null(c.colour.psnr)},
                        {"judged", c.label == "sylva"},
                        {"passed", c.passed},
                        {"failure", c.failure}});
+      views.back().update(footprint_json(c.stats));
     }
     j["views"] = views;
     j["passed"] = passed;

@@ -118,6 +118,15 @@ class Reader {
   std::string source_;
 };
 
+// Pointers to `items` in the order of the string `key(item)`: the manifest's lists are sorted.
+template <class T, class Key>
+std::vector<const T*> sorted_by(const std::vector<T>& items, Key key) {
+  std::vector<const T*> out;
+  for (const auto& item : items) out.push_back(&item);
+  std::sort(out.begin(), out.end(), [&](const T* a, const T* b) { return key(*a) < key(*b); });
+  return out;
+}
+
 }  // namespace
 
 std::uint64_t Manifest::total_bytes() const {
@@ -153,14 +162,17 @@ FileEntry describe_file(std::string path, std::string_view bytes, Producer produ
 }
 
 std::string write_manifest(const Manifest& manifest) {
-  std::vector<const FileEntry*> files;
-  for (const auto& f : manifest.files) files.push_back(&f);
-  std::sort(files.begin(), files.end(),
-            [](const FileEntry* a, const FileEntry* b) { return a->path < b->path; });
+  const std::vector<const FileEntry*> files =
+      sorted_by(manifest.files, [](const FileEntry& f) -> const std::string& { return f.path; });
   for (std::size_t i = 1; i < files.size(); ++i)
     if (files[i]->path == files[i - 1]->path)
       throw ManifestError("manifest: two files named '" + files[i]->path + "'");
   std::set<std::string> listed;
+  // Every path a species or forest names must be one of the pack's files; `owner` names who names it.
+  auto require_listed = [&](const std::string& owner, const std::string& p) {
+    if (!listed.count(p))
+      throw ManifestError("manifest: " + owner + " names '" + p + "', which is not in the pack");
+  };
   json jf = json::array();
   for (const FileEntry* f : files) {
     listed.insert(f->path);
@@ -175,17 +187,10 @@ std::string write_manifest(const Manifest& manifest) {
                     {"stage_version", f->producer.stage_version},
                     {"inputs", std::move(inputs)}}}});
   }
-  std::vector<const SpeciesEntry*> species;
-  for (const auto& s : manifest.species) species.push_back(&s);
-  std::sort(species.begin(), species.end(),
-            [](const SpeciesEntry* a, const SpeciesEntry* b) { return a->name < b->name; });
   json js = json::array();
-  for (const SpeciesEntry* s : species) {
-    auto check = [&](const std::string& p) {
-      if (!listed.count(p))
-        throw ManifestError("manifest: species '" + s->name + "' names '" + p +
-                            "', which is not in the pack");
-    };
+  for (const SpeciesEntry* s :
+       sorted_by(manifest.species, [](const SpeciesEntry& e) -> const std::string& { return e.name; })) {
+    auto check = [&](const std::string& p) { require_listed("species '" + s->name + "'", p); };
     check(s->chain);
     check(s->lod_json);
     json levels = json::array();
@@ -201,16 +206,10 @@ std::string write_manifest(const Manifest& manifest) {
     }
     js.push_back(std::move(e));
   }
-  std::vector<const ForestEntry*> forests;
-  for (const auto& f : manifest.forests) forests.push_back(&f);
-  std::sort(forests.begin(), forests.end(),
-            [](const ForestEntry* a, const ForestEntry* b) { return a->name < b->name; });
   json jforests = json::array();
-  for (const ForestEntry* f : forests) {
-    auto check = [&](const std::string& p) {
-      if (!listed.count(p))
-        throw ManifestError("manifest: forest '" + f->name + "' names '" + p + "', which is not in the pack");
-    };
+  for (const ForestEntry* f :
+       sorted_by(manifest.forests, [](const ForestEntry& e) -> const std::string& { return e.name; })) {
+    auto check = [&](const std::string& p) { require_listed("forest '" + f->name + "'", p); };
     check(f->tileset);
     check(f->instances);
     std::vector<std::string> tiles = f->tiles, all = f->files;
@@ -280,16 +279,17 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
     }
     m.files.push_back(std::move(e));
   }
+  // A path a species or forest names, at JSON path `at`, must be one of the files above.
+  auto listed = [&](const std::string& p, const std::string& at) {
+    if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
+    return p;
+  };
   const json& species = r.array(j, "(root)", "species");
   for (std::size_t i = 0; i < species.size(); ++i) {
     const std::string where = "species[" + std::to_string(i) + "]";
     const json& s = species[i];
     SpeciesEntry e;
     e.name = r.string(s, where, "name");
-    auto listed = [&](const std::string& p, const std::string& at) {
-      if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
-      return p;
-    };
     e.chain = listed(r.path(s, where, "chain"), where + ".chain");
     e.lod_json = listed(r.path(s, where, "lod_json"), where + ".lod_json");
     const json& levels = r.array(s, where, "levels");
@@ -319,10 +319,6 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
       const json& f = forests[i];
       ForestEntry e;
       e.name = r.string(f, where, "name");
-      auto listed = [&](const std::string& p, const std::string& at) {
-        if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
-        return p;
-      };
       e.tileset = listed(r.path(f, where, "tileset"), where + ".tileset");
       e.instances = listed(r.path(f, where, "instances"), where + ".instances");
       for (const char* key : {"tiles", "files"}) {

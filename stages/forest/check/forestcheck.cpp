@@ -50,11 +50,7 @@ std::vector<ForestViewCheck> check_forest(render::ForestView& view, render::Rend
     c.full_primitives = fs.front().primitives;
     c.per_level = ls.front().per_level;
     const check::ViewJudgement j = check::judge_coverage(full_img, lod_img, thresholds, "forest");
-    c.footprint_pixels = j.stats.footprint_pixels;
-    c.coverage_failing_fraction = j.stats.failing_fraction;
-    c.coverage_mean_error = j.stats.coverage_mean_error;
-    c.coverage_bias = j.stats.coverage_bias;
-    c.colour_mean_error = j.stats.colour_mean_error;
+    c.stats = j.stats;
     c.failure = j.failure;
     c.passed = c.failure.empty();
     if (sink) {

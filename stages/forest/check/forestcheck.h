@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/image/coverage.h"
 #include "libs/image/image.h"
 #include "libs/render/forest_view.h"
 
@@ -34,8 +35,7 @@ struct ForestViewCheck {
   std::size_t trees_drawn = 0;
   std::size_t lod_primitives = 0, full_primitives = 0;
   std::vector<std::size_t> per_level;  // trees at each level in the LOD view
-  std::size_t footprint_pixels = 0;
-  double coverage_failing_fraction = 0, coverage_mean_error = 0, coverage_bias = 0, colour_mean_error = 0;
+  image::FootprintStats stats;         // the LOD view against the full-detail view
   bool passed = false;
   std::string failure;  // empty when passed
 };

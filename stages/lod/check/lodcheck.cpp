@@ -138,11 +138,7 @@ std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::
       c.primitives = primitive_count(s.scene);
       c.colour = image::compare_images(ref, test, co);
       const check::ViewJudgement j = check::judge_coverage(ref, test, thresholds, "tree");
-      c.footprint_pixels = j.stats.footprint_pixels;
-      c.coverage_failing_fraction = j.stats.failing_fraction;
-      c.coverage_mean_error = j.stats.coverage_mean_error;
-      c.coverage_bias = j.stats.coverage_bias;
-      c.colour_mean_error = j.stats.colour_mean_error;
+      c.stats = j.stats;
       c.failure = c.colour.size_mismatch ? c.colour.failure : j.failure;
       c.passed = c.failure.empty();
       if (sink) sink(c, ref, test, image::diff_heatmap(ref, test, heat));

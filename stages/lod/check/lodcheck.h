@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "libs/image/compare.h"
+#include "libs/image/coverage.h"
 #include "libs/image/image.h"
 #include "libs/render/camera.h"
 #include "libs/render/renderer.h"
@@ -72,13 +73,11 @@ struct ViewCheck {
   std::size_t level = 0;
   std::string view;  // "az0", "az90", ...
   double epsilon = 0, distance = 0;
-  std::size_t footprint_pixels = 0;      // pixels covered (alpha > 0) in either image
-  double coverage_failing_fraction = 0;  // footprint pixels whose coverage changed by > pixel_threshold
-  double coverage_mean_error = 0;        // mean |coverage change| over the footprint
-  double coverage_bias = 0;              // mean signed change (level - full): > 0 the level covers more
-  image::CompareResult colour;           // RGB over the whole image (threshold 0.016, reported only)
-  double colour_mean_error = 0;          // mean per-channel RGB |difference| over the footprint
-  std::size_t primitives = 0;            // triangles + lines drawn for this subject
+  // Coverage and colour over the footprint (pixels covered in either image), the level against the
+  // full detail: coverage_bias > 0 means the level covers more.
+  image::FootprintStats stats;
+  image::CompareResult colour;  // RGB over the whole image (threshold 0.016, reported only)
+  std::size_t primitives = 0;   // triangles + lines drawn for this subject
   bool passed = false;
   std::string failure;  // empty when passed, else one sentence
 };

@@ -99,8 +99,8 @@ TEST_F(LodCheckRender, EveryLevelPassesAtItsSwitchDistance) {
   ASSERT_EQ(results.size(), f.levels.size() * 2);
   for (const auto& r : results) {
     EXPECT_TRUE(r.passed) << "oak level " << r.level << " " << r.view << ": " << r.failure;
-    EXPECT_GT(r.footprint_pixels, 0u) << "oak level " << r.level;
-    EXPECT_LE(r.coverage_failing_fraction, 0.01);
+    EXPECT_GT(r.stats.footprint_pixels, 0u) << "oak level " << r.level;
+    EXPECT_LE(r.stats.failing_fraction, 0.01);
   }
 }
 
@@ -116,7 +116,7 @@ TEST_F(LodCheckRender, ConiferBranchesPassAtTheirSwitchDistance) {
   ASSERT_EQ(results.size(), f.levels.size() * 2);
   for (const auto& r : results) {
     EXPECT_TRUE(r.passed) << "scots_pine branches level " << r.level << " " << r.view << ": " << r.failure;
-    EXPECT_GT(r.footprint_pixels, 0u) << "scots_pine branches level " << r.level;
+    EXPECT_GT(r.stats.footprint_pixels, 0u) << "scots_pine branches level " << r.level;
   }
 }
 
@@ -169,11 +169,11 @@ TEST_F(LodCheckRender, CroppedWindowsMeasureWhatTheFullFrameMeasures) {
     EXPECT_GT(covered, 0u) << i;
     EXPECT_LE(double(differing), 0.01 * double(covered)) << i << ": " << differing << " of " << covered;
     EXPECT_LE(max_change, 16) << i;  // 6 % coverage, far below the 0.5 a pixel must change to fail
-    EXPECT_NEAR(double(cropped[i].footprint_pixels), double(framed[i].footprint_pixels),
-                0.01 * double(framed[i].footprint_pixels) + 2)
+    EXPECT_NEAR(double(cropped[i].stats.footprint_pixels), double(framed[i].stats.footprint_pixels),
+                0.01 * double(framed[i].stats.footprint_pixels) + 2)
         << i;
-    EXPECT_NEAR(cropped[i].coverage_mean_error, framed[i].coverage_mean_error, 0.005) << i;
-    EXPECT_NEAR(cropped[i].coverage_failing_fraction, framed[i].coverage_failing_fraction, 0.002) << i;
+    EXPECT_NEAR(cropped[i].stats.coverage_mean_error, framed[i].stats.coverage_mean_error, 0.005) << i;
+    EXPECT_NEAR(cropped[i].stats.failing_fraction, framed[i].stats.failing_fraction, 0.002) << i;
     EXPECT_EQ(cropped[i].passed, framed[i].passed) << i;
   }
 }
@@ -213,8 +213,8 @@ TEST_F(LodCheckRender, AVisibleErrorFails) {
       check_subjects(*renderer_, f.full, {bare, shifted}, f.options.camera, LodCheckOptions{});
   ASSERT_EQ(results.size(), 4u);
   for (const auto& r : results)
-    EXPECT_FALSE(r.passed) << r.label << " " << r.view << " fail " << r.coverage_failing_fraction << " mean "
-                           << r.coverage_mean_error;
+    EXPECT_FALSE(r.passed) << r.label << " " << r.view << " fail " << r.stats.failing_fraction << " mean "
+                           << r.stats.coverage_mean_error;
   EXPECT_LT(results[0].primitives, f.levels[2].scene.triangle_count() + f.levels[2].scene.line_count());
 }
 
