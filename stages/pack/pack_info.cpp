@@ -12,15 +12,14 @@ StageInfo pack_stage_info() {
   info.output_type = "pack";
   // The pack's own files, and a forest's (any name the forest stage writes: it is copied as is).
   info.outputs = {};
-  info.inputs = {{"lod", "impostor", "forest"},
+  info.inputs = {{"lod", "impostor", "forest", "pack"},
                  1,
                  -1,
                  "one lod chain per species, in `species` order; optionally one impostor per species (same "
-                 "order: the chain's last level); forests (in `forests` order)"};
+                 "order: the chain's last level); forests (in `forests` order); other packs, merged whole"};
   info.params = {
-      Param::string_list("species")
-          .items(1, std::nullopt)
-          .describe("the species name of each input, in `needs` order ([a-z0-9_-]+, unique): file names"),
+      Param::string_list("species", Value::List{})
+          .describe("the species name of each lod input, in `needs` order ([a-z0-9_-]+, unique): file names"),
       Param::choice("compression", {"none", "meshopt", "draco"}, "meshopt")
           .describe("geometry compression: EXT_meshopt_compression, KHR_draco_mesh_compression or none"),
       Param::boolean("optimize", true)

@@ -1,7 +1,8 @@
 // The adapter of stage `pack`: names each lod input (and the impostor input beside it) by
 // `species`, reads the lod files and impostor.glb (libs/gltf reader) and impostor.json
-// (libs/impostor), runs the core, compresses or copies each forest input's files, and writes
-// manifest.json (libs/pack).
+// (libs/impostor), runs the core, compresses or copies each forest input's files, merges other
+// pack nodes' outputs (their files checked against their manifests), and writes manifest.json
+// (libs/pack).
 #include "stages/pack/pack_stage.h"
 
 #include <fnmatch.h>
@@ -19,6 +20,7 @@
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/pack/manifest.h"
+#include "pipeline/digest.h"
 #include "stages/pack/pack_core.h"
 #include "stages/pack/pack_info.h"
 
@@ -34,9 +36,13 @@ class PackStage : public Stage {
   void run(StageContext& ctx) const override {
     const Value::List& names = ctx.param("species").as_list();
     const Value::List& forest_names = ctx.param("forests").as_list();
-    std::vector<const InputArtifact*> lods, impostors, forests;
+    std::vector<const InputArtifact*> lods, impostors, forests, packs;
     for (const InputArtifact& in : ctx.inputs())
-      (in.type == "impostor" ? impostors : in.type == "forest" ? forests : lods).push_back(&in);
+      (in.type == "impostor" ? impostors
+       : in.type == "forest" ? forests
+       : in.type == "pack"   ? packs
+                             : lods)
+          .push_back(&in);
     if (names.size() != lods.size())
       throw StageError("`species` names " + std::to_string(names.size()) + " species but the node has " +
                        std::to_string(lods.size()) +
@@ -63,7 +69,7 @@ class PackStage : public Stage {
     options.min_saving = ctx.real("min_saving");
 
     static const std::regex kName("[a-z0-9_-]+");
-    std::set<std::string> seen;
+    std::set<std::string> seen, forests_seen;    // species and forest names
     std::map<std::string, std::string> written;  // output name -> what wrote it (collisions)
     auto claim = [&](const std::string& name, const std::string& what) {
       const auto [it, fresh] = written.emplace(name, what);
@@ -110,9 +116,11 @@ class PackStage : public Stage {
       const std::string& name = forest_names[k].as_string();
       if (!std::regex_match(name, kName))
         throw StageError("`forests` entry '" + name.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
+      if (!forests_seen.insert(name).second) throw StageError("`forests` names '" + name + "' twice");
       manifest.forests.push_back(copy_forest(ctx, *forests[k], name,
                                              ctx.string("forest_compression") == "meshopt", claim, manifest));
     }
+    for (const InputArtifact* in : packs) merge_pack(ctx, *in, claim, seen, forests_seen, manifest);
     ctx.write_output("manifest.json", pack::write_manifest(manifest));
   }
 
@@ -261,6 +269,57 @@ class PackStage : public Stage {
       if (fnmatch("tile_*_lod*.gltf", f.name.c_str(), 0) == 0) e.tiles.push_back(f.name);
     }
     return e;
+  }
+
+  // A pack input (another pack node's output) joins this pack: every file its manifest lists,
+  // checked against the listed size and SHA-256 and written under its name with its manifest
+  // entry unchanged (its producer is the node that made it), then its species and forests. One
+  // pack node per species and per forest, merged by one more, keeps a rebuild's pack work
+  // proportional to what changed (docs/stages/pack.md, "Merging packs").
+  template <class Claim>
+  void merge_pack(StageContext& ctx, const InputArtifact& in, Claim& claim, std::set<std::string>& species,
+                  std::set<std::string>& forests, pack::Manifest& manifest) const {
+    const ArtifactFile* listing = in.file("manifest.json");
+    if (!listing) throw StageError("input '" + in.node + "' has no manifest.json (is it a pack node?)");
+    pack::Manifest sub;
+    try {
+      sub = pack::read_manifest(listing->path);
+    } catch (const pack::ManifestError& e) {
+      throw StageError("input '" + in.node + "': " + e.what());
+    }
+    if (sub.version != pack::kManifestVersion)
+      throw StageError("input '" + in.node + "': its manifest is version " + std::to_string(sub.version) +
+                       "; a pack merges only version " + std::to_string(pack::kManifestVersion) +
+                       " manifests (rebuild that node)");
+    std::set<std::string> listed;
+    for (pack::FileEntry& f : sub.files) {
+      ctx.check_cancelled();
+      const ArtifactFile* file = in.file(f.path);
+      if (!file)
+        throw StageError("input '" + in.node + "': its manifest lists '" + f.path +
+                         "', which it does not have");
+      const std::string bytes = read_file(file->path);
+      if (bytes.size() != f.size || sha256_hex(bytes) != f.sha256)
+        throw StageError("input '" + in.node + "': '" + f.path +
+                         "' is not the file its manifest describes (size or SHA-256 differs)");
+      claim(f.path, "pack '" + in.node + "'");
+      ctx.write_output(f.path, bytes);
+      listed.insert(f.path);
+      manifest.files.push_back(std::move(f));
+    }
+    for (const ArtifactFile& f : in.files)
+      if (f.name != "manifest.json" && !listed.count(f.name))
+        throw StageError("input '" + in.node + "' has '" + f.name + "', which its manifest does not list");
+    for (pack::SpeciesEntry& e : sub.species) {
+      if (!species.insert(e.name).second)
+        throw StageError("species '" + e.name + "' comes twice: input '" + in.node + "' has it too");
+      manifest.species.push_back(std::move(e));
+    }
+    for (pack::ForestEntry& e : sub.forests) {
+      if (!forests.insert(e.name).second)
+        throw StageError("forest '" + e.name + "' comes twice: input '" + in.node + "' has it too");
+      manifest.forests.push_back(std::move(e));
+    }
   }
 
   static std::string read_file(const std::filesystem::path& p) {

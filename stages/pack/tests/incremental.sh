@@ -1,11 +1,11 @@
 #!/bin/sh
 # ctest pack_incremental (issue 14, "Incremental regeneration"): a three-species forest pack
 # (stages/pack/tests/data/forest_three_species.yaml: young oak, birch and Scots pine through
-# generate, lod and billboards, a forest of them, and the pack of the chains, impostors and the
-# forest), built from a copy of the recipe and the species presets in WORK_DIR; then ONE preset
+# generate, lod and billboards, a forest of them, a pack node per species and one for the forest,
+# and the pack that merges them), built from a copy of the recipe and the species presets in WORK_DIR; then ONE preset
 # changes (birch's leaf colour), the recipe is rebuilt, and the script checks
-#   - exactly tree_birch, lod_birch, billboards_birch, forest and pack ran (every other node
-#     came from the cache);
+#   - exactly tree_birch, lod_birch, billboards_birch, forest, pack_birch, pack_forest and pack
+#     ran (every other node, pack_oak and pack_scots_pine included, came from the cache);
 #   - the pack files whose bytes differ are birch's (its chain, levels, impostor and lod.json,
 #     the forest's birch files) and the forest tiles that name a changed birch file (a tile
 #     states each buffer's byteLength: the impostor tile level over birch's impostor buffer);
@@ -33,7 +33,7 @@ cmp -s configs/species/birch.yaml "$work/presets/birch.yaml" && fail "the birch 
 "$sylva" --out "$work/out" build "$work/recipe.yaml" --json > "$work/incremental.json" || fail "the rebuild failed"
 
 ran=$(node -e 'const j=require(process.argv[1]); console.log(j.nodes.filter(n=>n.status==="built").map(n=>n.name).sort().join(" "))' "$work/incremental.json")
-want_ran="billboards_birch forest lod_birch pack tree_birch"
+want_ran="billboards_birch forest lod_birch pack pack_birch pack_forest tree_birch"
 [ "$ran" = "$want_ran" ] || fail "the rebuild ran '$ran', expected '$want_ran'"
 
 # The files whose bytes changed, by comparison (not by the manifest).
@@ -126,9 +126,10 @@ fi
 node -e '
 const a = require(process.argv[1]), b = require(process.argv[2]);
 const t = j => j.nodes.filter(n => n.status === "built").reduce((s, n) => s + n.seconds, 0);
-const pack = j => (j.nodes.find(n => n.name === "pack") || {seconds: 0}).seconds;
-console.log(`full build ${a.seconds.toFixed(2)} s (node time ${t(a).toFixed(2)} s, pack ${pack(a).toFixed(2)} s), ` +
-            `incremental ${b.seconds.toFixed(2)} s (node time ${t(b).toFixed(2)} s, pack ${pack(b).toFixed(2)} s)`);
+const built = (j, f) => j.nodes.filter(n => n.status === "built" && f(n.name)).reduce((s, n) => s + n.seconds, 0);
+const packs = j => built(j, n => n.startsWith("pack_")).toFixed(2), merge = j => built(j, n => n === "pack").toFixed(2);
+console.log(`full build ${a.seconds.toFixed(2)} s (node time ${t(a).toFixed(2)} s, pack_* ${packs(a)} s, merge ${merge(a)} s), ` +
+            `incremental ${b.seconds.toFixed(2)} s (node time ${t(b).toFixed(2)} s, pack_* ${packs(b)} s, merge ${merge(b)} s)`);
 ' "$work/full.json" "$work/incremental.json"
 echo "changed:$changed"
 echo "pack: $(ls "$pack2" | wc -l) files, $(du -sb "$pack2" | cut -f1) bytes"
