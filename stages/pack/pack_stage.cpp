@@ -292,6 +292,10 @@ class PackStage : public Stage {
                        "; a pack merges only version " + std::to_string(pack::kManifestVersion) +
                        " manifests (rebuild that node)");
     std::set<std::string> listed;
+    for (const pack::FileEntry& f : sub.files) listed.insert(f.path);
+    for (const ArtifactFile& f : in.files)
+      if (f.name != "manifest.json" && !listed.count(f.name))
+        throw StageError("input '" + in.node + "' has '" + f.name + "', which its manifest does not list");
     for (pack::FileEntry& f : sub.files) {
       ctx.check_cancelled();
       const ArtifactFile* file = in.file(f.path);
@@ -304,12 +308,8 @@ class PackStage : public Stage {
                          "' is not the file its manifest describes (size or SHA-256 differs)");
       claim(f.path, "pack '" + in.node + "'");
       ctx.write_output(f.path, bytes);
-      listed.insert(f.path);
       manifest.files.push_back(std::move(f));
     }
-    for (const ArtifactFile& f : in.files)
-      if (f.name != "manifest.json" && !listed.count(f.name))
-        throw StageError("input '" + in.node + "' has '" + f.name + "', which its manifest does not list");
     for (pack::SpeciesEntry& e : sub.species) {
       if (!species.insert(e.name).second)
         throw StageError("species '" + e.name + "' comes twice: input '" + in.node + "' has it too");
