@@ -29,6 +29,7 @@
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
 #include "libs/render/impostor_atlas.h"
+#include "libs/render/line_merge.h"
 
 namespace sylva::render {
 namespace {
@@ -41,11 +42,19 @@ using detail::upload_array;
 
 // ---- Bake shaders ------------------------------------------------------------------------------
 
-constexpr const char* kBakeVertexShader = R"(#version 330 core
+// Two programs from one source: surfaces (MERGED_LINES 0) and merged lines (MERGED_LINES 1, the
+// lines of line_merge.h with their extra normals), so triangles interpolate no line varyings.
+constexpr const char* kBakeVertexShader = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in vec4 a_color;
+#if MERGED_LINES
+// Merged lines (line_merge.h): the second and third copies' normals and the number of copies.
+layout(location = 4) in vec3 a_normal1;
+layout(location = 5) in vec3 a_normal2;
+layout(location = 6) in float a_copies;
+#endif
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
@@ -55,6 +64,11 @@ uniform vec4 u_views[5 * 64];
 
 out vec3 v_world;
 out vec3 v_normal;
+#if MERGED_LINES
+out vec3 v_normal1;
+out vec3 v_normal2;
+flat out float v_copies;
+#endif
 out vec2 v_texcoord;
 out vec4 v_color;
 flat out vec3 v_dir;
@@ -75,6 +89,11 @@ void main() {
   gl_Position = vec4(rect.x + s * rect.z, rect.y + t * rect.w, -z, 1.0);
   v_world = world.xyz;
   v_normal = u_normal_matrix * a_normal;
+#if MERGED_LINES
+  v_normal1 = u_normal_matrix * a_normal1;
+  v_normal2 = u_normal_matrix * a_normal2;
+  v_copies = a_copies;
+#endif
   v_texcoord = a_texcoord;
   v_color = a_color;
   v_dir = normalize(d);
@@ -82,9 +101,14 @@ void main() {
 }
 )";
 
-constexpr const char* kBakeFragmentShader = R"(#version 330 core
+constexpr const char* kBakeFragmentShader = R"(
 in vec3 v_world;
 in vec3 v_normal;
+#if MERGED_LINES
+in vec3 v_normal1;
+in vec3 v_normal2;
+flat in float v_copies;
+#endif
 in vec2 v_texcoord;
 in vec4 v_color;
 flat in vec3 v_dir;
@@ -128,14 +152,54 @@ void main() {
   if (u_has_normals && u_two_sided && !front) n = -n;
   // Lines stand for twigs, which the full detail draws as lit cylinders: bake their normals
   // turned toward the view (the renderer draws LINES unlit, as three.js does; an impostor is lit).
+#if !MERGED_LINES
   if (u_line && dot(n, v_dir) < 0.0) n = -n;
+#else
+  int copies = int(v_copies + 0.5);
+  if (copies <= 1) {
+    if (dot(n, v_dir) < 0.0) n = -n;
+  } else {
+    // k coincident lines of alpha a drawn as one (line_merge.h): the copy drawn last weighs a,
+    // the one before a (1 - a), ...; together they cover 1 - (1 - a)^k, and their normals (each
+    // turned toward the view) average with the same weights, as k overs would composite them.
+    float a = base.a, w = a, cover = 0.0;
+    vec3 sum = vec3(0.0);
+    for (int j = copies - 1; j >= 0; --j) {
+      vec3 nj = n;
+      if (u_has_normals) nj = normalize(j == 0 ? v_normal : j == 1 ? v_normal1 : v_normal2);
+      if (dot(nj, v_dir) < 0.0) nj = -nj;
+      sum += w * nj;
+      cover += w;
+      w *= 1.0 - a;
+    }
+    if (cover > 0.0) n = sum / cover;
+    base.a = cover;
+  }
+#endif
   o_color = vec4(to_srgb(base.r), to_srgb(base.g), to_srgb(base.b), base.a);
   o_normal = vec4(n * 0.5 + 0.5, base.a);
   o_depth = vec4(clamp(v_depth * 0.5 + 0.5, 0.0, 1.0), 0.0, 0.0, base.a);
 }
 )";
 
-enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3 };
+// The bake's two programs (see kBakeVertexShader).
+struct BakePrograms {
+  GLuint surfaces = 0, lines = 0;
+};
+
+BakePrograms link_bake_programs() {
+  auto source = [](const char* body, bool lines) {
+    return std::string("#version 330 core\n#define MERGED_LINES ") + (lines ? "1" : "0") + "\n" + body;
+  };
+  BakePrograms p;
+  p.surfaces = detail::link_program(source(kBakeVertexShader, false).c_str(),
+                                    source(kBakeFragmentShader, false).c_str(), "impostor bake");
+  p.lines = detail::link_program(source(kBakeVertexShader, true).c_str(),
+                                 source(kBakeFragmentShader, true).c_str(), "impostor bake (lines)");
+  return p;
+}
+
+enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3, kNormal1 = 4, kNormal2 = 5, kCopies = 6 };
 constexpr std::size_t kMaxRowViews = 64;  // u_views[5 * 64] in the bake vertex shader
 
 // ---- Uploaded bake scene -----------------------------------------------------------------------
@@ -144,7 +208,8 @@ struct BakePrimitive {
   const Primitive* source = nullptr;
   const Mesh* mesh = nullptr;
   GLuint vao = 0;
-  GLsizei index_count = 0;
+  GLsizei index_count = 0;  // indices, or vertices when not indexed
+  bool indexed = true;       // false: merged lines (line_merge.h), drawn as arrays
   bool blend = false;
 };
 
@@ -171,7 +236,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  public:
   explicit GlImpostorRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    bake_program_ = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
+    bake_programs_ = link_bake_programs();
     draw_program_ = detail::link_program(octahedral_impostor_vertex_shader(),
                                          octahedral_impostor_fragment_shader(), "octahedral impostor");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
@@ -184,7 +249,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   ~GlImpostorRenderer() override {
     try {
       CurrentContext current(*ctx_);
-      glDeleteProgram(bake_program_);
+      glDeleteProgram(bake_programs_.surfaces);
+      glDeleteProgram(bake_programs_.lines);
       glDeleteProgram(draw_program_);
     } catch (...) {
       // The context goes away with us.
@@ -212,10 +278,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     auto run = [&](int t) {
       try {
         detail::GlContext& ctx = t == 0 ? *ctx_ : *workers_[std::size_t(t - 1)]->ctx;
-        GLuint& program = t == 0 ? bake_program_ : workers_[std::size_t(t - 1)]->program;
+        BakePrograms& programs = t == 0 ? bake_programs_ : workers_[std::size_t(t - 1)]->programs;
         CurrentContext current(ctx);
-        if (!program) program = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
-        bake_rows(program, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
+        if (!programs.surfaces) programs = link_bake_programs();
+        bake_rows(programs, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
       } catch (...) {
         errors[std::size_t(t)] = std::current_exception();
       }
@@ -349,7 +415,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   struct Worker {
     explicit Worker(std::unique_ptr<detail::GlContext> c) : ctx(std::move(c)) {}
     std::unique_ptr<detail::GlContext> ctx;
-    GLuint program = 0;
+    BakePrograms programs;
   };
 
   static std::vector<BakeRow> plan_rows(std::span<const BakeView> views, const BakeOptions& o) {
@@ -381,7 +447,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   // Rows first, first + stride, ... of `rows`, with `program` on the current context.
-  void bake_rows(GLuint program, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
+  void bake_rows(const BakePrograms& programs, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
                  const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride,
                  BakedMaps& out) const {
     (void)views;
@@ -391,17 +457,23 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
     const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
     check_gl("bake upload");
-    glUseProgram(program);
-    const BakeUniforms un = bake_uniforms(program);
-    glUniform1i(un.texture, 0);
+    const BakeUniforms surf = bake_uniforms(programs.surfaces), lines = bake_uniforms(programs.lines);
+    for (GLuint program : {programs.surfaces, programs.lines}) {
+      glUseProgram(program);
+      glUniform1i(program == programs.lines ? lines.texture : surf.texture, 0);
+    }
     std::map<int, BakeTarget> targets;  // by band height
     for (std::size_t r = first; r < rows.size(); r += stride) {
       const BakeRow& row = rows[r];
       auto it = targets.find(row.h);
       if (it == targets.end())
         it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
-      glUniform4fv(un.views, GLsizei(row.views.size() * 5), row.uniforms.data());
-      draw_bake_row(scene, prims, textures, un, GLsizei(row.views.size()), it->second, o);
+      for (GLuint program : {programs.surfaces, programs.lines}) {
+        glUseProgram(program);
+        glUniform4fv(program == programs.lines ? lines.views : surf.views, GLsizei(row.views.size() * 5),
+                     row.uniforms.data());
+      }
+      draw_bake_row(scene, prims, textures, programs, surf, lines, GLsizei(row.views.size()), it->second, o);
       read_bake_row(it->second, row.y, out);
       check_gl("baking");
     }
@@ -481,6 +553,24 @@ class GlImpostorRenderer final : public ImpostorRenderer {
           glEnableVertexAttribArray(location);
           glVertexAttribPointer(location, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
         };
+        if (bp.blend && p.topology == Topology::kLines) {
+          // Coincident blended lines as one line of their composite (line_merge.h).
+          const MergedLines m = merge_coincident_lines(p);
+          bp.indexed = false;
+          bp.index_count = GLsizei(m.positions.size());
+          attach(kPosition, upload_array(gl, GL_ARRAY_BUFFER, m.positions), 3);
+          if (!p.normals.empty()) {
+            attach(kNormal, upload_array(gl, GL_ARRAY_BUFFER, m.normals[0]), 3);
+            attach(kNormal1, upload_array(gl, GL_ARRAY_BUFFER, m.normals[1]), 3);
+            attach(kNormal2, upload_array(gl, GL_ARRAY_BUFFER, m.normals[2]), 3);
+          }
+          if (!m.texcoords.empty()) attach(kTexcoord, upload_array(gl, GL_ARRAY_BUFFER, m.texcoords), 2);
+          if (!m.colors.empty()) attach(kColor, upload_array(gl, GL_ARRAY_BUFFER, m.colors), 4);
+          attach(kCopies, upload_array(gl, GL_ARRAY_BUFFER, m.copies), 1);
+          glBindVertexArray(0);
+          out.push_back(bp);
+          continue;
+        }
         attach(kPosition, upload_array(gl, GL_ARRAY_BUFFER, p.positions), 3);
         if (!p.normals.empty()) attach(kNormal, upload_array(gl, GL_ARRAY_BUFFER, p.normals), 3);
         if (!p.texcoords.empty()) attach(kTexcoord, upload_array(gl, GL_ARRAY_BUFFER, p.texcoords), 2);
@@ -496,8 +586,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   void draw_bake_row(const Scene& scene, const std::vector<BakePrimitive>& prims,
-                     const std::vector<GLuint>& textures, const BakeUniforms& u, GLsizei count,
-                     const BakeTarget& t, const BakeOptions& o) const {
+                     const std::vector<GLuint>& textures, const BakePrograms& programs,
+                     const BakeUniforms& surf, const BakeUniforms& lines, GLsizei count, const BakeTarget& t,
+                     const BakeOptions& o) const {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, t.width, t.height);
     glClearColor(0, 0, 0, 0);
@@ -516,6 +607,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     bool blending = false;
     for (const BakePrimitive& bp : prims) {
       const Primitive& p = *bp.source;
+      // Merged lines (drawn as arrays) have their own program.
+      const BakeUniforms& u = bp.indexed ? surf : lines;
+      glUseProgram(bp.indexed ? programs.surfaces : programs.lines);
       if (bp.blend && !blending) {
         blending = true;
         glEnable(GL_BLEND);
@@ -559,7 +653,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         }
         glUniformMatrix4fv(u.model, 1, GL_FALSE, model.data());
         glUniformMatrix3fv(u.normal_matrix, 1, GL_FALSE, n.data());
-        glDrawElementsInstanced(gl_mode(p.topology), bp.index_count, GL_UNSIGNED_INT, nullptr, count);
+        if (bp.indexed)
+          glDrawElementsInstanced(gl_mode(p.topology), bp.index_count, GL_UNSIGNED_INT, nullptr, count);
+        else
+          glDrawArraysInstanced(gl_mode(p.topology), 0, bp.index_count, count);
       }
     }
     glDepthMask(GL_TRUE);
@@ -765,7 +862,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   std::unique_ptr<detail::GlContext> ctx_;
   std::vector<std::unique_ptr<Worker>> workers_;  // never destroyed before the renderer (EGL, above)
   std::mutex mutex_;
-  GLuint bake_program_ = 0, draw_program_ = 0;
+  BakePrograms bake_programs_;
+  GLuint draw_program_ = 0;
   GLint max_samples_ = 1, max_size_ = 4096, max_texture_size_ = 4096;
   float line_width_range_[2] = {1.f, 1.f};
 };
