@@ -2,16 +2,18 @@
 // impostor drawer (impostor_renderer.h has the contract, docs/stages/impostor.md the maps).
 //
 // Bake. One atlas row of views at a time is drawn into a multisampled target as wide as the atlas
-// and as tall as the row, with three colour attachments (colour RGBA8, normal RGBA16, depth
-// RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the coverage keeps 8
-// bits of precision). Each primitive is one glDrawElementsInstanced over the row's views: the
-// vertex shader fetches the view's transform from a buffer texture by gl_InstanceID and clips to
-// the view's rectangle with gl_ClipDistance. Opaque and masked primitives first (depth test and
-// write), then blended ones (depth test, no write, alpha over), as the scene renderer's passes.
-// Every fragment writes its alpha into all three attachments, so after the MSAA resolve each
-// attachment holds value * coverage (the background is 0): dividing by the colour's alpha gives
-// the covered samples' average. Blended primitives are drawn in file order without sorting: a
+// and as tall as the row, with three colour attachments in one pass (colour RGBA8, normal RGBA16,
+// depth RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the coverage
+// keeps 8 bits of precision). Each primitive is one instanced draw over the row's views: the vertex
+// shader takes the view's frame from a uniform array by gl_InstanceID (every view frames the whole
+// source, so nothing needs clipping to its rectangle). Opaque and masked primitives first (depth
+// test and write), then blended ones (depth test, no write, alpha over), as the scene renderer's
+// passes. Every fragment writes its alpha as the alpha of all three outputs, so after the MSAA
+// resolve each attachment holds value * coverage (the background is 0): dividing by the
+// attachment's alpha gives the covered samples' average. Blended primitives are drawn in file order without sorting: a
 // primitive has one material colour, and "over" with equal colours does not depend on order.
+// Blended LINES are drawn with each run of coincident segments merged into one line of their
+// composite (line_merge.h), by a second program that carries the merged copies' normals.
 //
 // Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
 #include "libs/render/impostor_renderer.h"
