@@ -44,8 +44,11 @@ using detail::upload_array;
 
 // ---- Bake shaders ------------------------------------------------------------------------------
 
-// Two programs from one source: surfaces (MERGED_LINES 0) and merged lines (MERGED_LINES 1, the
-// lines of line_merge.h with their extra normals), so triangles interpolate no line varyings.
+// One source, a program per variant (BakeVariant below): MERGED_LINES (the lines of line_merge.h
+// with their extra normals), HAS_NORMALS, HAS_COLORS, HAS_TEXTURE. A variant passes on only the
+// varyings it reads: llvmpipe sets up and interpolates every varying of every tiny triangle, and
+// a leaf (normals, texture, no colours) needs 9 of the 16 floats (measured: docs/performance.md).
+// The variants compute what one program with those switches as uniforms computed, to the bit.
 constexpr const char* kBakeVertexShader = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -64,15 +67,22 @@ uniform mat3 u_normal_matrix;
 // dir / depth radius, and the view's rectangle in NDC (centre x, y, half width, half height).
 uniform vec4 u_views[5 * 64];
 
-out vec3 v_world;
+#if HAS_NORMALS
 out vec3 v_normal;
+#else
+out vec3 v_world;
+#endif
 #if MERGED_LINES
 out vec3 v_normal1;
 out vec3 v_normal2;
 flat out float v_copies;
 #endif
+#if HAS_TEXTURE
 out vec2 v_texcoord;
+#endif
+#if HAS_COLORS
 out vec4 v_color;
+#endif
 flat out vec3 v_dir;
 out float v_depth;
 
@@ -89,39 +99,51 @@ void main() {
   // Every view frames the whole source (layouts fit the bounding sphere), so nothing reaches a
   // neighbouring view's rectangle and no clipping is needed.
   gl_Position = vec4(rect.x + s * rect.z, rect.y + t * rect.w, -z, 1.0);
-  v_world = world.xyz;
+#if HAS_NORMALS
   v_normal = u_normal_matrix * a_normal;
+#else
+  v_world = world.xyz;
+#endif
 #if MERGED_LINES
   v_normal1 = u_normal_matrix * a_normal1;
   v_normal2 = u_normal_matrix * a_normal2;
   v_copies = a_copies;
 #endif
+#if HAS_TEXTURE
   v_texcoord = a_texcoord;
+#endif
+#if HAS_COLORS
   v_color = a_color;
+#endif
   v_dir = normalize(d);
   v_depth = z;
 }
 )";
 
 constexpr const char* kBakeFragmentShader = R"(
-in vec3 v_world;
+#if HAS_NORMALS
 in vec3 v_normal;
+#else
+in vec3 v_world;
+#endif
 #if MERGED_LINES
 in vec3 v_normal1;
 in vec3 v_normal2;
 flat in float v_copies;
 #endif
+#if HAS_TEXTURE
 in vec2 v_texcoord;
+#endif
+#if HAS_COLORS
 in vec4 v_color;
+#endif
 flat in vec3 v_dir;
 in float v_depth;
 
 uniform vec4 u_base_color;
 uniform sampler2D u_texture;
-uniform bool u_has_texture;
 uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
-uniform bool u_has_normals;
 uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
 uniform bool u_mirrored;      // the instance matrix mirrors: clockwise is the front
 uniform bool u_line;          // LINES: the normal is turned toward the view's viewer
@@ -137,8 +159,13 @@ float to_srgb(float c) {
 }
 
 void main() {
-  vec4 base = u_base_color * v_color;
-  if (u_has_texture) base *= texture(u_texture, v_texcoord);
+  vec4 base = u_base_color;
+#if HAS_COLORS
+  base *= v_color;
+#endif
+#if HAS_TEXTURE
+  base *= texture(u_texture, v_texcoord);
+#endif
   if (u_alpha_mode == 1) {
     if (base.a < u_alpha_cutoff) discard;
     base.a = 1.0;
@@ -150,8 +177,12 @@ void main() {
   // counter-clockwise one (clockwise under a mirroring matrix), a double-sided back face is lit
   // with the reversed normal; without normals, the face normal, which faces the view.
   bool front = gl_FrontFacing != u_mirrored;
-  vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
-  if (u_has_normals && u_two_sided && !front) n = -n;
+#if HAS_NORMALS
+  vec3 n = normalize(v_normal);
+  if (u_two_sided && !front) n = -n;
+#else
+  vec3 n = normalize(cross(dFdx(v_world), dFdy(v_world)));
+#endif
   // Lines stand for twigs, which the full detail draws as lit cylinders: bake their normals
   // turned toward the view (the renderer draws LINES unlit, as three.js does; an impostor is lit).
 #if !MERGED_LINES
@@ -168,7 +199,9 @@ void main() {
     vec3 sum = vec3(0.0);
     for (int j = copies - 1; j >= 0; --j) {
       vec3 nj = n;
-      if (u_has_normals) nj = normalize(j == 0 ? v_normal : j == 1 ? v_normal1 : v_normal2);
+#if HAS_NORMALS
+      nj = normalize(j == 0 ? v_normal : j == 1 ? v_normal1 : v_normal2);
+#endif
       if (dot(nj, v_dir) < 0.0) nj = -nj;
       sum += w * nj;
       cover += w;
@@ -184,22 +217,28 @@ void main() {
 }
 )";
 
-// The bake's two programs (see kBakeVertexShader).
-struct BakePrograms {
-  GLuint surfaces = 0, lines = 0;
+// Which bake program draws a primitive (see kBakeVertexShader).
+struct BakeVariant {
+  bool merged_lines = false, normals = false, colors = false, texture = false;
+  int key() const { return int(merged_lines) | int(normals) << 1 | int(colors) << 2 | int(texture) << 3; }
 };
+constexpr int kBakeVariants = 16;
 
-BakePrograms link_bake_programs() {
-  auto source = [](const char* body, bool lines) {
-    return std::string("#version 330 core\n#define MERGED_LINES ") + (lines ? "1" : "0") + "\n" + body;
+GLuint link_bake_program(int key) {
+  auto source = [&](const char* body) {
+    std::string s = "#version 330 core\n";
+    for (auto [bit, name] : {std::pair{1, "MERGED_LINES"}, {2, "HAS_NORMALS"}, {4, "HAS_COLORS"}, {8, "HAS_TEXTURE"}})
+      s += std::string("#define ") + name + ((key & bit) ? " 1\n" : " 0\n");
+    return s + body;
   };
-  BakePrograms p;
-  p.surfaces = detail::link_program(source(kBakeVertexShader, false).c_str(),
-                                    source(kBakeFragmentShader, false).c_str(), "impostor bake");
-  p.lines = detail::link_program(source(kBakeVertexShader, true).c_str(),
-                                 source(kBakeFragmentShader, true).c_str(), "impostor bake (lines)");
-  return p;
+  return detail::link_program(source(kBakeVertexShader).c_str(), source(kBakeFragmentShader).c_str(),
+                              "impostor bake (variant " + std::to_string(key) + ")");
 }
+
+// A context's bake programs, linked when first needed (0 = not yet).
+struct BakePrograms {
+  std::array<GLuint, kBakeVariants> program{};
+};
 
 enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3, kNormal1 = 4, kNormal2 = 5, kCopies = 6 };
 constexpr std::size_t kMaxRowViews = 64;  // u_views[5 * 64] in the bake vertex shader
@@ -211,6 +250,7 @@ struct BakePrimitive {
   const Mesh* mesh = nullptr;
   GLuint vao = 0;
   GLsizei index_count = 0;  // indices, or vertices when not indexed
+  int variant = 0;          // BakeVariant::key()
   bool indexed = true;       // false: merged lines (line_merge.h), drawn as arrays
   bool blend = false;
 };
@@ -238,7 +278,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  public:
   explicit GlImpostorRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    bake_programs_ = link_bake_programs();
+
     draw_program_ = detail::link_program(octahedral_impostor_vertex_shader(),
                                          octahedral_impostor_fragment_shader(), "octahedral impostor");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
@@ -251,8 +291,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   ~GlImpostorRenderer() override {
     try {
       CurrentContext current(*ctx_);
-      glDeleteProgram(bake_programs_.surfaces);
-      glDeleteProgram(bake_programs_.lines);
+      for (GLuint p : bake_programs_.program)
+        if (p) glDeleteProgram(p);
       glDeleteProgram(draw_program_);
     } catch (...) {
       // The context goes away with us.
@@ -282,7 +322,6 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         detail::GlContext& ctx = t == 0 ? *ctx_ : *workers_[std::size_t(t - 1)]->ctx;
         BakePrograms& programs = t == 0 ? bake_programs_ : workers_[std::size_t(t - 1)]->programs;
         CurrentContext current(ctx);
-        if (!programs.surfaces) programs = link_bake_programs();
         bake_rows(programs, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
       } catch (...) {
         errors[std::size_t(t)] = std::current_exception();
@@ -390,15 +429,14 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
  private:
   struct BakeUniforms {
-    GLint model, normal_matrix, views, base_color, texture, has_texture, alpha_mode, alpha_cutoff,
-        has_normals, two_sided, mirrored, line, alpha_scale;
+    GLint model, normal_matrix, views, base_color, texture, alpha_mode, alpha_cutoff, two_sided, mirrored,
+        line, alpha_scale;
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
-    return {u("u_model"),       u("u_normal_matrix"), u("u_views[0]"),   u("u_base_color"),
-            u("u_texture"),     u("u_has_texture"),   u("u_alpha_mode"), u("u_alpha_cutoff"),
-            u("u_has_normals"), u("u_two_sided"),     u("u_mirrored"),   u("u_line"),
-            u("u_alpha_scale")};
+    return {u("u_model"),        u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"),
+            u("u_texture"),      u("u_alpha_mode"),    u("u_alpha_cutoff"), u("u_two_sided"),
+            u("u_mirrored"),     u("u_line"),          u("u_alpha_scale")};
   }
 
   struct BakeTarget {
@@ -449,7 +487,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   // Rows first, first + stride, ... of `rows`, with `program` on the current context.
-  void bake_rows(const BakePrograms& programs, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
+  void bake_rows(BakePrograms& programs, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
                  const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride,
                  BakedMaps& out) const {
     (void)views;
@@ -459,10 +497,17 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
     const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
     check_gl("bake upload");
-    const BakeUniforms surf = bake_uniforms(programs.surfaces), lines = bake_uniforms(programs.lines);
-    for (GLuint program : {programs.surfaces, programs.lines}) {
+    // The variants this scene needs, linked once per context; their uniforms.
+    std::vector<int> used;
+    std::array<BakeUniforms, kBakeVariants> uniforms{};
+    for (const BakePrimitive& bp : prims) {
+      if (std::find(used.begin(), used.end(), bp.variant) != used.end()) continue;
+      used.push_back(bp.variant);
+      GLuint& program = programs.program[std::size_t(bp.variant)];
+      if (!program) program = link_bake_program(bp.variant);
+      uniforms[std::size_t(bp.variant)] = bake_uniforms(program);
       glUseProgram(program);
-      glUniform1i(program == programs.lines ? lines.texture : surf.texture, 0);
+      glUniform1i(uniforms[std::size_t(bp.variant)].texture, 0);
     }
     std::map<int, BakeTarget> targets;  // by band height
     for (std::size_t r = first; r < rows.size(); r += stride) {
@@ -470,12 +515,11 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       auto it = targets.find(row.h);
       if (it == targets.end())
         it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
-      for (GLuint program : {programs.surfaces, programs.lines}) {
-        glUseProgram(program);
-        glUniform4fv(program == programs.lines ? lines.views : surf.views, GLsizei(row.views.size() * 5),
-                     row.uniforms.data());
+      for (int v : used) {
+        glUseProgram(programs.program[std::size_t(v)]);
+        glUniform4fv(uniforms[std::size_t(v)].views, GLsizei(row.views.size() * 5), row.uniforms.data());
       }
-      draw_bake_row(scene, prims, textures, programs, surf, lines, GLsizei(row.views.size()), it->second, o);
+      draw_bake_row(scene, prims, textures, programs, uniforms, GLsizei(row.views.size()), it->second, o);
       read_bake_row(it->second, row.y, out);
       check_gl("baking");
     }
@@ -548,6 +592,13 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         bp.index_count = GLsizei(p.indices.size());
         bp.blend =
             p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        BakeVariant variant;
+        variant.merged_lines = bp.blend && p.topology == Topology::kLines;
+        variant.normals = !p.normals.empty();
+        variant.colors = !p.colors.empty();
+        variant.texture = p.material >= 0 && scene.materials[std::size_t(p.material)].base_color_texture >= 0 &&
+                          !p.texcoords.empty();
+        bp.variant = variant.key();
         bp.vao = gl.vertex_array();
         glBindVertexArray(bp.vao);
         auto attach = [&](GLuint location, GLuint buffer, GLint comps) {
@@ -589,8 +640,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
   void draw_bake_row(const Scene& scene, const std::vector<BakePrimitive>& prims,
                      const std::vector<GLuint>& textures, const BakePrograms& programs,
-                     const BakeUniforms& surf, const BakeUniforms& lines, GLsizei count, const BakeTarget& t,
-                     const BakeOptions& o) const {
+                     const std::array<BakeUniforms, kBakeVariants>& uniforms, GLsizei count,
+                     const BakeTarget& t, const BakeOptions& o) const {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, t.width, t.height);
     glClearColor(0, 0, 0, 0);
@@ -609,9 +660,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     bool blending = false;
     for (const BakePrimitive& bp : prims) {
       const Primitive& p = *bp.source;
-      // Merged lines (drawn as arrays) have their own program.
-      const BakeUniforms& u = bp.indexed ? surf : lines;
-      glUseProgram(bp.indexed ? programs.surfaces : programs.lines);
+      const BakeUniforms& u = uniforms[std::size_t(bp.variant)];
+      glUseProgram(programs.program[std::size_t(bp.variant)]);
       if (bp.blend && !blending) {
         blending = true;
         glEnable(GL_BLEND);
@@ -621,9 +671,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       static const Material kDefault;
       const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
       glUniform4fv(u.base_color, 1, m.base_color.data());
-      const bool textured = m.base_color_texture >= 0 && !p.texcoords.empty();
-      glUniform1i(u.has_texture, textured);
-      if (textured) {
+      if (m.base_color_texture >= 0 && !p.texcoords.empty()) {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, textures[std::size_t(m.base_color_texture)]);
       }
@@ -631,7 +679,6 @@ class GlImpostorRenderer final : public ImpostorRenderer {
                                 : m.alpha_mode == AlphaMode::kMask ? 1
                                                                    : 2);
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
-      glUniform1i(u.has_normals, !p.normals.empty());
       const bool triangles = p.topology == Topology::kTriangles;
       glUniform1i(u.two_sided, triangles && m.double_sided);
       glUniform1i(u.line, p.topology == Topology::kLines);
