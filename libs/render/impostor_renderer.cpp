@@ -10,10 +10,10 @@
 // test and write), then blended ones (depth test, no write, alpha over), as the scene renderer's
 // passes. Every fragment writes its alpha as the alpha of all three outputs, so after the MSAA
 // resolve each attachment holds value * coverage (the background is 0): dividing by the
-// attachment's alpha gives the covered samples' average. Blended primitives are drawn in file order without sorting: a
-// primitive has one material colour, and "over" with equal colours does not depend on order.
-// Blended LINES are drawn with each run of coincident segments merged into one line of their
-// composite (line_merge.h), by a second program that carries the merged copies' normals.
+// attachment's alpha gives the covered samples' average. Blended primitives are drawn in file order
+// without sorting: a primitive has one material colour, and "over" with equal colours does not
+// depend on order. Blended LINES are drawn with each run of coincident segments merged into one
+// line of their composite (line_merge.h), by a program variant that carries the copies' normals.
 //
 // Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
 #include "libs/render/impostor_renderer.h"
@@ -227,7 +227,8 @@ constexpr int kBakeVariants = 16;
 GLuint link_bake_program(int key) {
   auto source = [&](const char* body) {
     std::string s = "#version 330 core\n";
-    for (auto [bit, name] : {std::pair{1, "MERGED_LINES"}, {2, "HAS_NORMALS"}, {4, "HAS_COLORS"}, {8, "HAS_TEXTURE"}})
+    for (auto [bit, name] :
+         {std::pair{1, "MERGED_LINES"}, {2, "HAS_NORMALS"}, {4, "HAS_COLORS"}, {8, "HAS_TEXTURE"}})
       s += std::string("#define ") + name + ((key & bit) ? " 1\n" : " 0\n");
     return s + body;
   };
@@ -240,7 +241,15 @@ struct BakePrograms {
   std::array<GLuint, kBakeVariants> program{};
 };
 
-enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3, kNormal1 = 4, kNormal2 = 5, kCopies = 6 };
+enum : GLuint {
+  kPosition = 0,
+  kNormal = 1,
+  kTexcoord = 2,
+  kColor = 3,
+  kNormal1 = 4,
+  kNormal2 = 5,
+  kCopies = 6
+};
 constexpr std::size_t kMaxRowViews = 64;  // u_views[5 * 64] in the bake vertex shader
 
 // ---- Uploaded bake scene -----------------------------------------------------------------------
@@ -251,7 +260,7 @@ struct BakePrimitive {
   GLuint vao = 0;
   GLsizei index_count = 0;  // indices, or vertices when not indexed
   int variant = 0;          // BakeVariant::key()
-  bool indexed = true;       // false: merged lines (line_merge.h), drawn as arrays
+  bool indexed = true;      // false: merged lines (line_merge.h), drawn as arrays
   bool blend = false;
 };
 
@@ -434,9 +443,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
-    return {u("u_model"),        u("u_normal_matrix"), u("u_views[0]"), u("u_base_color"),
-            u("u_texture"),      u("u_alpha_mode"),    u("u_alpha_cutoff"), u("u_two_sided"),
-            u("u_mirrored"),     u("u_line"),          u("u_alpha_scale")};
+    return {u("u_model"),    u("u_normal_matrix"), u("u_views[0]"),     u("u_base_color"),
+            u("u_texture"),  u("u_alpha_mode"),    u("u_alpha_cutoff"), u("u_two_sided"),
+            u("u_mirrored"), u("u_line"),          u("u_alpha_scale")};
   }
 
   struct BakeTarget {
@@ -487,9 +496,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   // Rows first, first + stride, ... of `rows`, with `program` on the current context.
-  void bake_rows(BakePrograms& programs, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
-                 const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride,
-                 BakedMaps& out) const {
+  void bake_rows(BakePrograms& programs, const Scene& scene, std::span<const BakeView> views,
+                 const BakeOptions& o, const std::vector<BakeRow>& rows, std::size_t first,
+                 std::size_t stride, BakedMaps& out) const {
     (void)views;
     GlObjects gl;
     glGetError();
@@ -596,7 +605,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         variant.merged_lines = bp.blend && p.topology == Topology::kLines;
         variant.normals = !p.normals.empty();
         variant.colors = !p.colors.empty();
-        variant.texture = p.material >= 0 && scene.materials[std::size_t(p.material)].base_color_texture >= 0 &&
+        variant.texture = p.material >= 0 &&
+                          scene.materials[std::size_t(p.material)].base_color_texture >= 0 &&
                           !p.texcoords.empty();
         bp.variant = variant.key();
         bp.vao = gl.vertex_array();

@@ -1,13 +1,13 @@
 // Multi-source breadth-first dilation inside each frame (dilate.h says why), frames in parallel.
 #include "stages/impostor/dilate.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 namespace sylva::impostor {
 
@@ -78,9 +78,11 @@ void dilate_frames(image::Image& color, image::Image& normal_depth, const std::v
   const std::size_t stride = std::size_t(color.width());
   // Frames are disjoint and each reads and writes only its own texels, so they run in parallel
   // and the bytes do not depend on the order or the thread count.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rects.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t k = range.begin(); k != range.end(); ++k) dilate_frame(cb, nb, stride, rects[k], band);
-  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rects.size()),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t k = range.begin(); k != range.end(); ++k)
+                        dilate_frame(cb, nb, stride, rects[k], band);
+                    });
 }
 
 }  // namespace sylva::impostor
