@@ -2,16 +2,18 @@
 // impostor drawer (impostor_renderer.h has the contract, docs/stages/impostor.md the maps).
 //
 // Bake. One atlas row of views at a time is drawn into a multisampled target as wide as the atlas
-// and as tall as the row, with three colour attachments (colour RGBA8, normal RGBA16, depth
-// RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the coverage keeps 8
-// bits of precision). Each primitive is one glDrawElementsInstanced over the row's views: the
-// vertex shader fetches the view's transform from a buffer texture by gl_InstanceID and clips to
-// the view's rectangle with gl_ClipDistance. Opaque and masked primitives first (depth test and
-// write), then blended ones (depth test, no write, alpha over), as the scene renderer's passes.
-// Every fragment writes its alpha into all three attachments, so after the MSAA resolve each
-// attachment holds value * coverage (the background is 0): dividing by the colour's alpha gives
-// the covered samples' average. Blended primitives are drawn in file order without sorting: a
-// primitive has one material colour, and "over" with equal colours does not depend on order.
+// and as tall as the row, with three colour attachments in one pass (colour RGBA8, normal RGBA16,
+// depth RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the coverage
+// keeps 8 bits of precision). Each primitive is one instanced draw over the row's views: the vertex
+// shader takes the view's frame from a uniform array by gl_InstanceID (every view frames the whole
+// source, so nothing needs clipping to its rectangle). Opaque and masked primitives first (depth
+// test and write), then blended ones (depth test, no write, alpha over), as the scene renderer's
+// passes. Every fragment writes its alpha as the alpha of all three outputs, so after the MSAA
+// resolve each attachment holds value * coverage (the background is 0): dividing by the
+// attachment's alpha gives the covered samples' average. Blended primitives are drawn in file order
+// without sorting: a primitive has one material colour, and "over" with equal colours does not
+// depend on order. Blended LINES are drawn with each run of coincident segments merged into one
+// line of their composite (line_merge.h), by a program variant that carries the copies' normals.
 //
 // Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
 #include "libs/render/impostor_renderer.h"
@@ -29,6 +31,7 @@
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
 #include "libs/render/impostor_atlas.h"
+#include "libs/render/line_merge.h"
 
 namespace sylva::render {
 namespace {
@@ -41,11 +44,22 @@ using detail::upload_array;
 
 // ---- Bake shaders ------------------------------------------------------------------------------
 
-constexpr const char* kBakeVertexShader = R"(#version 330 core
+// One source, a program per variant (BakeVariant below): MERGED_LINES (the lines of line_merge.h
+// with their extra normals), HAS_NORMALS, HAS_COLORS, HAS_TEXTURE. A variant passes on only the
+// varyings it reads: llvmpipe sets up and interpolates every varying of every tiny triangle, and
+// a leaf (normals, texture, no colours) needs 9 of the 16 floats (measured: docs/performance.md).
+// The variants compute what one program with those switches as uniforms computed, to the bit.
+constexpr const char* kBakeVertexShader = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in vec2 a_texcoord;
 layout(location = 3) in vec4 a_color;
+#if MERGED_LINES
+// Merged lines (line_merge.h): the second and third copies' normals and the number of copies.
+layout(location = 4) in vec3 a_normal1;
+layout(location = 5) in vec3 a_normal2;
+layout(location = 6) in float a_copies;
+#endif
 
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
@@ -53,10 +67,22 @@ uniform mat3 u_normal_matrix;
 // dir / depth radius, and the view's rectangle in NDC (centre x, y, half width, half height).
 uniform vec4 u_views[5 * 64];
 
-out vec3 v_world;
+#if HAS_NORMALS
 out vec3 v_normal;
+#else
+out vec3 v_world;
+#endif
+#if MERGED_LINES
+out vec3 v_normal1;
+out vec3 v_normal2;
+flat out float v_copies;
+#endif
+#if HAS_TEXTURE
 out vec2 v_texcoord;
+#endif
+#if HAS_COLORS
 out vec4 v_color;
+#endif
 flat out vec3 v_dir;
 out float v_depth;
 
@@ -73,29 +99,51 @@ void main() {
   // Every view frames the whole source (layouts fit the bounding sphere), so nothing reaches a
   // neighbouring view's rectangle and no clipping is needed.
   gl_Position = vec4(rect.x + s * rect.z, rect.y + t * rect.w, -z, 1.0);
-  v_world = world.xyz;
+#if HAS_NORMALS
   v_normal = u_normal_matrix * a_normal;
+#else
+  v_world = world.xyz;
+#endif
+#if MERGED_LINES
+  v_normal1 = u_normal_matrix * a_normal1;
+  v_normal2 = u_normal_matrix * a_normal2;
+  v_copies = a_copies;
+#endif
+#if HAS_TEXTURE
   v_texcoord = a_texcoord;
+#endif
+#if HAS_COLORS
   v_color = a_color;
+#endif
   v_dir = normalize(d);
   v_depth = z;
 }
 )";
 
-constexpr const char* kBakeFragmentShader = R"(#version 330 core
-in vec3 v_world;
+constexpr const char* kBakeFragmentShader = R"(
+#if HAS_NORMALS
 in vec3 v_normal;
+#else
+in vec3 v_world;
+#endif
+#if MERGED_LINES
+in vec3 v_normal1;
+in vec3 v_normal2;
+flat in float v_copies;
+#endif
+#if HAS_TEXTURE
 in vec2 v_texcoord;
+#endif
+#if HAS_COLORS
 in vec4 v_color;
+#endif
 flat in vec3 v_dir;
 in float v_depth;
 
 uniform vec4 u_base_color;
 uniform sampler2D u_texture;
-uniform bool u_has_texture;
 uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
-uniform bool u_has_normals;
 uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
 uniform bool u_mirrored;      // the instance matrix mirrors: clockwise is the front
 uniform bool u_line;          // LINES: the normal is turned toward the view's viewer
@@ -111,8 +159,13 @@ float to_srgb(float c) {
 }
 
 void main() {
-  vec4 base = u_base_color * v_color;
-  if (u_has_texture) base *= texture(u_texture, v_texcoord);
+  vec4 base = u_base_color;
+#if HAS_COLORS
+  base *= v_color;
+#endif
+#if HAS_TEXTURE
+  base *= texture(u_texture, v_texcoord);
+#endif
   if (u_alpha_mode == 1) {
     if (base.a < u_alpha_cutoff) discard;
     base.a = 1.0;
@@ -124,18 +177,79 @@ void main() {
   // counter-clockwise one (clockwise under a mirroring matrix), a double-sided back face is lit
   // with the reversed normal; without normals, the face normal, which faces the view.
   bool front = gl_FrontFacing != u_mirrored;
-  vec3 n = u_has_normals ? normalize(v_normal) : normalize(cross(dFdx(v_world), dFdy(v_world)));
-  if (u_has_normals && u_two_sided && !front) n = -n;
+#if HAS_NORMALS
+  vec3 n = normalize(v_normal);
+  if (u_two_sided && !front) n = -n;
+#else
+  vec3 n = normalize(cross(dFdx(v_world), dFdy(v_world)));
+#endif
   // Lines stand for twigs, which the full detail draws as lit cylinders: bake their normals
   // turned toward the view (the renderer draws LINES unlit, as three.js does; an impostor is lit).
+#if !MERGED_LINES
   if (u_line && dot(n, v_dir) < 0.0) n = -n;
+#else
+  int copies = int(v_copies + 0.5);
+  if (copies <= 1) {
+    if (dot(n, v_dir) < 0.0) n = -n;
+  } else {
+    // k coincident lines of alpha a drawn as one (line_merge.h): the copy drawn last weighs a,
+    // the one before a (1 - a), ...; together they cover 1 - (1 - a)^k, and their normals (each
+    // turned toward the view) average with the same weights, as k overs would composite them.
+    float a = base.a, w = a, cover = 0.0;
+    vec3 sum = vec3(0.0);
+    for (int j = copies - 1; j >= 0; --j) {
+      vec3 nj = n;
+#if HAS_NORMALS
+      nj = normalize(j == 0 ? v_normal : j == 1 ? v_normal1 : v_normal2);
+#endif
+      if (dot(nj, v_dir) < 0.0) nj = -nj;
+      sum += w * nj;
+      cover += w;
+      w *= 1.0 - a;
+    }
+    if (cover > 0.0) n = sum / cover;
+    base.a = cover;
+  }
+#endif
   o_color = vec4(to_srgb(base.r), to_srgb(base.g), to_srgb(base.b), base.a);
   o_normal = vec4(n * 0.5 + 0.5, base.a);
   o_depth = vec4(clamp(v_depth * 0.5 + 0.5, 0.0, 1.0), 0.0, 0.0, base.a);
 }
 )";
 
-enum : GLuint { kPosition = 0, kNormal = 1, kTexcoord = 2, kColor = 3 };
+// Which bake program draws a primitive (see kBakeVertexShader).
+struct BakeVariant {
+  bool merged_lines = false, normals = false, colors = false, texture = false;
+  int key() const { return int(merged_lines) | int(normals) << 1 | int(colors) << 2 | int(texture) << 3; }
+};
+constexpr int kBakeVariants = 16;
+
+GLuint link_bake_program(int key) {
+  auto source = [&](const char* body) {
+    std::string s = "#version 330 core\n";
+    for (auto [bit, name] :
+         {std::pair{1, "MERGED_LINES"}, {2, "HAS_NORMALS"}, {4, "HAS_COLORS"}, {8, "HAS_TEXTURE"}})
+      s += std::string("#define ") + name + ((key & bit) ? " 1\n" : " 0\n");
+    return s + body;
+  };
+  return detail::link_program(source(kBakeVertexShader).c_str(), source(kBakeFragmentShader).c_str(),
+                              "impostor bake (variant " + std::to_string(key) + ")");
+}
+
+// A context's bake programs, linked when first needed (0 = not yet).
+struct BakePrograms {
+  std::array<GLuint, kBakeVariants> program{};
+};
+
+enum : GLuint {
+  kPosition = 0,
+  kNormal = 1,
+  kTexcoord = 2,
+  kColor = 3,
+  kNormal1 = 4,
+  kNormal2 = 5,
+  kCopies = 6
+};
 constexpr std::size_t kMaxRowViews = 64;  // u_views[5 * 64] in the bake vertex shader
 
 // ---- Uploaded bake scene -----------------------------------------------------------------------
@@ -144,7 +258,9 @@ struct BakePrimitive {
   const Primitive* source = nullptr;
   const Mesh* mesh = nullptr;
   GLuint vao = 0;
-  GLsizei index_count = 0;
+  GLsizei index_count = 0;  // indices, or vertices when not indexed
+  int variant = 0;          // BakeVariant::key()
+  bool indexed = true;      // false: merged lines (line_merge.h), drawn as arrays
   bool blend = false;
 };
 
@@ -171,7 +287,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  public:
   explicit GlImpostorRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    bake_program_ = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
+
     draw_program_ = detail::link_program(octahedral_impostor_vertex_shader(),
                                          octahedral_impostor_fragment_shader(), "octahedral impostor");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
@@ -184,7 +300,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   ~GlImpostorRenderer() override {
     try {
       CurrentContext current(*ctx_);
-      glDeleteProgram(bake_program_);
+      for (GLuint p : bake_programs_.program)
+        if (p) glDeleteProgram(p);
       glDeleteProgram(draw_program_);
     } catch (...) {
       // The context goes away with us.
@@ -212,10 +329,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     auto run = [&](int t) {
       try {
         detail::GlContext& ctx = t == 0 ? *ctx_ : *workers_[std::size_t(t - 1)]->ctx;
-        GLuint& program = t == 0 ? bake_program_ : workers_[std::size_t(t - 1)]->program;
+        BakePrograms& programs = t == 0 ? bake_programs_ : workers_[std::size_t(t - 1)]->programs;
         CurrentContext current(ctx);
-        if (!program) program = detail::link_program(kBakeVertexShader, kBakeFragmentShader, "impostor bake");
-        bake_rows(program, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
+        bake_rows(programs, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
       } catch (...) {
         errors[std::size_t(t)] = std::current_exception();
       }
@@ -322,15 +438,14 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
  private:
   struct BakeUniforms {
-    GLint model, normal_matrix, views, base_color, texture, has_texture, alpha_mode, alpha_cutoff,
-        has_normals, two_sided, mirrored, line, alpha_scale;
+    GLint model, normal_matrix, views, base_color, texture, alpha_mode, alpha_cutoff, two_sided, mirrored,
+        line, alpha_scale;
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
-    return {u("u_model"),       u("u_normal_matrix"), u("u_views[0]"),   u("u_base_color"),
-            u("u_texture"),     u("u_has_texture"),   u("u_alpha_mode"), u("u_alpha_cutoff"),
-            u("u_has_normals"), u("u_two_sided"),     u("u_mirrored"),   u("u_line"),
-            u("u_alpha_scale")};
+    return {u("u_model"),    u("u_normal_matrix"), u("u_views[0]"),     u("u_base_color"),
+            u("u_texture"),  u("u_alpha_mode"),    u("u_alpha_cutoff"), u("u_two_sided"),
+            u("u_mirrored"), u("u_line"),          u("u_alpha_scale")};
   }
 
   struct BakeTarget {
@@ -349,7 +464,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   struct Worker {
     explicit Worker(std::unique_ptr<detail::GlContext> c) : ctx(std::move(c)) {}
     std::unique_ptr<detail::GlContext> ctx;
-    GLuint program = 0;
+    BakePrograms programs;
   };
 
   static std::vector<BakeRow> plan_rows(std::span<const BakeView> views, const BakeOptions& o) {
@@ -381,9 +496,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   // Rows first, first + stride, ... of `rows`, with `program` on the current context.
-  void bake_rows(GLuint program, const Scene& scene, std::span<const BakeView> views, const BakeOptions& o,
-                 const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride,
-                 BakedMaps& out) const {
+  void bake_rows(BakePrograms& programs, const Scene& scene, std::span<const BakeView> views,
+                 const BakeOptions& o, const std::vector<BakeRow>& rows, std::size_t first,
+                 std::size_t stride, BakedMaps& out) const {
     (void)views;
     GlObjects gl;
     glGetError();
@@ -391,17 +506,29 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
     const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
     check_gl("bake upload");
-    glUseProgram(program);
-    const BakeUniforms un = bake_uniforms(program);
-    glUniform1i(un.texture, 0);
+    // The variants this scene needs, linked once per context; their uniforms.
+    std::vector<int> used;
+    std::array<BakeUniforms, kBakeVariants> uniforms{};
+    for (const BakePrimitive& bp : prims) {
+      if (std::find(used.begin(), used.end(), bp.variant) != used.end()) continue;
+      used.push_back(bp.variant);
+      GLuint& program = programs.program[std::size_t(bp.variant)];
+      if (!program) program = link_bake_program(bp.variant);
+      uniforms[std::size_t(bp.variant)] = bake_uniforms(program);
+      glUseProgram(program);
+      glUniform1i(uniforms[std::size_t(bp.variant)].texture, 0);
+    }
     std::map<int, BakeTarget> targets;  // by band height
     for (std::size_t r = first; r < rows.size(); r += stride) {
       const BakeRow& row = rows[r];
       auto it = targets.find(row.h);
       if (it == targets.end())
         it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
-      glUniform4fv(un.views, GLsizei(row.views.size() * 5), row.uniforms.data());
-      draw_bake_row(scene, prims, textures, un, GLsizei(row.views.size()), it->second, o);
+      for (int v : used) {
+        glUseProgram(programs.program[std::size_t(v)]);
+        glUniform4fv(uniforms[std::size_t(v)].views, GLsizei(row.views.size() * 5), row.uniforms.data());
+      }
+      draw_bake_row(scene, prims, textures, programs, uniforms, GLsizei(row.views.size()), it->second, o);
       read_bake_row(it->second, row.y, out);
       check_gl("baking");
     }
@@ -474,6 +601,14 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         bp.index_count = GLsizei(p.indices.size());
         bp.blend =
             p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        BakeVariant variant;
+        variant.merged_lines = bp.blend && p.topology == Topology::kLines;
+        variant.normals = !p.normals.empty();
+        variant.colors = !p.colors.empty();
+        variant.texture = p.material >= 0 &&
+                          scene.materials[std::size_t(p.material)].base_color_texture >= 0 &&
+                          !p.texcoords.empty();
+        bp.variant = variant.key();
         bp.vao = gl.vertex_array();
         glBindVertexArray(bp.vao);
         auto attach = [&](GLuint location, GLuint buffer, GLint comps) {
@@ -481,6 +616,24 @@ class GlImpostorRenderer final : public ImpostorRenderer {
           glEnableVertexAttribArray(location);
           glVertexAttribPointer(location, comps, GL_FLOAT, GL_FALSE, 0, nullptr);
         };
+        if (bp.blend && p.topology == Topology::kLines) {
+          // Coincident blended lines as one line of their composite (line_merge.h).
+          const MergedLines m = merge_coincident_lines(p);
+          bp.indexed = false;
+          bp.index_count = GLsizei(m.positions.size());
+          attach(kPosition, upload_array(gl, GL_ARRAY_BUFFER, m.positions), 3);
+          if (!p.normals.empty()) {
+            attach(kNormal, upload_array(gl, GL_ARRAY_BUFFER, m.normals[0]), 3);
+            attach(kNormal1, upload_array(gl, GL_ARRAY_BUFFER, m.normals[1]), 3);
+            attach(kNormal2, upload_array(gl, GL_ARRAY_BUFFER, m.normals[2]), 3);
+          }
+          if (!m.texcoords.empty()) attach(kTexcoord, upload_array(gl, GL_ARRAY_BUFFER, m.texcoords), 2);
+          if (!m.colors.empty()) attach(kColor, upload_array(gl, GL_ARRAY_BUFFER, m.colors), 4);
+          attach(kCopies, upload_array(gl, GL_ARRAY_BUFFER, m.copies), 1);
+          glBindVertexArray(0);
+          out.push_back(bp);
+          continue;
+        }
         attach(kPosition, upload_array(gl, GL_ARRAY_BUFFER, p.positions), 3);
         if (!p.normals.empty()) attach(kNormal, upload_array(gl, GL_ARRAY_BUFFER, p.normals), 3);
         if (!p.texcoords.empty()) attach(kTexcoord, upload_array(gl, GL_ARRAY_BUFFER, p.texcoords), 2);
@@ -496,7 +649,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   void draw_bake_row(const Scene& scene, const std::vector<BakePrimitive>& prims,
-                     const std::vector<GLuint>& textures, const BakeUniforms& u, GLsizei count,
+                     const std::vector<GLuint>& textures, const BakePrograms& programs,
+                     const std::array<BakeUniforms, kBakeVariants>& uniforms, GLsizei count,
                      const BakeTarget& t, const BakeOptions& o) const {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, t.width, t.height);
@@ -516,6 +670,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     bool blending = false;
     for (const BakePrimitive& bp : prims) {
       const Primitive& p = *bp.source;
+      const BakeUniforms& u = uniforms[std::size_t(bp.variant)];
+      glUseProgram(programs.program[std::size_t(bp.variant)]);
       if (bp.blend && !blending) {
         blending = true;
         glEnable(GL_BLEND);
@@ -525,9 +681,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       static const Material kDefault;
       const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
       glUniform4fv(u.base_color, 1, m.base_color.data());
-      const bool textured = m.base_color_texture >= 0 && !p.texcoords.empty();
-      glUniform1i(u.has_texture, textured);
-      if (textured) {
+      if (m.base_color_texture >= 0 && !p.texcoords.empty()) {
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, textures[std::size_t(m.base_color_texture)]);
       }
@@ -535,7 +689,6 @@ class GlImpostorRenderer final : public ImpostorRenderer {
                                 : m.alpha_mode == AlphaMode::kMask ? 1
                                                                    : 2);
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
-      glUniform1i(u.has_normals, !p.normals.empty());
       const bool triangles = p.topology == Topology::kTriangles;
       glUniform1i(u.two_sided, triangles && m.double_sided);
       glUniform1i(u.line, p.topology == Topology::kLines);
@@ -559,7 +712,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         }
         glUniformMatrix4fv(u.model, 1, GL_FALSE, model.data());
         glUniformMatrix3fv(u.normal_matrix, 1, GL_FALSE, n.data());
-        glDrawElementsInstanced(gl_mode(p.topology), bp.index_count, GL_UNSIGNED_INT, nullptr, count);
+        if (bp.indexed)
+          glDrawElementsInstanced(gl_mode(p.topology), bp.index_count, GL_UNSIGNED_INT, nullptr, count);
+        else
+          glDrawArraysInstanced(gl_mode(p.topology), 0, bp.index_count, count);
       }
     }
     glDepthMask(GL_TRUE);
@@ -765,7 +921,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   std::unique_ptr<detail::GlContext> ctx_;
   std::vector<std::unique_ptr<Worker>> workers_;  // never destroyed before the renderer (EGL, above)
   std::mutex mutex_;
-  GLuint bake_program_ = 0, draw_program_ = 0;
+  BakePrograms bake_programs_;
+  GLuint draw_program_ = 0;
   GLint max_samples_ = 1, max_size_ = 4096, max_texture_size_ = 4096;
   float line_width_range_[2] = {1.f, 1.f};
 };

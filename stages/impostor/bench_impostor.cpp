@@ -4,7 +4,9 @@
 //   SYLVA_BENCH_LOD=out/default/lod_oak out/build/stages/impostor/bench_impostor
 //
 // BM_Bake/<kind>/<contexts>: the GL bake (layout, draws, read-back, dilation, cutouts, the GLB),
-// wall time; counters: frames, source primitives, atlas PNG bytes (colour + normal), GLB bytes.
+// wall time; counters: frames, source primitives, drawn primitives per frame (lines merged,
+// line_merge.h), atlas PNG bytes (colour + normal, encoded as
+// the stage encodes them: atlas_png.h, outside the timed loop), GLB bytes.
 // BM_EncodeMaps: the two 4096^2 PNG encodes the stage adds after the bake.
 #include <benchmark/benchmark.h>
 
@@ -16,6 +18,8 @@
 #include "libs/image/png.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_renderer.h"
+#include "libs/render/line_merge.h"
+#include "stages/impostor/atlas_png.h"
 #include "stages/impostor/bake.h"
 #include "stages/impostor/source.h"
 
@@ -67,8 +71,19 @@ void BM_Bake(benchmark::State& state) {
                                         : std::size_t(p.layout.frames_per_side * p.layout.frames_per_side));
   state.counters["source_primitives"] = double(s.scene.triangle_count() + s.scene.line_count());
   state.counters["source_level"] = s.desc.level;
-  state.counters["atlas_png_bytes"] =
-      double(image::encode_png(out.color).size() + image::encode_png(out.normal_depth).size());
+  // What the baker rasterises per frame: triangles, and lines after merging (line_merge.h).
+  std::size_t drawn = s.scene.triangle_count();
+  for (const render::Mesh& m : s.scene.meshes)
+    for (const render::Primitive& prim : m.primitives) {
+      if (prim.topology != render::Topology::kLines) continue;
+      const bool blend = prim.material >= 0 && s.scene.materials[std::size_t(prim.material)].alpha_mode ==
+                                                   render::AlphaMode::kBlend;
+      drawn += (blend ? render::merge_coincident_lines(prim).positions.size() / 2 : prim.indices.size() / 2) *
+               m.instances.size();
+    }
+  state.counters["drawn_primitives"] = double(drawn);
+  const impostor::AtlasPngs png = impostor::encode_atlas_pngs(out.color, out.normal_depth);  // as the stage
+  state.counters["atlas_png_bytes"] = double(png.color.size() + png.normal_depth.size());
   state.counters["glb_bytes"] = double(out.glb.size());
   state.counters["glb_triangles"] = double(out.info.glb_triangles);
 }

@@ -12,6 +12,7 @@
 #include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
 #include "libs/render/gltf_scene.h"
+#include "stages/impostor/atlas_png.h"
 #include "stages/impostor/impostor_info.h"
 #include "stages/impostor/source.h"
 
@@ -121,12 +122,9 @@ class ImpostorStage final : public Stage {
     ctx.check_cancelled();
     // 3. Write.
     try {
-      // zlib level 3: the two 4096^2 maps encode in 56 % of level 6's CPU time for 6 % more bytes
-      // (docs/performance.md, BM_EncodeMaps).
-      image::PngOptions png;
-      png.zlib_level = 3;
-      image::write_png(out.color, ctx.output_path(out.info.color_map), png);
-      image::write_png(out.normal_depth, ctx.output_path(out.info.normal_depth_map), png);
+      // Both maps at once, at zlib level 3 (atlas_png.h).
+      impostor::write_atlas_pngs(out.color, ctx.output_path(out.info.color_map), out.normal_depth,
+                                 ctx.output_path(out.info.normal_depth_map));
     } catch (const image::ImageError& e) {
       throw StageError(e.what());
     }

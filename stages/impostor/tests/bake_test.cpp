@@ -15,6 +15,7 @@
 #include "libs/render/distance_camera.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_renderer.h"
+#include "libs/render/line_merge.h"
 #include "libs/render/shared_renderer.h"
 #include "stages/impostor/check/subject.h"
 
@@ -226,6 +227,73 @@ TEST(Bake, ImpostorGlbDrawsNothingBelowTheTreeInAxisViews) {
             << cards_lowest - tree_lowest << " rows below the tree";
       }
   }
+}
+
+// Twelve internodes fanning out from (0, 1, 0) over the box, each drawn as the lod stage draws a
+// sub-pixel branch: three blended lines of alpha 0.3 on the same endpoints with normals 120 degrees
+// apart. With `apart`, every copy gets its own texcoords (unused: the material has no texture),
+// which keeps the baker from merging them (line_merge.h).
+render::Scene twig_scene(bool apart) {
+  render::Scene s = box_scene();
+  render::Material m;
+  m.name = "twigs";
+  m.base_color = render::Vec4(0.3f, 0.2f, 0.1f, 1);
+  m.alpha_mode = render::AlphaMode::kBlend;
+  s.materials.push_back(m);
+  render::Primitive p;
+  p.topology = render::Topology::kLines;
+  p.material = 1;
+  const render::Vec3 root(0, 1, 0);
+  for (int i = 0; i < 12; ++i) {
+    const double az = 2 * M_PI * i / 12, el = 0.3 + 0.1 * (i % 4);
+    const render::Vec3 axis(float(std::cos(el) * std::cos(az)), float(std::sin(el)),
+                            float(std::cos(el) * std::sin(az)));
+    const render::Vec3 n0 = axis.cross(render::Vec3::UnitY()).normalized(), b0 = axis.cross(n0);
+    for (int c = 0; c < 3; ++c) {
+      const double a = 2 * M_PI * c / 3;
+      const render::Vec3 n = float(std::cos(a)) * n0 + float(std::sin(a)) * b0;
+      const auto base = std::uint32_t(p.positions.size());
+      for (float t : {0.2f, 3.5f}) {
+        p.positions.push_back(root + t * axis);
+        p.normals.push_back(n);
+        p.colors.push_back({1, 1, 1, 0.3f});
+        p.texcoords.push_back({apart ? float(c) : 0.f, t});
+      }
+      p.indices.insert(p.indices.end(), {base, base + 1});
+    }
+  }
+  s.meshes[0].primitives.push_back(std::move(p));
+  return s;
+}
+
+// The three lines of an internode, merged into one line of their composite, bake what the three
+// overs bake: the same coverage, colour, normal and depth within 8-bit rounding, and a texel one
+// internode covers holds 1 - 0.7^3 of coverage.
+TEST(Bake, CoincidentBlendedLinesBakeAsTheirComposite) {
+  const render::Scene merged_scene = twig_scene(false), apart_scene = twig_scene(true);
+  ASSERT_EQ(render::merge_coincident_lines(merged_scene.meshes[0].primitives[1]).positions.size(), 24u);
+  ASSERT_EQ(render::merge_coincident_lines(apart_scene.meshes[0].primitives[1]).positions.size(), 72u);
+  BakeParams p = small_params();
+  p.layout.frame_px = 128;
+  const BakeOutput merged = bake_impostor(render::shared_impostor_renderer(), merged_scene, p, {});
+  const BakeOutput apart = bake_impostor(render::shared_impostor_renderer(), apart_scene, p, {});
+  ASSERT_EQ(merged.color.width(), apart.color.width());
+  int worst_color = 0, worst_normal = 0, one_internode = 0;
+  double cover_merged = 0, cover_apart = 0;
+  const auto &cm = merged.color.bytes(), &ca = apart.color.bytes();
+  const auto &nm = merged.normal_depth.bytes(), &na = apart.normal_depth.bytes();
+  for (std::size_t i = 0; i < cm.size(); ++i) {
+    worst_color = std::max(worst_color, std::abs(int(cm[i]) - int(ca[i])));
+    worst_normal = std::max(worst_normal, std::abs(int(nm[i]) - int(na[i])));
+  }
+  for (std::size_t i = 3; i < cm.size(); i += 4) {
+    cover_merged += cm[i], cover_apart += ca[i];
+    if (std::abs(int(cm[i]) - int(std::lround(255 * (1 - 0.343)))) <= 2) ++one_internode;
+  }
+  EXPECT_LE(worst_color, 3);
+  EXPECT_LE(worst_normal, 3);
+  EXPECT_NEAR(cover_merged / cover_apart, 1.0, 0.002);
+  EXPECT_GT(one_internode, 200);
 }
 
 TEST(Bake, BadRequestsAreRenderErrors) {

@@ -37,6 +37,7 @@ TEST(Dilate, NearestCoveredTexelWins) {
   EXPECT_EQ(color.at(5, 0).b, 255);
   EXPECT_EQ(color.at(7, 0), (image::Rgba8{0, 0, 255, 40}));
   EXPECT_THROW(dilate_frames(color, nd, {{4, 0, 8, 1}}, 2), std::invalid_argument);
+  EXPECT_THROW(dilate_frames(color, nd, {{0, 0, 4, 1}, {3, 0, 4, 1}}, 2), std::invalid_argument);
 }
 
 }  // namespace
