@@ -1,16 +1,17 @@
 // Celba §4.5.3, Algorithm 8: "Search Q for overlapping with A", Q the boxes of the trees placed so
 // far. The index is a uniform grid over the forest's ground plane (x, z) rather than Celba's
-// quadtree: trees of one forest have boxes of similar size, so with cells about one box wide a
-// query reads the 3 x 3 cells around the new box and nothing else (docs/performance.md, "Forest":
-// the quadtree's query was bound by the memory loads of its 24 nodes and scattered leaves).
+// quadtree: trees of one forest have boxes of similar size, so with cells about two footprints
+// wide (the caller's choice, layout.cpp) a query reads the 2 x 2 or so cells around the new box
+// and nothing else (docs/performance.md, "Forest": the quadtree's query was bound by the memory
+// loads of its 24 nodes and scattered leaves).
 //
 // Boxes are stored by the centre of their ground footprint (each in exactly one cell), in blocks
-// of kBlock boxes chained per cell, all blocks in one array: a cell's boxes are one or two
-// contiguous runs. A query visits the cells that meet A's footprint grown by the largest half
-// extent stored, so every box whose footprint meets A's is found (the same set the quadtree finds:
-// the layout's decisions, and so its output, do not depend on the index).
+// of kBlock boxes chained per cell (the newest block first). A query visits the cells that meet
+// A's footprint grown by the largest half extent stored, so every box whose footprint meets A's
+// is found (the same set the quadtree finds: the layout's decisions, and so its output, do not
+// depend on the index).
 //
-// The query is bound by memory latency, one cache miss per block read (docs/performance.md,
+// The query is bound by memory latency, about one cache miss per block read (docs/performance.md,
 // "Forest"), so: a block's count comes first, beside its first boxes, so that one miss brings
 // both; the query asks for every cell's newest block before reading any, so that their misses
 // overlap; and the blocks live in 2 MiB chunks that are never moved and, on Linux, are offered to
