@@ -1,4 +1,4 @@
-// Placement benchmarks (issue 13 "Measures"): Celba's method (Algorithm 8, quadtree overlap test)
+// Placement benchmarks (issue 13 "Measures"): Celba's method (Algorithm 8, grid overlap test)
 // for 1,000,000 trees over 100 km^2 (10 x 10 km at 100 trees/ha, three species), and the Poisson
 // method's points per second. Run: out/build/stages/forest/bench_forest
 #include <benchmark/benchmark.h>

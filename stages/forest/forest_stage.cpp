@@ -64,10 +64,14 @@ struct SpeciesInput {
   std::vector<const ArtifactFile*> level_bins, images;
   Box3 bounds;
   std::vector<std::size_t> primitives;
-  // The impostor level (when the species has an impostor input): its source, buffer and epsilon.
+  // The impostor level (when the species has an impostor input): its source, buffer, epsilon and
+  // impostor.json's recorded switch distance with the delta and camera it is valid for.
   bool has_impostor = false;
   ImpostorLevel impostor;
   double impostor_epsilon_m = 0;
+  double impostor_switch_distance_m = 0;
+  double impostor_pixel_error_px = 0;
+  impostor::ViewCamera impostor_camera;
   // A (hemi-)octahedral impostor: its impostor.json (maps renamed to the forest's copies) and maps.
   bool octahedral = false;
   impostor::ImpostorInfo impostor_info;
@@ -161,6 +165,12 @@ void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInpu
     const impostor::ImpostorInfo info =
         impostor::parse_impostor_json(read_file(ij->path), in.node + "/impostor.json");
     s.impostor_epsilon_m = info.error.epsilon_m();
+    if (!(info.switch_distance_m > 0))
+      throw StageError("input '" + in.node +
+                       "' (impostor): impostor.json records no switch distance (switch_distance_m 0)");
+    s.impostor_switch_distance_m = info.switch_distance_m;
+    s.impostor_pixel_error_px = info.pixel_error_px;
+    s.impostor_camera = info.camera;
     if (info.kind != impostor::Kind::kBillboards) {
       s.octahedral = true;
       s.color_map = in.file(info.color_map);
@@ -328,7 +338,9 @@ class ForestStage final : public Stage {
         if (in.has_impostor)
           sp.levels.push_back(
               {names[s] + "_impostor.gltf", in.impostor_epsilon_m,
-               switch_distance_m(in.impostor_epsilon_m, sp.pixel_error_px, sp.fov_y_deg, sp.height_px),
+               impostor_switch_distance_m(in.impostor_switch_distance_m, in.impostor_pixel_error_px,
+                                          in.impostor_camera.fov_y_rad, in.impostor_camera.height_px,
+                                          sp.pixel_error_px, sp.fov_y_deg, sp.height_px),
                in.primitives.back(), true, in.octahedral ? names[s] + "_impostor.json" : ""});
       } catch (const json::exception& e) {
         throw StageError("input '" + in.node + "': lod.json: " + e.what());

@@ -63,4 +63,15 @@ double switch_distance_m(double epsilon_m, double pixel_error_px, double fov_y_d
   return epsilon_m / (pixel_error_px * s1);
 }
 
+double impostor_switch_distance_m(double recorded_m, double impostor_pixel_error_px,
+                                  double impostor_fov_y_rad, int impostor_height_px,
+                                  double chain_pixel_error_px, double chain_fov_y_deg, int chain_height_px) {
+  // The error a pixel budget allows at distance d is delta s(d) = delta d s(1): equal budgets at
+  // d_c and d_i when d_c = d_i (delta_i s_i(1)) / (delta_c s_c(1)).
+  const double si = 2 * std::tan(0.5 * impostor_fov_y_rad) / double(impostor_height_px);
+  const double sc = 2 * std::tan(0.5 * chain_fov_y_deg * std::numbers::pi / 180) / double(chain_height_px);
+  const double k = (impostor_pixel_error_px * si) / (chain_pixel_error_px * sc);
+  return std::abs(k - 1) <= 1e-9 ? recorded_m : recorded_m * k;
+}
+
 }  // namespace sylva::forest

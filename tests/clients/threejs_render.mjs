@@ -29,41 +29,25 @@
 // pi * (sylva's value) (docs/clients.md, "The second renderer").
 //
 // Chromium: /usr/bin/chromium (or $SYLVA_CHROMIUM), started headless with a fresh profile and
-// everything that could reach the network off; WebGL runs on SwiftShader (no GPU).
+// everything that could reach the network off; WebGL runs on SwiftShader (no GPU): the browser
+// and the page's file serving are tests/clients/headless_chromium.mjs, shared with
+// tests/forest/cesium_tileset.mjs.
 // Exit codes: 0 done; 1 a render or check failed (message on stderr); 2 usage; 3 a tool is
 // missing (playwright-core, three, or chromium) -- the C++ test turns 3 into a skip unless
 // SYLVA_REQUIRE_CLIENTS=1.
-import { createRequire } from 'node:module';
-import { readFile, writeFile, mkdtemp, rm } from 'node:fs/promises';
-import { existsSync } from 'node:fs';
-import os from 'node:os';
+import { readFile, writeFile } from 'node:fs/promises';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 
-const scriptDir = path.dirname(fileURLToPath(import.meta.url));
-const repo = path.resolve(scriptDir, '..', '..');
-const npmDir = process.env.SYLVA_NPM_DIR ?? path.join(repo, 'out', 'npm');
-const modules = path.join(npmDir, 'node_modules');
-const chromiumPath = process.env.SYLVA_CHROMIUM ?? '/usr/bin/chromium';
-const ORIGIN = 'http://sylva.invalid';
-
-function missing(what) {
-  process.stderr.write(`threejs_render: ${what} (run tools/setup.sh)\n`);
-  process.exit(3);
-}
+import { ORIGIN, openPage, requireTools } from './headless_chromium.mjs';
 
 const args = process.argv.slice(2);
 if (args.length !== 2) {
   process.stderr.write('usage: node tests/clients/threejs_render.mjs JOBS.json RESULT.json\n');
   process.exit(2);
 }
-for (const m of ['playwright-core', 'three', 'three-gltf-extensions'])
-  if (!existsSync(path.join(modules, m))) missing(`the npm package ${m} is not installed in ${modules}`);
-if (!existsSync(chromiumPath)) missing(`chromium is not installed (${chromiumPath}; Debian package chromium)`);
+requireTools('threejs_render', ['three', 'three-gltf-extensions']);
 
 const jobs = JSON.parse(await readFile(args[0], 'utf8'));
-const require = createRequire(import.meta.url);
-const { chromium } = require(path.join(modules, 'playwright-core'));
 
 const PAGE = `<!doctype html><html><head><meta charset="utf-8">
 <script type="importmap">{ "imports": {
@@ -176,44 +160,14 @@ window.setupRenderer = setup;
 window.ready = true;
 </script></body></html>`;
 
-const roots = [modules];
+const roots = [];
 for (const j of [...(jobs.renders ?? []), ...(jobs.lod_checks ?? []), ...(jobs.load_checks ?? [])]) roots.push(path.dirname(path.resolve(j.file)));
 
-function contentType(p) {
-  if (p.endsWith('.js') || p.endsWith('.mjs')) return 'text/javascript';
-  if (p.endsWith('.wasm')) return 'application/wasm';
-  if (p.endsWith('.png')) return 'image/png';
-  if (p.endsWith('.json') || p.endsWith('.gltf')) return 'application/json';
-  return 'application/octet-stream';
-}
-
-const profile = await mkdtemp(path.join(os.tmpdir(), 'sylva-chromium-'));
-let browser = null;
+let session = null;
 let failed = false;
 try {
-  // A persistent context is Playwright's way to pass a fresh --user-data-dir (the profile).
-  browser = await chromium.launchPersistentContext(profile, {
-    executablePath: chromiumPath,
-    headless: true,
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
-  });
-  const page = browser.pages()[0] ?? await browser.newPage();
-  const errors = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-  await page.route('**/*', async (route) => {
-    const url = new URL(route.request().url());
-    if (url.origin !== ORIGIN) return route.abort();
-    if (url.pathname === '/') return route.fulfill({ body: PAGE, contentType: 'text/html' });
-    let file = null;
-    if (url.pathname.startsWith('/npm/')) file = path.join(modules, decodeURIComponent(url.pathname.slice(5)));
-    else if (url.pathname.startsWith('/fs/')) file = path.resolve('/' + decodeURIComponent(url.pathname.slice(4)));
-    if (!file || !roots.some((r) => file.startsWith(r + path.sep)) || !existsSync(file))
-      return route.fulfill({ status: 404, body: 'not found' });
-    return route.fulfill({ body: await readFile(file), contentType: contentType(file) });
-  });
+  session = await openPage({ html: PAGE, roots });
+  const { page, errors } = session;
   await page.goto(ORIGIN + '/');
   await page.waitForFunction(() => window.ready === true, null, { timeout: 60000 });
   const o = { width: jobs.width, height: jobs.height, antialias: jobs.antialias ?? true, lighting: jobs.lighting };
@@ -256,7 +210,6 @@ try {
   process.stderr.write(`threejs_render: ${String(e).split('\n')[0]}\n`);
   failed = true;
 } finally {
-  if (browser) await browser.close();
-  await rm(profile, { recursive: true, force: true });
+  if (session) await session.close();
 }
 process.exit(failed ? 1 : 0);

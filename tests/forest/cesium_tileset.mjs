@@ -28,34 +28,20 @@
 // (playwright-core, cesium or chromium) -- the ctest skips (77) on 3 unless SYLVA_REQUIRE_CLIENTS=1.
 //
 // Everything is served through Playwright request interception on a made-up origin: no server,
-// no network (no Cesium ion: no imagery layer, ellipsoid terrain).
-import { createRequire } from 'node:module';
-import { readFile, writeFile, mkdtemp, rm } from 'node:fs/promises';
+// no network (no Cesium ion: no imagery layer, ellipsoid terrain). The browser and the serving
+// are tests/clients/headless_chromium.mjs, shared with tests/clients/threejs_render.mjs.
+import { readFile, writeFile } from 'node:fs/promises';
 import { existsSync } from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
 
-const scriptDir = path.dirname(fileURLToPath(import.meta.url));
-const repo = path.resolve(scriptDir, '..', '..');
-const npmDir = process.env.SYLVA_NPM_DIR ?? path.join(repo, 'out', 'npm');
-const modules = path.join(npmDir, 'node_modules');
-const chromiumPath = process.env.SYLVA_CHROMIUM ?? '/usr/bin/chromium';
-const ORIGIN = 'http://sylva.invalid';
-
-function missing(what) {
-  process.stderr.write(`cesium_tileset: ${what} (run tools/setup.sh)\n`);
-  process.exit(3);
-}
+import { ORIGIN, openPage, requireTools } from '../clients/headless_chromium.mjs';
 
 const args = process.argv.slice(2);
 if (args.length < 2 || args.length > 3) {
   process.stderr.write('usage: node tests/forest/cesium_tileset.mjs FOREST_DIR RESULT.json [PNG_PREFIX]\n');
   process.exit(2);
 }
-for (const m of ['playwright-core', 'cesium'])
-  if (!existsSync(path.join(modules, m))) missing(`the npm package ${m} is not installed in ${modules}`);
-if (!existsSync(chromiumPath)) missing(`chromium is not installed (${chromiumPath}; Debian package chromium)`);
+requireTools('cesium_tileset', ['cesium']);
 
 const forestDir = path.resolve(args[0]);
 const pngPrefix = args[2] ?? null;
@@ -184,49 +170,22 @@ window.runJob = async (job) => {
 window.ready = true;
 </script></body></html>`;
 
-function contentType(p) {
-  if (p.endsWith('.js') || p.endsWith('.mjs')) return 'text/javascript';
-  if (p.endsWith('.wasm')) return 'application/wasm';
-  if (p.endsWith('.png')) return 'image/png';
-  if (p.endsWith('.jpg')) return 'image/jpeg';
-  if (p.endsWith('.css')) return 'text/css';
-  if (p.endsWith('.json') || p.endsWith('.gltf')) return 'application/json';
-  return 'application/octet-stream';
-}
-
-const roots = [modules, forestDir];
-const profile = await mkdtemp(path.join(os.tmpdir(), 'sylva-chromium-'));
-let browser = null;
+let session = null;
 let failed = false;
 const fail = (m) => { process.stderr.write(`cesium_tileset: ${m}\n`); failed = true; };
 try {
-  browser = await (createRequire(import.meta.url)(path.join(modules, 'playwright-core'))).chromium.launchPersistentContext(profile, {
-    executablePath: chromiumPath,
-    headless: true,
-    viewport: { width: job.width, height: job.height },
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync',
-           '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
-  });
-  const page = browser.pages()[0] ?? await browser.newPage();
-  const errors = [];
   const requested = [];
-  page.on('pageerror', (e) => errors.push(String(e)));
-  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
-  await page.route('**/*', async (route) => {
-    const url = new URL(route.request().url());
-    if (url.origin !== ORIGIN) return route.abort();
-    if (url.pathname === '/') return route.fulfill({ body: PAGE, contentType: 'text/html' });
-    let file = null;
-    if (url.pathname.startsWith('/npm/')) file = path.join(modules, decodeURIComponent(url.pathname.slice(5)));
-    else if (url.pathname.startsWith('/fs/')) file = path.resolve('/' + decodeURIComponent(url.pathname.slice(4)));
-    if (file && file.startsWith(forestDir + path.sep)) requested.push(path.basename(file));
-    if (!file || !roots.some((r) => file.startsWith(r + path.sep)) || !existsSync(file)) {
-      if (file && file.startsWith(forestDir + path.sep)) errors.push(`requested a file the forest does not have: ${file}`);
-      return route.fulfill({ status: 404, body: 'not found' });
-    }
-    return route.fulfill({ body: await readFile(file), contentType: contentType(file) });
+  session = await openPage({
+    html: PAGE,
+    roots: [forestDir],
+    viewport: { width: job.width, height: job.height },
+    onFile: (file, served, errors) => {
+      if (!file.startsWith(forestDir + path.sep)) return;
+      requested.push(path.basename(file));
+      if (!served) errors.push(`requested a file the forest does not have: ${file}`);
+    },
   });
+  const { page, errors } = session;
   page.setDefaultTimeout(600000);
   await page.goto(ORIGIN + '/');
   await page.waitForFunction(() => window.ready === true && typeof Cesium !== 'undefined', null, { timeout: 120000 });
@@ -261,7 +220,6 @@ try {
 } catch (e) {
   fail(String(e).split('\n')[0]);
 } finally {
-  if (browser) await browser.close();
-  await rm(profile, { recursive: true, force: true });
+  if (session) await session.close();
 }
 process.exit(failed ? 1 : 0);

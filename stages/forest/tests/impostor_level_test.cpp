@@ -56,6 +56,18 @@ TEST(ImpostorLevel, SwitchDistanceIsEpsilonOverDeltaTimesPixelSize) {
   EXPECT_NEAR(switch_distance_m(0.1, 1.0, 45, 540), 0.1 / (1.0 * 2 * s1), 1e-9);
 }
 
+TEST(ImpostorLevel, RecordedSwitchDistanceInTheChainsTerms) {
+  const double fov = 45 * M_PI / 180;
+  // The same camera and delta: the recorded distance itself, to the bit.
+  EXPECT_EQ(impostor_switch_distance_m(630, 0.5, fov, 1080, 0.5, 45, 1080), 630.0);
+  // Twice the impostor's delta, or half its rows (twice its pixel size): the same error twice as far.
+  EXPECT_NEAR(impostor_switch_distance_m(630, 1.0, fov, 1080, 0.5, 45, 1080), 1260, 1e-9);
+  EXPECT_NEAR(impostor_switch_distance_m(630, 0.5, fov, 540, 0.5, 45, 1080), 1260, 1e-9);
+  // A wider chain camera (larger pixels): nearer.
+  const double k = std::tan(22.5 * M_PI / 180) / std::tan(30 * M_PI / 180);
+  EXPECT_NEAR(impostor_switch_distance_m(630, 0.5, fov, 1080, 0.5, 60, 1080), 630 * k, 1e-9);
+}
+
 TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {
   Species with;
   for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false, ""});

@@ -304,9 +304,11 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
 }
 
 // An impostor artifact as the impostor stage writes one: impostor.glb (one card, embedded image)
-// and impostor.json with epsilon 0.005 + 0.02 + 0.01 = 0.035 m; `hemi`: a hemi-octahedral one
-// (2 x 2 frames of 64 px) with its two maps.
-InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& node, bool hemi = false) {
+// and impostor.json with epsilon 0.005 + 0.02 + 0.01 = 0.035 m and a recorded switch distance of
+// 100 m for delta = `pixel_error_px` and the chain's camera (45 deg, 1080 rows); `hemi`: a
+// hemi-octahedral one (2 x 2 frames of 64 px) with its two maps.
+InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& node, bool hemi = false,
+                            double pixel_error_px = 0.5) {
   fs::create_directories(dir);
   sylva::test::write_file(dir / "impostor.glb", forest::testing::card_glb(h, true, true));
   impostor::ImpostorInfo i;
@@ -324,7 +326,7 @@ InputArtifact fake_impostor(const fs::path& dir, double h, const std::string& no
   i.frame_half_extent = h * 64 / 48.0;
   i.color_map = "impostor_color.png";
   i.normal_depth_map = "impostor_normal.png";
-  i.pixel_error_px = 0.5;
+  i.pixel_error_px = pixel_error_px;
   i.error = {0.005, 0.02, 0.01};
   i.switch_distance_m = 100;
   i.source_type = "lod";
@@ -411,10 +413,17 @@ TEST_F(ForestOutput, ImpostorIsEachSpeciesLastLevel) {
     EXPECT_TRUE(l.impostor);
     EXPECT_EQ(l.file, sp.name + "_impostor.gltf");
     EXPECT_NEAR(l.epsilon_m, 0.035, 1e-12);
-    // d = epsilon / (delta s(1)), s(1) = 2 tan(22.5 deg) / 1080.
-    EXPECT_NEAR(l.switch_distance_m, 0.035 / (0.5 * 2 * std::tan(M_PI / 8) / 1080), 1e-6);
+    // The distance impostor.json records (a proven one: 100 m), not the error model's
+    // d = epsilon / (delta s(1)) = 91.3 m; the impostor's camera and delta are the chain's.
+    EXPECT_EQ(l.switch_distance_m, 100.0);
     EXPECT_EQ(l.primitives, 2u);
     EXPECT_TRUE(fs::exists(out / (sp.name + "_impostor.bin")));
+  }
+  // Forest views take it from there: the impostor from 100 m on, not from the model's 91.3 m.
+  {
+    const render::ForestView view = render::ForestView::load(out / "instances.json");
+    EXPECT_EQ(view.level_for(0, 99.9, {}), 0u);  // level 1 is valid from 520 m
+    EXPECT_EQ(view.level_for(0, 100.0, {}), 2u);
   }
   // The top tile level instances the impostors; the tileset's chain errors never grow toward the
   // leaves (the impostor's 0.035 is raised to the coarsest lod level's 0.2).
@@ -449,6 +458,31 @@ TEST_F(ForestOutput, ImpostorIsEachSpeciesLastLevel) {
     EXPECT_EQ(std::string(e.what()),
               "the node needs 2 lod inputs and 1 impostor inputs: give every species an impostor (the i-th "
               "impostor input is the i-th lod input's species) or none");
+  }
+}
+
+// An impostor recorded for another delta than its chain's: its distance moves to where the chain's
+// delta allows the same error (100 m at 1 px = 200 m at the chain's 0.5 px); a recorded 0 is an
+// error, not a level valid from the eye on.
+TEST_F(ForestOutput, ImpostorSwitchDistanceInTheChainsTerms) {
+  inputs_.push_back(fake_impostor(dir_ / "imp_a", 8, "imp_a", false, 1.0));
+  inputs_.push_back(fake_impostor(dir_ / "imp_b", 5, "imp_b"));
+  const Value::Object params = {
+      {"size_m", Value(Value::List{60.0, 60.0})},
+      {"tile_size_m", Value(30.0)},
+      {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})}};
+  const forest::Forest f = run(dir_ / "delta", params);
+  EXPECT_NEAR(f.species[0].levels.back().switch_distance_m, 200.0, 1e-9);
+  EXPECT_EQ(f.species[1].levels.back().switch_distance_m, 100.0);
+  impostor::ImpostorInfo zero = impostor::read_impostor_json((dir_ / "imp_b/impostor.json").string());
+  zero.switch_distance_m = 0;
+  sylva::test::write_file(dir_ / "imp_b/impostor.json", impostor::write_impostor_json(zero));
+  try {
+    run(dir_ / "zero", params);
+    ADD_FAILURE() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_STREQ(e.what(),
+                 "input 'imp_b' (impostor): impostor.json records no switch distance (switch_distance_m 0)");
   }
 }
 
