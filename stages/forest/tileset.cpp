@@ -11,6 +11,17 @@ namespace sylva::forest {
 
 namespace {
 
+// The geometricError of a tile drawing level `l` of species `s`: its epsilon, except for the
+// impostor, whose recorded switch distance d may be a proven one nearer than its error model's
+// (impostor.json "switch_distance_m"): the error that distance stands for, d delta s(1) with
+// s(1) = 2 tan(phi/2) / H, so a client with maximumScreenSpaceError = delta switches to the
+// impostor exactly where sylva's views do. For a mesh level d = epsilon / (delta s(1)): the same.
+double tile_error(const Species& s, const Level& l) {
+  if (!l.impostor || !(l.switch_distance_m > 0)) return l.epsilon_m;
+  const double s1 = 2 * std::tan(s.fov_y_deg * std::numbers::pi / 360) / s.height_px;
+  return l.switch_distance_m * s.pixel_error_px * s1;
+}
+
 using nlohmann::json;
 
 // 3D Tiles box: centre and three half-axis vectors, in the tileset's Z-up frame.
@@ -66,7 +77,7 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
     double e = 0;
     for (std::uint32_t i : t.instances) {
       const Species& s = forest.species[forest.instances[i].species];
-      e = std::max(e, s.levels[species_level(s, level, level_count)].epsilon_m);
+      e = std::max(e, tile_error(s, s.levels[species_level(s, level, level_count)]));
     }
     return e;
   };

@@ -13,7 +13,9 @@
 // -> (level 0), each with the tile's trees at that level (species_level) as its content. refine
 // is REPLACE throughout: a finer level of the same trees replaces the coarser one (ADD would draw
 // both), and the content-less inner nodes have nothing to keep. geometricError: level L's tile =
-// the largest epsilon of the tile's species at that level, raised to at least the error of level
+// the largest error of the tile's species at that level (a mesh level's epsilon; an impostor's
+// the error its recorded switch distance stands for, d delta s(1), so clients switch where
+// sylva's views do), raised to at least the error of level
 // L - 1 below it (a chain's errors never grow toward its leaves, so a client never refines into
 // a larger error: an impostor whose epsilon is below the coarsest lod level's is shown only from
 // where that level would be); an inner node = the error of drawing none of its trees, the
