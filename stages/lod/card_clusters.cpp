@@ -83,7 +83,8 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
     throw std::invalid_argument("card clusters: " + std::to_string(opacity.size()) + " opacities for " +
                                 std::to_string(cards.size()) + " cards");
   for (double a : opacity)
-    if (!(a >= 0 && a <= 1)) throw std::invalid_argument("card clusters: a card's opacity must lie in [0, 1]");
+    if (!(a >= 0 && a <= 1))
+      throw std::invalid_argument("card clusters: a card's opacity must lie in [0, 1]");
   CardForest cf;
   cf.cards = std::move(cards);
   cf.opacity = std::move(opacity);
@@ -109,7 +110,7 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
                     // telescopes) and no orientation is favoured (crossed cards' layers
                     // alike). Clusters that draw nothing fall back to the quad areas.
                     const double u = unit_hash(seed, a.survivor, b.survivor);
-                    z.survivor = z.drawn > 0   ? (u * z.drawn < a.drawn ? a.survivor : b.survivor)
+                    z.survivor = z.drawn > 0  ? (u * z.drawn < a.drawn ? a.survivor : b.survivor)
                                  : z.area > 0 ? (u * z.area < a.area ? a.survivor : b.survivor)
                                               : a.survivor;
                     return std::pair<CardCluster, double>(z, std::max(z.spread, size_weight * z.size));
@@ -117,7 +118,8 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
   return cf;
 }
 
-double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members) {
+double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members,
+                     std::span<const double> opacity) {
   if (members.size() < 2) return 1.0;
   constexpr int kGrid = 16;
   const double r3 = 1 / std::sqrt(3.0);
@@ -146,9 +148,14 @@ double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint3
     }
     if (!(x1 > x0) || !(y1 > y0)) continue;
     const double dx = (x1 - x0) / kGrid, dy = (y1 - y0) / kGrid;
-    std::array<char, kGrid * kGrid> covered{};
-    std::size_t hits = 0, cells = 0;
-    for (const Quad2& q : quads) {
+    // Per cell the transmittance prod (1 - alpha_i) of the cards over it: the cell draws
+    // 1 - prod, the cards' sum draws sum alpha_i (with every alpha 1: the union and the sum).
+    std::array<double, kGrid * kGrid> clear;
+    clear.fill(1.0);
+    double hits = 0;
+    for (std::size_t m = 0; m < quads.size(); ++m) {
+      const Quad2& q = quads[m];
+      const double alpha = opacity.empty() ? 1.0 : opacity[members[m]];
       double qx0 = q.p[0], qx1 = q.p[0], qy0 = q.p[1], qy1 = q.p[1];
       for (int i = 1; i < 4; ++i) {
         qx0 = std::min(qx0, q.p[2 * i]);
@@ -164,14 +171,14 @@ double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint3
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
           if (!inside(q, x0 + (i + 0.5) * dx, y0 + (j + 0.5) * dy)) continue;
-          ++hits;
-          char& c = covered[static_cast<std::size_t>(j * kGrid + i)];
-          cells += c == 0;
-          c = 1;
+          hits += alpha;
+          clear[static_cast<std::size_t>(j * kGrid + i)] *= 1 - alpha;
         }
     }
-    union_area += static_cast<double>(cells) * dx * dy;
-    sum_area += static_cast<double>(hits) * dx * dy;
+    double drawn = 0;
+    for (double c : clear) drawn += 1 - c;
+    union_area += drawn * dx * dy;
+    sum_area += hits * dx * dy;
   }
   if (!(sum_area > 0)) return 1.0;
   return std::clamp(union_area / sum_area, 0.0, 1.0);
@@ -198,7 +205,8 @@ LeafQuad cluster_card(const CardForest& cf, std::uint32_t id, double* scale) {
   // The survivor draws alpha_s A_z = rho sum W_i (card_clusters.h); with nothing drawn (every
   // alpha 0) the quad areas stand in, as they do for the survivor's draw.
   const double alpha = cf.opacity[c.survivor];
-  const double target = overlap_ratio(cf.cards, members) * (c.drawn > 0 && alpha > 0 ? c.drawn / alpha : c.area);
+  const double target =
+      overlap_ratio(cf.cards, members, cf.opacity) * (c.drawn > 0 && alpha > 0 ? c.drawn / alpha : c.area);
   LeafQuad q = s;
   const double k = s.area > 0 ? std::sqrt(target / s.area) : 1.0;
   if (scale) *scale = k;

@@ -36,11 +36,13 @@
 //       A_z = rho_z (sum_i W_i) / alpha_s,
 //     so that it draws the sum of its cards' drawn areas (Cook's area preservation, in drawn
 //     area) times the cluster's overlap ratio rho_z = sum_v U_v / sum_v S_v over 7 directions v
-//     (the 3 axes and the 4 body diagonals), U_v the area of the union of the cards projected
-//     along v and S_v the sum of their projected areas, both counted on the same 16 x 16 raster
-//     of the cluster's projected box. rho = 1 for cards that do not overlap; overlapping cards (a
-//     conifer shoot cluster) keep their union, not the sum of their areas, which over-covers.
-//     With every alpha equal this is the area-preserving cluster (A_z = rho sum A_i).
+//     (the 3 axes and the 4 body diagonals), U_v what the cards projected along v draw together
+//     and S_v the sum of what each draws, both counted on the same 16 x 16 raster of the
+//     cluster's projected box: a cell under cards i draws 1 - prod_i (1 - alpha_i) of itself
+//     in U_v (their alpha masks taken as independent) and sum_i alpha_i in S_v. rho = 1 for
+//     cards that do not overlap; overlapping cards (a conifer shoot cluster) keep what they draw
+//     together, not the sum, which over-covers. With every alpha 1 this is the area-preserving
+//     cluster of opaque cards (A_z = rho sum A_i, U_v the union of the projected cards).
 //   * The survivor's linear scale sqrt(A_z / A_s) may be capped (`card_max_scale`): a cut cluster
 //     whose survivor would grow more is replaced by its two children, recursively (cluster_cut),
 //     so no single card stands for a patch of crown far larger than itself.
@@ -84,8 +86,12 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
                              std::uint64_t seed = 0, double size_weight = 1.0);
 
 // rho (file comment) of the cards `members` (ids into cards), in (0, 1]; 1 for one card or
-// cards with no projected area.
-double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members);
+// cards with no projected area. With `opacity` (alpha per card of `cards`, empty = 1) each
+// raster cell counts what its cards' masks draw together, 1 - prod (1 - alpha_i) (independent
+// masks), against sum alpha_i: two coincident opaque cards have rho = 1/2, two of alpha 1/2
+// have rho = 3/4.
+double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members,
+                     std::span<const double> opacity = {});
 
 // The card drawn for element `id` of the forest: the original for a single card, else the
 // survivor moved to the centroid and scaled to rho * drawn / alpha_s (file comment). `scale`,

@@ -110,7 +110,8 @@ std::vector<double> measure_cell_opacity(std::span<const std::uint8_t> rgba, int
                                          const tree::Materials& m, double cutoff) {
   if (width <= 0 || height <= 0 ||
       rgba.size() != 4 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
-    throw std::invalid_argument("card opacity: the atlas image is empty or its size disagrees with its texels");
+    throw std::invalid_argument(
+        "card opacity: the atlas image is empty or its size disagrees with its texels");
   const std::size_t cells = m.atlas_cells();
   std::vector<double> out(cells, 0.0);
   const double threshold = std::clamp(cutoff, 0.0, 1.0) * 255.0;
@@ -125,7 +126,8 @@ std::vector<double> measure_cell_opacity(std::span<const std::uint8_t> rgba, int
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         ++all;
-        drawn += rgba[4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)) +
+        drawn += rgba[4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                           static_cast<std::size_t>(x)) +
                       3] >= threshold;
       }
     out[v] = all ? static_cast<double>(drawn) / static_cast<double>(all) : 0.0;
@@ -145,7 +147,8 @@ double card_opacity(const LeafQuad& q, const tree::Materials& m, std::span<const
   return tree::cell_coverage(m, variant);
 }
 
-std::vector<double> drawn_coverage(std::span<const LeafQuad> cards, std::span<const double> alpha, double pixel_m) {
+std::vector<double> drawn_coverage(std::span<const LeafQuad> cards, std::span<const double> alpha,
+                                   double pixel_m) {
   check_sizes(cards, alpha, pixel_m);
   std::vector<double> out;
   for (int d = 0; d < kDirections; ++d) {
@@ -157,8 +160,8 @@ std::vector<double> drawn_coverage(std::span<const LeafQuad> cards, std::span<co
   return out;
 }
 
-double coverage_drift(std::span<const LeafQuad> a, std::span<const double> alpha_a, std::span<const LeafQuad> b,
-                      std::span<const double> alpha_b, double pixel_m) {
+double coverage_drift(std::span<const LeafQuad> a, std::span<const double> alpha_a,
+                      std::span<const LeafQuad> b, std::span<const double> alpha_b, double pixel_m) {
   check_sizes(a, alpha_a, pixel_m);
   check_sizes(b, alpha_b, pixel_m);
   double drift = 0;
@@ -169,10 +172,8 @@ double coverage_drift(std::span<const LeafQuad> a, std::span<const double> alpha
     add_box(box, ax, b);
     const double ca = coverage_on(box, pixel_m, ax, a, alpha_a);
     const double cb = coverage_on(box, pixel_m, ax, b, alpha_b);
-    if (cb > 0)
-      drift = std::max(drift, std::abs(ca - cb) / cb);
-    else if (ca > 0)
-      drift = 1;
+    const double rel = cb > 0 ? (ca - cb) / cb : ca > 0 ? 1.0 : 0.0;
+    if (std::abs(rel) > std::abs(drift)) drift = rel;
   }
   return drift;
 }

@@ -14,8 +14,9 @@
 //     projected area) into its pixel's density D; a pixel draws 1 - exp(-D / s^2) of itself
 //     (independent overlap of sub-pixel cards) and the view draws the sum of that times s^2.
 //     Four directions: azimuths 0, 45, 90 and 135 degrees (the opposite ones draw the same).
-//   * The drift of cut A against cut B: max over the four directions of
-//     |coverage_A - coverage_B| / coverage_B (0 when B draws nothing and A neither, else 1).
+//   * The drift of cut A against cut B: of the four directions' relative differences
+//     (coverage_A - coverage_B) / coverage_B (0 when B draws nothing and A neither, else 1), the
+//     one of largest magnitude, with its sign (negative: A draws less).
 #pragma once
 
 #include <cstdint>
@@ -36,15 +37,17 @@ std::vector<double> measure_cell_opacity(std::span<const std::uint8_t> rgba, int
 // The alpha of the cell a quad shows (the cell holding the mean of its uvs: an original card, an
 // FSA-collapsed leaf and a cluster survivor each show one whole cell): `per_variant[v]` when
 // given (one value per cell), else tree::cell_coverage.
-double card_opacity(const LeafQuad& quad, const tree::Materials& materials, std::span<const double> per_variant);
+double card_opacity(const LeafQuad& quad, const tree::Materials& materials,
+                    std::span<const double> per_variant);
 
 // The drift of cards `a` (opacities `alpha_a`, one per card) against cards `b` at pixel size
 // `pixel_m` (> 0; the raster is coarsened to at most 1024 pixels a side). File comment.
-double coverage_drift(std::span<const LeafQuad> a, std::span<const double> alpha_a, std::span<const LeafQuad> b,
-                      std::span<const double> alpha_b, double pixel_m);
+double coverage_drift(std::span<const LeafQuad> a, std::span<const double> alpha_a,
+                      std::span<const LeafQuad> b, std::span<const double> alpha_b, double pixel_m);
 
 // The drawn coverage (m^2) of cards `cards` from each of the four directions, on the raster of
 // pixel size `pixel_m` over their own box (the quantity coverage_drift compares).
-std::vector<double> drawn_coverage(std::span<const LeafQuad> cards, std::span<const double> alpha, double pixel_m);
+std::vector<double> drawn_coverage(std::span<const LeafQuad> cards, std::span<const double> alpha,
+                                   double pixel_m);
 
 }  // namespace sylva::lod

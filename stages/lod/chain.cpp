@@ -93,7 +93,8 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
         opacity.reserve(tree.leaves.size());
         for (const tree::Leaf& l : tree.leaves) {
           cards.push_back(leaf_quad(l, tree.materials));
-          opacity.push_back(std::clamp(card_opacity(cards.back(), tree.materials, options.card_opacity), 0.0, 1.0));
+          opacity.push_back(
+              std::clamp(card_opacity(cards.back(), tree.materials, options.card_opacity), 0.0, 1.0));
         }
         pre.card_forest = build_card_forest(std::move(cards), std::move(opacity), options.card_seed,
                                             options.card_cluster_px / options.card_size_px);
@@ -155,7 +156,8 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
       // fraction, seen at that pixel size (card_coverage.h); else the level keeps FSA's cut.
       const std::vector<std::uint32_t> active = pre.leaf_forest.forest.cut_by_error(spec.e5);
       ClusterCut clustered;
-      if (options.card_cluster_px > 0 && spec.epsilon > 0 && spec.delta > 0 && !pre.card_forest.cards.empty()) {
+      if (options.card_cluster_px > 0 && spec.epsilon > 0 && spec.delta > 0 &&
+          !pre.card_forest.cards.empty()) {
         const double pixel = spec.epsilon / spec.delta;
         // The cut's size bounds the cards it can draw (a split only adds cards): skip the
         // survivors' construction where it cannot win.
@@ -164,17 +166,22 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
           level.cards.cut = clustered.cards.size();
           level.cards.split = clustered.split;
         }
-        if (!clustered.cards.empty() && clustered.cards.size() < active.size() && options.card_coverage_check > 0) {
+        // The drift is measured wherever the clusters would win (reported in lod.json), and
+        // judged only with the check on.
+        if (!clustered.cards.empty() && clustered.cards.size() < active.size()) {
           std::vector<LeafQuad> fsa;
           std::vector<double> fsa_alpha;
           fsa.reserve(active.size());
           fsa_alpha.reserve(active.size());
           for (std::uint32_t id : active) {
             fsa.push_back(pre.leaf_forest.quads[id]);
-            fsa_alpha.push_back(std::clamp(card_opacity(fsa.back(), tree.materials, options.card_opacity), 0.0, 1.0));
+            fsa_alpha.push_back(
+                std::clamp(card_opacity(fsa.back(), tree.materials, options.card_opacity), 0.0, 1.0));
           }
+          level.cards.measured = true;
           level.cards.drift = coverage_drift(clustered.cards, clustered.opacity, fsa, fsa_alpha, pixel);
-          level.cards.rejected = level.cards.drift > options.card_coverage_check;
+          level.cards.rejected =
+              options.card_coverage_check > 0 && std::abs(level.cards.drift) > options.card_coverage_check;
         }
       }
       if (!clustered.cards.empty() && clustered.cards.size() < active.size() && !level.cards.rejected) {

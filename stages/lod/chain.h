@@ -91,11 +91,12 @@ struct LevelCounts {
 
 // How a level's cards were chosen (card clusters, chain.cpp).
 struct CardChoice {
-  bool clustered = false;    // the level draws the card clusters' cut (else FSA's)
-  std::size_t cut = 0;       // cards of the clusters' cut (0 when not evaluated)
-  std::size_t split = 0;     // clusters split for card_max_scale
-  double drift = -1;         // coverage_drift against FSA's cut; -1 = not measured
-  bool rejected = false;     // fewer cards than FSA's, but the drift exceeded card_coverage_check
+  bool clustered = false;  // the level draws the card clusters' cut (else FSA's)
+  std::size_t cut = 0;     // cards of the clusters' cut (0 when not evaluated)
+  std::size_t split = 0;   // clusters split for card_max_scale
+  bool measured = false;   // drift measured: where the clusters' cut has fewer cards than FSA's
+  double drift = 0;        // coverage_drift against FSA's cut (signed; card_coverage.h)
+  bool rejected = false;   // fewer cards than FSA's, but |drift| exceeded card_coverage_check
 };
 
 struct Level {

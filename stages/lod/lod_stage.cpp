@@ -57,9 +57,11 @@ class LodStage : public Stage {
     if (o.card_cluster_px > 0 && !tex.leaf_png.empty()) {
       try {
         const image::Image atlas = image::decode_png(tex.leaf_png, tree.materials.leaf_texture);
-        o.card_opacity = lod::measure_cell_opacity(atlas.bytes(), atlas.width(), atlas.height(), tree.materials);
+        o.card_opacity =
+            lod::measure_cell_opacity(atlas.bytes(), atlas.width(), atlas.height(), tree.materials);
       } catch (const std::exception& e) {
-        throw StageError("input '" + in.node + "': leaf atlas " + tree.materials.leaf_texture + ": " + e.what());
+        throw StageError("input '" + in.node + "': leaf atlas " + tree.materials.leaf_texture + ": " +
+                         e.what());
       }
     }
     // 3. The chain (pure core).

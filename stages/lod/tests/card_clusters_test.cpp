@@ -39,6 +39,9 @@ TEST(CardClusters, OverlapRatioKeepsTheUnionNotTheSum) {
   const std::vector<LeafQuad> same = {a, a};
   const std::vector<std::uint32_t> both = {0, 1};
   EXPECT_NEAR(overlap_ratio(same, both), 0.5, 1e-12);
+  // Half-transparent masks over each other draw 1 - (1/2)^2 = 3/4 of the cell, against 1/2 + 1/2.
+  const std::vector<double> halves = {0.5, 0.5};
+  EXPECT_NEAR(overlap_ratio(same, both, halves), 0.75, 1e-12);
   const CardForest f = build_card_forest(same);
   ASSERT_EQ(f.forest.size(), 3u);
   const LeafQuad z = cluster_card(f, 2);
@@ -75,7 +78,8 @@ TEST(CardClusters, SurvivorPreservesDrawnCoverageNotArea) {
     const CardForest f = build_card_forest(cards, alpha, static_cast<std::uint64_t>(seed) * 7919 + 1);
     ASSERT_EQ(f.forest.size(), 3u);
     EXPECT_NEAR(f.clusters[2].drawn, 1.25 * a.area, 1e-12);
-    EXPECT_NEAR(length(f.clusters[2].centroid - Vec3{0.2, 1.2, 0}), 0.0, 1e-9);  // (1 * 0 + 0.25 * 1) / 1.25
+    EXPECT_NEAR(length(f.clusters[2].centroid - Vec3{0.2, 1.2, 0}), 0.0,
+                1e-6);  // (1 * 0 + 0.25 * 1) / 1.25, float positions
     double k = 0;
     const LeafQuad z = cluster_card(f, 2, &k);
     const double alpha_s = alpha[f.clusters[2].survivor];
@@ -205,7 +209,8 @@ const AtlasTree& atlas_tree(const std::string& species) {
   const generate::SpeciesPreset preset = generate::load_species_preset(
       std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"));
   Rng leaf_rng(1, "leaves");
-  const generate::CardAtlas atlas = generate::make_card_atlas(preset.card, preset.leaf, preset.bark, 256, leaf_rng);
+  const generate::CardAtlas atlas =
+      generate::make_card_atlas(preset.card, preset.leaf, preset.bark, 256, leaf_rng);
   generate::GenerateOptions o;
   o.max_node_spacing = 0.5;
   o.foliage = generate::FoliageMode::kCards;
@@ -213,7 +218,8 @@ const AtlasTree& atlas_tree(const std::string& species) {
   Rng rng(1, "tree");
   AtlasTree out;
   out.tree = generate::generate_tree(preset.age("adult").params, o, rng);
-  out.opacity = measure_cell_opacity(atlas.image.pixels, atlas.image.width, atlas.image.height, out.tree.materials);
+  out.opacity =
+      measure_cell_opacity(atlas.image.pixels, atlas.image.width, atlas.image.height, out.tree.materials);
   return cache.emplace(species, std::move(out)).first->second;
 }
 
@@ -259,15 +265,56 @@ TEST(CardClusters, ScotsPineCoarseLevelsWithOpacityWeightsAndCoverageCheck) {
       fsa_alpha.push_back(card_opacity(fsa_cards.back(), t.materials, at.opacity));
     }
     area_drift.push_back(coverage_drift(cut.cards, cut_alpha, fsa_cards, fsa_alpha, pixel));
-    std::printf("level %zu: %zu (FSA %zu, unchecked %zu) clustered %d cut %zu split %zu drift %.4f rejected %d; "
-                "area-weighted cut %zu drift %.4f\n",
-                i, with[i].counts.leaves, without[i], free[i], int(with[i].cards.clustered), with[i].cards.cut,
-                with[i].cards.split, with[i].cards.drift, int(with[i].cards.rejected), cut.cards.size(),
-                area_drift.back());
+    std::printf(
+        "level %zu: %zu (FSA %zu, unchecked %zu) clustered %d cut %zu split %zu drift %.4f rejected %d; "
+        "area-weighted cut %zu drift %.4f\n",
+        i, with[i].counts.leaves, without[i], free[i], int(with[i].cards.clustered), with[i].cards.cut,
+        with[i].cards.split, with[i].cards.measured ? with[i].cards.drift : -9.0, int(with[i].cards.rejected),
+        cut.cards.size(), area_drift.back());
   }
   std::printf("opacity per cell:");
   for (double a : at.opacity) std::printf(" %.4f", a);
   std::printf("\n");
+  // The atlas's cells draw a quarter of their rectangles (needles and twig), not all of it.
+  for (double a : at.opacity) {
+    EXPECT_GT(a, 0.2);
+    EXPECT_LT(a, 0.3);
+  }
+  // Deterministic: the exact counts. FSA keeps 96 % of the cards at level 5, the clusters 31 %.
+  EXPECT_EQ(without, (std::vector<std::size_t>{16426, 16426, 16426, 16426, 16415, 15790}));
+  const std::vector<std::size_t> counts = [&] {
+    std::vector<std::size_t> c;
+    for (const Level& l : with) c.push_back(l.counts.leaves);
+    return c;
+  }();
+  EXPECT_EQ(counts, (std::vector<std::size_t>{16426, 16426, 16426, 16426, 16415, 5041}));
+  EXPECT_EQ(free, counts);
+  // Level 5 draws the clusters, and they draw what FSA's cut draws within 2 % (the check's 5 %
+  // passes); Cook's area-preserving clusters of the same cut draw over 10 % less (the overlap
+  // ratio of opaque quads removes coverage that quarter-opaque masks over each other keep), so
+  // the check would reject them and the level would keep FSA's 15,790 cards.
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_FALSE(with[i].cards.clustered) << i;
+  ASSERT_TRUE(with[5].cards.clustered);
+  ASSERT_TRUE(with[5].cards.measured);
+  EXPECT_LT(std::abs(with[5].cards.drift), 0.02);
+  EXPECT_FALSE(with[5].cards.rejected);
+  EXPECT_EQ(with[5].cards.split, 0u);
+  EXPECT_LT(area_drift[5], -0.10);
+  // A tolerance under the level's drift rejects it: FSA's cut, as without clusters.
+  ChainOptions strict = o;
+  strict.card_coverage_check = 0.005;
+  const std::vector<Level> checked = build_chain(t, strict);
+  EXPECT_TRUE(checked[5].cards.rejected);
+  EXPECT_FALSE(checked[5].cards.clustered);
+  EXPECT_EQ(checked[5].counts.leaves, without[5]);
+  // card_max_scale splits the clusters whose survivor grows more than the cap: at 2 (linear),
+  // 318 splits, each one card more, and the drift stays within 2 %.
+  ChainOptions capped = o;
+  capped.card_max_scale = 2.0;
+  const std::vector<Level> c = build_chain(t, capped);
+  EXPECT_EQ(c[5].cards.split, 318u);
+  EXPECT_EQ(c[5].counts.leaves, 5359u);
+  EXPECT_LT(std::abs(c[5].cards.drift), 0.02);
 }
 
 }  // namespace

@@ -62,15 +62,16 @@ TEST(CardCoverage, MeasuresEachCellsOpaqueFraction) {
 }
 
 // The same cards draw the same (drift 0); dropping one of two sub-pixel cards far apart halves
-// what is drawn; a card twice as large at half the opacity draws what the original draws; a
-// card that covers its pixels many times over draws little more than one that covers them once.
+// what is drawn (-1/2; the converse +1); a card twice as large at half the opacity draws what the original
+// draws; a card that covers its pixels many times over draws little more than one that covers them once.
 TEST(CardCoverage, DriftMeasuresWhatTheCardsDraw) {
   const double s = 0.5;  // pixel, m
   const std::vector<LeafQuad> two = {square({0.1, 1.1, 0}, 0.1), square({5.1, 1.1, 0}, 0.1)};
   const std::vector<double> ones = {1, 1};
   EXPECT_EQ(coverage_drift(two, ones, two, ones, s), 0.0);
   const std::vector<LeafQuad> one = {two[0]};
-  EXPECT_NEAR(coverage_drift(one, {ones.data(), 1}, two, ones, s), 0.5, 1e-9);
+  EXPECT_NEAR(coverage_drift(one, {ones.data(), 1}, two, ones, s), -0.5, 1e-9);  // draws less
+  EXPECT_NEAR(coverage_drift(two, ones, one, {ones.data(), 1}, s), 1.0, 1e-9);   // twice as much
   const std::vector<LeafQuad> big = {square({0.1, 1.1, 0}, 0.1 * std::sqrt(2.0))};
   const std::vector<double> half = {0.5};
   EXPECT_NEAR(coverage_drift(big, half, one, {ones.data(), 1}, s), 0.0, 1e-6);  // float sizes
