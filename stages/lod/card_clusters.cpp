@@ -8,6 +8,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace sylva::lod {
 
@@ -15,11 +17,12 @@ using tree::Vec3;
 
 namespace {
 
-// The merged cluster's centroid (area-weighted; the midpoint for two zero-area elements).
+// The merged cluster's centroid (drawn-area-weighted; the midpoint for two elements that draw
+// nothing).
 Vec3 merged_centroid(const CardCluster& a, const CardCluster& b) {
-  const double w = a.area + b.area;
+  const double w = a.drawn + b.drawn;
   if (!(w > 0)) return (a.centroid + b.centroid) * 0.5;
-  return (a.centroid * a.area + b.centroid * b.area) * (1.0 / w);
+  return (a.centroid * a.drawn + b.centroid * b.drawn) * (1.0 / w);
 }
 
 double merged_spread(const CardCluster& a, const CardCluster& b, const Vec3& c) {
@@ -73,15 +76,24 @@ bool inside(const Quad2& q, double x, double y) {
 
 }  // namespace
 
-CardForest build_card_forest(std::vector<LeafQuad> cards, std::uint64_t seed, double size_weight) {
+CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> opacity, std::uint64_t seed,
+                             double size_weight) {
+  if (opacity.empty()) opacity.assign(cards.size(), 1.0);
+  if (opacity.size() != cards.size())
+    throw std::invalid_argument("card clusters: " + std::to_string(opacity.size()) + " opacities for " +
+                                std::to_string(cards.size()) + " cards");
+  for (double a : opacity)
+    if (!(a >= 0 && a <= 1))
+      throw std::invalid_argument("card clusters: a card's opacity must lie in [0, 1]");
   CardForest cf;
   cf.cards = std::move(cards);
+  cf.opacity = std::move(opacity);
   cf.clusters.reserve(2 * cf.cards.size());
   for (std::uint32_t i = 0; i < cf.cards.size(); ++i) {
     const LeafQuad& q = cf.cards[i];
     double half = 0;
     for (const Vec3& v : q.v) half = std::max(half, length(v - q.center()));
-    cf.clusters.push_back({q.center(), 0.0, q.area, half, i});
+    cf.clusters.push_back({q.center(), 0.0, q.area, cf.opacity[i] * q.area, half, i});
   }
   cf.forest =
       agglomerate(cf.clusters, ClusterMetric{},
@@ -90,19 +102,24 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::uint64_t seed, do
                     z.centroid = merged_centroid(a, b);
                     z.spread = merged_spread(a, b, z.centroid);
                     z.area = a.area + b.area;
+                    z.drawn = a.drawn + b.drawn;
                     z.size = std::max(a.size, b.size);
                     // Cook's random pruning within the cluster: a's survivor with
-                    // probability A_a / (A_a + A_b), so every card survives its cluster
-                    // with probability proportional to its area (the product telescopes)
-                    // and no orientation is favoured (crossed cards' layers alike).
+                    // probability W_a / (W_a + W_b), so every card survives its cluster
+                    // with probability proportional to its drawn area (the product
+                    // telescopes) and no orientation is favoured (crossed cards' layers
+                    // alike). Clusters that draw nothing fall back to the quad areas.
                     const double u = unit_hash(seed, a.survivor, b.survivor);
-                    z.survivor = u * z.area < a.area ? a.survivor : b.survivor;
+                    z.survivor = z.drawn > 0  ? (u * z.drawn < a.drawn ? a.survivor : b.survivor)
+                                 : z.area > 0 ? (u * z.area < a.area ? a.survivor : b.survivor)
+                                              : a.survivor;
                     return std::pair<CardCluster, double>(z, std::max(z.spread, size_weight * z.size));
                   });
   return cf;
 }
 
-double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members) {
+double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members,
+                     std::span<const double> opacity) {
   if (members.size() < 2) return 1.0;
   constexpr int kGrid = 16;
   const double r3 = 1 / std::sqrt(3.0);
@@ -131,9 +148,14 @@ double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint3
     }
     if (!(x1 > x0) || !(y1 > y0)) continue;
     const double dx = (x1 - x0) / kGrid, dy = (y1 - y0) / kGrid;
-    std::array<char, kGrid * kGrid> covered{};
-    std::size_t hits = 0, cells = 0;
-    for (const Quad2& q : quads) {
+    // Per cell the transmittance prod (1 - alpha_i) of the cards over it: the cell draws
+    // 1 - prod, the cards' sum draws sum alpha_i (with every alpha 1: the union and the sum).
+    std::array<double, kGrid * kGrid> clear;
+    clear.fill(1.0);
+    double hits = 0;
+    for (std::size_t m = 0; m < quads.size(); ++m) {
+      const Quad2& q = quads[m];
+      const double alpha = opacity.empty() ? 1.0 : opacity[members[m]];
       double qx0 = q.p[0], qx1 = q.p[0], qy0 = q.p[1], qy1 = q.p[1];
       for (int i = 1; i < 4; ++i) {
         qx0 = std::min(qx0, q.p[2 * i]);
@@ -149,21 +171,22 @@ double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint3
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
           if (!inside(q, x0 + (i + 0.5) * dx, y0 + (j + 0.5) * dy)) continue;
-          ++hits;
-          char& c = covered[static_cast<std::size_t>(j * kGrid + i)];
-          cells += c == 0;
-          c = 1;
+          hits += alpha;
+          clear[static_cast<std::size_t>(j * kGrid + i)] *= 1 - alpha;
         }
     }
-    union_area += static_cast<double>(cells) * dx * dy;
-    sum_area += static_cast<double>(hits) * dx * dy;
+    double drawn = 0;
+    for (double c : clear) drawn += 1 - c;
+    union_area += drawn * dx * dy;
+    sum_area += hits * dx * dy;
   }
   if (!(sum_area > 0)) return 1.0;
   return std::clamp(union_area / sum_area, 0.0, 1.0);
 }
 
-LeafQuad cluster_card(const CardForest& cf, std::uint32_t id) {
+LeafQuad cluster_card(const CardForest& cf, std::uint32_t id, double* scale) {
   const std::size_t n = cf.forest.original;
+  if (scale) *scale = 1.0;
   if (id < n) return cf.cards[id];
   std::vector<std::uint32_t> members, stack{id};
   while (!stack.empty()) {
@@ -179,20 +202,44 @@ LeafQuad cluster_card(const CardForest& cf, std::uint32_t id) {
   std::sort(members.begin(), members.end());
   const CardCluster& c = cf.clusters[id];
   const LeafQuad& s = cf.cards[c.survivor];
-  const double target = overlap_ratio(cf.cards, members) * c.area;
+  // The survivor draws alpha_s A_z = rho sum W_i (card_clusters.h); with nothing drawn (every
+  // alpha 0) the quad areas stand in, as they do for the survivor's draw.
+  const double alpha = cf.opacity[c.survivor];
+  const double target =
+      overlap_ratio(cf.cards, members, cf.opacity) * (c.drawn > 0 && alpha > 0 ? c.drawn / alpha : c.area);
   LeafQuad q = s;
   const double k = s.area > 0 ? std::sqrt(target / s.area) : 1.0;
+  if (scale) *scale = k;
   const Vec3 centre = s.center();
   for (Vec3& v : q.v) v = c.centroid + (v - centre) * k;
   q.area = s.area * k * k;
   return q;
 }
 
-std::vector<LeafQuad> cluster_cut(const CardForest& cf, double max_error) {
-  std::vector<LeafQuad> out;
+ClusterCut cluster_cut(const CardForest& cf, double max_error, double max_scale) {
+  ClusterCut out;
   const std::vector<std::uint32_t> active = cf.forest.cut_by_error(max_error);
-  out.reserve(active.size());
-  for (std::uint32_t id : active) out.push_back(cluster_card(cf, id));
+  out.cards.reserve(active.size());
+  out.opacity.reserve(active.size());
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t id : active) {
+    stack.assign(1, id);
+    while (!stack.empty()) {
+      const std::uint32_t e = stack.back();
+      stack.pop_back();
+      double k = 1;
+      LeafQuad q = cluster_card(cf, e, &k);
+      if (max_scale > 0 && k > max_scale && e >= cf.forest.original) {
+        // Right pushed first, so the left child's cards come out first.
+        stack.push_back(static_cast<std::uint32_t>(cf.forest.right[e]));
+        stack.push_back(static_cast<std::uint32_t>(cf.forest.left[e]));
+        ++out.split;
+        continue;
+      }
+      out.cards.push_back(q);
+      out.opacity.push_back(cf.opacity[cf.clusters[e].survivor]);
+    }
+  }
   return out;
 }
 

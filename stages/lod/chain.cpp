@@ -88,9 +88,15 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
       [&] {
         if (!options.foliage || !(options.card_cluster_px > 0) || !(options.card_size_px > 0)) return;
         std::vector<LeafQuad> cards;
+        std::vector<double> opacity;
         cards.reserve(tree.leaves.size());
-        for (const tree::Leaf& l : tree.leaves) cards.push_back(leaf_quad(l, tree.materials));
-        pre.card_forest = build_card_forest(std::move(cards), options.card_seed,
+        opacity.reserve(tree.leaves.size());
+        for (const tree::Leaf& l : tree.leaves) {
+          cards.push_back(leaf_quad(l, tree.materials));
+          opacity.push_back(
+              std::clamp(card_opacity(cards.back(), tree.materials, options.card_opacity), 0.0, 1.0));
+        }
+        pre.card_forest = build_card_forest(std::move(cards), std::move(opacity), options.card_seed,
                                             options.card_cluster_px / options.card_size_px);
       },
       [&] {
@@ -146,15 +152,41 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
       // FSA's cut by E5, or the card clusters' cut at kappa pixels of this level's switch
       // distance (s = epsilon / delta m per pixel there) where that one has fewer cards: each is
       // within its own bound (foliage.h: geometric, card_clusters.h: coverage moved <= kappa px).
+      // With card_coverage_check the clusters must also draw what FSA's cut draws, within that
+      // fraction, seen at that pixel size (card_coverage.h); else the level keeps FSA's cut.
       const std::vector<std::uint32_t> active = pre.leaf_forest.forest.cut_by_error(spec.e5);
-      std::vector<std::uint32_t> clustered;
-      if (options.card_cluster_px > 0 && spec.epsilon > 0 && spec.delta > 0 && !pre.card_forest.cards.empty())
-        clustered = pre.card_forest.forest.cut_by_error(options.card_cluster_px * spec.epsilon / spec.delta);
-      if (!clustered.empty() && clustered.size() < active.size()) {
-        std::vector<LeafQuad> cards;
-        cards.reserve(clustered.size());
-        for (std::uint32_t id : clustered) cards.push_back(cluster_card(pre.card_forest, id));
-        leaf_geometry(cards, level.leaves);
+      ClusterCut clustered;
+      if (options.card_cluster_px > 0 && spec.epsilon > 0 && spec.delta > 0 &&
+          !pre.card_forest.cards.empty()) {
+        const double pixel = spec.epsilon / spec.delta;
+        // The cut's size bounds the cards it can draw (a split only adds cards): skip the
+        // survivors' construction where it cannot win.
+        if (pre.card_forest.forest.cut_by_error(options.card_cluster_px * pixel).size() < active.size()) {
+          clustered = cluster_cut(pre.card_forest, options.card_cluster_px * pixel, options.card_max_scale);
+          level.cards.cut = clustered.cards.size();
+          level.cards.split = clustered.split;
+        }
+        // The drift is measured wherever the clusters would win (reported in lod.json), and
+        // judged only with the check on.
+        if (!clustered.cards.empty() && clustered.cards.size() < active.size()) {
+          std::vector<LeafQuad> fsa;
+          std::vector<double> fsa_alpha;
+          fsa.reserve(active.size());
+          fsa_alpha.reserve(active.size());
+          for (std::uint32_t id : active) {
+            fsa.push_back(pre.leaf_forest.quads[id]);
+            fsa_alpha.push_back(
+                std::clamp(card_opacity(fsa.back(), tree.materials, options.card_opacity), 0.0, 1.0));
+          }
+          level.cards.measured = true;
+          level.cards.drift = coverage_drift(clustered.cards, clustered.opacity, fsa, fsa_alpha, pixel);
+          level.cards.rejected =
+              options.card_coverage_check > 0 && std::abs(level.cards.drift) > options.card_coverage_check;
+        }
+      }
+      if (!clustered.cards.empty() && clustered.cards.size() < active.size() && !level.cards.rejected) {
+        level.cards.clustered = true;
+        leaf_geometry(clustered.cards, level.leaves);
       } else {
         leaf_geometry(pre.leaf_forest, active, level.leaves);
       }

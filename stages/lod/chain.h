@@ -18,6 +18,7 @@
 
 #include "libs/tree/tree.h"
 #include "stages/lod/card_clusters.h"
+#include "stages/lod/card_coverage.h"
 #include "stages/lod/foliage.h"
 #include "stages/lod/internodes.h"
 #include "stages/lod/needles.h"
@@ -53,6 +54,15 @@ struct ChainOptions {
   double card_cluster_px = 0.0;
   // sigma: ... and only cards whose half-diagonal is at most sigma pixels there are clustered.
   double card_size_px = 1.5;
+  // The clusters weigh each card by its atlas variant's opacity alpha_v (card_coverage.h): one
+  // value per atlas cell (the stage measures them on the tree's atlas); empty = the tree's
+  // cell_coverage (tree.h), or 1 without it.
+  std::vector<double> card_opacity;
+  // A cluster cut is used only when its drawn coverage (card_coverage.h) drifts by at most this
+  // fraction from FSA's cut of the same level, else the level keeps FSA's cut; 0 = no check.
+  double card_coverage_check = 0.0;
+  // The largest linear scale a cluster's survivor may be enlarged by (cluster_cut); 0 = no cap.
+  double card_max_scale = 0.0;
   std::uint64_t card_seed = 0;  // draws the clusters' survivors (the stage: StageContext::rng)
   // Called between branches and inside long merges (may be empty); may throw to stop the chain
   // (the stage passes StageContext::check_cancelled). Called from several threads at once.
@@ -79,6 +89,16 @@ struct LevelCounts {
   std::size_t total() const { return quads + triangles + lines + leaves + needle_lines + needle_quads; }
 };
 
+// How a level's cards were chosen (card clusters, chain.cpp).
+struct CardChoice {
+  bool clustered = false;  // the level draws the card clusters' cut (else FSA's)
+  std::size_t cut = 0;     // cards of the clusters' cut (0 when not evaluated)
+  std::size_t split = 0;   // clusters split for card_max_scale
+  bool measured = false;   // drift measured: where the clusters' cut has fewer cards than FSA's
+  double drift = 0;        // coverage_drift against FSA's cut (signed; card_coverage.h)
+  bool rejected = false;   // fewer cards than FSA's, but |drift| exceeded card_coverage_check
+};
+
 struct Level {
   LevelSpec spec;
   BranchGeometry branches;
@@ -89,6 +109,7 @@ struct Level {
   double needle_alpha_eq12 = 1;  // the same for needle lines
   double needle_line_alpha = 1;
   LevelCounts counts;
+  CardChoice cards;
   std::vector<std::vector<std::uint32_t>> kept_nodes;  // per branch; empty = decimated
 };
 

@@ -357,6 +357,15 @@ nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& l
     // Where a loader that switches by MSFT_screencoverage leaves this level for the next one.
     const double d = coverage_distance(coverage[i], o.camera, radius);
     l["coverage_switch_distance_m"] = std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(nullptr);
+    if (o.card_cluster_px > 0) {
+      // How the level's cards were chosen (chain.h CardChoice; docs/stages/lod.md "Card clusters").
+      const CardChoice& c = levels[i].cards;
+      l["cards"] = {{"from", c.clustered ? "clusters" : "fsa"},
+                    {"cluster_cut", c.cut},
+                    {"clusters_split", c.split},
+                    {"coverage_drift", c.measured ? nlohmann::json(c.drift) : nlohmann::json(nullptr)},
+                    {"rejected", c.rejected}};
+    }
     ls.push_back(l);
   }
   j["levels"] = ls;

@@ -11,7 +11,9 @@ StageInfo lod_stage_info() {
   // (COLOR_0), decimated branches' coverage carried onto their bearers' lines.
   // 6: twigs drawn by cards carry no coverage onto their bearers.
   // 7: card clusters (card_clusters.h) cut the coarse levels' cards.
-  info.version = 7;
+  // 8: opacity-weighted card clusters (each card weighs its atlas variant's measured opacity),
+  // card_coverage_check and card_max_scale.
+  info.version = 8;
   info.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
   info.output_type = "lod";
   info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png"};
@@ -55,6 +57,14 @@ StageInfo lod_stage_info() {
           .range(0.01, 16)
           .describe("sigma: only cards of half-diagonal <= sigma px at the level's switch distance are "
                     "clustered"),
+      Param::real("card_coverage_check", 0.0)
+          .range(0, 1)
+          .describe("a card-cluster cut is used only when its drawn coverage drifts by at most this "
+                    "fraction from FSA's cut of the level (card_coverage.h); 0 = no check"),
+      Param::real("card_max_scale", 0.0)
+          .range(0, 100)
+          .describe("largest linear scale of a card cluster's survivor; larger clusters are split; "
+                    "0 = no cap"),
       Param::boolean("ribbons", false)
           .describe("also write lod<i>_ribbons.gltf: line levels as three-sided ribbons for clients "
                     "without LINES"),

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "libs/gltf/writer.h"
+#include "libs/image/png.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/lod/chain.h"
 #include "stages/lod/lod_gltf.h"
@@ -51,6 +52,18 @@ class LodStage : public Stage {
     lod::ChainOptions o = chain_options_from_params(ctx.params());
     o.check_cancelled = [&ctx] { ctx.check_cancelled(); };  // inside the long loops, not only after
     o.card_seed = ctx.rng("card_clusters").next_u64();      // the card clusters' survivors
+    // The card clusters weigh each card by what its atlas cell draws (card_coverage.h), measured
+    // on the atlas the levels are drawn with, at the leaves' MASK cutoff (lod_gltf.cpp: 0.5).
+    if (o.card_cluster_px > 0 && !tex.leaf_png.empty()) {
+      try {
+        const image::Image atlas = image::decode_png(tex.leaf_png, tree.materials.leaf_texture);
+        o.card_opacity =
+            lod::measure_cell_opacity(atlas.bytes(), atlas.width(), atlas.height(), tree.materials);
+      } catch (const std::exception& e) {
+        throw StageError("input '" + in.node + "': leaf atlas " + tree.materials.leaf_texture + ": " +
+                         e.what());
+      }
+    }
     // 3. The chain (pure core).
     std::vector<lod::Level> levels;
     try {
@@ -104,6 +117,8 @@ lod::ChainOptions chain_options_from_params(const Value::Object& params) {
   o.foliage = at("foliage").as_bool();
   o.card_cluster_px = at("card_cluster_px").as_real();
   o.card_size_px = at("card_size_px").as_real();
+  o.card_coverage_check = at("card_coverage_check").as_real();
+  o.card_max_scale = at("card_max_scale").as_real();
   return o;
 }
 

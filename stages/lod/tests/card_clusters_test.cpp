@@ -4,8 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <map>
+#include <stdexcept>
 
+#include "pipeline/rng.h"
+#include "stages/generate/card_atlas.h"
+#include "stages/generate/preset.h"
+#include "stages/generate/weber_penn.h"
+#include "stages/lod/card_coverage.h"
 #include "stages/lod/chain.h"
 #include "stages/lod/tests/test_trees.h"
 
@@ -31,6 +39,9 @@ TEST(CardClusters, OverlapRatioKeepsTheUnionNotTheSum) {
   const std::vector<LeafQuad> same = {a, a};
   const std::vector<std::uint32_t> both = {0, 1};
   EXPECT_NEAR(overlap_ratio(same, both), 0.5, 1e-12);
+  // Half-transparent masks over each other draw 1 - (1/2)^2 = 3/4 of the cell, against 1/2 + 1/2.
+  const std::vector<double> halves = {0.5, 0.5};
+  EXPECT_NEAR(overlap_ratio(same, both, halves), 0.75, 1e-12);
   const CardForest f = build_card_forest(same);
   ASSERT_EQ(f.forest.size(), 3u);
   const LeafQuad z = cluster_card(f, 2);
@@ -53,6 +64,61 @@ TEST(CardClusters, OverlapRatioKeepsTheUnionNotTheSum) {
   EXPECT_LT(rho, 1.0);
 }
 
+// Opacity weighting: of two cards apart, one opaque and one drawing a quarter of its quad, the
+// cluster's survivor draws what both draw (alpha_s A_z = W_a + W_b), the centroid is weighted
+// by drawn area, and the opaque card survives ~4/5 of the seeds (W_a / (W_a + W_b)).
+TEST(CardClusters, SurvivorPreservesDrawnCoverageNotArea) {
+  const LeafQuad a = leaf_quad(card({0, 1, 0}, {0, 1, 0}, {0, 0, 1}));
+  const LeafQuad b = leaf_quad(card({1, 1, 0}, {0, 1, 0}, {0, 0, 1}));
+  const std::vector<LeafQuad> cards = {a, b};
+  const std::vector<double> alpha = {1.0, 0.25};
+  int opaque = 0;
+  const int seeds = 400;
+  for (int seed = 0; seed < seeds; ++seed) {
+    const CardForest f = build_card_forest(cards, alpha, static_cast<std::uint64_t>(seed) * 7919 + 1);
+    ASSERT_EQ(f.forest.size(), 3u);
+    EXPECT_NEAR(f.clusters[2].drawn, 1.25 * a.area, 1e-12);
+    EXPECT_NEAR(length(f.clusters[2].centroid - Vec3{0.2, 1.2, 0}), 0.0,
+                1e-6);  // (1 * 0 + 0.25 * 1) / 1.25, float positions
+    double k = 0;
+    const LeafQuad z = cluster_card(f, 2, &k);
+    const double alpha_s = alpha[f.clusters[2].survivor];
+    EXPECT_NEAR(alpha_s * z.area, 1.25 * a.area, 1e-9);
+    EXPECT_NEAR(k, std::sqrt(1.25 / alpha_s), 1e-9);
+    opaque += f.clusters[2].survivor == 0;
+  }
+  EXPECT_GT(opaque, 0.75 * seeds);
+  EXPECT_LT(opaque, 0.85 * seeds);
+  // Without opacities (every alpha 1) the area-preserving cluster: the sum of the areas.
+  const CardForest g = build_card_forest(cards);
+  EXPECT_NEAR(cluster_card(g, 2).area, 2 * a.area, 1e-9);
+  EXPECT_THROW(build_card_forest(cards, {1.0}), std::invalid_argument);
+  EXPECT_THROW(build_card_forest(cards, {1.0, 1.5}), std::invalid_argument);
+}
+
+// card_max_scale: a cluster whose survivor would grow beyond the cap is cut into its children.
+// Four equal cards apart, in two pairs: the root's survivor grows by 2 (linear), a pair's by sqrt(2).
+TEST(CardClusters, MaxScaleSplitsClustersThatGrowTooMuch) {
+  std::vector<LeafQuad> cards;
+  for (double x : {0.0, 1.5, 6.0, 7.5}) cards.push_back(leaf_quad(card({x, 1, 0}, {0, 1, 0}, {0, 0, 1})));
+  const CardForest f = build_card_forest(cards);
+  ASSERT_EQ(f.forest.size(), 7u);
+  const double all = 100;  // the cut at a huge error: the root
+  const ClusterCut free = cluster_cut(f, all);
+  ASSERT_EQ(free.cards.size(), 1u);
+  EXPECT_EQ(free.split, 0u);
+  EXPECT_NEAR(free.cards[0].area, 4 * cards[0].area, 1e-9);
+  const ClusterCut pairs = cluster_cut(f, all, 1.5);
+  ASSERT_EQ(pairs.cards.size(), 2u);
+  EXPECT_EQ(pairs.split, 1u);
+  for (const LeafQuad& q : pairs.cards) EXPECT_NEAR(q.area, 2 * cards[0].area, 1e-9);
+  const ClusterCut singles = cluster_cut(f, all, 1.2);
+  ASSERT_EQ(singles.cards.size(), 4u);
+  EXPECT_EQ(singles.split, 3u);
+  EXPECT_EQ(cluster_cut(f, all, 2.001).cards.size(), 1u);  // the root's scale 2 is under the cap
+  EXPECT_EQ(singles.opacity, (std::vector<double>{1, 1, 1, 1}));
+}
+
 // The forest: 2n - 1 elements; every merged element's spread bounds the distance from its
 // centroid to each of its cards' centres; errors are monotone; the cut at 0 keeps every card.
 TEST(CardClusters, SpreadBoundsEveryMemberAndErrorsAreMonotone) {
@@ -61,7 +127,7 @@ TEST(CardClusters, SpreadBoundsEveryMemberAndErrorsAreMonotone) {
     const double x = 0.13 * (i % 10), y = 1 + 0.11 * (i / 10), z = 0.05 * (i % 3);
     cards.push_back(leaf_quad(card({x, y, z}, {0, 1, 0}, {0, 0, 1}, 0.1f + 0.01f * float(i % 4))));
   }
-  const CardForest f = build_card_forest(cards, 1.0);
+  const CardForest f = build_card_forest(cards, {}, 1, 1.0);
   ASSERT_EQ(f.forest.size(), 119u);
   EXPECT_EQ(f.forest.cut_by_error(0).size(), 60u);
   for (std::size_t id = 60; id < f.forest.size(); ++id) {
@@ -126,6 +192,129 @@ TEST(CardClusters, CoarseLevelsOfAnAdultBirchKeepAFractionOfTheCards) {
   EXPECT_EQ(card_counts(t, other), with);
   const Precomputed pre = precompute(t, o);
   EXPECT_EQ(build_full_detail(t, pre, o).counts.leaves, t.leaves.size());
+}
+
+// A species tree as the generate stage makes it with cards (tests' node spacing, seed 1): the
+// preset's card atlas (256 px) and the tree whose cards refer to its cells, with each cell's
+// opacity measured on that atlas (as the lod stage measures it on leaves.png).
+struct AtlasTree {
+  tree::Tree tree;
+  std::vector<double> opacity;
+};
+
+const AtlasTree& atlas_tree(const std::string& species) {
+  static std::map<std::string, AtlasTree> cache;
+  auto it = cache.find(species);
+  if (it != cache.end()) return it->second;
+  const generate::SpeciesPreset preset = generate::load_species_preset(
+      std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species" / (species + ".yaml"));
+  Rng leaf_rng(1, "leaves");
+  const generate::CardAtlas atlas =
+      generate::make_card_atlas(preset.card, preset.leaf, preset.bark, 256, leaf_rng);
+  generate::GenerateOptions o;
+  o.max_node_spacing = 0.5;
+  o.foliage = generate::FoliageMode::kCards;
+  o.atlas = {atlas.columns, atlas.rows, atlas.coverage};
+  Rng rng(1, "tree");
+  AtlasTree out;
+  out.tree = generate::generate_tree(preset.age("adult").params, o, rng);
+  out.opacity =
+      measure_cell_opacity(atlas.image.pixels, atlas.image.width, atlas.image.height, out.tree.materials);
+  return cache.emplace(species, std::move(out)).first->second;
+}
+
+// The adult Scots pine's shoot cards: the opacity-weighted clusters at kappa = 0.5 with the
+// coverage check cut the coarsest level to a fraction of FSA's; the check measures what each
+// cluster level draws against FSA's cut and rejects the ones that drift beyond its tolerance.
+TEST(CardClusters, ScotsPineCoarseLevelsWithOpacityWeightsAndCoverageCheck) {
+  const AtlasTree& at = atlas_tree("scots_pine");
+  const tree::Tree& t = at.tree;
+  ChainOptions o;
+  o.card_opacity = at.opacity;
+  o.card_cluster_px = 0.5;
+  o.card_coverage_check = 0.05;
+  ChainOptions fsa = o;
+  fsa.card_cluster_px = 0;
+  ChainOptions unchecked = o;
+  unchecked.card_coverage_check = 0;
+  const std::vector<Level> with = build_chain(t, o);
+  const std::vector<std::size_t> without = card_counts(t, fsa);
+  const std::vector<std::size_t> free = card_counts(t, unchecked);
+  ASSERT_EQ(with.size(), 6u);
+  // The same cuts with Cook's area-preserving clusters (every card weighs 1), their drift
+  // measured with the cards' real opacities.
+  std::vector<LeafQuad> cards;
+  std::vector<double> alpha;
+  for (const tree::Leaf& l : t.leaves) {
+    cards.push_back(leaf_quad(l, t.materials));
+    alpha.push_back(card_opacity(cards.back(), t.materials, at.opacity));
+  }
+  const CardForest by_area = build_card_forest(cards, {}, o.card_seed, o.card_cluster_px / o.card_size_px);
+  const Precomputed pre = precompute(t, o);
+  std::vector<double> area_drift;
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    const LevelSpec& spec = with[i].spec;
+    const double pixel = spec.epsilon / spec.delta;
+    const ClusterCut cut = cluster_cut(by_area, o.card_cluster_px * pixel);
+    std::vector<double> cut_alpha;
+    for (const LeafQuad& q : cut.cards) cut_alpha.push_back(card_opacity(q, t.materials, at.opacity));
+    std::vector<LeafQuad> fsa_cards;
+    std::vector<double> fsa_alpha;
+    for (std::uint32_t id : pre.leaf_forest.forest.cut_by_error(spec.e5)) {
+      fsa_cards.push_back(pre.leaf_forest.quads[id]);
+      fsa_alpha.push_back(card_opacity(fsa_cards.back(), t.materials, at.opacity));
+    }
+    area_drift.push_back(coverage_drift(cut.cards, cut_alpha, fsa_cards, fsa_alpha, pixel));
+    std::printf(
+        "level %zu: %zu (FSA %zu, unchecked %zu) clustered %d cut %zu split %zu drift %.4f rejected %d; "
+        "area-weighted cut %zu drift %.4f\n",
+        i, with[i].counts.leaves, without[i], free[i], int(with[i].cards.clustered), with[i].cards.cut,
+        with[i].cards.split, with[i].cards.measured ? with[i].cards.drift : -9.0, int(with[i].cards.rejected),
+        cut.cards.size(), area_drift.back());
+  }
+  std::printf("opacity per cell:");
+  for (double a : at.opacity) std::printf(" %.4f", a);
+  std::printf("\n");
+  // The atlas's cells draw a quarter of their rectangles (needles and twig), not all of it.
+  for (double a : at.opacity) {
+    EXPECT_GT(a, 0.2);
+    EXPECT_LT(a, 0.3);
+  }
+  // Deterministic: the exact counts. FSA keeps 96 % of the cards at level 5, the clusters 31 %.
+  EXPECT_EQ(without, (std::vector<std::size_t>{16426, 16426, 16426, 16426, 16415, 15790}));
+  const std::vector<std::size_t> counts = [&] {
+    std::vector<std::size_t> c;
+    for (const Level& l : with) c.push_back(l.counts.leaves);
+    return c;
+  }();
+  EXPECT_EQ(counts, (std::vector<std::size_t>{16426, 16426, 16426, 16426, 16415, 5041}));
+  EXPECT_EQ(free, counts);
+  // Level 5 draws the clusters, and they draw what FSA's cut draws within 2 % (the check's 5 %
+  // passes); Cook's area-preserving clusters of the same cut draw over 10 % less (the overlap
+  // ratio of opaque quads removes coverage that quarter-opaque masks over each other keep), so
+  // the check would reject them and the level would keep FSA's 15,790 cards.
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_FALSE(with[i].cards.clustered) << i;
+  ASSERT_TRUE(with[5].cards.clustered);
+  ASSERT_TRUE(with[5].cards.measured);
+  EXPECT_LT(std::abs(with[5].cards.drift), 0.02);
+  EXPECT_FALSE(with[5].cards.rejected);
+  EXPECT_EQ(with[5].cards.split, 0u);
+  EXPECT_LT(area_drift[5], -0.10);
+  // A tolerance under the level's drift rejects it: FSA's cut, as without clusters.
+  ChainOptions strict = o;
+  strict.card_coverage_check = 0.005;
+  const std::vector<Level> checked = build_chain(t, strict);
+  EXPECT_TRUE(checked[5].cards.rejected);
+  EXPECT_FALSE(checked[5].cards.clustered);
+  EXPECT_EQ(checked[5].counts.leaves, without[5]);
+  // card_max_scale splits the clusters whose survivor grows more than the cap: at 2 (linear),
+  // 318 splits, each one card more, and the drift stays within 2 %.
+  ChainOptions capped = o;
+  capped.card_max_scale = 2.0;
+  const std::vector<Level> c = build_chain(t, capped);
+  EXPECT_EQ(c[5].cards.split, 318u);
+  EXPECT_EQ(c[5].counts.leaves, 5359u);
+  EXPECT_LT(std::abs(c[5].cards.drift), 0.02);
 }
 
 }  // namespace
