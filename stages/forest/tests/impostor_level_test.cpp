@@ -87,9 +87,9 @@ TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {
   EXPECT_EQ(species_level(with, 5, 6), 3u);
 }
 
-TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
-  // One species whose impostor (epsilon 0.1) is more accurate than its coarsest lod level (0.3):
-  // the impostor's tile gets 0.3, so a client never refines from it into a larger error.
+// One tree of one species with `levels` on one 20 m tile; the tileset's chain of (content uri,
+// geometricError), top (coarsest) first.
+std::vector<std::pair<std::string, double>> one_tree_chain(std::vector<Level> levels) {
   Forest f;
   f.extent_min = {-10, -10};
   f.extent_max = {10, 10};
@@ -97,14 +97,12 @@ TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
   Species s;
   s.name = "a";
   s.bounds = {{-1, 0, -1}, {1, 5, 1}};
-  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false, ""},
-              {"a_lod1.gltf", 0.3, 600, 5, false, ""},
-              {"a_impostor.gltf", 0.1, 200, 2, true, ""}};
+  s.levels = std::move(levels);
   f.species = {s};
   f.instances = {{0, 0, 0, {0, 0, 0}, 0, {1, 1, 1}}};
   f.tiles = {{0, 0, {{-1, 0, -1}, {1, 5, 1}}, {0}}};
-  const auto ts = nlohmann::json::parse(
-      tileset_json(f, 3, {}, [](std::size_t, int l) { return "t_lod" + std::to_string(l) + ".gltf"; }));
+  const auto ts = nlohmann::json::parse(tileset_json(
+      f, int(s.levels.size()), {}, [](std::size_t, int l) { return "t_lod" + std::to_string(l) + ".gltf"; }));
   const nlohmann::json* n = &ts["root"]["children"][0];
   std::vector<std::pair<std::string, double>> chain;
   for (;;) {
@@ -112,36 +110,33 @@ TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
     if (!n->contains("children")) break;
     n = &(*n)["children"][0];
   }
+  return chain;
+}
+
+TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
+  // An impostor (epsilon 0.1, switching at 200 m) more accurate than the coarsest lod level
+  // (0.3): the impostor's tile gets 0.3, so a client never refines from it into a larger error.
   const std::vector<std::pair<std::string, double>> expected{
       {"t_lod2.gltf", 0.3}, {"t_lod1.gltf", 0.3}, {"t_lod0.gltf", 0.001}};
-  EXPECT_EQ(chain, expected);
+  EXPECT_EQ(one_tree_chain({{"a_lod0.gltf", 0.001, 2, 10, false, ""},
+                            {"a_lod1.gltf", 0.3, 600, 5, false, ""},
+                            {"a_impostor.gltf", 0.1, 200, 2, true, ""}}),
+            expected);
 }
 
 TEST(Tileset, ImpostorTileErrorIsTheErrorOfItsRecordedSwitchDistance) {
   // An impostor whose model epsilon (0.5 m) would switch at 1304 m but whose proven distance is
   // 200 m: its tile's error is 200 x 0.5 px x 2 tan(22.5 deg) / 1080 px, so a client with
   // maximumScreenSpaceError 0.5 shows it from 200 m on, where sylva's views do.
-  Forest f;
-  f.extent_min = {-10, -10};
-  f.extent_max = {10, 10};
-  f.tile_size_m = 20;
-  Species s;
-  s.name = "a";
-  s.bounds = {{-1, 0, -1}, {1, 5, 1}};
-  s.levels = {{"a_lod0.gltf", 0.001, 2, 10, false, ""},
-              {"a_lod1.gltf", 0.03, 78, 5, false, ""},
-              {"a_impostor.gltf", 0.5, 200, 2, true, ""}};
-  f.species = {s};
-  f.instances = {{0, 0, 0, {0, 0, 0}, 0, {1, 1, 1}}};
-  f.tiles = {{0, 0, {{-1, 0, -1}, {1, 5, 1}}, {0}}};
-  const auto ts = nlohmann::json::parse(
-      tileset_json(f, 3, {}, [](std::size_t, int l) { return "t_lod" + std::to_string(l) + ".gltf"; }));
-  const nlohmann::json& top = ts["root"]["children"][0];
-  EXPECT_EQ(top["content"]["uri"], "t_lod2.gltf");
+  const auto chain = one_tree_chain({{"a_lod0.gltf", 0.001, 2, 10, false, ""},
+                                     {"a_lod1.gltf", 0.03, 78, 5, false, ""},
+                                     {"a_impostor.gltf", 0.5, 200, 2, true, ""}});
+  ASSERT_EQ(chain.size(), 3u);
+  EXPECT_EQ(chain[0].first, "t_lod2.gltf");
   const double want = 200 * 0.5 * 2 * std::tan(std::numbers::pi / 8) / 1080;
-  EXPECT_NEAR(top["geometricError"].get<double>(), want, 1e-12);
+  EXPECT_NEAR(chain[0].second, want, 1e-12);
   EXPECT_NEAR(want, 0.0767, 1e-4);
-  EXPECT_EQ(top["children"][0]["geometricError"].get<double>(), 0.03);
+  EXPECT_EQ(chain[1].second, 0.03);
 }
 
 }  // namespace
