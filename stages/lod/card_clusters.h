@@ -47,6 +47,23 @@
 //     whose survivor would grow more is replaced by its two children, recursively (cluster_cut),
 //     so no single card stands for a patch of crown far larger than itself.
 //   The survivor keeps its normal, uvs (its own whole atlas cell) and winding.
+//   * Places (`card_places`, lod v9). The generator emits a place's layers — a crossed pair of
+//     cards, or three — as cards with one base point, direction, length and width, rolled apart
+//     about their common axis (stages/generate/foliage_placement.cpp; the .sylt records only the
+//     cards). Clustered card by card, the layers of one place merge first (spread 0) into one
+//     flat survivor, and the cut replaces an isotropic crossed pair by a single quad of one
+//     orientation. With places, the forest's original elements are places (card_places(): cards
+//     with bit-identical branch, position, direction, length and width), not cards: a place's W
+//     is the sum of its cards' drawn areas, c its W-weighted centre, r the largest distance from
+//     c to its cards' centres (0 for exact pairs), h the largest half-diagonal; the cluster's
+//     survivor is the place of the heaviest W among its places (ties: lowest id; no draw), and
+//     it is drawn as all its cards, moved together to c_z and scaled by one factor k about their
+//     centre so that they draw what the cluster's cards draw:
+//       k^2 = rho_z sum_i W_i / (rho_s W_s),
+//     rho_s the overlap ratio of the survivor place's own cards (a crossed pair covers less
+//     than the sum of its two cards from most directions, and so does each of the cluster's
+//     pairs; rho_s = 1 for a place of one card, which is the card rule above). The survivor is
+//     a crossed pair again, with the heaviest place's orientation.
 // Clustering is a choice between two cuts per level (chain.cpp): the one with fewer cards, and
 // with `card_coverage_check` only when its drawn coverage stays within that tolerance of FSA's
 // cut (card_coverage.h).
@@ -67,23 +84,37 @@ struct CardCluster {
   double area = 0;             // sum of the cards' quad areas, m^2
   double drawn = 0;            // sum of the cards' drawn areas W = alpha A, m^2
   double size = 0;             // largest half-diagonal of its cards, m
-  std::uint32_t survivor = 0;  // id of the original card drawn for the cluster
+  std::uint32_t survivor = 0;  // id of the original element (card, or place) drawn for the cluster
+  double survivor_drawn = 0;   // the survivor's own drawn area W_s, m^2
 };
 
 struct CardForest {
-  std::vector<LeafQuad> cards;        // the originals (leaf_quad of each tree leaf)
-  std::vector<double> opacity;        // alpha per original card, in [0, 1]
+  std::vector<LeafQuad> cards;  // the original cards (leaf_quad of each tree leaf)
+  std::vector<double> opacity;  // alpha per original card, in [0, 1]
+  // The forest's original elements: the cards of each (ids into `cards`, ascending); without
+  // places one element per card, element i = {i}.
+  std::vector<std::vector<std::uint32_t>> places;
   std::vector<CardCluster> clusters;  // one per element: originals, then one per merge
   BinaryForest forest;                // error = max(spread, size) of the merged elements
 };
+
+// The places of a tree's cards (file comment): cards with bit-identical branch, position,
+// direction, length and width form one place, whatever their order in `leaves`; places are
+// ordered by their first card, each place's cards ascending. Every card is in exactly one place
+// (a card that shares its placement with none is a place of one card).
+std::vector<std::vector<std::uint32_t>> card_places(std::span<const tree::Leaf> leaves);
 
 // The cluster forest of `cards` (deterministic: ties on ids, pair_merge.h; survivors drawn from
 // `seed`). `opacity`: alpha per card (empty = 1 for every card, the area-preserving clusters;
 // else one value in [0, 1] per card, else std::invalid_argument). `size_weight` w =
 // kappa / sigma: a merged element's error is max(r_z, w h_z), so the cut at kappa s keeps
-// clusters with spread <= kappa s whose cards are at most sigma s (half-diagonal).
+// clusters with spread <= kappa s whose cards are at most sigma s (half-diagonal). `places`
+// (card_places(); empty = every card its own element): the original elements clustered as units
+// (file comment; the survivor is then the heaviest place, `seed` unused); every card must lie in
+// exactly one non-empty place, else std::invalid_argument.
 CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> opacity = {},
-                             std::uint64_t seed = 0, double size_weight = 1.0);
+                             std::uint64_t seed = 0, double size_weight = 1.0,
+                             std::vector<std::vector<std::uint32_t>> places = {});
 
 // rho (file comment) of the cards `members` (ids into cards), in (0, 1]; 1 for one card or
 // cards with no projected area. With `opacity` (alpha per card of `cards`, empty = 1) each
@@ -93,21 +124,28 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
 double overlap_ratio(std::span<const LeafQuad> cards, std::span<const std::uint32_t> members,
                      std::span<const double> opacity = {});
 
-// The card drawn for element `id` of the forest: the original for a single card, else the
-// survivor moved to the centroid and scaled to rho * drawn / alpha_s (file comment). `scale`,
-// when given, receives the survivor's linear scale sqrt(A_z / A_s) (1 for a single card).
+// The cards drawn for element `id` of the forest, appended to `out` (and their alphas to
+// `alpha` when given): an original element's own cards, else the survivor's cards moved to the
+// centroid and scaled about their centre by k (file comment: a card survivor to rho * drawn /
+// alpha_s). Returns k, the survivor's linear scale (1 for an original element).
+double cluster_cards(const CardForest& forest, std::uint32_t id, std::vector<LeafQuad>& out,
+                     std::vector<double>* alpha = nullptr);
+
+// The one card drawn for element `id` (cluster_cards) of a forest whose survivor is one card;
+// std::invalid_argument for a survivor place of several cards. `scale`, when given, receives
+// the survivor's linear scale sqrt(A_z / A_s) (1 for a single card).
 LeafQuad cluster_card(const CardForest& forest, std::uint32_t id, double* scale = nullptr);
 
 struct ClusterCut {
-  std::vector<LeafQuad> cards;  // one per cluster of the cut
+  std::vector<LeafQuad> cards;  // the cards of each cluster of the cut (one per card survivor)
   std::vector<double> opacity;  // the survivor's alpha per card
   std::size_t split = 0;        // clusters replaced by their children for card_max_scale
 };
 
-// The cards of a level: the cut at err <= max_error (m), one card per cluster; a cluster whose
-// survivor's scale exceeds `max_scale` (> 0; 0 = no cap) is replaced by its children,
-// recursively (single cards are never scaled). Ordered by the cut's ascending ids, each split
-// cluster's children in its place.
+// The cards of a level: the cut at err <= max_error (m), one survivor (a card, or a place's
+// cards) per cluster; a cluster whose survivor's scale exceeds `max_scale` (> 0; 0 = no cap) is
+// replaced by its children, recursively (original elements are never scaled). Ordered by the
+// cut's ascending ids, each split cluster's children in its place.
 ClusterCut cluster_cut(const CardForest& forest, double max_error, double max_scale = 0);
 
 }  // namespace sylva::lod

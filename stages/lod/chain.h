@@ -63,6 +63,9 @@ struct ChainOptions {
   double card_coverage_check = 0.0;
   // The largest linear scale a cluster's survivor may be enlarged by (cluster_cut); 0 = no cap.
   double card_max_scale = 0.0;
+  // Cluster the cards that share one placement (a crossed pair: card_places()) as one unit,
+  // whose survivor is drawn as all its cards (card_clusters.h "Places"); false = card by card.
+  bool card_places = false;
   std::uint64_t card_seed = 0;  // draws the clusters' survivors (the stage: StageContext::rng)
   // Called between branches and inside long merges (may be empty); may throw to stop the chain
   // (the stage passes StageContext::check_cancelled). Called from several threads at once.

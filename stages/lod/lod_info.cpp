@@ -13,7 +13,8 @@ StageInfo lod_stage_info() {
   // 7: card clusters (card_clusters.h) cut the coarse levels' cards.
   // 8: opacity-weighted card clusters (each card weighs its atlas variant's measured opacity),
   // card_coverage_check and card_max_scale.
-  info.version = 8;
+  // 9: card_places (the cards of one placement, a crossed pair, clustered as one unit).
+  info.version = 9;
   info.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
   info.output_type = "lod";
   info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png"};
@@ -65,6 +66,9 @@ StageInfo lod_stage_info() {
           .range(0, 100)
           .describe("largest linear scale of a card cluster's survivor; larger clusters are split; "
                     "0 = no cap"),
+      Param::boolean("card_places", false)
+          .describe("card clusters: the cards of one placement (a crossed pair: same base, direction "
+                    "and size) are clustered as one unit and survive as a crossed pair"),
       Param::boolean("ribbons", false)
           .describe("also write lod<i>_ribbons.gltf: line levels as three-sided ribbons for clients "
                     "without LINES"),

@@ -119,6 +119,7 @@ lod::ChainOptions chain_options_from_params(const Value::Object& params) {
   o.card_size_px = at("card_size_px").as_real();
   o.card_coverage_check = at("card_coverage_check").as_real();
   o.card_max_scale = at("card_max_scale").as_real();
+  o.card_places = at("card_places").as_bool();
   return o;
 }
 

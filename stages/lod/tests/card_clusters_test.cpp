@@ -157,6 +157,113 @@ TEST(CardClusters, SpreadBoundsEveryMemberAndErrorsAreMonotone) {
   EXPECT_EQ(f.forest.cut_by_error(10.0).size(), 1u);
 }
 
+// A crossed pair as the generator emits one place (foliage_placement.cpp): two cards on one
+// base point, chord and size, rolled 90 degrees apart about the chord (vertical here).
+std::vector<tree::Leaf> crossed_pair(Vec3 at, double roll, float length = 0.4f, float width = 0.3f) {
+  const Vec3 n0{std::sin(roll), 0, std::cos(roll)};
+  const Vec3 n1{std::cos(roll), 0, -std::sin(roll)};
+  return {card(at, {0, 1, 0}, n0, length, width), card(at, {0, 1, 0}, n1, length, width)};
+}
+
+// card_places: cards with the same branch, base, direction, length and width form one place,
+// whatever their order; a card that differs in any of them (by one float step) is another.
+TEST(CardClusters, PlacesAreTheCardsOfOnePlacement) {
+  std::vector<tree::Leaf> leaves;
+  const std::vector<tree::Leaf> a = crossed_pair({0, 1, 0}, 0.0);
+  const std::vector<tree::Leaf> b = crossed_pair({1, 1, 0}, 0.3);
+  tree::Leaf longer = a[0];
+  longer.length = std::nextafter(a[0].length, 1.0f);
+  tree::Leaf other_branch = b[1];
+  other_branch.branch = 3;
+  tree::Leaf third = b[0];  // a third layer of b's place
+  third.normal = tree::to_float(Vec3{0, 0, 1});
+  third.variant = 2;
+  leaves = {a[0], b[0], longer, a[1], other_branch, b[1], third};
+  const std::vector<std::vector<std::uint32_t>> places = card_places(leaves);
+  EXPECT_EQ(places, (std::vector<std::vector<std::uint32_t>>{{0, 3}, {1, 5, 6}, {2}, {4}}));
+  EXPECT_TRUE(card_places({}).empty());
+  // The forest checks that the places partition the cards.
+  std::vector<LeafQuad> quads;
+  for (const tree::Leaf& l : leaves) quads.push_back(leaf_quad(l));
+  EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2}}), std::invalid_argument);
+  EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2, 3}, {4}}),
+               std::invalid_argument);
+  EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2}, {4}, {}}),
+               std::invalid_argument);
+  EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2}, {4, 7}}), std::invalid_argument);
+  const CardForest f = build_card_forest(quads, {}, 0, 1.0, places);
+  EXPECT_EQ(f.forest.original, 4u);
+  EXPECT_EQ(f.forest.size(), 7u);
+  // Original elements draw their own cards unchanged: the cut at 0 is every card.
+  EXPECT_EQ(cluster_cut(f, 0).cards.size(), 7u);
+  EXPECT_THROW(cluster_card(f, 1), std::invalid_argument);  // a place of three cards
+  EXPECT_EQ(cluster_card(f, 2).v, quads[2].v);
+}
+
+// Two crossed pairs 1 m apart in one orientation, the first opaque, the second drawing half of
+// its cards. With places the forest has two elements and one merge; the survivor is the
+// heavier (opaque) pair, two cards again, at the drawn-area-weighted centroid, each card scaled
+// by k with k^2 = rho_z sum W / (rho_s W_s), so the two cards draw what the four drew: their
+// drift against the four cards (card_coverage.h, four horizontal views) is within 2 %. Card by
+// card (no places), the same four cards cluster into one flat card, which draws nothing edge-on.
+TEST(CardClusters, CrossedPairsClusterAsOneUnitAndSurviveAsAPair) {
+  std::vector<tree::Leaf> leaves = crossed_pair({0, 1, 0}, 0.0);
+  for (const tree::Leaf& l : crossed_pair({1, 1, 0}, 0.0)) leaves.push_back(l);
+  std::vector<LeafQuad> cards;
+  for (const tree::Leaf& l : leaves) cards.push_back(leaf_quad(l));
+  const std::vector<double> alpha = {1.0, 1.0, 0.5, 0.5};
+  const std::vector<std::vector<std::uint32_t>> places = card_places(leaves);
+  ASSERT_EQ(places, (std::vector<std::vector<std::uint32_t>>{{0, 1}, {2, 3}}));
+  const CardForest f = build_card_forest(cards, alpha, 7, 1.0, places);
+  ASSERT_EQ(f.forest.original, 2u);
+  ASSERT_EQ(f.forest.size(), 3u);
+  const double a = cards[0].area;  // 0.4 x 0.3
+  EXPECT_NEAR(a, 0.12, 1e-6);
+  EXPECT_NEAR(f.clusters[0].drawn, 2 * a, 1e-12);
+  EXPECT_NEAR(f.clusters[1].drawn, a, 1e-12);
+  EXPECT_NEAR(f.clusters[0].spread, 0.0, 1e-9);  // the pair's cards share their centre
+  const CardCluster& z = f.clusters[2];
+  EXPECT_NEAR(z.drawn, 3 * a, 1e-12);
+  EXPECT_EQ(z.survivor, 0u);  // the heavier place
+  EXPECT_NEAR(length(z.centroid - Vec3{1.0 / 3, 1.2, 0}), 0.0, 1e-6);
+  std::vector<LeafQuad> out;
+  std::vector<double> out_alpha;
+  const double k = cluster_cards(f, 2, out, &out_alpha);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out_alpha, (std::vector<double>{1.0, 1.0}));
+  const double rho_z = overlap_ratio(cards, std::vector<std::uint32_t>{0, 1, 2, 3}, alpha);
+  const double rho_s = overlap_ratio(cards, std::vector<std::uint32_t>{0, 1}, alpha);
+  EXPECT_LT(rho_s, 1.0);  // a crossed pair overlaps itself seen from most directions
+  EXPECT_NEAR(k * k, rho_z * 3 * a / (rho_s * 2 * a), 1e-9);
+  EXPECT_GT(k, 1.1);
+  EXPECT_LT(k, 1.3);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(out[i].normal, cards[i].normal);  // the heavier pair's orientation
+    EXPECT_EQ(out[i].uv, cards[i].uv);
+    EXPECT_NEAR(length(out[i].center() - z.centroid), 0.0, 1e-6);  // still crossed on one centre
+    EXPECT_NEAR(out[i].area, k * k * a, 1e-9);
+  }
+  // Drawn coverage kept: the survivor pair's drawn area with its own overlap, rho_s k^2 W_s,
+  // is the cluster's, rho_z sum W (overlap_ratio does not change with scale or position).
+  double drawn = 0;
+  for (int i = 0; i < 2; ++i) drawn += out_alpha[i] * out[i].area;
+  EXPECT_NEAR(overlap_ratio(out, std::vector<std::uint32_t>{0, 1}, out_alpha) * drawn, rho_z * 3 * a, 1e-6);
+  const double pixel = 2.0;  // both pairs within a pixel: the linear regime of the pixel model
+  EXPECT_LT(std::abs(coverage_drift(out, out_alpha, cards, alpha, pixel)), 0.02);
+  // The cut and card_max_scale see the pair as one cluster of two cards.
+  EXPECT_EQ(cluster_cut(f, 100).cards.size(), 2u);
+  const ClusterCut capped = cluster_cut(f, 100, 1.1);
+  EXPECT_EQ(capped.split, 1u);
+  EXPECT_EQ(capped.cards.size(), 4u);
+  // Card by card the same cards merge into one flat survivor: half the drawn coverage lost
+  // seen edge-on to it, or more.
+  const CardForest g = build_card_forest(cards, alpha, 7, 1.0);
+  ASSERT_EQ(g.forest.size(), 7u);
+  const ClusterCut flat = cluster_cut(g, 100);
+  ASSERT_EQ(flat.cards.size(), 1u);
+  EXPECT_LT(coverage_drift(flat.cards, flat.opacity, cards, alpha, pixel), -0.3);
+}
+
 std::vector<std::size_t> card_counts(const tree::Tree& t, const ChainOptions& o) {
   std::vector<std::size_t> out;
   for (const Level& l : build_chain(t, o)) out.push_back(l.counts.leaves);
@@ -315,6 +422,61 @@ TEST(CardClusters, ScotsPineCoarseLevelsWithOpacityWeightsAndCoverageCheck) {
   EXPECT_EQ(c[5].cards.split, 318u);
   EXPECT_EQ(c[5].counts.leaves, 5359u);
   EXPECT_LT(std::abs(c[5].cards.drift), 0.02);
+}
+
+// The adult oak's twig cards are crossed pairs (configs/species/oak.yaml `card:`, layers fitted
+// to the leaf area index). As the default recipe's lod_oak (kappa 1, sigma 16, tau 0.05), card
+// by card the clusters' cuts drift beyond the check and every level keeps FSA's cut; with
+// card_places each pair is one unit, the survivors are pairs, and the coarse levels keep a
+// fraction of the cards within the check.
+TEST(CardClusters, OakCrossedPairsClusterAsPlaces) {
+  const AtlasTree& at = atlas_tree("oak");
+  const tree::Tree& t = at.tree;
+  const std::vector<std::vector<std::uint32_t>> places = card_places(t.leaves);
+  std::map<std::size_t, std::size_t> sizes;
+  for (const auto& p : places) ++sizes[p.size()];
+  std::printf("oak: %zu cards, %zu places:", t.leaves.size(), places.size());
+  for (const auto& [n, c] : sizes) std::printf(" %zu x %zu", c, n);
+  std::printf("\n");
+  ChainOptions o;
+  o.card_opacity = at.opacity;
+  o.card_cluster_px = 1.0;
+  o.card_size_px = 16;
+  o.card_coverage_check = 0.05;
+  o.card_places = true;
+  ChainOptions cards = o;
+  cards.card_places = false;
+  ChainOptions fsa = o;
+  fsa.card_cluster_px = 0;
+  const std::vector<Level> with = build_chain(t, o);
+  const std::vector<Level> by_card = build_chain(t, cards);
+  const std::vector<std::size_t> without = card_counts(t, fsa);
+  ASSERT_EQ(with.size(), 6u);
+  std::vector<std::size_t> counts, card_by_card;
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    counts.push_back(with[i].counts.leaves);
+    card_by_card.push_back(by_card[i].counts.leaves);
+    std::printf(
+        "level %zu: places %zu (cut %zu, drift %.4f, rejected %d) | card by card %zu (cut %zu, drift %.4f, "
+        "rejected %d) | FSA %zu\n",
+        i, counts.back(), with[i].cards.cut, with[i].cards.measured ? with[i].cards.drift : -9.0,
+        int(with[i].cards.rejected), card_by_card.back(), by_card[i].cards.cut,
+        by_card[i].cards.measured ? by_card[i].cards.drift : -9.0, int(by_card[i].cards.rejected), without[i]);
+  }
+  EXPECT_EQ(sizes, (std::map<std::size_t, std::size_t>{{2, 13745}}));  // every place a crossed pair
+  EXPECT_EQ(without, (std::vector<std::size_t>{27490, 27490, 27490, 27490, 27489, 27284}));
+  // Card by card each pair's cards merge first (spread 0) into one flat card, half the count.
+  EXPECT_EQ(card_by_card, (std::vector<std::size_t>{27490, 27490, 27490, 14077, 13007, 7681}));
+  EXPECT_EQ(counts, (std::vector<std::size_t>{27490, 27490, 27490, 27328, 24958, 14802}));
+  EXPECT_EQ(counts.front(), t.leaves.size());
+  for (std::size_t i = 1; i < counts.size(); ++i) EXPECT_LE(counts[i], counts[i - 1]) << i;
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    if (!with[i].cards.clustered) continue;
+    EXPECT_LE(std::abs(with[i].cards.drift), 0.05) << i;
+    EXPECT_EQ(with[i].counts.leaves % 2, 0u) << i;  // every survivor a pair (every place is one)
+  }
+  ASSERT_TRUE(with[5].cards.clustered);
+  EXPECT_LT(double(counts[5]), 0.75 * double(without[5]));
 }
 
 }  // namespace
