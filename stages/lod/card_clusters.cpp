@@ -128,7 +128,8 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
       }
     }
     for (std::size_t c = 0; c < cards.size(); ++c)
-      if (!seen[c]) throw std::invalid_argument("card clusters: card " + std::to_string(c) + " is in no place");
+      if (!seen[c])
+        throw std::invalid_argument("card clusters: card " + std::to_string(c) + " is in no place");
   } else {
     places.resize(cards.size());
     for (std::uint32_t i = 0; i < cards.size(); ++i) places[i] = {i};
@@ -162,41 +163,42 @@ CardForest build_card_forest(std::vector<LeafQuad> cards, std::vector<double> op
       z.drawn += w;
       for (const Vec3& v : q.v) z.size = std::max(z.size, length(v - q.center()));
     }
-    z.centroid = z.drawn > 0 ? weighted * (1.0 / z.drawn) : plain * (1.0 / static_cast<double>(members.size()));
+    z.centroid =
+        z.drawn > 0 ? weighted * (1.0 / z.drawn) : plain * (1.0 / static_cast<double>(members.size()));
     for (std::uint32_t i : members) z.spread = std::max(z.spread, length(cf.cards[i].center() - z.centroid));
     z.survivor = p;
     z.survivor_drawn = z.drawn;
     cf.clusters.push_back(z);
   }
-  cf.forest = agglomerate(
-      cf.clusters, ClusterMetric{},
-      [seed, size_weight, by_place](const CardCluster& a, const CardCluster& b, double, double) {
-        CardCluster z;
-        z.centroid = merged_centroid(a, b);
-        z.spread = merged_spread(a, b, z.centroid);
-        z.area = a.area + b.area;
-        z.drawn = a.drawn + b.drawn;
-        z.size = std::max(a.size, b.size);
-        if (by_place) {
-          // Places: the heaviest place survives (ties: the lower id), so the survivor is a
-          // crossed pair in the orientation that drew most of the cluster; no draw.
-          const bool keep_a = a.survivor_drawn > b.survivor_drawn ||
-                              (a.survivor_drawn == b.survivor_drawn && a.survivor < b.survivor);
-          z.survivor = keep_a ? a.survivor : b.survivor;
-        } else {
-          // Cook's random pruning within the cluster: a's survivor with probability
-          // W_a / (W_a + W_b), so every card survives its cluster with probability
-          // proportional to its drawn area (the product telescopes) and no orientation is
-          // favoured (crossed cards' layers alike). Clusters that draw nothing fall back to the
-          // quad areas.
-          const double u = unit_hash(seed, a.survivor, b.survivor);
-          z.survivor = z.drawn > 0  ? (u * z.drawn < a.drawn ? a.survivor : b.survivor)
-                       : z.area > 0 ? (u * z.area < a.area ? a.survivor : b.survivor)
-                                    : a.survivor;
-        }
-        z.survivor_drawn = z.survivor == a.survivor ? a.survivor_drawn : b.survivor_drawn;
-        return std::pair<CardCluster, double>(z, std::max(z.spread, size_weight * z.size));
-      });
+  cf.forest =
+      agglomerate(cf.clusters, ClusterMetric{},
+                  [seed, size_weight, by_place](const CardCluster& a, const CardCluster& b, double, double) {
+                    CardCluster z;
+                    z.centroid = merged_centroid(a, b);
+                    z.spread = merged_spread(a, b, z.centroid);
+                    z.area = a.area + b.area;
+                    z.drawn = a.drawn + b.drawn;
+                    z.size = std::max(a.size, b.size);
+                    if (by_place) {
+                      // Places: the heaviest place survives (ties: the lower id), so the survivor is a
+                      // crossed pair in the orientation that drew most of the cluster; no draw.
+                      const bool keep_a = a.survivor_drawn > b.survivor_drawn ||
+                                          (a.survivor_drawn == b.survivor_drawn && a.survivor < b.survivor);
+                      z.survivor = keep_a ? a.survivor : b.survivor;
+                    } else {
+                      // Cook's random pruning within the cluster: a's survivor with probability
+                      // W_a / (W_a + W_b), so every card survives its cluster with probability
+                      // proportional to its drawn area (the product telescopes) and no orientation is
+                      // favoured (crossed cards' layers alike). Clusters that draw nothing fall back to the
+                      // quad areas.
+                      const double u = unit_hash(seed, a.survivor, b.survivor);
+                      z.survivor = z.drawn > 0  ? (u * z.drawn < a.drawn ? a.survivor : b.survivor)
+                                   : z.area > 0 ? (u * z.area < a.area ? a.survivor : b.survivor)
+                                                : a.survivor;
+                    }
+                    z.survivor_drawn = z.survivor == a.survivor ? a.survivor_drawn : b.survivor_drawn;
+                    return std::pair<CardCluster, double>(z, std::max(z.spread, size_weight * z.size));
+                  });
   return cf;
 }
 

@@ -96,10 +96,10 @@ Precomputed precompute(const tree::Tree& tree, const ChainOptions& options) {
           opacity.push_back(
               std::clamp(card_opacity(cards.back(), tree.materials, options.card_opacity), 0.0, 1.0));
         }
-        pre.card_forest =
-            build_card_forest(std::move(cards), std::move(opacity), options.card_seed,
-                              options.card_cluster_px / options.card_size_px,
-                              options.card_places ? card_places(tree.leaves) : std::vector<std::vector<std::uint32_t>>{});
+        pre.card_forest = build_card_forest(
+            std::move(cards), std::move(opacity), options.card_seed,
+            options.card_cluster_px / options.card_size_px,
+            options.card_places ? card_places(tree.leaves) : std::vector<std::vector<std::uint32_t>>{});
       },
       [&] {
         if (options.foliage) pre.needle_forest = build_needle_forest(tree.needles);

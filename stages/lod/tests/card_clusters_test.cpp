@@ -186,8 +186,7 @@ TEST(CardClusters, PlacesAreTheCardsOfOnePlacement) {
   std::vector<LeafQuad> quads;
   for (const tree::Leaf& l : leaves) quads.push_back(leaf_quad(l));
   EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2}}), std::invalid_argument);
-  EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2, 3}, {4}}),
-               std::invalid_argument);
+  EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2, 3}, {4}}), std::invalid_argument);
   EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2}, {4}, {}}),
                std::invalid_argument);
   EXPECT_THROW(build_card_forest(quads, {}, 0, 1.0, {{0, 3}, {1, 5, 6}, {2}, {4, 7}}), std::invalid_argument);
@@ -461,7 +460,8 @@ TEST(CardClusters, OakCrossedPairsClusterAsPlaces) {
         "rejected %d) | FSA %zu\n",
         i, counts.back(), with[i].cards.cut, with[i].cards.measured ? with[i].cards.drift : -9.0,
         int(with[i].cards.rejected), card_by_card.back(), by_card[i].cards.cut,
-        by_card[i].cards.measured ? by_card[i].cards.drift : -9.0, int(by_card[i].cards.rejected), without[i]);
+        by_card[i].cards.measured ? by_card[i].cards.drift : -9.0, int(by_card[i].cards.rejected),
+        without[i]);
   }
   EXPECT_EQ(sizes, (std::map<std::size_t, std::size_t>{{2, 13745}}));  // every place a crossed pair
   EXPECT_EQ(without, (std::vector<std::size_t>{27490, 27490, 27490, 27490, 27489, 27284}));
