@@ -142,7 +142,7 @@ class Reader {
       {"FoliageZone", &Preset::foliage_zone},
       {"CardScale", &Preset::card_scale},
   }};
-  static constexpr std::array<Field<LevelParams>, 16> kLevel{{
+  static constexpr std::array<Field<LevelParams>, 17> kLevel{{
       {"Branches", &LevelParams::branches},
       {"Length", &LevelParams::length},
       {"LengthV", &LevelParams::length_v},
@@ -159,6 +159,7 @@ class Reader {
       {"BranchRatio", &LevelParams::branch_ratio},
       {"Clumps", &LevelParams::clumps},
       {"ClumpSize", &LevelParams::clump_size},
+      {"ClumpBase", &LevelParams::clump_base},
   }};
   static constexpr std::array<Field<LeafLevelParams>, 4> kLeaf{{
       {"DownAngleV", &LeafLevelParams::down_angle_v},
