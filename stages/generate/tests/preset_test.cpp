@@ -135,8 +135,9 @@ TEST(Preset, RangeErrorPointsAtTheValue) {
 
 // The clump parameters (weber_penn.h) are per-level keys like W&P's.
 TEST(Preset, ReadsClumps) {
-  const SpeciesPreset s =
-      parse_species_preset(replace(kGood, "BranchRatio: 0.4", "BranchRatio: 0.4, Clumps: 3, ClumpSize: 0.25, ClumpBase: 0.1"), "t.yaml");
+  const SpeciesPreset s = parse_species_preset(
+      replace(kGood, "BranchRatio: 0.4", "BranchRatio: 0.4, Clumps: 3, ClumpSize: 0.25, ClumpBase: 0.1"),
+      "t.yaml");
   EXPECT_EQ(s.age("middle").params.level[1].clumps, 3);
   EXPECT_DOUBLE_EQ(s.age("middle").params.level[1].clump_size, 0.25);
   EXPECT_DOUBLE_EQ(s.age("middle").params.level[1].clump_base, 0.1);

@@ -364,7 +364,8 @@ TEST(WeberPenn, ClumpsGatherLateralsIntoGroups) {
   std::vector<double> lengths, even_lengths;
   auto branch_length = [](const tree::Branch& b) {
     double l = 0;
-    for (std::size_t k = 1; k < b.nodes.size(); ++k) l += tree::length(b.nodes[k].position - b.nodes[k - 1].position);
+    for (std::size_t k = 1; k < b.nodes.size(); ++k)
+      l += tree::length(b.nodes[k].position - b.nodes[k - 1].position);
     return l;
   };
   for (const tree::Branch& b : t.branches) {
