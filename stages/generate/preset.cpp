@@ -142,7 +142,7 @@ class Reader {
       {"FoliageZone", &Preset::foliage_zone},
       {"CardScale", &Preset::card_scale},
   }};
-  static constexpr std::array<Field<LevelParams>, 14> kLevel{{
+  static constexpr std::array<Field<LevelParams>, 17> kLevel{{
       {"Branches", &LevelParams::branches},
       {"Length", &LevelParams::length},
       {"LengthV", &LevelParams::length_v},
@@ -157,6 +157,9 @@ class Reader {
       {"Rotate", &LevelParams::rotate},
       {"RotateV", &LevelParams::rotate_v},
       {"BranchRatio", &LevelParams::branch_ratio},
+      {"Clumps", &LevelParams::clumps},
+      {"ClumpSize", &LevelParams::clump_size},
+      {"ClumpBase", &LevelParams::clump_base},
   }};
   static constexpr std::array<Field<LeafLevelParams>, 4> kLeaf{{
       {"DownAngleV", &LeafLevelParams::down_angle_v},

@@ -87,6 +87,23 @@ double taper_radius(double taper, double r_stem, double len, double z, bool trun
   return std::max(r, 0.0);
 }
 
+// Where lateral i of n sits on its parent's child zone [lo, hi]: evenly spread (W&P), or with
+// Clumps k > 0 in k equal groups (child i in group floor(i k / n), so group sizes differ by at
+// most one) over the zone less its proximal ClumpBase fraction, each group spread evenly over
+// the ClumpSize fraction of its share, centred on that share. Increasing in i either way, so
+// children stay ordered by position.
+double child_position(const LevelParams& lp, std::uint32_t i, std::uint32_t n, double lo, double hi) {
+  if (lp.clumps <= 0) return lo + (i + 0.5) * (hi - lo) / n;
+  lo += lp.clump_base * (hi - lo);
+  const std::uint64_t k = std::min<std::uint64_t>(static_cast<std::uint64_t>(lp.clumps), n);
+  const std::uint64_t c = i * k / n;
+  const std::uint64_t first = (c * n + k - 1) / k, next = ((c + 1) * n + k - 1) / k;  // ceil
+  const double share = (hi - lo) / static_cast<double>(k);
+  const double width = lp.clump_size * share;
+  const double start = lo + (static_cast<double>(c) + 0.5) * share - 0.5 * width;
+  return start + (static_cast<double>(i - first) + 0.5) * width / static_cast<double>(next - first);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Pass 1 records.
 
@@ -304,7 +321,7 @@ class Generator {
     double azimuth = 0;
     double alternate = 1;
     for (std::uint32_t i = 0; i < n; ++i) {
-      const double s = lo + (i + 0.5) * (hi - lo) / n;
+      const double s = child_position(lp, i, n, lo, hi);
       const double offset = branch_start + s;  // on the parent stem
       // Three draws per child, always, in this order: length, azimuth, down angle.
       const double r_len = rng_.signed_unit();
@@ -746,6 +763,9 @@ void validate_preset(const Preset& p) {
     need(std::abs(l.rotate) <= 360, at + "Rotate", "in [-360, 360]");
     need(l.rotate_v >= 0 && l.rotate_v <= 360, at + "RotateV", "in [0, 360]");
     need(l.branch_ratio > 0 && l.branch_ratio <= 1, at + "BranchRatio", "in (0, 1]");
+    need(l.clumps >= 0 && l.clumps <= 100, at + "Clumps", "0..100");
+    need(l.clump_size > 0 && l.clump_size <= 1, at + "ClumpSize", "in (0, 1]");
+    need(l.clump_base >= 0 && l.clump_base < 1, at + "ClumpBase", "in [0, 1)");
   }
   need(std::abs(p.leaf.down_angle_v) <= 180, "leaf.DownAngleV", "in [-180, 180]");
   need(std::abs(p.leaf.rotate) <= 360, "leaf.Rotate", "in [-360, 360]");

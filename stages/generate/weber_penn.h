@@ -41,6 +41,14 @@ struct LevelParams {
   double rotate = 140;        // Rotate: azimuth step between successive children (deg); < 0 alternates
   double rotate_v = 0;        // RotateV: ± variation (deg)
   double branch_ratio = 0.5;  // BranchRatio S_s: child/primary radius ratio at attachments, (0, 1]
+  // Clumps (ours, not W&P): children of this level gather into `clumps` equal groups along their
+  // parent's child zone (less its bare `clump_base` fraction) instead of spreading evenly; each
+  // group spans `clump_size` of its share of that, centred on it, so bare stretches of the parent
+  // separate the groups. 0 = W&P's
+  // even spread. Positions only: the draws per child are the same either way.
+  int clumps = 0;           // Clumps: groups per parent, 0..100
+  double clump_size = 0.3;  // ClumpSize: fraction of each group's share it spans, (0, 1]
+  double clump_base = 0;    // ClumpBase: bare fraction of the zone before the groups, [0, 1)
 };
 
 // The leaf level (A.2): orientation of leaves/needles around and away from their branch.

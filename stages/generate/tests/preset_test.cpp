@@ -129,6 +129,19 @@ TEST(Preset, RangeErrorPointsAtTheValue) {
             "t.yaml:14:49: ages.young: levels[1].BranchRatio must be in (0, 1]");
   EXPECT_EQ(error_of(replace(kGood, "params: { Scale: 3,", "params: { Scale: -3,")),
             "t.yaml:20:22: ages.young: Scale must be in (0, 200]");
+  EXPECT_EQ(error_of(replace(kGood, "BranchRatio: 0.4", "BranchRatio: 0.4, ClumpSize: 0")),
+            "t.yaml:14:65: ages.young: levels[1].ClumpSize must be in (0, 1]");
+}
+
+// The clump parameters (weber_penn.h) are per-level keys like W&P's.
+TEST(Preset, ReadsClumps) {
+  const SpeciesPreset s = parse_species_preset(
+      replace(kGood, "BranchRatio: 0.4", "BranchRatio: 0.4, Clumps: 3, ClumpSize: 0.25, ClumpBase: 0.1"),
+      "t.yaml");
+  EXPECT_EQ(s.age("middle").params.level[1].clumps, 3);
+  EXPECT_DOUBLE_EQ(s.age("middle").params.level[1].clump_size, 0.25);
+  EXPECT_DOUBLE_EQ(s.age("middle").params.level[1].clump_base, 0.1);
+  EXPECT_EQ(s.age("middle").params.level[0].clumps, 0);
 }
 
 TEST(Preset, MissingPieces) {

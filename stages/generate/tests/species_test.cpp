@@ -114,15 +114,32 @@ TEST(Species, NothingBelowTheGround) {
   }
 }
 
-// The mugo pine is the shrub of the library: 1-2.5 m when adult, several stems from the base.
-TEST(Species, MugoPineIsAShrub) {
+// The mugo pine is the shrub of the library (issue 9): 1-2.5 m when adult, many stems rising
+// from the base (at least 8 branches growing from the trunk's stump within 25 cm of the ground,
+// each at least 0.4 of the shrub's height long), and wider than tall; for every age and seeds 1-3.
+TEST(Species, MugoPineIsAMultiStemmedShrub) {
   const SpeciesPreset s = load_species_preset("configs/species/mugo_pine.yaml");
-  const AgeVariant& a = s.age("adult");
-  EXPECT_GE(a.height_min, 1.0);
-  EXPECT_LE(a.height_max, 2.5);
-  Rng rng(1, "tree");
-  const tree::Tree t = generate_tree(a.params, {}, rng);
-  EXPECT_GE(tree::compute_stats(t).branches_per_level.at(0), 3u);
+  const AgeVariant& adult = s.age("adult");
+  EXPECT_GE(adult.height_min, 1.0);
+  EXPECT_LE(adult.height_max, 2.5);
+  for (const AgeVariant& a : s.ages) {
+    for (std::uint64_t seed : {1, 2, 3}) {
+      const tree::Tree t = generate_with_cards(s, a, seed);
+      const tree::TreeStats st = tree::compute_stats(t);
+      const std::string what = a.age + " seed " + std::to_string(seed);
+      int stems = 0;
+      for (const tree::Branch& b : t.branches) {
+        if (b.parent != 0 || b.level != 1) continue;
+        double len = 0;
+        for (std::size_t k = 1; k < b.nodes.size(); ++k)
+          len += tree::length(b.nodes[k].position - b.nodes[k - 1].position);
+        if (b.nodes.front().position.y <= 0.25 && len >= 0.4 * st.height) ++stems;
+      }
+      EXPECT_GE(stems, a.age == "young" ? 5 : 8) << what;
+      const double width = std::min(st.bounds_max.x - st.bounds_min.x, st.bounds_max.z - st.bounds_min.z);
+      EXPECT_GT(width, st.height) << what;
+    }
+  }
 }
 
 }  // namespace

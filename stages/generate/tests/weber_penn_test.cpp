@@ -339,6 +339,93 @@ TEST(WeberPenn, RejectsBadPreset) {
   }
 }
 
+// Clumps: the laterals gather into `Clumps` groups along the parent's child zone less its bare
+// ClumpBase fraction, each spread over ClumpSize of its share and centred on it (25 children in 3
+// groups: 9, 8, 8);
+// the per-child draws are the same as without clumps, so with a cylindrical shape ratio (length
+// independent of position) every lateral keeps its length exactly.
+TEST(WeberPenn, ClumpsGatherLateralsIntoGroups) {
+  Preset p = exact_preset();
+  p.shape = 3;
+  p.levels = 2;
+  p.level[1].seg_splits = 0;
+  Preset even = p;
+  p.level[1].clumps = 3;
+  p.level[1].clump_size = 0.2;
+  p.level[1].clump_base = 0.25;
+  const tree::Tree t = make(p, 5), e = make(even, 5);
+  const tree::Branch& trunk = t.branches[0];
+  std::vector<double> arc(trunk.nodes.size(), 0.0);
+  for (std::size_t k = 1; k < arc.size(); ++k)
+    arc[k] = arc[k - 1] + tree::length(trunk.nodes[k].position - trunk.nodes[k - 1].position);
+  const double L = arc.back(), lo = p.base_size * L + 0.25 * (1 - p.base_size) * L, share = (L - lo) / 3;
+  const double tolerance = 0.1 * L / p.level[0].curve_res + trunk.nodes[0].radius;  // prepended node
+  std::vector<int> per_group(3, 0);
+  std::vector<double> lengths, even_lengths;
+  auto branch_length = [](const tree::Branch& b) {
+    double l = 0;
+    for (std::size_t k = 1; k < b.nodes.size(); ++k)
+      l += tree::length(b.nodes[k].position - b.nodes[k - 1].position);
+    return l;
+  };
+  for (const tree::Branch& b : t.branches) {
+    if (b.parent != 0) continue;
+    const double s = arc[b.parent_node];
+    const int g = std::clamp(static_cast<int>((s - lo) / share), 0, 2);
+    const double centre = lo + (g + 0.5) * share;
+    EXPECT_GE(s, centre - 0.1 * share - tolerance) << "group " << g;
+    EXPECT_LE(s, centre + 0.1 * share) << "group " << g;
+    ++per_group[g];
+    lengths.push_back(branch_length(b));
+  }
+  EXPECT_EQ(per_group, (std::vector<int>{9, 8, 8}));
+  for (const tree::Branch& b : e.branches)
+    if (b.parent == 0) even_lengths.push_back(branch_length(b));
+  ASSERT_EQ(lengths.size(), even_lengths.size());
+  for (std::size_t i = 0; i < lengths.size(); ++i) EXPECT_NEAR(lengths[i], even_lengths[i], 1e-9) << i;
+  // Without clumps the same laterals spread over the whole zone: the bare base and the middle of
+  // the first gap (between groups 0 and 1) have children within a tenth of a share of them.
+  int in_gap = 0, in_base = 0;
+  for (const tree::Branch& b : e.branches) {
+    if (b.parent != 0) continue;
+    double s = 0;
+    for (std::uint32_t k = 1; k <= b.parent_node; ++k)
+      s += tree::length(e.branches[0].nodes[k].position - e.branches[0].nodes[k - 1].position);
+    if (std::abs(s - (lo + share)) < 0.1 * share) ++in_gap;
+    if (s < lo - tolerance) ++in_base;
+  }
+  EXPECT_GE(in_gap, 1);
+  EXPECT_GE(in_base, 3);
+  EXPECT_TRUE(tree::validate_tree(t).empty());
+}
+
+TEST(WeberPenn, RejectsBadClumps) {
+  Preset p = busy_preset();
+  p.level[2].clumps = 101;
+  try {
+    make(p, 1);
+    FAIL();
+  } catch (const PresetError& e) {
+    EXPECT_STREQ(e.what(), "levels[2].Clumps must be 0..100");
+  }
+  p.level[2].clumps = 4;
+  p.level[2].clump_size = 0;
+  try {
+    make(p, 1);
+    FAIL();
+  } catch (const PresetError& e) {
+    EXPECT_STREQ(e.what(), "levels[2].ClumpSize must be in (0, 1]");
+  }
+  p.level[2].clump_size = 0.3;
+  p.level[2].clump_base = 1;
+  try {
+    make(p, 1);
+    FAIL();
+  } catch (const PresetError& e) {
+    EXPECT_STREQ(e.what(), "levels[2].ClumpBase must be in [0, 1)");
+  }
+}
+
 TEST(WeberPenn, ShapeRatio) {
   EXPECT_DOUBLE_EQ(shape_ratio(0, 1), 1.0);
   EXPECT_DOUBLE_EQ(shape_ratio(0, 0), 0.2);
