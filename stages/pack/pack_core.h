@@ -14,7 +14,7 @@
 // saves at least min_saving of the primitives of the level kept before it (otherwise the finer
 // level, proven from its own switch distance on, is drawn instead); the impostor when it saves
 // min_saving over the last kept mesh level.
-// Every mesh is reordered by meshoptimizer (vertex cache, overdraw, fetch) and compressed as
+// Every mesh is reordered by meshoptimizer (strip-friendly vertex cache order, fetch) and compressed as
 // asked; textures are the lod stage's PNGs, byte for byte. Pure over the scenes read from the
 // lod files: no file system, no clock.
 #pragma once
@@ -47,8 +47,8 @@ struct PackOptions {
   bool quantize = true;
   double position_error = 0.25;     // (0, 1]
   double position_error_max = 1.0;  // [position_error, 1]
-  int normal_bits = 8;           // 1..16
-  int texcoord_bits = 12;        // 1..16
+  int normal_bits = 8;              // 1..16
+  int texcoord_bits = 12;           // 1..16
   // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
   // kept before it; [0, 1).
   double min_saving = 0.1;

@@ -23,8 +23,9 @@ StageInfo pack_stage_info() {
       Param::choice("compression", {"none", "meshopt", "draco"}, "meshopt")
           .describe("geometry compression: EXT_meshopt_compression, KHR_draco_mesh_compression or none"),
       Param::boolean("optimize", true)
-          .describe("reorder every mesh for compression (meshoptimizer's strip-friendly vertex cache order, as "
-                    "gltfpack -cc) and vertex fetch"),
+          .describe(
+              "reorder every mesh for compression (meshoptimizer's strip-friendly vertex cache order, as "
+              "gltfpack -cc) and vertex fetch"),
       Param::boolean("quantize", true)
           .describe("KHR_mesh_quantization: integer positions (grid from each level's epsilon), octahedral "
                     "normals, 16-bit uvs (not with draco)"),

@@ -328,7 +328,7 @@ TEST(PackCore, PositionGridFallsBackToSixteenBitsWithinEpsilon) {
   EXPECT_EQ(g.bits, 16);
   EXPECT_TRUE(g.relaxed);
   EXPECT_DOUBLE_EQ(g.max_error_m, std::sqrt(3.0) / 2 * step16);  // 0.634 mm
-  EXPECT_EQ(position_grid(m, 0.001, 0.5, 0.6).bits, 0);           // 0.634 mm > 0.6 mm: float
+  EXPECT_EQ(position_grid(m, 0.001, 0.5, 0.6).bits, 0);          // 0.634 mm > 0.6 mm: float
   // epsilon 2.94 mm (lod1): 15 bits within half (1.27 mm), not relaxed; a quarter needs 16.
   g = position_grid(m, 0.00294, 0.5, 1.0);
   EXPECT_EQ(g.bits, 15);
@@ -372,7 +372,7 @@ TEST(PackCore, OneViewPerAttributeKind) {
   EXPECT_EQ(i0["bufferView"], i1["bufferView"]);
   EXPECT_EQ(i1["byteOffset"], 2u * 40 * 12 * 6);  // after lod0's 2880 UNSIGNED_SHORT indices
   EXPECT_EQ(chain["bufferViews"][i0["bufferView"].get<std::size_t>()]["extensions"]["EXT_meshopt_compression"]
-                ["mode"],
+                 ["mode"],
             "TRIANGLES");
   // A level file: one mesh, so still one view per attribute.
   EXPECT_EQ(test::parse_glb(files[1].bytes).json["bufferViews"].size(), 5u);
