@@ -37,8 +37,7 @@ void count_primitives(const gltf::Scene& s, LodLevel& l) {
 
 // The keys of a mesh level's node extras the pack keeps (a level's numbers; lod.json has them
 // and more). The lod stage's diagnostics (E1_m..E5_m, line alphas, polygon error, counts) and its
-// mesh extras (the same again) stay in the lod artifact: they were a third of a level file's
-// JSON.
+// mesh extras (the same again) stay in the lod artifact (a smaller JSON chunk in every file).
 nlohmann::json level_node_extras(const nlohmann::json& extras) {
   nlohmann::json out = nlohmann::json::object();
   if (!extras.is_object()) return out;
