@@ -12,6 +12,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 #include "libs/gltf/writer.h"
@@ -27,7 +28,7 @@ enum class Kind { kRaw, kAttributes, kTriangles, kIndices };
 struct ViewUse {
   Kind kind = Kind::kRaw;
   std::size_t count = 0, stride = 0;
-  int component_type = 0;
+  int component_type = 0, type = 0;
 };
 
 void pad4(std::string& s, char fill) {
@@ -65,7 +66,7 @@ std::vector<ViewUse> classify(const tinygltf::Model& m) {
     if (kind == Kind::kAttributes && (size % 4 != 0 || size > 252)) return;
     if (kind != Kind::kAttributes && size != 2 && size != 4) return;
     if (kind == Kind::kTriangles && a.count % 3 != 0) kind = Kind::kIndices;
-    uses[std::size_t(a.bufferView)] = {kind, a.count, size, a.componentType};
+    uses[std::size_t(a.bufferView)] = {kind, a.count, size, a.componentType, a.type};
   };
   for (const auto& mesh : m.meshes)
     for (const auto& p : mesh.primitives) {
@@ -100,6 +101,73 @@ std::string encode_view(const unsigned char* data, const ViewUse& u) {
                            : u.kind == Kind::kTriangles ? MeshoptMode::kTriangles
                                                         : MeshoptMode::kIndices;
   return encode_meshopt_view(data, mode, u.count, u.stride);
+}
+
+// Views of one kind, element (stride, component type, type) and filter become one view, their
+// bytes concatenated in view order, each accessor at its old view's offset in it: one codec
+// stream and one JSON view per kind (gltfpack's layout). Index views merge only with views of
+// the same primitive mode and index size. Raw views (images) keep their order after the merged
+// ones that precede them. Rewrites `model` (views, buffer 0, accessors, images) and returns the
+// new views' uses and filters.
+void merge_views(tinygltf::Model& model, std::vector<ViewUse>& uses, std::map<int, std::string>& filters) {
+  if (model.buffers.empty()) return;
+  const std::vector<unsigned char>& src = model.buffers[0].data;
+  using Key = std::tuple<int, std::size_t, int, int, std::string>;
+  std::map<Key, std::size_t> group_of;  // key -> new view
+  std::vector<tinygltf::BufferView> views;
+  std::vector<ViewUse> new_uses;
+  std::map<int, std::string> new_filters;
+  std::vector<unsigned char> data;
+  std::vector<std::pair<std::size_t, std::size_t>> moved(model.bufferViews.size());  // new view, offset
+  std::vector<std::vector<std::size_t>> members;
+  for (std::size_t v = 0; v < model.bufferViews.size(); ++v) {
+    const auto f = filters.find(int(v));
+    const std::string filter = f == filters.end() ? std::string() : f->second;
+    if (uses[v].kind == Kind::kRaw) {
+      moved[v] = {views.size(), 0};
+      views.push_back(model.bufferViews[v]);
+      new_uses.push_back(uses[v]);
+      members.push_back({v});
+      if (!filter.empty()) new_filters[int(views.size() - 1)] = filter;
+      continue;
+    }
+    const Key key{int(uses[v].kind), uses[v].stride, uses[v].component_type, uses[v].type, filter};
+    const auto [it, fresh] = group_of.emplace(key, views.size());
+    if (fresh) {
+      views.push_back(model.bufferViews[v]);
+      views.back().byteLength = 0;
+      new_uses.push_back(uses[v]);
+      new_uses.back().count = 0;
+      members.emplace_back();
+      if (!filter.empty()) new_filters[int(views.size() - 1)] = filter;
+    }
+    moved[v] = {it->second, views[it->second].byteLength};
+    views[it->second].byteLength += model.bufferViews[v].byteLength;
+    new_uses[it->second].count += uses[v].count;
+    members[it->second].push_back(v);
+  }
+  for (std::size_t n = 0; n < views.size(); ++n) {
+    while (data.size() % 4 != 0) data.push_back(0);
+    const std::size_t start = data.size();
+    for (const std::size_t v : members[n]) {
+      const tinygltf::BufferView& old = model.bufferViews[v];
+      data.insert(data.end(), src.begin() + std::ptrdiff_t(old.byteOffset),
+                  src.begin() + std::ptrdiff_t(old.byteOffset + old.byteLength));
+    }
+    views[n].byteOffset = start;
+  }
+  for (auto& a : model.accessors)
+    if (a.bufferView >= 0) {
+      const auto [view, offset] = moved[std::size_t(a.bufferView)];
+      a.bufferView = int(view);
+      a.byteOffset += offset;
+    }
+  for (auto& im : model.images)
+    if (im.bufferView >= 0) im.bufferView = int(moved[std::size_t(im.bufferView)].first);
+  model.bufferViews = std::move(views);
+  model.buffers[0].data = std::move(data);
+  uses = std::move(new_uses);
+  filters = std::move(new_filters);
 }
 
 }  // namespace
@@ -141,8 +209,11 @@ std::string encode_meshopt_view(const unsigned char* data, MeshoptMode mode, std
   return std::string(reinterpret_cast<const char*>(out.data()), n);
 }
 
-std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters) {
-  const std::vector<ViewUse> uses = classify(model);
+std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& view_filters,
+                               bool merge) {
+  std::vector<ViewUse> uses = classify(model);
+  std::map<int, std::string> filters = view_filters;
+  if (merge) merge_views(model, uses, filters);
   std::vector<unsigned char> source;
   if (!model.buffers.empty()) source.swap(model.buffers[0].data);
   // Serialise the JSON without the data (tinygltf would base64 it); buffers are rewritten below.

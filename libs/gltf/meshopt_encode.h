@@ -17,8 +17,11 @@ namespace sylva::gltf::detail {
 // the views themselves move to buffer 1, a fallback buffer without data
 // ({"fallback": true}), so the extension is required. Image views stay uncompressed in buffer 0.
 // `filters` names the meshopt filter of views whose bytes are already filtered (view index ->
-// "OCTAHEDRAL", ...); such a view must be compressed. Deterministic. Throws GltfError.
-std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters = {});
+// "OCTAHEDRAL", ...); such a view must be compressed. `merge`: views of the same kind, element
+// type and filter are first concatenated into one view (WriteOptions::meshopt_merge_views).
+// Deterministic. Throws GltfError.
+std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& filters = {},
+                               bool merge = false);
 
 // One view's bytes through a meshoptimizer codec: kAttributes (the vertex codec; `stride` a
 // multiple of 4, at most 252), kTriangles (the index codec, version 1; count a multiple of 3) or

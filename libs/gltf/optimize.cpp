@@ -28,14 +28,19 @@ void remap_vertices(Primitive& p, const std::vector<unsigned int>& remap, std::s
 
 }  // namespace
 
-void optimize_primitive(Primitive& p) {
+void optimize_primitive(Primitive& p, OptimizeOrder order) {
   if (p.indices.empty() || p.mode == PrimitiveMode::kPoints) return;
   const std::size_t n = p.vertex_count();
   if (p.mode == PrimitiveMode::kTriangles && p.indices.size() % 3 == 0) {
-    std::vector<unsigned int> tmp(p.indices.size());
-    meshopt_optimizeVertexCache(tmp.data(), p.indices.data(), p.indices.size(), n);
-    meshopt_optimizeOverdraw(p.indices.data(), tmp.data(), tmp.size(), p.positions.data(), n,
-                             3 * sizeof(float), 1.05f);
+    if (order == OptimizeOrder::kSize) {
+      // In place is allowed (meshoptimizer copies the input when destination == indices).
+      meshopt_optimizeVertexCacheStrip(p.indices.data(), p.indices.data(), p.indices.size(), n);
+    } else {
+      std::vector<unsigned int> tmp(p.indices.size());
+      meshopt_optimizeVertexCache(tmp.data(), p.indices.data(), p.indices.size(), n);
+      meshopt_optimizeOverdraw(p.indices.data(), tmp.data(), tmp.size(), p.positions.data(), n,
+                               3 * sizeof(float), 1.05f);
+    }
   }
   std::vector<unsigned int> remap(n);
   const std::size_t used =
@@ -43,9 +48,9 @@ void optimize_primitive(Primitive& p) {
   remap_vertices(p, remap, used);
 }
 
-void optimize_scene(Scene& s) {
+void optimize_scene(Scene& s, OptimizeOrder order) {
   for (auto& m : s.meshes)
-    for (auto& p : m.primitives) optimize_primitive(p);
+    for (auto& p : m.primitives) optimize_primitive(p, order);
 }
 
 }  // namespace sylva::gltf

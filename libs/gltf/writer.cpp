@@ -728,7 +728,8 @@ void encode_to(const Scene& scene, std::ostream& out, const WriteOptions& option
   ModelBuilder builder(scene, options);
   tinygltf::Model model = builder.build();
   if (options.meshopt) {
-    const std::string bytes = detail::encode_meshopt_glb(model, builder.view_filters());
+    const std::string bytes =
+        detail::encode_meshopt_glb(model, builder.view_filters(), options.meshopt_merge_views);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     return;
   }

@@ -99,6 +99,11 @@ struct WriteOptions {
   // EXT_meshopt_compression (meshopt_encode.h): kGlb only, not with Draco. Every attribute and
   // index view is compressed losslessly with meshoptimizer's codecs; the extension is required.
   bool meshopt = false;
+  // With meshopt: the views of one kind — vertex attributes of one element type (stride,
+  // component type, type) and filter, or indices of one primitive mode and index size — are
+  // one view, compressed as one stream, each accessor at its offset in it (gltfpack's layout:
+  // less JSON and fewer codec headers than one view per accessor). Decodes to the same values.
+  bool meshopt_merge_views = false;
   QuantizeOptions quantize;
 };
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <list>
 #include <numbers>
 #include <stdexcept>
 
@@ -34,9 +35,27 @@ void count_primitives(const gltf::Scene& s, LodLevel& l) {
     }
 }
 
+// The keys of a mesh level's node extras the pack keeps (a level's numbers; lod.json has them
+// and more). The lod stage's diagnostics (E1_m..E5_m, line alphas, polygon error, counts) and its
+// mesh extras (the same again) stay in the lod artifact (a smaller JSON chunk in every file).
+nlohmann::json level_node_extras(const nlohmann::json& extras) {
+  nlohmann::json out = nlohmann::json::object();
+  if (!extras.is_object()) return out;
+  for (const char* key : {"sylva_lod_level", "epsilon_m", "pixel_error_px", "switch_distance_m"})
+    if (extras.contains(key)) out[key] = extras[key];
+  return out;
+}
+
+gltf::Scene lean_level(const gltf::Scene& level) {
+  gltf::Scene s = level;
+  for (gltf::Mesh& m : s.meshes) m.extras = nullptr;
+  for (gltf::Node& n : s.nodes) n.extras = level_node_extras(n.extras);
+  return s;
+}
+
 }  // namespace
 
-PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction) {
+PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction) {
   std::array<double, 3> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
@@ -52,8 +71,12 @@ PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fracti
   const double half_diagonal = std::sqrt(3.0) / 2;
   for (int bits = 1; bits <= 16; ++bits) {
     const double step = extent / double((1u << bits) - 1);
-    if (half_diagonal * step <= budget) return {bits, half_diagonal * step};
+    if (half_diagonal * step <= budget) return {bits, half_diagonal * step, false};
   }
+  // KHR_mesh_quantization stops at 16 bits. Its grid is still far finer than the level's own
+  // error when it rounds within max_fraction x epsilon, and far smaller than float positions.
+  const double step16 = extent / double((1u << 16) - 1);
+  if (half_diagonal * step16 <= max_fraction * epsilon) return {16, half_diagonal * step16, true};
   return {};
 }
 
@@ -231,6 +254,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   gltf::WriteOptions w;
   w.format = gltf::FileFormat::kGlb;
   w.meshopt = options.compression == Compression::kMeshopt;
+  w.meshopt_merge_views = w.meshopt;
   w.draco.enabled = options.compression == Compression::kDraco;
   w.quantize.enabled = options.quantize && !w.draco.enabled;
   w.quantize.normal_bits = options.normal_bits;
@@ -240,7 +264,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   auto encode = [&](gltf::Scene s, std::vector<int> position_bits, std::vector<double> float_error) {
     w.quantize.position_bits = std::move(position_bits);
     w.quantize.float_position_error = std::move(float_error);
-    if (options.optimize) gltf::optimize_scene(s);
+    if (options.optimize) gltf::optimize_scene(s, gltf::OptimizeOrder::kSize);
     nlohmann::json extras = s.extras.is_object() ? s.extras : nlohmann::json::object();
     extras["sylva_stage"] = "pack";
     extras["species"] = in.species;
@@ -258,6 +282,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
     double float_error = 0;
   };
   std::vector<Kept> kept;
+  std::list<gltf::Scene> lean;  // the kept mesh levels without the lod stage's diagnostics (stable addresses)
   LodDescription d;
   d.species = in.species;
   d.chain = in.species + ".glb";
@@ -288,15 +313,14 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
                        {"switch_distance_m", c.switch_distance_m}};
     } else {
       const ChainLevel& cl = parsed.levels[c.source_level];
-      k.scene = &in.levels[c.source_level];
+      k.scene = &lean.emplace_back(lean_level(in.levels[c.source_level]));
       k.inputs = c.source_level < in.level_inputs.size() ? in.level_inputs[c.source_level]
                                                          : std::vector<std::string>{};
       l.file = in.species + "_lod" + std::to_string(mesh_index++) + ".glb";
       l.source_level = int(c.source_level);
       l.epsilon_m = cl.epsilon_m;
       l.pixel_error_px = cl.pixel_error_px;
-      k.node_extras = cl.node->extras.is_object() ? cl.node->extras : nlohmann::json::object();
-      k.node_extras.erase("MSFT_screencoverage");
+      k.node_extras = level_node_extras(cl.node->extras);
     }
     l.switch_distance_m = c.switch_distance_m;
     count_primitives(*k.scene, l);
@@ -304,7 +328,8 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
     k.bits.assign(k.scene->meshes.size(), 0);
     if (w.quantize.enabled) {
       for (std::size_t m = 0; m < k.bits.size(); ++m) {
-        const PositionGrid g = position_grid(k.scene->meshes[m], l.epsilon_m, options.position_error);
+        const PositionGrid g = position_grid(k.scene->meshes[m], l.epsilon_m, options.position_error,
+                                             options.position_error_max);
         k.bits[m] = g.bits;
         l.position_bits = std::max(l.position_bits, g.bits);
         l.position_error_m = std::max(l.position_error_m, g.max_error_m);

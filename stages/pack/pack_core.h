@@ -14,7 +14,7 @@
 // saves at least min_saving of the primitives of the level kept before it (otherwise the finer
 // level, proven from its own switch distance on, is drawn instead); the impostor when it saves
 // min_saving over the last kept mesh level.
-// Every mesh is reordered by meshoptimizer (vertex cache, overdraw, fetch) and compressed as
+// Every mesh is reordered by meshoptimizer (strip-friendly vertex cache order, fetch) and compressed as
 // asked; textures are the lod stage's PNGs, byte for byte. Pure over the scenes read from the
 // lod files: no file system, no clock.
 #pragma once
@@ -37,14 +37,18 @@ struct PackOptions {
   // KHR_mesh_quantization (not with Draco, which quantises itself): each level's positions on
   // the coarsest grid whose rounding error (sqrt(3)/2 of a step) is at most position_error x the
   // level's epsilon, so the quantised level stays within a fraction of the error the lod stage
-  // proved; a level that would need more than 16 bits keeps float positions, with meshopt
-  // through its EXPONENTIAL filter within the same bound (gltf::QuantizeOptions::
-  // float_position_error). Normals octahedral
-  // with normal_bits, uvs in [0, 1] with texcoord_bits (gltf::QuantizeOptions).
+  // proved. A level that would need more than 16 bits (KHR_mesh_quantization's finest grid) gets
+  // 16 bits when their rounding error is at most position_error_max x epsilon (the finest level
+  // of a large tree: 16 bits over 48 m round by 0.63 mm, within its 1 mm epsilon; measured image
+  // error below gltfpack's 14 bits, docs/performance.md), else it keeps float positions, with
+  // meshopt through its EXPONENTIAL filter within position_error x epsilon
+  // (gltf::QuantizeOptions::float_position_error). Normals octahedral with normal_bits, uvs in
+  // [0, 1] with texcoord_bits (gltf::QuantizeOptions).
   bool quantize = true;
-  double position_error = 0.25;  // (0, 1]
-  int normal_bits = 8;           // 1..16
-  int texcoord_bits = 12;        // 1..16
+  double position_error = 0.25;     // (0, 1]
+  double position_error_max = 1.0;  // [position_error, 1]
+  int normal_bits = 8;              // 1..16
+  int texcoord_bits = 12;           // 1..16
   // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
   // kept before it; [0, 1).
   double min_saving = 0.1;
@@ -63,13 +67,15 @@ struct ImpostorLevelInput {
 
 // The position grid for a mesh at a level of spatial error `epsilon` (m): the fewest bits B
 // (1..16) whose step extent / (2^B - 1) rounds every coordinate by at most
-// sqrt(3)/2 step <= fraction x epsilon, extent the mesh's largest axis extent; 0 when 16 bits
-// are not enough (or epsilon <= 0). max_error_m is sqrt(3)/2 step (0 for float positions).
+// sqrt(3)/2 step <= fraction x epsilon, extent the mesh's largest axis extent; when 16 bits are
+// not enough for that, 16 bits if they round by at most max_fraction x epsilon (`relaxed`), else
+// 0 (float; also when epsilon <= 0). max_error_m is sqrt(3)/2 step (0 for float positions).
 struct PositionGrid {
   int bits = 0;
   double max_error_m = 0;
+  bool relaxed = false;  // 16 bits within max_fraction, not fraction, x epsilon
 };
-PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction);
+PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction = 0);
 
 // One output file and the input files it was made from (names in the lod artifact).
 struct PackedFile {

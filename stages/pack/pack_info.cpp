@@ -5,7 +5,7 @@ namespace sylva {
 StageInfo pack_stage_info() {
   StageInfo info;
   info.name = "pack";
-  info.version = 6;
+  info.version = 7;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
       "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
@@ -23,13 +23,19 @@ StageInfo pack_stage_info() {
       Param::choice("compression", {"none", "meshopt", "draco"}, "meshopt")
           .describe("geometry compression: EXT_meshopt_compression, KHR_draco_mesh_compression or none"),
       Param::boolean("optimize", true)
-          .describe("reorder every mesh for vertex cache, overdraw and vertex fetch (meshoptimizer)"),
+          .describe(
+              "reorder every mesh for compression (meshoptimizer's strip-friendly vertex cache order, as "
+              "gltfpack -cc) and vertex fetch"),
       Param::boolean("quantize", true)
           .describe("KHR_mesh_quantization: integer positions (grid from each level's epsilon), octahedral "
                     "normals, 16-bit uvs (not with draco)"),
       Param::real("position_error", 0.25)
           .range(0.001, 1)
           .describe("largest position rounding error, as a fraction of each level's epsilon_m"),
+      Param::real("position_error_max", 1.0)
+          .range(0.001, 1)
+          .describe("a level whose position_error grid would need more than 16 bits gets 16 bits when they "
+                    "round within this fraction of its epsilon_m (else float positions)"),
       Param::integer("normal_bits", 8).range(4, 16).describe("bits per octahedral normal component"),
       Param::real("min_saving", 0.1)
           .range(0, 0.99)

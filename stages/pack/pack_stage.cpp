@@ -64,6 +64,12 @@ class PackStage : public Stage {
     options.optimize = ctx.boolean("optimize");
     options.quantize = ctx.boolean("quantize");
     options.position_error = ctx.real("position_error");
+    options.position_error_max = ctx.real("position_error_max");
+    if (options.position_error_max < options.position_error)
+      throw StageError("`position_error_max` (" + std::to_string(options.position_error_max) +
+                       ") is below `position_error` (" + std::to_string(options.position_error) +
+                       "): it bounds the 16-bit grid of a level whose position_error grid would need "
+                       "more than 16 bits");
     options.normal_bits = static_cast<int>(ctx.integer("normal_bits"));
     options.texcoord_bits = static_cast<int>(ctx.integer("texcoord_bits"));
     options.min_saving = ctx.real("min_saving");

@@ -131,7 +131,8 @@ class PackRender : public ::testing::Test {
 TEST_F(PackRender, QuantisedLevelsDrawWithinTheirErrorOfTheLodLevels) {
   const gltf::Scene tree = aspen(*data_ / "meshes/eztree/aspen_small_seed36330.glb");
   // Three levels of the same geometry: the pack's grid follows epsilon alone. At 2 mm the 39 m
-  // tree would need 18 bits (float positions through the EXPONENTIAL filter), then 13 and 11.
+  // tree would need 17 bits for a quarter of epsilon: it gets 16 (0.52 mm, within epsilon:
+  // position_error_max), then 13 and 11 bits.
   const double eps[3] = {0.002, 0.02, 0.08};
   SpeciesInput in;
   in.species = "aspen";
@@ -147,14 +148,20 @@ TEST_F(PackRender, QuantisedLevelsDrawWithinTheirErrorOfTheLodLevels) {
   const std::vector<PackedFile> files = pack_species(in, options);
   ASSERT_EQ(files.size(), 5u);
   const nlohmann::json lod = nlohmann::json::parse(files[4].bytes);
-  EXPECT_TRUE(lod["levels"][0]["position_float"].get<bool>());
-  EXPECT_EQ(lod["levels"][0]["position_bits"], 0);
-  EXPECT_NE(files[1].bytes.find("\"EXPONENTIAL\""), std::string::npos);
+  EXPECT_FALSE(lod["levels"][0]["position_float"].get<bool>());
+  EXPECT_EQ(lod["levels"][0]["position_bits"], 16);
+  EXPECT_EQ(lod["levels"][1]["position_bits"], 13);
+  EXPECT_EQ(lod["levels"][2]["position_bits"], 11);
+  EXPECT_EQ(files[1].bytes.find("\"EXPONENTIAL\""), std::string::npos);
+  const double err0 = lod["levels"][0]["position_error_m"].get<double>();
+  EXPECT_GT(err0, 0.25 * eps[0]);
+  EXPECT_LE(err0, eps[0]);
   for (int i = 0; i < 3; ++i) {
     const nlohmann::json& l = lod["levels"][std::size_t(i)];
-    // The rounding error is within a quarter of epsilon; a grid is not needlessly fine.
-    EXPECT_LE(l["position_error_m"].get<double>(), 0.25 * eps[i]) << i;
+    // The rounding error is within a quarter of epsilon (level 0: within epsilon, 16 bits); a
+    // grid is not needlessly fine.
     if (i > 0) {
+      EXPECT_LE(l["position_error_m"].get<double>(), 0.25 * eps[i]) << i;
       EXPECT_FALSE(l["position_float"].get<bool>()) << i;
       EXPECT_GT(l["position_error_m"].get<double>(), 0.125 * eps[i]) << i;
     }
@@ -172,6 +179,19 @@ TEST_F(PackRender, QuantisedLevelsDrawWithinTheirErrorOfTheLodLevels) {
           i, d.footprint, d.failing_fraction, d.mean_coverage, d.colour_fraction, d.mean_colour);
     }
   }
+  // With position_error_max a quarter, level 0 keeps float positions (EXPONENTIAL filter) within a
+  // quarter of epsilon.
+  PackOptions strict = options;
+  strict.position_error_max = 0.25;
+  const std::vector<PackedFile> floats = pack_species(in, strict);
+  const nlohmann::json lod_float = nlohmann::json::parse(floats[4].bytes);
+  EXPECT_TRUE(lod_float["levels"][0]["position_float"].get<bool>());
+  EXPECT_EQ(lod_float["levels"][0]["position_bits"], 0);
+  EXPECT_LE(lod_float["levels"][0]["position_error_m"].get<double>(), 0.25 * eps[0]);
+  EXPECT_NE(floats[1].bytes.find("\"EXPONENTIAL\""), std::string::npos);
+  EXPECT_LT(files[1].bytes.size(), floats[1].bytes.size());
+  std::printf("level 0: 16 bits %zu bytes, float (EXPONENTIAL) %zu bytes\n", files[1].bytes.size(),
+              floats[1].bytes.size());
   // A grid of 6 bits (a 0.6 m step for this 39 m tree) at level 2's distance is far outside
   // epsilon: the same comparison sees it.
   gltf::WriteOptions coarse;

@@ -38,6 +38,7 @@ gltf::Mesh tube(int rings, int sides, int buffer) {
     }
   p.material = 0;
   m.primitives.push_back(p);
+  m.extras = {{"counts", {{"triangles", p.indices.size() / 3}}}};
   return m;
 }
 
@@ -45,7 +46,8 @@ gltf::Node level_node(int i, double eps, double d) {
   gltf::Node n;
   n.name = "lod" + std::to_string(i);
   n.mesh = i;
-  n.extras = {{"epsilon_m", eps}, {"pixel_error_px", 0.5}, {"switch_distance_m", d}};
+  // As the lod stage writes them: the level's numbers and its diagnostics.
+  n.extras = {{"epsilon_m", eps}, {"pixel_error_px", 0.5}, {"switch_distance_m", d}, {"E1_m", 0.25 * eps}};
   return n;
 }
 
@@ -308,6 +310,82 @@ TEST(PackCore, MeshoptFilesLoadInSylvasRendererAsTheUncompressedOnes) {
     EXPECT_EQ(a.bounds().min, b.bounds().min);
     EXPECT_EQ(a.bounds().max, b.bounds().max);
   }
+}
+
+// The position rule (docs/stages/pack.md "Quantisation and image error"): the fewest bits within
+// position_error x epsilon; a level that would need more than 16 bits gets 16 when they round
+// within position_error_max x epsilon, else float positions.
+TEST(PackCore, PositionGridFallsBackToSixteenBitsWithinEpsilon) {
+  gltf::Mesh m;
+  gltf::Primitive p;
+  p.positions = {0, 0, 0, 3, 48, 2};  // an adult tree's extent: 48 m
+  m.primitives.push_back(p);
+  const double step16 = 48.0 / 65535;
+  // epsilon 1 mm, half of it: 17 bits would be needed.
+  PositionGrid g = position_grid(m, 0.001, 0.5);
+  EXPECT_EQ(g.bits, 0);
+  g = position_grid(m, 0.001, 0.5, 1.0);
+  EXPECT_EQ(g.bits, 16);
+  EXPECT_TRUE(g.relaxed);
+  EXPECT_DOUBLE_EQ(g.max_error_m, std::sqrt(3.0) / 2 * step16);  // 0.634 mm
+  EXPECT_EQ(position_grid(m, 0.001, 0.5, 0.6).bits, 0);          // 0.634 mm > 0.6 mm: float
+  // epsilon 2.94 mm (lod1): 15 bits within half (1.27 mm), not relaxed; a quarter needs 16.
+  g = position_grid(m, 0.00294, 0.5, 1.0);
+  EXPECT_EQ(g.bits, 15);
+  EXPECT_FALSE(g.relaxed);
+  EXPECT_EQ(position_grid(m, 0.00294, 0.25, 1.0).bits, 16);
+  // The young oak's lod0 (7.7 m, epsilon 1 mm): 14 bits within half, 15 within a quarter.
+  m.primitives[0].positions = {0, 0, 0, 1, 7.7f, 1};
+  g = position_grid(m, 0.001, 0.5, 1.0);
+  EXPECT_EQ(g.bits, 14);
+  EXPECT_FALSE(g.relaxed);
+  EXPECT_EQ(position_grid(m, 0.001, 0.25, 1.0).bits, 15);
+  // The pack's defaults.
+  EXPECT_EQ(PackOptions{}.position_error, 0.25);
+  EXPECT_EQ(PackOptions{}.position_error_max, 1.0);
+}
+
+// Meshopt files hold one view per attribute kind (gltfpack's layout), not one per accessor: the
+// chain of two levels has 5 views (positions, normals, uvs and indices of both meshes, the PNG)
+// and every accessor sits at its offset in its view.
+TEST(PackCore, OneViewPerAttributeKind) {
+  test::TempDir dir;
+  write_chain(dir.path());
+  const SpeciesInput in = read_input(dir.path());
+  const std::vector<PackedFile> files = pack_species(in, {});
+  const nlohmann::json chain = test::parse_glb(files[0].bytes).json;
+  ASSERT_EQ(chain["bufferViews"].size(), 5u);
+  ASSERT_EQ(chain["meshes"].size(), 2u);
+  const auto& a0 = chain["meshes"][0]["primitives"][0];
+  const auto& a1 = chain["meshes"][1]["primitives"][0];
+  for (const char* attr : {"POSITION", "NORMAL", "TEXCOORD_0"}) {
+    const auto& x = chain["accessors"][a0["attributes"][attr].get<std::size_t>()];
+    const auto& y = chain["accessors"][a1["attributes"][attr].get<std::size_t>()];
+    SCOPED_TRACE(attr);
+    EXPECT_EQ(x["bufferView"], y["bufferView"]);
+    EXPECT_EQ(x.value("byteOffset", 0u), 0u);
+    const std::size_t stride = chain["bufferViews"][x["bufferView"].get<std::size_t>()]["byteStride"];
+    EXPECT_EQ(y["byteOffset"], x["count"].get<std::size_t>() * stride);  // 41 x 12 vertices of lod0 first
+  }
+  const auto& i0 = chain["accessors"][a0["indices"].get<std::size_t>()];
+  const auto& i1 = chain["accessors"][a1["indices"].get<std::size_t>()];
+  EXPECT_EQ(i0["bufferView"], i1["bufferView"]);
+  EXPECT_EQ(i1["byteOffset"], 2u * 40 * 12 * 6);  // after lod0's 2880 UNSIGNED_SHORT indices
+  EXPECT_EQ(chain["bufferViews"][i0["bufferView"].get<std::size_t>()]["extensions"]["EXT_meshopt_compression"]
+                 ["mode"],
+            "TRIANGLES");
+  // A level file: one mesh, so still one view per attribute.
+  EXPECT_EQ(test::parse_glb(files[1].bytes).json["bufferViews"].size(), 5u);
+  // The bytes of this fixed input (pack version 7: merged views, strip-friendly order, the
+  // level extras trimmed; 15 and 11 bits).
+  EXPECT_EQ(files[0].bytes.size(), 8352u);
+  EXPECT_EQ(files[1].bytes.size(), 7116u);
+  EXPECT_EQ(files[2].bytes.size(), 3056u);
+  // Only the level's numbers stay in its node's extras; its mesh carries none.
+  const nlohmann::json level = test::parse_glb(files[1].bytes).json;
+  EXPECT_EQ(level["nodes"][0]["extras"],
+            (nlohmann::json{{"epsilon_m", 0.001}, {"pixel_error_px", 0.5}, {"switch_distance_m", 2.5}}));
+  EXPECT_FALSE(level["meshes"][0].contains("extras"));
 }
 
 TEST(PackCore, RefusesAChainThatDoesNotMatchItsLevels) {
