@@ -423,11 +423,10 @@ TEST(CardClusters, ScotsPineCoarseLevelsWithOpacityWeightsAndCoverageCheck) {
   EXPECT_LT(std::abs(c[5].cards.drift), 0.02);
 }
 
-// The adult oak's twig cards are crossed pairs (configs/species/oak.yaml `card:`, layers fitted
-// to the leaf area index). As the default recipe's lod_oak (kappa 1, sigma 16, tau 0.05), card
-// by card the clusters' cuts drift beyond the check and every level keeps FSA's cut; with
-// card_places each pair is one unit, the survivors are pairs, and the coarse levels keep a
-// fraction of the cards within the check.
+// The adult oak's twig cards are crossed places of three cards (configs/species/oak.yaml `card:`,
+// layers fitted to the leaf area index). As the default recipe's lod_oak (kappa 1, sigma 2,
+// tau 0.05): with card_places each place is one unit and every survivor is a place again; card
+// by card a place's cards merge into one flat card (fewer cards, but none of them crossed).
 TEST(CardClusters, OakCrossedPairsClusterAsPlaces) {
   const AtlasTree& at = atlas_tree("oak");
   const tree::Tree& t = at.tree;
@@ -440,7 +439,7 @@ TEST(CardClusters, OakCrossedPairsClusterAsPlaces) {
   ChainOptions o;
   o.card_opacity = at.opacity;
   o.card_cluster_px = 1.0;
-  o.card_size_px = 16;
+  o.card_size_px = 2;
   o.card_coverage_check = 0.05;
   o.card_places = true;
   ChainOptions cards = o;
@@ -463,17 +462,19 @@ TEST(CardClusters, OakCrossedPairsClusterAsPlaces) {
         by_card[i].cards.measured ? by_card[i].cards.drift : -9.0, int(by_card[i].cards.rejected),
         without[i]);
   }
-  EXPECT_EQ(sizes, (std::map<std::size_t, std::size_t>{{2, 13745}}));  // every place a crossed pair
-  EXPECT_EQ(without, (std::vector<std::size_t>{27490, 27490, 27490, 27490, 27489, 27284}));
-  // Card by card each pair's cards merge first (spread 0) into one flat card, half the count.
-  EXPECT_EQ(card_by_card, (std::vector<std::size_t>{27490, 27490, 27490, 14077, 13007, 7681}));
-  EXPECT_EQ(counts, (std::vector<std::size_t>{27490, 27490, 27490, 27328, 24958, 14802}));
+  // Every place is three crossed cards (the adult oak's LAI fit takes three layers).
+  EXPECT_EQ(sizes, (std::map<std::size_t, std::size_t>{{3, 6798}}));
+  EXPECT_EQ(without, (std::vector<std::size_t>{20394, 20394, 20394, 20393, 20387, 18458}));
+  // At sigma = 2 px only level 5's cards are small enough to cluster; levels 0-4 keep FSA's cut.
+  // Card by card a place's cards merge first (spread 0) into one flat card.
+  EXPECT_EQ(card_by_card, (std::vector<std::size_t>{20394, 20394, 20394, 20393, 20387, 3472}));
+  EXPECT_EQ(counts, (std::vector<std::size_t>{20394, 20394, 20394, 20393, 20387, 8595}));
   EXPECT_EQ(counts.front(), t.leaves.size());
   for (std::size_t i = 1; i < counts.size(); ++i) EXPECT_LE(counts[i], counts[i - 1]) << i;
   for (std::size_t i = 0; i < with.size(); ++i) {
     if (!with[i].cards.clustered) continue;
     EXPECT_LE(std::abs(with[i].cards.drift), 0.05) << i;
-    EXPECT_EQ(with[i].counts.leaves % 2, 0u) << i;  // every survivor a pair (every place is one)
+    EXPECT_EQ(with[i].counts.leaves % 3, 0u) << i;  // every survivor a place of three cards
   }
   ASSERT_TRUE(with[5].cards.clustered);
   EXPECT_LT(double(counts[5]), 0.75 * double(without[5]));
