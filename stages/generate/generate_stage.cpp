@@ -28,10 +28,11 @@ class GenerateStage : public Stage {
  public:
   GenerateStage() {
     info_.name = "generate";
-    info_.version = 6;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json;
+    info_.version = 7;  // 2: cards, LAI-fitted foliage, ground clearance, .sylt version 2, stats.json;
                         // 3: needle brushes drawn as projections (tuft, spray); 4: mip-safe halo
                         // chosen on drawn (trilinear) coverage down to one texel per cell;
-                        // 6: per-level Clumps/ClumpSize (issue 9: the oak's limb clumps)
+                        // 6: per-level Clumps/ClumpSize (issue 9: the oak's limb clumps);
+                        // 7: Hem/HemV (issue 9: the weeping willow's lifted curtains)
     info_.summary = "parametric tree from a species preset (Weber-Penn with da Vinci/Murray rules)";
     info_.output_type = "tree";
     info_.outputs = {"tree.sylt", "stats.json", "bark.png", "leaves.png"};

@@ -124,7 +124,7 @@ class Reader {
     return false;
   }
 
-  static constexpr std::array<Field<Preset>, 16> kParams{{
+  static constexpr std::array<Field<Preset>, 18> kParams{{
       {"Shape", &Preset::shape},
       {"Levels", &Preset::levels},
       {"Scale", &Preset::scale},
@@ -141,6 +141,8 @@ class Reader {
       {"LeafAreaIndex", &Preset::leaf_area_index},
       {"FoliageZone", &Preset::foliage_zone},
       {"CardScale", &Preset::card_scale},
+      {"Hem", &Preset::hem},
+      {"HemV", &Preset::hem_v},
   }};
   static constexpr std::array<Field<LevelParams>, 17> kLevel{{
       {"Branches", &LevelParams::branches},

@@ -138,6 +138,7 @@ struct BranchPlan {
   double deviation = 0;        // lateral: down angle; clone: split deviation (rad)
   double primary_angle = 0;    // lateral: Murray's primary deviation x it causes (rad)
   double ratio = 1;            // lateral: S_s; clone: n (members of its split)
+  double hem = 0;              // last level with Hem > 0: the height (m) it ends at; 0 = none
   std::uint32_t curve_at = 0;  // curve[] per segment node 0..nseg in a shared pool
   std::int64_t pull_at = -1;   // trunk split compensation per segment node, or -1
   std::uint32_t first_child = 0, child_count = 0;  // laterals, consecutive, by attach_s
@@ -204,6 +205,11 @@ class Generator {
       // Clones are appended while we iterate: they are grown in the same level.
       for (std::size_t i = 0; i < current.size(); ++i) grow_branch(current[i], current);
     }
+    // Hem: one draw per branch of the last level, after all the growth draws, so a hem changes
+    // nothing but where those branches end (pass 3).
+    if (p_.hem > 0)
+      for (std::uint32_t id : current)
+        plans_[id].hem = p_.hem * stems_[0].length * (1 + p_.hem_v * rng_.signed_unit());
     last_level_ = std::move(current);
   }
 
@@ -558,11 +564,33 @@ class Generator {
       }
       const int curve_res = stems_[b.stem].curve_res;
       const double attraction = b.level >= 2 ? p_.attraction_up : 0.0;
+      // Hem: the branch may end only after its last junction (its clones stay attached).
+      std::uint32_t cut_after = n0;
+      if (b.hem > 0)
+        for (std::uint32_t k = n0; k < n1; ++k)
+          if (info_[k].child_count > 0 || info_[k].split >= 0) cut_after = k;
       for (std::uint32_t k = n0; k < n1; ++k) {
         const NodeInfo& ni = info_[k];
         if (k > n0) {
           if (grounded) lift(f, pos, s_[k] - s_[k - 1], radius_[k]);
           pos += f.d * (s_[k] - s_[k - 1]);
+        }
+        if (b.hem > 0 && k > cut_after && pos.y < b.hem) {
+          // The first node below the hem ends the branch: at the crossing when the previous node
+          // is above it (or at that node when the crossing is within a millimetre of it and the
+          // branch keeps two nodes without it); at this node when the branch was already below.
+          const tree::Node prev = out.nodes[k - n0 - 1];
+          out.nodes[k - n0] = {pos, radius_[k]};
+          out.nodes.resize(k - n0 + 1);
+          if (prev.position.y >= b.hem) {
+            const double at = (prev.position.y - b.hem) / (prev.position.y - pos.y);
+            if (at * (s_[k] - s_[k - 1]) < 1e-3 && k - 1 > n0)
+              out.nodes.pop_back();
+            else
+              out.nodes.back() = {prev.position + (pos - prev.position) * at,
+                                  prev.radius + (radius_[k] - prev.radius) * at};
+          }
+          break;
         }
         out.nodes[k - n0] = {pos, radius_[k]};
         // Turns at interior segment nodes: Curve about the side axis, then AttractionUp (and the
@@ -738,6 +766,8 @@ void validate_preset(const Preset& p) {
   need(p.leaf_area_index >= 0 && p.leaf_area_index <= 20, "LeafAreaIndex", "in [0, 20]");
   need(p.foliage_zone > 0 && p.foliage_zone <= 1, "FoliageZone", "in (0, 1]");
   need(p.card_scale >= 0.25 && p.card_scale <= 4, "CardScale", "in [0.25, 4]");
+  need(p.hem >= 0 && p.hem < 1, "Hem", "in [0, 1)");
+  need(p.hem_v >= 0 && p.hem_v < 1, "HemV", "in [0, 1)");
   need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");
   need(p.card.aspect > 0 && p.card.aspect <= 4, "card.aspect", "in (0, 4]");
   need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4,

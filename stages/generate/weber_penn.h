@@ -76,6 +76,12 @@ struct Preset {
   double leaf_area_index = 0;         // LeafAreaIndex: target crown LAI; 0 = Leaves is the count
   double foliage_zone = 1;            // FoliageZone: distal fraction of a last-level branch in leaf
   double card_scale = 1;              // CardScale: multiplies card.length (an age's smaller shoots)
+  // Hem (ours, not W&P; a weeping crown's lifted curtain): a branch of the last level that hangs
+  // below Hem x the trunk's length ends there (its nodes are cut at that height, after its last
+  // junction), each branch at its own Hem x (1 + HemV x u), u uniform in [-1, 1), one draw per
+  // last-level branch after all growth draws and only when Hem > 0. 0 = none.
+  double hem = 0;    // Hem: [0, 1)
+  double hem_v = 0;  // HemV: [0, 1)
   Foliage foliage = Foliage::kLeaves;
   CardShape card;  // the preset's `card:` block (placement part)
   // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the

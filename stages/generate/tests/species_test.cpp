@@ -6,20 +6,13 @@
 #include <set>
 
 #include "libs/tree/stats.h"
-#include "stages/generate/card_atlas.h"
-#include "stages/generate/preset.h"
-#include "stages/generate/weber_penn.h"
+#include "stages/generate/tests/species_trees.h"
 
 namespace sylva::generate {
 namespace {
 
-std::vector<std::filesystem::path> preset_files() {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator("configs/species"))
-    if (e.path().extension() == ".yaml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
-}
+using test::generate_with_cards;
+using test::preset_files;
 
 // The library holds at least the eight species the issue names, each with three ages.
 TEST(Species, LibraryIsComplete) {
@@ -35,21 +28,6 @@ TEST(Species, LibraryIsComplete) {
   for (const char* n : {"oak", "birch", "white_poplar", "holly", "scots_pine", "norway_spruce",
                         "weeping_willow", "mugo_pine"})
     EXPECT_TRUE(names.count(n)) << n;
-}
-
-// As the stage does by default: cards on the species' card atlas (its coverage sets the leaf
-// area each card carries; the atlas is drawn small, coverage does not depend on the size).
-tree::Tree generate_with_cards(const SpeciesPreset& s, const AgeVariant& a, std::uint64_t seed,
-                               FoliageResult* fit = nullptr) {
-  Rng leaf_rng(seed, "leaves");
-  const CardAtlas atlas = make_card_atlas(s.card, s.leaf, s.bark, 64, leaf_rng);
-  GenerateOptions o;
-  o.max_node_spacing = 0.5;  // the stage's default
-  o.foliage = FoliageMode::kCards;
-  o.atlas = {atlas.columns, atlas.rows, atlas.coverage};
-  o.foliage_result = fit;
-  Rng rng(seed, "tree");
-  return generate_tree(a.params, o, rng);
 }
 
 // Every preset and age, three seeds: the height in the preset's range; the crown's leaf area

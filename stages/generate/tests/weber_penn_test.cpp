@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "libs/tree/frames.h"
@@ -419,6 +420,75 @@ TEST(WeberPenn, RejectsBadClumps) {
   p.level[2].clump_size = 0.3;
   p.level[2].clump_base = 1;
   EXPECT_EQ(preset_error(p), "levels[2].ClumpBase must be in [0, 1)");
+}
+
+// Hem: with AttractionUp < 0 the last level hangs; every last-level branch that would reach
+// below its hem (Hem x the trunk's length x (1 + HemV u)) ends there, at the crossing, and the
+// hems spread over the HemV band. The hem's draws come after every growth draw, so the tree is
+// the one without a hem but for where the hanging branches end: every other branch is
+// bit-identical, and a cut branch is a prefix of its uncut self ending on its segment.
+TEST(WeberPenn, HemEndsTheHangingLastLevelAtItsHeight) {
+  Preset p = busy_preset();
+  p.attraction_up = -3;
+  Preset none = p;
+  p.hem = 0.4;
+  p.hem_v = 0.2;
+  const tree::Tree t = make(p, 3), u = make(none, 3);
+  ASSERT_TRUE(tree::validate_tree(t).empty());
+  ASSERT_EQ(t.branches.size(), u.branches.size());
+  double trunk = 0;
+  for (std::size_t k = 1; k < t.branches[0].nodes.size(); ++k)
+    trunk += tree::length(t.branches[0].nodes[k].position - t.branches[0].nodes[k - 1].position);
+  const double lo = 0.4 * trunk * 0.8, hi = 0.4 * trunk * 1.2;
+  int cut = 0, uncut_reaching = 0;
+  double cut_min = 1e9, cut_max = -1e9;
+  for (std::size_t i = 0; i < t.branches.size(); ++i) {
+    const tree::Branch &b = t.branches[i], &w = u.branches[i];
+    if (b.level < 2 || b.nodes == w.nodes) {
+      EXPECT_EQ(b.nodes, w.nodes) << i;
+      double lowest = 1e9;
+      for (const tree::Node& n : b.nodes) lowest = std::min(lowest, n.position.y);
+      if (b.level == 2 && b.nodes.front().position.y > hi && lowest < lo) ++uncut_reaching;
+      continue;
+    }
+    ASSERT_LE(b.nodes.size(), w.nodes.size()) << i;
+    const std::size_t n = b.nodes.size();
+    for (std::size_t k = 0; k + 1 < n; ++k) EXPECT_EQ(b.nodes[k], w.nodes[k]) << i << " node " << k;
+    // Starting below every hem (level 2 has no splits here): it ends at its second node.
+    if (b.nodes.front().position.y < lo) {
+      EXPECT_EQ(n, 2u) << i;
+      EXPECT_EQ(b.nodes[1], w.nodes[1]) << i;
+      continue;
+    }
+    if (b.nodes.front().position.y <= hi) continue;  // starts inside the band
+    // The end lies on the uncut branch's segment n-2 .. n-1, within the hem band, below every
+    // other node; the uncut branch goes on below it.
+    const Vec3 a = w.nodes[n - 2].position, c = w.nodes[n - 1].position, e = b.nodes.back().position;
+    EXPECT_LT(tree::length(tree::cross(c - a, e - a)), 1e-9 * (1 + tree::length(c - a))) << i;
+    EXPECT_LE(tree::dot(e - a, c - a), tree::dot(c - a, c - a) + 1e-12) << i;
+    EXPECT_GE(e.y, lo - 1e-9) << i;
+    EXPECT_LE(e.y, hi + 1e-9) << i;
+    for (std::size_t k = 0; k + 1 < n; ++k) EXPECT_GT(b.nodes[k].position.y, e.y) << i;
+    EXPECT_LT(w.nodes.back().position.y, e.y) << i;
+    ++cut;
+    cut_min = std::min(cut_min, e.y);
+    cut_max = std::max(cut_max, e.y);
+  }
+  std::printf("[ hem      ] %d branches cut, ends %.2f..%.2f m in the band %.2f..%.2f m\n", cut, cut_min,
+              cut_max, lo, hi);
+  EXPECT_GE(cut, 15);
+  EXPECT_EQ(uncut_reaching, 0);  // nothing that starts above the band hangs through it uncut
+  EXPECT_LT(cut_min, lo + 0.25 * (hi - lo));
+  EXPECT_GT(cut_max, hi - 0.25 * (hi - lo));
+}
+
+TEST(WeberPenn, RejectsBadHem) {
+  Preset p = busy_preset();
+  p.hem = 1;
+  EXPECT_EQ(preset_error(p), "Hem must be in [0, 1)");
+  p.hem = 0.3;
+  p.hem_v = -0.1;
+  EXPECT_EQ(preset_error(p), "HemV must be in [0, 1)");
 }
 
 TEST(WeberPenn, ShapeRatio) {
