@@ -124,7 +124,7 @@ class Reader {
     return false;
   }
 
-  static constexpr std::array<Field<Preset>, 18> kParams{{
+  static constexpr std::array<Field<Preset>, 19> kParams{{
       {"Shape", &Preset::shape},
       {"Levels", &Preset::levels},
       {"Scale", &Preset::scale},
@@ -143,6 +143,7 @@ class Reader {
       {"CardScale", &Preset::card_scale},
       {"Hem", &Preset::hem},
       {"HemV", &Preset::hem_v},
+      {"TrunkUp", &Preset::trunk_up},
   }};
   static constexpr std::array<Field<LevelParams>, 17> kLevel{{
       {"Branches", &LevelParams::branches},

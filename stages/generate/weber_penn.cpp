@@ -626,6 +626,13 @@ class Generator {
             f.turn(tree::normalized(tree::cross(pre.d, o)), -plans_[c].primary_angle);
           }
         }
+        // TrunkUp: a level-0 branch turns back towards the vertical after this node's turns.
+        if (b.level == 0 && p_.trunk_up > 0) {
+          const Vec3 axis = tree::cross(f.d, kUp);
+          const double al = tree::length(axis);
+          if (al > 1e-12)
+            f.turn(axis / al, p_.trunk_up * std::acos(std::clamp(tree::dot(f.d, kUp), -1.0, 1.0)));
+        }
       }
     }
   }
@@ -768,6 +775,7 @@ void validate_preset(const Preset& p) {
   need(p.card_scale >= 0.25 && p.card_scale <= 4, "CardScale", "in [0.25, 4]");
   need(p.hem >= 0 && p.hem < 1, "Hem", "in [0, 1)");
   need(p.hem_v >= 0 && p.hem_v < 1, "HemV", "in [0, 1)");
+  need(p.trunk_up >= 0 && p.trunk_up <= 1, "TrunkUp", "in [0, 1]");
   need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");
   need(p.card.aspect > 0 && p.card.aspect <= 4, "card.aspect", "in (0, 4]");
   need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4,

@@ -82,6 +82,11 @@ struct Preset {
   // last-level branch after all growth draws and only when Hem > 0. 0 = none.
   double hem = 0;    // Hem: [0, 1)
   double hem_v = 0;  // HemV: [0, 1)
+  // TrunkUp (ours, not W&P; an orthotropic leader): after the turns at each node of a level-0
+  // branch (Curve, the primary deviations its laterals cause, a split), the branch turns back
+  // towards the vertical by TrunkUp x its declination. 0 = none (Nystad: the primary deviations
+  // add up along the trunk), 1 = the trunk stays vertical.
+  double trunk_up = 0;  // TrunkUp: [0, 1]
   Foliage foliage = Foliage::kLeaves;
   CardShape card;  // the preset's `card:` block (placement part)
   // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the
