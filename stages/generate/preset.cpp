@@ -124,7 +124,7 @@ class Reader {
     return false;
   }
 
-  static constexpr std::array<Field<Preset>, 19> kParams{{
+  static constexpr std::array<Field<Preset>, 20> kParams{{
       {"Shape", &Preset::shape},
       {"Levels", &Preset::levels},
       {"Scale", &Preset::scale},
@@ -144,6 +144,7 @@ class Reader {
       {"Hem", &Preset::hem},
       {"HemV", &Preset::hem_v},
       {"TrunkUp", &Preset::trunk_up},
+      {"ShapeFloor", &Preset::shape_floor},
   }};
   static constexpr std::array<Field<LevelParams>, 17> kLevel{{
       {"Branches", &LevelParams::branches},

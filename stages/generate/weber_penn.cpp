@@ -337,7 +337,7 @@ class Generator {
       if (level == 1) {
         const double base_len = p_.base_size * ps.length;
         const double ratio = (ps.length - offset) / std::max(1e-9, ps.length - base_len);
-        length = ps.length * (lp.length + lp.length_v * r_len) * shape_ratio(p_.shape, ratio);
+        length = ps.length * (lp.length + lp.length_v * r_len) * crown_shape(ratio);
       } else {
         length = (lp.length + lp.length_v * r_len) * (ps.length - 0.6 * offset);
       }
@@ -377,6 +377,14 @@ class Generator {
       plans_.push_back(c);
       ++plans_[parent].child_count;
     }
+  }
+
+  // W&P's shape ratio for level-1 lengths; with a ShapeFloor other than W&P's 0.2, the ratios of
+  // shapes 0-2 (0.2 + 0.8 f(r)) become ShapeFloor + (1 - ShapeFloor) f(r).
+  double crown_shape(double ratio) const {
+    const double w = shape_ratio(p_.shape, ratio);
+    if (p_.shape_floor == kWeberPennShapeFloor) return w;
+    return p_.shape_floor + (1 - p_.shape_floor) * (w - kWeberPennShapeFloor) / (1 - kWeberPennShapeFloor);
   }
 
   // -------------------------------------------------------------------------------------------
@@ -776,6 +784,9 @@ void validate_preset(const Preset& p) {
   need(p.hem >= 0 && p.hem < 1, "Hem", "in [0, 1)");
   need(p.hem_v >= 0 && p.hem_v < 1, "HemV", "in [0, 1)");
   need(p.trunk_up >= 0 && p.trunk_up <= 1, "TrunkUp", "in [0, 1]");
+  need(p.shape_floor >= 0 && p.shape_floor <= 1, "ShapeFloor", "in [0, 1]");
+  need(p.shape_floor == kWeberPennShapeFloor || p.shape <= 2, "ShapeFloor",
+       "0.2 (W&P's) unless Shape is 0, 1 or 2");
   need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");
   need(p.card.aspect > 0 && p.card.aspect <= 4, "card.aspect", "in (0, 4]");
   need(p.card.min_layers >= 1 && p.card.min_layers <= p.card.max_layers && p.card.max_layers <= 4,

@@ -22,6 +22,9 @@ namespace sylva::generate {
 
 enum class Foliage { kLeaves, kNeedles };
 
+// W&P's shape ratios 0-2 are kWeberPennShapeFloor + (1 - kWeberPennShapeFloor) f(r).
+inline constexpr double kWeberPennShapeFloor = 0.2;
+
 // Per-level parameters (Appendix A.2 branch-level + A.3 stem). Index 0 is the trunk; for the
 // trunk Branches, DownAngleV, Rotate, RotateV and BranchRatio are unused. Angles in degrees as
 // in the thesis (converted to radians inside).
@@ -87,6 +90,10 @@ struct Preset {
   // towards the vertical by TrunkUp x its declination. 0 = none (Nystad: the primary deviations
   // add up along the trunk), 1 = the trunk stays vertical.
   double trunk_up = 0;  // TrunkUp: [0, 1]
+  // ShapeFloor (ours): the level-1 length ratio at the crown's ends for Shapes 0-2, whose W&P
+  // ratios are 0.2 + 0.8 f(r): with ShapeFloor F they are F + (1 - F) f(r) (a conifer's top
+  // whorls are far shorter than a fifth of its longest branches). Other shapes: 0.2 only.
+  double shape_floor = kWeberPennShapeFloor;  // ShapeFloor: [0, 1]
   Foliage foliage = Foliage::kLeaves;
   CardShape card;  // the preset's `card:` block (placement part)
   // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the

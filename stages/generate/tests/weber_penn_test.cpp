@@ -534,6 +534,49 @@ TEST(WeberPenn, RejectsBadTrunkUp) {
   EXPECT_EQ(preset_error(p), "TrunkUp must be in [0, 1]");
 }
 
+// ShapeFloor remaps W&P's shape ratios 0-2 (0.2 + 0.8 f) to F + (1 - F) f for level-1 lengths;
+// nothing else changes (no draw, same positions). At 1 every level-1 branch (LengthV 0) is
+// Length x the trunk's length; at 0 each is shorter than W&P's, the topmost far shorter.
+TEST(WeberPenn, ShapeFloorSetsTheCrownsEnds) {
+  Preset p = exact_preset();
+  p.shape = 0;
+  p.levels = 2;
+  p.level[0].seg_splits = 0;
+  p.level[1].seg_splits = 0;
+  p.level[1].length_v = 0;
+  const tree::Tree wp = make(p, 4);
+  p.shape_floor = 1;
+  const tree::Tree one = make(p, 4);
+  p.shape_floor = 0;
+  const tree::Tree zero = make(p, 4);
+  auto length = [](const tree::Branch& b) {
+    double l = 0;
+    for (std::size_t k = 1; k < b.nodes.size(); ++k)
+      l += tree::length(b.nodes[k].position - b.nodes[k - 1].position);
+    return l;
+  };
+  const double trunk = length(wp.branches[0]);
+  ASSERT_EQ(one.branches.size(), wp.branches.size());
+  ASSERT_EQ(zero.branches.size(), wp.branches.size());
+  double top_ratio = 1, top_y = -1;
+  for (std::size_t i = 1; i < wp.branches.size(); ++i) {
+    EXPECT_NEAR(length(one.branches[i]), p.level[1].length * trunk, 1e-9 * trunk) << i;
+    EXPECT_EQ(one.branches[i].parent_node, wp.branches[i].parent_node) << i;
+    EXPECT_LT(length(zero.branches[i]), length(wp.branches[i])) << i;
+    if (wp.branches[i].nodes[0].position.y > top_y) {
+      top_y = wp.branches[i].nodes[0].position.y;
+      top_ratio = length(zero.branches[i]) / length(wp.branches[i]);
+    }
+  }
+  EXPECT_LT(top_ratio, 0.5);
+  p.shape = 3;
+  p.shape_floor = 0.1;
+  EXPECT_EQ(preset_error(p), "ShapeFloor must be 0.2 (W&P's) unless Shape is 0, 1 or 2");
+  p.shape = 0;
+  p.shape_floor = 1.5;
+  EXPECT_EQ(preset_error(p), "ShapeFloor must be in [0, 1]");
+}
+
 TEST(WeberPenn, ShapeRatio) {
   EXPECT_DOUBLE_EQ(shape_ratio(0, 1), 1.0);
   EXPECT_DOUBLE_EQ(shape_ratio(0, 0), 0.2);
