@@ -33,7 +33,8 @@ class GenerateStage : public Stage {
                         // chosen on drawn (trilinear) coverage down to one texel per cell;
                         // 6: per-level Clumps/ClumpSize (issue 9: the oak's limb clumps);
                         // 7: Hem/HemV (issue 9: the weeping willow's lifted curtains), TrunkUp
-                        // (the columnar poplar's upright leader), ShapeFloor (the spruce's point)
+                        // (the columnar poplar's upright leader), ShapeFloor (the spruce's point),
+                        // Pendulous (the willow's shoots that stood up)
     info_.summary = "parametric tree from a species preset (Weber-Penn with da Vinci/Murray rules)";
     info_.output_type = "tree";
     info_.outputs = {"tree.sylt", "stats.json", "bark.png", "leaves.png"};

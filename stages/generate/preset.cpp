@@ -124,7 +124,7 @@ class Reader {
     return false;
   }
 
-  static constexpr std::array<Field<Preset>, 20> kParams{{
+  static constexpr std::array<Field<Preset>, 21> kParams{{
       {"Shape", &Preset::shape},
       {"Levels", &Preset::levels},
       {"Scale", &Preset::scale},
@@ -145,6 +145,7 @@ class Reader {
       {"HemV", &Preset::hem_v},
       {"TrunkUp", &Preset::trunk_up},
       {"ShapeFloor", &Preset::shape_floor},
+      {"Pendulous", &Preset::pendulous},
   }};
   static constexpr std::array<Field<LevelParams>, 17> kLevel{{
       {"Branches", &LevelParams::branches},

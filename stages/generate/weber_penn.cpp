@@ -610,9 +610,16 @@ class Generator {
           if (b.pull_at >= 0)
             pull = pull_[static_cast<std::size_t>(b.pull_at) + static_cast<std::size_t>(ni.base)];
           const double decl = std::acos(std::clamp(tree::dot(f.d, kUp), -1.0, 1.0));
-          const double a = attraction * decl / curve_res + pull;
-          const Vec3 axis = tree::cross(f.d, kUp);
-          const double al = tree::length(axis);
+          double a = attraction * decl / curve_res + pull;
+          Vec3 axis = tree::cross(f.d, kUp);
+          double al = tree::length(axis);
+          if (attraction < 0 && p_.pendulous > 0) {
+            // Pendulous: the downward pull grows with the angle from the downward vertical, so a
+            // shoot pointing up flops over (straight up: about its side axis).
+            const double from_down = (1 - p_.pendulous) * decl + p_.pendulous * (kPi - decl);
+            a = attraction * from_down / curve_res + pull;
+            if (al <= 1e-9) axis = f.side, al = 1;
+          }
           if (a != 0 && al > 1e-9) f.turn(axis / al, a > 0 ? std::min(a, decl) : std::max(a, decl - kPi));
         }
         // Junction: children take the frame as it is (the direction of the segment they grow
@@ -785,6 +792,8 @@ void validate_preset(const Preset& p) {
   need(p.hem_v >= 0 && p.hem_v < 1, "HemV", "in [0, 1)");
   need(p.trunk_up >= 0 && p.trunk_up <= 1, "TrunkUp", "in [0, 1]");
   need(p.shape_floor >= 0 && p.shape_floor <= 1, "ShapeFloor", "in [0, 1]");
+  need(p.pendulous >= 0 && p.pendulous <= 1, "Pendulous", "in [0, 1]");
+  need(p.pendulous == 0 || p.attraction_up < 0, "Pendulous", "0 unless AttractionUp < 0");
   need(p.shape_floor == kWeberPennShapeFloor || p.shape <= 2, "ShapeFloor",
        "0.2 (W&P's) unless Shape is 0, 1 or 2");
   need(p.card.length > 0 && p.card.length <= 5, "card.length_m", "in (0, 5]");

@@ -94,6 +94,12 @@ struct Preset {
   // ratios are 0.2 + 0.8 f(r): with ShapeFloor F they are F + (1 - F) f(r) (a conifer's top
   // whorls are far shorter than a fifth of its longest branches). Other shapes: 0.2 only.
   double shape_floor = kWeberPennShapeFloor;  // ShapeFloor: [0, 1]
+  // Pendulous (ours): with AttractionUp < 0, W&P's turn per segment, AttractionUp x declination /
+  // CurveRes, vanishes for a branch pointing up, so a pendulous shoot that leaves upwards stands
+  // up. Pendulous P measures the pull from the downward vertical instead:
+  // AttractionUp x ((1 - P) declination + P (pi - declination)) / CurveRes (1: a shoot pointing
+  // up flops over at once, one hanging straight down is left as it is). 0 = W&P.
+  double pendulous = 0;  // Pendulous: [0, 1], 0 unless AttractionUp < 0
   Foliage foliage = Foliage::kLeaves;
   CardShape card;  // the preset's `card:` block (placement part)
   // Bark tint (Materials): the preset's textures.bark.lower_tint, heights as fractions of the

@@ -144,16 +144,18 @@ TEST(Preset, ReadsClumps) {
   EXPECT_EQ(s.age("middle").params.level[0].clumps, 0);
 }
 
-// Hem, TrunkUp and ShapeFloor (weber_penn.h) are tree-level keys; an age may set them.
-TEST(Preset, ReadsHemTrunkUpAndShapeFloor) {
-  const SpeciesPreset s = parse_species_preset(
-      replace(kGood, "params: { Scale: 3,",
-              "params: { Hem: 0.25, HemV: 0.1, TrunkUp: 0.5, ShapeFloor: 0.05, Scale: 3,"),
-      "t.yaml");
+// Hem, TrunkUp, ShapeFloor and Pendulous (weber_penn.h) are tree-level keys; an age may set them.
+TEST(Preset, ReadsHemTrunkUpShapeFloorAndPendulous) {
+  const SpeciesPreset s =
+      parse_species_preset(replace(kGood, "params: { Scale: 3,",
+                                   "params: { Hem: 0.25, HemV: 0.1, TrunkUp: 0.5, ShapeFloor: 0.05, "
+                                   "AttractionUp: -2, Pendulous: 1, Scale: 3,"),
+                           "t.yaml");
   EXPECT_DOUBLE_EQ(s.age("young").params.hem, 0.25);
   EXPECT_DOUBLE_EQ(s.age("young").params.hem_v, 0.1);
   EXPECT_DOUBLE_EQ(s.age("young").params.trunk_up, 0.5);
   EXPECT_DOUBLE_EQ(s.age("young").params.shape_floor, 0.05);
+  EXPECT_DOUBLE_EQ(s.age("young").params.pendulous, 1.0);
   EXPECT_DOUBLE_EQ(s.age("middle").params.hem, 0.0);
   EXPECT_DOUBLE_EQ(s.age("middle").params.trunk_up, 0.0);
   EXPECT_DOUBLE_EQ(s.age("middle").params.shape_floor, 0.2);

@@ -577,6 +577,47 @@ TEST(WeberPenn, ShapeFloorSetsTheCrownsEnds) {
   EXPECT_EQ(preset_error(p), "ShapeFloor must be in [0, 1]");
 }
 
+// Pendulous: with AttractionUp < 0, W&P's turn (proportional to the declination) leaves a
+// shoot pointing up standing; at Pendulous 1 the pull is proportional to the angle from the
+// downward vertical, so every level-2 branch of a strongly drooping tree ends pointing down
+// (within 60 degrees), where W&P's leaves some standing. No draw: levels 0-1 are unchanged.
+TEST(WeberPenn, PendulousFlopsUpwardShootsOver) {
+  Preset p = busy_preset();
+  p.attraction_up = -4;
+  p.level[2].curve_res = 6;
+  p.level[2].curve = p.level[2].curve_v = p.level[2].curve_back = 0;
+  const tree::Tree wp = make(p, 5);
+  p.pendulous = 1;
+  const tree::Tree pd = make(p, 5);
+  ASSERT_TRUE(tree::validate_tree(pd).empty());
+  ASSERT_EQ(pd.branches.size(), wp.branches.size());
+  auto tip_dir_y = [](const tree::Branch& b) {
+    return tree::normalized(b.nodes.back().position - b.nodes[b.nodes.size() - 2].position).y;
+  };
+  int up_wp = 0, up_pd = 0, n = 0;
+  for (std::size_t i = 0; i < pd.branches.size(); ++i) {
+    if (pd.branches[i].level != 2) {
+      if (pd.branches[i].level < 2) {
+        EXPECT_EQ(pd.branches[i].nodes, wp.branches[i].nodes) << i;
+      }
+      continue;
+    }
+    ++n;
+    up_wp += tip_dir_y(wp.branches[i]) > -0.5;
+    up_pd += tip_dir_y(pd.branches[i]) > -0.5;
+  }
+  std::printf(
+      "[ pendulous] %d level-2 branches; tips not pointing down (> 60 deg from it): W&P %d, Pendulous %d\n",
+      n, up_wp, up_pd);
+  EXPECT_GT(up_wp, 0);  // W&P leaves some standing
+  EXPECT_EQ(up_pd, 0);  // Pendulous turns every one down
+  p.pendulous = 1.5;
+  EXPECT_EQ(preset_error(p), "Pendulous must be in [0, 1]");
+  p.pendulous = 0.5;
+  p.attraction_up = 0.5;
+  EXPECT_EQ(preset_error(p), "Pendulous must be 0 unless AttractionUp < 0");
+}
+
 TEST(WeberPenn, ShapeRatio) {
   EXPECT_DOUBLE_EQ(shape_ratio(0, 1), 1.0);
   EXPECT_DOUBLE_EQ(shape_ratio(0, 0), 0.2);
