@@ -453,6 +453,13 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     GLuint draw_fbo = 0, resolve_fbo = 0;
   };
 
+  // A row's three attachments as read back (RGBA each), kept from row to row: allocating them
+  // per row cost more CPU in page faults than reading them (docs/performance.md).
+  struct RowPixels {
+    std::vector<std::uint8_t> color;
+    std::vector<std::uint16_t> normal, depth;
+  };
+
   // One atlas row: the views that share its y and height, and their uniforms.
   struct BakeRow {
     int y = 0, h = 0;
@@ -519,6 +526,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUniform1i(uniforms[std::size_t(bp.variant)].texture, 0);
     }
     std::map<int, BakeTarget> targets;  // by band height
+    RowPixels pixels;                   // read-back memory, reused by every row
     for (std::size_t r = first; r < rows.size(); r += stride) {
       const BakeRow& row = rows[r];
       auto it = targets.find(row.h);
@@ -529,7 +537,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         glUniform4fv(uniforms[std::size_t(v)].views, GLsizei(row.views.size() * 5), row.uniforms.data());
       }
       draw_bake_row(scene, prims, textures, programs, uniforms, GLsizei(row.views.size()), it->second, o);
-      read_bake_row(it->second, row.y, out);
+      read_bake_row(it->second, row.y, pixels, out);
       check_gl("baking");
     }
     glBindVertexArray(0);
@@ -724,12 +732,17 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glFrontFace(GL_CCW);
   }
 
-  // Resolves the row, reads the three attachments back and writes the divided values into the
-  // maps at rows [band_y, band_y + height).
-  void read_bake_row(const BakeTarget& t, int band_y, BakedMaps& out) const {
+  // Resolves the row, reads the three attachments back into `px` (grown as needed) and writes the
+  // divided values into the maps at rows [band_y, band_y + height).
+  void read_bake_row(const BakeTarget& t, int band_y, RowPixels& px, BakedMaps& out) const {
     const std::size_t n = std::size_t(t.width) * std::size_t(t.height);
-    std::vector<std::uint8_t> color(n * 4);
-    std::vector<std::uint16_t> normal(n * 4), depth(n * 4);
+    if (px.color.size() < n * 4) {
+      px.color.resize(n * 4);
+      px.normal.resize(n * 4);
+      px.depth.resize(n * 4);
+    }
+    const std::vector<std::uint8_t>& color = px.color;
+    const std::vector<std::uint16_t>&normal = px.normal, &depth = px.depth;
     for (int a = 0; a < 3; ++a) {
       const GLenum att = GL_COLOR_ATTACHMENT0 + GLenum(a);
       if (t.resolve_fbo != t.draw_fbo) {
@@ -743,10 +756,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glReadBuffer(att);
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       if (a == 0) {
-        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, color.data());
+        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, px.color.data());
       } else {
         glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_SHORT,
-                     a == 1 ? normal.data() : depth.data());
+                     a == 1 ? px.normal.data() : px.depth.data());
       }
     }
     if (t.resolve_fbo != t.draw_fbo) {
