@@ -296,6 +296,66 @@ TEST(Bake, CoincidentBlendedLinesBakeAsTheirComposite) {
   EXPECT_GT(one_internode, 200);
 }
 
+// The packed opaque layer and the blended layers composited on read-back (render::BakeOptions::
+// pack_opaque, the default with msaa 1) bake what drawing every primitive into the three maps'
+// attachments bakes: the same bytes where only opaque primitives are, within two levels per
+// channel where lines blend (the three attachments hold the lines' colour in 8 bits, the blended
+// layers in 16), the same coverage. Multisampled bakes and opaque lines of fractional alpha take
+// the three attachments.
+TEST(Bake, ThePackedOpaqueLayerBakesWhatTheThreeAttachmentsBake) {
+  render::ImpostorRenderer& r = render::shared_impostor_renderer();
+  BakeParams p = small_params();
+  p.layout.frame_px = 128;
+  auto bake_both = [&](const render::Scene& scene) {
+    const Layout layout = plan_layout(p.layout, measure(scene));
+    render::BakeOptions o;
+    o.atlas_width = layout.atlas_width;
+    o.atlas_height = layout.atlas_height;
+    o.msaa = 1;
+    o.line_alpha_scale = 0.5f;  // the twigs are blended: they may carry it
+    std::pair<render::BakedMaps, render::BakedMaps> out{r.bake(scene, layout.views, o), {}};
+    o.pack_opaque = false;
+    out.second = r.bake(scene, layout.views, o);
+    EXPECT_TRUE(out.first.packed_opaque);
+    EXPECT_FALSE(out.second.packed_opaque);
+    return out;
+  };
+  const auto box = bake_both(box_scene());
+  EXPECT_EQ(box.first.color, box.second.color);
+  EXPECT_EQ(box.first.normal_depth, box.second.normal_depth);
+
+  const auto [packed, three] = bake_both(twig_scene(false));
+  int worst = 0, covered = 0;
+  double cover_packed = 0, cover_three = 0;
+  for (const auto& [a, b] :
+       {std::pair{&packed.color, &three.color}, {&packed.normal_depth, &three.normal_depth}})
+    for (std::size_t i = 0; i < a->bytes().size(); ++i)
+      worst = std::max(worst, std::abs(int(a->bytes()[i]) - int(b->bytes()[i])));
+  for (std::size_t i = 3; i < packed.color.bytes().size(); i += 4) {
+    cover_packed += packed.color.bytes()[i], cover_three += three.color.bytes()[i];
+    covered += three.color.bytes()[i] > 0;
+  }
+  ASSERT_GT(covered, 20000);
+  EXPECT_LE(worst, 2);
+  EXPECT_NEAR(cover_packed / cover_three, 1.0, 0.001);
+
+  // msaa 2, or an opaque line carrying a fractional alpha: the three attachments.
+  const render::Scene twigs = twig_scene(false);
+  const Layout layout = plan_layout(p.layout, measure(twigs));
+  render::BakeOptions o;
+  o.atlas_width = layout.atlas_width;
+  o.atlas_height = layout.atlas_height;
+  o.msaa = 2;
+  EXPECT_FALSE(r.bake(twigs, layout.views, o).packed_opaque);
+  render::Scene opaque_twigs = twigs;
+  opaque_twigs.materials[1].alpha_mode = render::AlphaMode::kOpaque;
+  o.msaa = 1;
+  o.line_alpha_scale = 0.5f;
+  EXPECT_FALSE(r.bake(opaque_twigs, layout.views, o).packed_opaque);
+  o.line_alpha_scale = 1;
+  EXPECT_TRUE(r.bake(opaque_twigs, layout.views, o).packed_opaque);
+}
+
 TEST(Bake, BadRequestsAreRenderErrors) {
   render::ImpostorRenderer& r = render::shared_impostor_renderer();
   render::BakeView v;
