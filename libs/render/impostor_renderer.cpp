@@ -54,10 +54,12 @@ using detail::upload_array;
 // ---- Bake shaders ------------------------------------------------------------------------------
 
 // One source, a program per variant (BakeVariant below): MERGED_LINES (the lines of line_merge.h
-// with their extra normals), HAS_NORMALS, HAS_COLORS, HAS_TEXTURE. A variant passes on only the
-// varyings it reads: llvmpipe sets up and interpolates every varying of every tiny triangle, and
-// a leaf (normals, texture, no colours) needs 9 of the 16 floats (measured: docs/performance.md).
-// The variants compute what one program with those switches as uniforms computed, to the bit.
+// with their extra normals), IS_LINES (other lines: their normal turned toward the viewer),
+// HAS_NORMALS, HAS_COLORS, HAS_TEXTURE, OPAQUE_LAYER (the packed layer's output, BakeLayout). A
+// variant passes on only the varyings it reads: llvmpipe sets up and interpolates every varying
+// of every tiny triangle, and a leaf (normals, texture, no colours) needs 6 of the 16 floats (the
+// view direction only lines read; measured: docs/performance.md). The variants compute what one
+// program with those switches as uniforms computed, to the bit.
 constexpr const char* kBakeVertexShader = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -155,7 +157,6 @@ uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
 uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
 uniform bool u_mirrored;      // the instance matrix mirrors: clockwise is the front
-uniform bool u_line;          // LINES: the normal is turned toward the view's viewer
 uniform float u_alpha_scale;  // lines thinner than a texel: their coverage spread over one texel
 
 #if OPAQUE_LAYER
@@ -200,9 +201,9 @@ void main() {
 #endif
   // Lines stand for twigs, which the full detail draws as lit cylinders: bake their normals
   // turned toward the view (the renderer draws LINES unlit, as three.js does; an impostor is lit).
-#if !MERGED_LINES
-  if (u_line && dot(n, v_dir) < 0.0) n = -n;
-#else
+#if IS_LINES
+  if (dot(n, v_dir) < 0.0) n = -n;
+#elif MERGED_LINES
   int copies = int(v_copies + 0.5);
   if (copies <= 1) {
     if (dot(n, v_dir) < 0.0) n = -n;
@@ -244,12 +245,13 @@ void main() {
 // Which bake program draws a primitive (see kBakeVertexShader).
 struct BakeVariant {
   bool merged_lines = false, normals = false, colors = false, texture = false, opaque_layer = false;
+  bool lines = false;  // LINES that are not merged_lines
   int key() const {
     return int(merged_lines) | int(normals) << 1 | int(colors) << 2 | int(texture) << 3 |
-           int(opaque_layer) << 4;
+           int(opaque_layer) << 4 | int(lines) << 5;
   }
 };
-constexpr int kBakeVariants = 32;
+constexpr int kBakeVariants = 64;
 
 GLuint link_bake_program(int key) {
   auto source = [&](const char* body) {
@@ -258,7 +260,8 @@ GLuint link_bake_program(int key) {
                              {2, "HAS_NORMALS"},
                              {4, "HAS_COLORS"},
                              {8, "HAS_TEXTURE"},
-                             {16, "OPAQUE_LAYER"}})
+                             {16, "OPAQUE_LAYER"},
+                             {32, "IS_LINES"}})
       s += std::string("#define ") + name + ((key & bit) ? " 1\n" : " 0\n");
     return s + body;
   };
@@ -471,13 +474,12 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  private:
   struct BakeUniforms {
     GLint model, normal_matrix, views, base_color, texture, alpha_mode, alpha_cutoff, two_sided, mirrored,
-        line, alpha_scale;
+        alpha_scale;
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
-    return {u("u_model"),    u("u_normal_matrix"), u("u_views[0]"),     u("u_base_color"),
-            u("u_texture"),  u("u_alpha_mode"),    u("u_alpha_cutoff"), u("u_two_sided"),
-            u("u_mirrored"), u("u_line"),          u("u_alpha_scale")};
+    return {u("u_model"),      u("u_normal_matrix"), u("u_views[0]"),  u("u_base_color"), u("u_texture"),
+            u("u_alpha_mode"), u("u_alpha_cutoff"),  u("u_two_sided"), u("u_mirrored"),   u("u_alpha_scale")};
   }
 
   // How the row targets hold the maps. kBlended: three attachments (colour RGBA8, normal RGBA16,
@@ -693,6 +695,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
                           scene.materials[std::size_t(p.material)].base_color_texture >= 0 &&
                           !p.texcoords.empty();
         variant.opaque_layer = layout == BakeLayout::kLayered && !bp.blend;
+        variant.lines = p.topology == Topology::kLines && !variant.merged_lines;
         bp.variant = variant.key();
         bp.vao = gl.vertex_array();
         glBindVertexArray(bp.vao);
@@ -793,7 +796,6 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
       const bool triangles = p.topology == Topology::kTriangles;
       glUniform1i(u.two_sided, triangles && m.double_sided);
-      glUniform1i(u.line, p.topology == Topology::kLines);
       glUniform1f(u.alpha_scale,
                   p.topology == Topology::kLines ? std::clamp(o.line_alpha_scale, 0.f, 1.f) : 1.f);
       if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
