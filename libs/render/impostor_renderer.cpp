@@ -386,12 +386,13 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     std::lock_guard<std::mutex> lock(mutex_);
     CurrentContext current(*ctx_);
     validate_draw(imp, o);
+    const ImpostorGeometry& g = imp.geometry;
     GlObjects gl;
     glGetError();
     const DrawTarget target = make_draw_target(gl, o);
     const PremultipliedMaps pm = premultiply(imp.color, imp.normal_depth);
-    const GLuint color = upload_atlas(gl, pm.color, true, imp.mip_levels);
-    const GLuint normal = upload_atlas(gl, pm.normal_depth, false, imp.mip_levels);
+    const GLuint color = upload_atlas(gl, pm.color, true, g.mip_levels);
+    const GLuint normal = upload_atlas(gl, pm.normal_depth, false, g.mip_levels);
 
     // One quad (two triangles), instanced per impostor.
     const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
@@ -413,14 +414,14 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
     glUseProgram(draw_program_);
     auto u = [&](const char* n) { return glGetUniformLocation(draw_program_, n); };
-    glUniform1i(u("u_frames"), imp.frames_per_side);
-    glUniform1i(u("u_hemi"), imp.hemi);
-    glUniform3fv(u("u_center"), 1, imp.center.data());
-    glUniform1f(u("u_radius"), imp.radius);
-    glUniform1f(u("u_half_extent"), imp.half_extent);
-    glUniform1f(u("u_padding"), float(imp.padding_px) / float(imp.frame_px));
+    glUniform1i(u("u_frames"), g.frames_per_side);
+    glUniform1i(u("u_hemi"), g.hemi);
+    glUniform3fv(u("u_center"), 1, g.center.data());
+    glUniform1f(u("u_radius"), g.radius);
+    glUniform1f(u("u_half_extent"), g.half_extent);
+    glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
     glUniform1i(u("u_parallax_steps"), std::clamp(draw.parallax_steps, 0, 64));
-    glUniform1f(u("u_atlas_px"), float(imp.frames_per_side * imp.frame_px));
+    glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
     glUniform3fv(u("u_ambient"), 1, o.lighting.ambient.data());
     glUniform3fv(u("u_light_color"), 1, o.lighting.light_color.data());
     const Vec3 l =
@@ -940,18 +941,18 @@ class GlImpostorRenderer final : public ImpostorRenderer {
                         std::to_string(max_samples_) + ")");
     if (o.background.a != 0 && o.background.a != 255)
       throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
-    const int atlas = imp.frames_per_side * imp.frame_px;
-    if (imp.frames_per_side < 2 || imp.frame_px < 1 || atlas > max_texture_size_)
-      throw RenderError("impostor atlas of " + std::to_string(imp.frames_per_side) + " x " +
-                        std::to_string(imp.frame_px) +
+    const ImpostorGeometry& g = imp.geometry;
+    const int atlas = g.frames_per_side * g.frame_px;
+    if (g.frames_per_side < 2 || g.frame_px < 1 || atlas > max_texture_size_)
+      throw RenderError("impostor atlas of " + std::to_string(g.frames_per_side) + " x " +
+                        std::to_string(g.frame_px) +
                         " px frames is not drawable here (2 or more frames, at most " +
                         std::to_string(max_texture_size_) + " px)");
     for (const image::Image* m : {&imp.color, &imp.normal_depth})
       if (m->width() != atlas || m->height() != atlas)
         throw RenderError("impostor maps must be " + std::to_string(atlas) + "x" + std::to_string(atlas) +
                           " pixels, got " + std::to_string(m->width()) + "x" + std::to_string(m->height()));
-    if (!(imp.radius > 0) || !(imp.half_extent >= imp.radius) || imp.padding_px < 0 ||
-        2 * imp.padding_px >= imp.frame_px)
+    if (!(g.radius > 0) || !(g.half_extent >= g.radius) || g.padding_px < 0 || 2 * g.padding_px >= g.frame_px)
       throw RenderError(
           "impostor geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
   }
@@ -1018,7 +1019,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     const Mat4 view = cam.view_matrix();
     std::vector<std::pair<float, std::size_t>> keys;
     for (std::size_t i = 0; i < imp.instances.size(); ++i) {
-      const Vec3 w = (imp.instances[i] * imp.center.homogeneous()).hnormalized();
+      const Vec3 w = (imp.instances[i] * imp.geometry.center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), i});  // more negative = farther
     }
     std::stable_sort(keys.begin(), keys.end(),

@@ -78,15 +78,8 @@ struct BakedMaps {
 // What render_octahedral() needs of an impostor (impostor.json + its two PNGs; the names follow
 // libs/impostor/impostor_json.h).
 struct OctahedralImpostor {
-  image::Image color, normal_depth;  // atlas_px x atlas_px each
-  int frames_per_side = 16;
-  bool hemi = true;
-  Vec3 center = Vec3::Zero();  // sphere centre, object space
-  float radius = 1;            // sphere radius R
-  float half_extent = 1;       // frame half extent W
-  int frame_px = 256;
-  int padding_px = 16;
-  int mip_levels = 4;                             // GL_TEXTURE_MAX_LEVEL of both maps
+  image::Image color, normal_depth;  // atlas_px x atlas_px each, atlas_px = frames_per_side * frame_px
+  ImpostorGeometry geometry;
   std::vector<Mat4> instances{Mat4::Identity()};  // object -> world
 };
 

@@ -369,8 +369,8 @@ TEST(Bake, BadRequestsAreRenderErrors) {
     EXPECT_STREQ(e.what(), "bake view 0 lies outside the atlas");
   }
   render::OctahedralImpostor imp;
-  imp.frames_per_side = 4;
-  imp.frame_px = 64;
+  imp.geometry.frames_per_side = 4;
+  imp.geometry.frame_px = 64;
   imp.color = image::Image(100, 100);
   imp.normal_depth = image::Image(100, 100);
   try {
