@@ -78,17 +78,10 @@ const Source& source(const impostor::BakeParams& params) {
     std::stringstream ss;
     ss << in.rdbuf();
     const auto levels = impostor::parse_lod_levels(ss.str(), "lod.json");
-    impostor::SourceGeometry g =
-        impostor::measure(render::load_gltf_scene(fs::path(dir) / levels.back().file));
-    g.radius += levels.back().epsilon;
-    const std::size_t i = impostor::choose_level(levels, impostor::atlas_texel(params.layout, g));
     Source out;
-    out.scene = render::load_gltf_scene(fs::path(dir) / levels[i].file);
-    out.desc.type = "lod";
-    out.desc.file = levels[i].file;
-    out.desc.level = int(i);
-    out.desc.epsilon = levels[i].epsilon;
-    out.desc.line_pixel_m = levels[i].pixel_error > 0 ? levels[i].epsilon / levels[i].pixel_error : 0;
+    out.desc = impostor::choose_source(levels, render::load_gltf_scene(fs::path(dir) / levels.back().file),
+                                       params.layout);
+    out.scene = render::load_gltf_scene(fs::path(dir) / out.desc.file);
     return out;
   }();
   return s;
