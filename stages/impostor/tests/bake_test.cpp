@@ -356,6 +356,57 @@ TEST(Bake, ThePackedOpaqueLayerBakesWhatTheThreeAttachmentsBake) {
   EXPECT_TRUE(r.bake(opaque_twigs, layout.views, o).packed_opaque);
 }
 
+// Textures are sampled from their nearest mip level (bilinearly within it), not blended between
+// two. A horizontal quad under a 4 x 4 red/green checker repeated so that the frame looking
+// straight down reads it at mip level ~0.75: level 1 (2 x 2 texel averages of the checker) is one
+// colour, so the nearest level paints the whole quad one colour; trilinear filtering would mix a
+// quarter of level 0's checker in.
+TEST(Bake, TexturesAreSampledFromTheirNearestMipLevel) {
+  render::Scene s;
+  render::Texture t;
+  t.name = "checker";
+  t.width = t.height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const bool red = (x + y) % 2 == 0;
+      t.rgba.insert(t.rgba.end(), {std::uint8_t(red ? 255 : 0), std::uint8_t(red ? 0 : 255), 0, 255});
+    }
+  s.textures.push_back(t);
+  render::Material m;
+  m.name = "checker";
+  m.base_color_texture = 0;
+  m.double_sided = true;
+  s.materials.push_back(m);
+  // Frames of 64 px with 4 px of padding: the quad (half size 1, radius sqrt 2) spans
+  // 2 / (2 W) 64 = 56 / sqrt 2 = 39.6 texels; 16.6 repeats of 4 texels over them: mip level
+  // log2(66.4 / 39.6) = 0.75.
+  const float uv = 16.6f;
+  render::Primitive p;
+  p.material = 0;
+  p.positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
+  p.normals.assign(4, render::Vec3(0, 1, 0));
+  p.texcoords = {{0, 0}, {uv, 0}, {uv, uv}, {0, uv}};
+  p.indices = {0, 2, 1, 0, 3, 2};
+  render::Mesh mesh;
+  mesh.primitives.push_back(p);
+  mesh.instances.push_back(render::Mat4::Identity());
+  s.meshes.push_back(mesh);
+  BakeParams bp = small_params();
+  bp.layout.frames_per_side = 3;  // frame (1, 1) looks straight down
+  bp.layout.mip_levels = 2;
+  const BakeOutput b = bake_impostor(render::shared_impostor_renderer(), s, bp, {});
+  int lo = 255, hi = 0, covered = 0;
+  for (int y = 64; y < 128; ++y)
+    for (int x = 64; x < 128; ++x) {
+      const image::Rgba8 c = b.color.at(x, y);
+      if (c.a < 255) continue;
+      ++covered;
+      lo = std::min(lo, int(c.r)), hi = std::max(hi, int(c.r));
+    }
+  EXPECT_GT(covered, 1200);
+  EXPECT_LE(hi - lo, 1) << "red from " << lo << " to " << hi;
+}
+
 TEST(Bake, BadRequestsAreRenderErrors) {
   render::ImpostorRenderer& r = render::shared_impostor_renderer();
   render::BakeView v;
