@@ -21,7 +21,7 @@
 //    three outputs, so after the MSAA resolve each attachment holds value * coverage (the
 //    background is 0): dividing by the attachment's alpha gives the covered samples' average.
 // Textures are sampled from their nearest mip level (GL_LINEAR_MIPMAP_NEAREST): half the texel
-// fetches of trilinear filtering, which were two fifths of the rasteriser's shader time.
+// fetches of trilinear filtering, which were a third of the rasteriser's shader time.
 //
 // Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
 #include "libs/render/impostor_renderer.h"
@@ -487,9 +487,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   // depth RGBA16), every primitive drawn into all three with its alpha as each one's alpha, the
   // maps the attachments divided by their alpha after the resolve (any msaa). kLayered (msaa 1):
   // opaque and masked primitives into one packed RGBA16UI attachment, blended ones into three
-  // RGBA16 attachments of their own, composited on read-back (bake_layers.h); for a quarter of
-  // the rasteriser's CPU. Not kLayered when an opaque or masked line carries a fractional alpha
-  // (line_alpha_scale < 1): the packed layer has no coverage but covered or not.
+  // RGBA16 attachments of their own, composited on read-back (bake_layers.h); a seventh
+  // less rasteriser CPU on an adult tree. Not kLayered when an opaque or masked line carries a fractional
+  // alpha (line_alpha_scale < 1): the packed layer has no coverage but covered or not.
   enum class BakeLayout { kBlended, kLayered };
   static BakeLayout choose_layout(const Scene& scene, const BakeOptions& o) {
     if (o.msaa != 1 || !o.pack_opaque) return BakeLayout::kBlended;
