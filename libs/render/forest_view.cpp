@@ -97,15 +97,7 @@ ForestView ForestView::load(const std::filesystem::path& instances_json) {
     const forest::Level& last = s.levels.back();
     if (last.octahedral.empty()) continue;
     const impostor::ImpostorInfo info = impostor::read_impostor_json((dir / last.octahedral).string());
-    ImpostorGeometry g;
-    g.frames_per_side = info.frames_per_side;
-    g.hemi = info.hemi;
-    g.center = Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
-    g.radius = float(info.sphere_radius);
-    g.half_extent = float(info.frame_half_extent);
-    g.frame_px = info.frame_px;
-    g.padding_px = info.padding_px;
-    g.mip_levels = info.mip_levels;
+    const ImpostorGeometry g = impostor_geometry(info);
     octahedral.back() = std::make_shared<const ImpostorAtlas>(
         make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
                             image::read_image(dir / info.normal_depth_map), g));

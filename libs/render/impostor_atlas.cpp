@@ -42,6 +42,19 @@ void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std
   }
 }
 
+ImpostorGeometry impostor_geometry(const impostor::ImpostorInfo& info) {
+  ImpostorGeometry g;
+  g.frames_per_side = info.frames_per_side;
+  g.hemi = info.hemi;
+  g.center = Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
+  g.radius = float(info.sphere_radius);
+  g.half_extent = float(info.frame_half_extent);
+  g.frame_px = info.frame_px;
+  g.padding_px = info.padding_px;
+  g.mip_levels = info.mip_levels;
+  return g;
+}
+
 ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
                                   const image::Image& normal_depth, const ImpostorGeometry& g) {
   const int px = g.frames_per_side * g.frame_px;
@@ -53,14 +66,7 @@ ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
   ImpostorAtlas a;
   a.name = std::move(name);
   a.atlas_px = px;
-  a.frames_per_side = g.frames_per_side;
-  a.hemi = g.hemi;
-  a.center = g.center;
-  a.radius = g.radius;
-  a.half_extent = g.half_extent;
-  a.frame_px = g.frame_px;
-  a.padding_px = g.padding_px;
-  a.mip_levels = g.mip_levels;
+  a.geometry = g;
   a.color = color.bytes();
   a.normal_depth = normal_depth.bytes();
   premultiply_impostor_maps(a.color, a.normal_depth);

@@ -9,17 +9,13 @@
 #include <vector>
 
 #include "libs/image/image.h"
+#include "libs/impostor/impostor_json.h"
 #include "libs/render/scene.h"
 
 namespace sylva::render {
 
-struct ImpostorGeometry {
-  int frames_per_side = 16;
-  bool hemi = true;
-  Vec3 center = Vec3::Zero();
-  float radius = 1, half_extent = 1;
-  int frame_px = 256, padding_px = 16, mip_levels = 4;
-};
+// The geometry impostor.json records (frames, sphere, frame half extent, padding, mip levels).
+ImpostorGeometry impostor_geometry(const impostor::ImpostorInfo& info);
 
 // Premultiplies an impostor's maps in place, the reference shader's contract: colour rgb =
 // sRGB(linear(rgb) * a), normal rgb = round(rgb * a / 255), alpha and depth unchanged. Both are

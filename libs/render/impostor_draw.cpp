@@ -43,18 +43,19 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
   for (const ImpostorSet& s : sets) {
     if (!s.atlas) throw RenderError("an impostor set has no atlas");
     const ImpostorAtlas& a = *s.atlas;
+    const ImpostorGeometry& g = a.geometry;
     const std::size_t bytes = std::size_t(a.atlas_px) * std::size_t(a.atlas_px) * 4;
-    if (a.frames_per_side < 2 || a.frame_px < 1 || a.atlas_px != a.frames_per_side * a.frame_px ||
+    if (g.frames_per_side < 2 || g.frame_px < 1 || a.atlas_px != g.frames_per_side * g.frame_px ||
         a.atlas_px > max_texture_px || a.color.size() != bytes || a.normal_depth.size() != bytes)
-      throw RenderError("impostor '" + a.name + "': its atlas is not " + std::to_string(a.frames_per_side) +
-                        " x " + std::to_string(a.frame_px) + " px frames with both maps (at most " +
+      throw RenderError("impostor '" + a.name + "': its atlas is not " + std::to_string(g.frames_per_side) +
+                        " x " + std::to_string(g.frame_px) + " px frames with both maps (at most " +
                         std::to_string(max_texture_px) + " px here)");
-    if (!(a.radius > 0) || !(a.half_extent >= a.radius) || a.padding_px < 0 || 2 * a.padding_px >= a.frame_px)
+    if (!(g.radius > 0) || !(g.half_extent >= g.radius) || g.padding_px < 0 || 2 * g.padding_px >= g.frame_px)
       throw RenderError(
           "impostor '" + a.name +
           "': geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
-    up.color.push_back(upload_map(gl, a.color, a.atlas_px, true, a.mip_levels));
-    up.normal_depth.push_back(upload_map(gl, a.normal_depth, a.atlas_px, false, a.mip_levels));
+    up.color.push_back(upload_map(gl, a.color, a.atlas_px, true, g.mip_levels));
+    up.normal_depth.push_back(upload_map(gl, a.normal_depth, a.atlas_px, false, g.mip_levels));
   }
   const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
   up.vao = gl.vertex_array();
@@ -84,7 +85,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
   const Mat4 view = cam.view_matrix();
   for (std::size_t s = 0; s < sets.size(); ++s)
     for (std::size_t i = 0; i < sets[s].instances.size(); ++i) {
-      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->center.homogeneous()).hnormalized();
+      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->geometry.center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), std::uint32_t(s), std::uint32_t(i)});
     }
   if (keys.empty()) return;
@@ -125,12 +126,13 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     if (s != current) {
       current = s;
       const ImpostorAtlas& a = *sets[s].atlas;
-      glUniform1i(u("u_frames"), a.frames_per_side);
-      glUniform1i(u("u_hemi"), a.hemi);
-      glUniform3fv(u("u_center"), 1, a.center.data());
-      glUniform1f(u("u_radius"), a.radius);
-      glUniform1f(u("u_half_extent"), a.half_extent);
-      glUniform1f(u("u_padding"), float(a.padding_px) / float(a.frame_px));
+      const ImpostorGeometry& g = a.geometry;
+      glUniform1i(u("u_frames"), g.frames_per_side);
+      glUniform1i(u("u_hemi"), g.hemi);
+      glUniform3fv(u("u_center"), 1, g.center.data());
+      glUniform1f(u("u_radius"), g.radius);
+      glUniform1f(u("u_half_extent"), g.half_extent);
+      glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
       glUniform1i(u("u_parallax_steps"), std::clamp(sets[s].parallax_steps, 0, 64));
       glUniform1f(u("u_atlas_px"), float(a.atlas_px));
       glActiveTexture(GL_TEXTURE0);

@@ -1,19 +1,27 @@
 // The OpenGL 3.3 core implementation of ImpostorRenderer: the atlas baker and the octahedral
 // impostor drawer (impostor_renderer.h has the contract, docs/stages/impostor.md the maps).
 //
-// Bake. One atlas row of views at a time is drawn into a multisampled target as wide as the atlas
-// and as tall as the row, with three colour attachments in one pass (colour RGBA8, normal RGBA16,
-// depth RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the coverage
-// keeps 8 bits of precision). Each primitive is one instanced draw over the row's views: the vertex
-// shader takes the view's frame from a uniform array by gl_InstanceID (every view frames the whole
-// source, so nothing needs clipping to its rectangle). Opaque and masked primitives first (depth
-// test and write), then blended ones (depth test, no write, alpha over), as the scene renderer's
-// passes. Every fragment writes its alpha as the alpha of all three outputs, so after the MSAA
-// resolve each attachment holds value * coverage (the background is 0): dividing by the
-// attachment's alpha gives the covered samples' average. Blended primitives are drawn in file order
-// without sorting: a primitive has one material colour, and "over" with equal colours does not
-// depend on order. Blended LINES are drawn with each run of coincident segments merged into one
-// line of their composite (line_merge.h), by a program variant that carries the copies' normals.
+// Bake. One atlas row of views at a time is drawn into a target as wide as the atlas and as tall
+// as the row. Each primitive is one instanced draw over the row's views: the vertex shader takes
+// the view's frame from a uniform array by gl_InstanceID (every view frames the whole source, so
+// nothing needs clipping to its rectangle). Opaque and masked primitives first (depth test and
+// write), then blended ones (depth test, no write, alpha over), as the scene renderer's passes.
+// Blended primitives are drawn in file order without sorting: a primitive has one material
+// colour, and "over" with equal colours does not depend on order. Blended LINES are drawn with
+// each run of coincident segments merged into one line of their composite (line_merge.h), by a
+// program variant that carries the copies' normals. Two target layouts (BakeLayout):
+//  - kLayered (msaa 1, the stage's default): opaque and masked primitives write one packed
+//    RGBA16UI texel (colour, normal, depth rounded to 8 bits and a covered flag), blended ones
+//    blend into three RGBA16 layers of their own; read-back composites the lines over the opaque
+//    texel (bake_layers.h). llvmpipe's CPU per shaded 4 x 4 block grows with every attachment
+//    and its bytes, and 93 % of an adult tree's primitives are opaque or masked.
+//  - kBlended (msaa > 1): three colour attachments in one pass (colour RGBA8, normal RGBA16,
+//    depth RGBA16; 16-bit so that dividing the resolved, coverage-weighted values by the
+//    coverage keeps 8 bits of precision). Every fragment writes its alpha as the alpha of all
+//    three outputs, so after the MSAA resolve each attachment holds value * coverage (the
+//    background is 0): dividing by the attachment's alpha gives the covered samples' average.
+// Textures are sampled from their nearest mip level (GL_LINEAR_MIPMAP_NEAREST): half the texel
+// fetches of trilinear filtering, which were a third of the rasteriser's shader time.
 //
 // Draw. The reference shader (shaders/octahedral_impostor.*) on one quad per instance.
 #include "libs/render/impostor_renderer.h"
@@ -28,6 +36,7 @@
 #include <mutex>
 #include <thread>
 
+#include "libs/render/bake_layers.h"
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
 #include "libs/render/impostor_atlas.h"
@@ -45,10 +54,12 @@ using detail::upload_array;
 // ---- Bake shaders ------------------------------------------------------------------------------
 
 // One source, a program per variant (BakeVariant below): MERGED_LINES (the lines of line_merge.h
-// with their extra normals), HAS_NORMALS, HAS_COLORS, HAS_TEXTURE. A variant passes on only the
-// varyings it reads: llvmpipe sets up and interpolates every varying of every tiny triangle, and
-// a leaf (normals, texture, no colours) needs 9 of the 16 floats (measured: docs/performance.md).
-// The variants compute what one program with those switches as uniforms computed, to the bit.
+// with their extra normals), IS_LINES (other lines: their normal turned toward the viewer),
+// HAS_NORMALS, HAS_COLORS, HAS_TEXTURE, OPAQUE_LAYER (the packed layer's output, BakeLayout). A
+// variant passes on only the varyings it reads: llvmpipe sets up and interpolates every varying
+// of every tiny triangle, and a leaf (normals, texture, no colours) needs 6 of the 16 floats (the
+// view direction only lines read; measured: docs/performance.md). The variants compute what one
+// program with those switches as uniforms computed, to the bit.
 constexpr const char* kBakeVertexShader = R"(
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
@@ -146,12 +157,17 @@ uniform int u_alpha_mode;  // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
 uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
 uniform bool u_mirrored;      // the instance matrix mirrors: clockwise is the front
-uniform bool u_line;          // LINES: the normal is turned toward the view's viewer
 uniform float u_alpha_scale;  // lines thinner than a texel: their coverage spread over one texel
 
+#if OPAQUE_LAYER
+// The opaque layer (msaa 1, opaque and masked primitives): every map's 8-bit value in one
+// unsigned 16-bit RGBA texel (BakeLayout::kLayered in the renderer).
+layout(location = 3) out uvec4 o_packed;
+#else
 layout(location = 0) out vec4 o_color;
 layout(location = 1) out vec4 o_normal;
 layout(location = 2) out vec4 o_depth;
+#endif
 
 float to_srgb(float c) {
   c = clamp(c, 0.0, 1.0);
@@ -185,9 +201,9 @@ void main() {
 #endif
   // Lines stand for twigs, which the full detail draws as lit cylinders: bake their normals
   // turned toward the view (the renderer draws LINES unlit, as three.js does; an impostor is lit).
-#if !MERGED_LINES
-  if (u_line && dot(n, v_dir) < 0.0) n = -n;
-#else
+#if IS_LINES
+  if (dot(n, v_dir) < 0.0) n = -n;
+#elif MERGED_LINES
   int copies = int(v_copies + 0.5);
   if (copies <= 1) {
     if (dot(n, v_dir) < 0.0) n = -n;
@@ -211,24 +227,41 @@ void main() {
     base.a = cover;
   }
 #endif
+#if OPAQUE_LAYER
+  // Covered (alpha 1): colour, normal and depth as the maps store them, rounded to 8 bits, and
+  // 0xFF in the top byte of alpha (covered; the layer is cleared to 0).
+  uvec3 c8 = uvec3(vec3(to_srgb(base.r), to_srgb(base.g), to_srgb(base.b)) * 255.0 + 0.5);
+  uvec3 n8 = uvec3(clamp(n * 0.5 + 0.5, 0.0, 1.0) * 255.0 + 0.5);
+  uint d8 = uint(clamp(v_depth * 0.5 + 0.5, 0.0, 1.0) * 255.0 + 0.5);
+  o_packed = uvec4(c8.r | (c8.g << 8), c8.b | (n8.x << 8), n8.y | (n8.z << 8), d8 | 0xFF00u);
+#else
   o_color = vec4(to_srgb(base.r), to_srgb(base.g), to_srgb(base.b), base.a);
   o_normal = vec4(n * 0.5 + 0.5, base.a);
   o_depth = vec4(clamp(v_depth * 0.5 + 0.5, 0.0, 1.0), 0.0, 0.0, base.a);
+#endif
 }
 )";
 
 // Which bake program draws a primitive (see kBakeVertexShader).
 struct BakeVariant {
-  bool merged_lines = false, normals = false, colors = false, texture = false;
-  int key() const { return int(merged_lines) | int(normals) << 1 | int(colors) << 2 | int(texture) << 3; }
+  bool merged_lines = false, normals = false, colors = false, texture = false, opaque_layer = false;
+  bool lines = false;  // LINES that are not merged_lines
+  int key() const {
+    return int(merged_lines) | int(normals) << 1 | int(colors) << 2 | int(texture) << 3 |
+           int(opaque_layer) << 4 | int(lines) << 5;
+  }
 };
-constexpr int kBakeVariants = 16;
+constexpr int kBakeVariants = 64;
 
 GLuint link_bake_program(int key) {
   auto source = [&](const char* body) {
     std::string s = "#version 330 core\n";
-    for (auto [bit, name] :
-         {std::pair{1, "MERGED_LINES"}, {2, "HAS_NORMALS"}, {4, "HAS_COLORS"}, {8, "HAS_TEXTURE"}})
+    for (auto [bit, name] : {std::pair{1, "MERGED_LINES"},
+                             {2, "HAS_NORMALS"},
+                             {4, "HAS_COLORS"},
+                             {8, "HAS_TEXTURE"},
+                             {16, "OPAQUE_LAYER"},
+                             {32, "IS_LINES"}})
       s += std::string("#define ") + name + ((key & bit) ? " 1\n" : " 0\n");
     return s + body;
   };
@@ -317,7 +350,9 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       validate_bake(views, o);
     }
     const std::vector<BakeRow> rows = plan_rows(views, o);
+    const BakeLayout layout = choose_layout(scene, o);
     BakedMaps out;
+    out.packed_opaque = layout == BakeLayout::kLayered;
     out.color = image::Image(o.atlas_width, o.atlas_height, {0, 0, 0, 0});
     out.normal_depth = image::Image(o.atlas_width, o.atlas_height, {0, 0, 0, 0});
     // Rows are independent: each context draws every threads-th row (its own copy of the scene),
@@ -331,7 +366,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         detail::GlContext& ctx = t == 0 ? *ctx_ : *workers_[std::size_t(t - 1)]->ctx;
         BakePrograms& programs = t == 0 ? bake_programs_ : workers_[std::size_t(t - 1)]->programs;
         CurrentContext current(ctx);
-        bake_rows(programs, scene, views, o, rows, std::size_t(t), std::size_t(threads), out);
+        bake_rows(programs, scene, layout, o, rows, std::size_t(t), std::size_t(threads), out);
       } catch (...) {
         errors[std::size_t(t)] = std::current_exception();
       }
@@ -351,12 +386,13 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     std::lock_guard<std::mutex> lock(mutex_);
     CurrentContext current(*ctx_);
     validate_draw(imp, o);
+    const ImpostorGeometry& g = imp.geometry;
     GlObjects gl;
     glGetError();
     const DrawTarget target = make_draw_target(gl, o);
     const PremultipliedMaps pm = premultiply(imp.color, imp.normal_depth);
-    const GLuint color = upload_atlas(gl, pm.color, true, imp.mip_levels);
-    const GLuint normal = upload_atlas(gl, pm.normal_depth, false, imp.mip_levels);
+    const GLuint color = upload_atlas(gl, pm.color, true, g.mip_levels);
+    const GLuint normal = upload_atlas(gl, pm.normal_depth, false, g.mip_levels);
 
     // One quad (two triangles), instanced per impostor.
     const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
@@ -378,14 +414,14 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
     glUseProgram(draw_program_);
     auto u = [&](const char* n) { return glGetUniformLocation(draw_program_, n); };
-    glUniform1i(u("u_frames"), imp.frames_per_side);
-    glUniform1i(u("u_hemi"), imp.hemi);
-    glUniform3fv(u("u_center"), 1, imp.center.data());
-    glUniform1f(u("u_radius"), imp.radius);
-    glUniform1f(u("u_half_extent"), imp.half_extent);
-    glUniform1f(u("u_padding"), float(imp.padding_px) / float(imp.frame_px));
+    glUniform1i(u("u_frames"), g.frames_per_side);
+    glUniform1i(u("u_hemi"), g.hemi);
+    glUniform3fv(u("u_center"), 1, g.center.data());
+    glUniform1f(u("u_radius"), g.radius);
+    glUniform1f(u("u_half_extent"), g.half_extent);
+    glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
     glUniform1i(u("u_parallax_steps"), std::clamp(draw.parallax_steps, 0, 64));
-    glUniform1f(u("u_atlas_px"), float(imp.frames_per_side * imp.frame_px));
+    glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
     glUniform3fv(u("u_ambient"), 1, o.lighting.ambient.data());
     glUniform3fv(u("u_light_color"), 1, o.lighting.light_color.data());
     const Vec3 l =
@@ -439,18 +475,46 @@ class GlImpostorRenderer final : public ImpostorRenderer {
  private:
   struct BakeUniforms {
     GLint model, normal_matrix, views, base_color, texture, alpha_mode, alpha_cutoff, two_sided, mirrored,
-        line, alpha_scale;
+        alpha_scale;
   };
   static BakeUniforms bake_uniforms(GLuint program) {
     auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
-    return {u("u_model"),    u("u_normal_matrix"), u("u_views[0]"),     u("u_base_color"),
-            u("u_texture"),  u("u_alpha_mode"),    u("u_alpha_cutoff"), u("u_two_sided"),
-            u("u_mirrored"), u("u_line"),          u("u_alpha_scale")};
+    return {u("u_model"),      u("u_normal_matrix"), u("u_views[0]"),  u("u_base_color"), u("u_texture"),
+            u("u_alpha_mode"), u("u_alpha_cutoff"),  u("u_two_sided"), u("u_mirrored"),   u("u_alpha_scale")};
+  }
+
+  // How the row targets hold the maps. kBlended: three attachments (colour RGBA8, normal RGBA16,
+  // depth RGBA16), every primitive drawn into all three with its alpha as each one's alpha, the
+  // maps the attachments divided by their alpha after the resolve (any msaa). kLayered (msaa 1):
+  // opaque and masked primitives into one packed RGBA16UI attachment, blended ones into three
+  // RGBA16 attachments of their own, composited on read-back (bake_layers.h); a seventh
+  // less rasteriser CPU on an adult tree. Not kLayered when an opaque or masked line carries a fractional
+  // alpha (line_alpha_scale < 1): the packed layer has no coverage but covered or not.
+  enum class BakeLayout { kBlended, kLayered };
+  static BakeLayout choose_layout(const Scene& scene, const BakeOptions& o) {
+    if (o.msaa != 1 || !o.pack_opaque) return BakeLayout::kBlended;
+    if (o.line_alpha_scale < 1)
+      for (const Mesh& mesh : scene.meshes)
+        for (const Primitive& p : mesh.primitives)
+          if (p.topology == Topology::kLines && !is_blended(scene, p)) return BakeLayout::kBlended;
+    return BakeLayout::kLayered;
+  }
+  static bool is_blended(const Scene& scene, const Primitive& p) {
+    return p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
   }
 
   struct BakeTarget {
     int width = 0, height = 0;
     GLuint draw_fbo = 0, resolve_fbo = 0;
+    BakeLayout layout = BakeLayout::kBlended;
+  };
+
+  // A row's attachments as read back (RGBA each), kept from row to row: allocating them per row
+  // cost more CPU in page faults than reading them (docs/performance.md). kBlended: color (8-bit),
+  // normal, depth; kLayered: packed, and the blended layers in color16, normal, depth.
+  struct RowPixels {
+    std::vector<std::uint8_t> color;
+    std::vector<std::uint16_t> normal, depth, packed, color16;
   };
 
   // One atlas row: the views that share its y and height, and their uniforms.
@@ -496,15 +560,24 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   }
 
   // Rows first, first + stride, ... of `rows`, with `program` on the current context.
-  void bake_rows(BakePrograms& programs, const Scene& scene, std::span<const BakeView> views,
-                 const BakeOptions& o, const std::vector<BakeRow>& rows, std::size_t first,
-                 std::size_t stride, BakedMaps& out) const {
-    (void)views;
+  void bake_rows(BakePrograms& programs, const Scene& scene, BakeLayout layout, const BakeOptions& o,
+                 const std::vector<BakeRow>& rows, std::size_t first, std::size_t stride,
+                 BakedMaps& out) const {
     GlObjects gl;
     glGetError();
     std::vector<GLuint> textures;
-    for (const Texture& t : scene.textures) textures.push_back(detail::upload_texture(gl, t));
-    const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene);
+    for (const Texture& t : scene.textures) {
+      textures.push_back(detail::upload_texture(gl, t));
+      // The mip level nearest the texel's footprint, filtered bilinearly, not two levels blended:
+      // half of llvmpipe's texel fetches (docs/stages/impostor.md, "Texture filtering").
+      if (t.mipmaps)
+        glTexParameteri(
+            GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
+            t.min_filter == Filter::kNearest ? GL_NEAREST_MIPMAP_NEAREST : GL_LINEAR_MIPMAP_NEAREST);
+    }
+    const std::vector<BakePrimitive> prims = upload_bake_scene(gl, scene, layout);
+    const bool any_blended =
+        std::any_of(prims.begin(), prims.end(), [](const BakePrimitive& p) { return p.blend; });
     check_gl("bake upload");
     // The variants this scene needs, linked once per context; their uniforms.
     std::vector<int> used;
@@ -519,17 +592,21 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUniform1i(uniforms[std::size_t(bp.variant)].texture, 0);
     }
     std::map<int, BakeTarget> targets;  // by band height
+    RowPixels pixels;                   // read-back memory, reused by every row
     for (std::size_t r = first; r < rows.size(); r += stride) {
       const BakeRow& row = rows[r];
       auto it = targets.find(row.h);
       if (it == targets.end())
-        it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa)).first;
+        it = targets.emplace(row.h, make_bake_target(gl, o.atlas_width, row.h, o.msaa, layout)).first;
       for (int v : used) {
         glUseProgram(programs.program[std::size_t(v)]);
         glUniform4fv(uniforms[std::size_t(v)].views, GLsizei(row.views.size() * 5), row.uniforms.data());
       }
       draw_bake_row(scene, prims, textures, programs, uniforms, GLsizei(row.views.size()), it->second, o);
-      read_bake_row(it->second, row.y, out);
+      if (layout == BakeLayout::kLayered)
+        read_layered_row(it->second, row.y, any_blended, pixels, out);
+      else
+        read_bake_row(it->second, row.y, pixels, out);
       check_gl("baking");
     }
     glBindVertexArray(0);
@@ -554,10 +631,11 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     }
   }
 
-  BakeTarget make_bake_target(GlObjects& gl, int w, int h, int msaa) const {
+  BakeTarget make_bake_target(GlObjects& gl, int w, int h, int msaa, BakeLayout layout) const {
     BakeTarget t;
     t.width = w;
     t.height = h;
+    t.layout = layout;
     const GLenum formats[3] = {GL_RGBA8, GL_RGBA16, GL_RGBA16};
     auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
       const GLuint rb = gl.renderbuffer();
@@ -572,6 +650,16 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     };
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     t.draw_fbo = gl.framebuffer();
+    if (layout == BakeLayout::kLayered) {
+      // The blended layers (colour, normal, depth: RGBA16) and the packed opaque layer.
+      for (int a = 0; a < 3; ++a) attach(t.draw_fbo, bufs[a], GL_RGBA16, 1);
+      attach(t.draw_fbo, GL_COLOR_ATTACHMENT3, GL_RGBA16UI, 1);
+      attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, 1);
+      if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw RenderError("cannot create a " + std::to_string(w) + "x" + std::to_string(h) + " bake target");
+      t.resolve_fbo = t.draw_fbo;
+      return t;
+    }
     for (int a = 0; a < 3; ++a) attach(t.draw_fbo, bufs[a], formats[a], msaa);
     attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, msaa);
     glDrawBuffers(3, bufs);
@@ -588,7 +676,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     return t;
   }
 
-  std::vector<BakePrimitive> upload_bake_scene(GlObjects& gl, const Scene& scene) const {
+  std::vector<BakePrimitive> upload_bake_scene(GlObjects& gl, const Scene& scene, BakeLayout layout) const {
     std::vector<BakePrimitive> out;
     for (const Mesh& mesh : scene.meshes) {
       if (mesh.instances.empty()) continue;
@@ -599,8 +687,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         bp.source = &p;
         bp.mesh = &mesh;
         bp.index_count = GLsizei(p.indices.size());
-        bp.blend =
-            p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+        bp.blend = is_blended(scene, p);
         BakeVariant variant;
         variant.merged_lines = bp.blend && p.topology == Topology::kLines;
         variant.normals = !p.normals.empty();
@@ -608,6 +695,8 @@ class GlImpostorRenderer final : public ImpostorRenderer {
         variant.texture = p.material >= 0 &&
                           scene.materials[std::size_t(p.material)].base_color_texture >= 0 &&
                           !p.texcoords.empty();
+        variant.opaque_layer = layout == BakeLayout::kLayered && !bp.blend;
+        variant.lines = p.topology == Topology::kLines && !variant.merged_lines;
         bp.variant = variant.key();
         bp.vao = gl.vertex_array();
         glBindVertexArray(bp.vao);
@@ -654,10 +743,26 @@ class GlImpostorRenderer final : public ImpostorRenderer {
                      const BakeTarget& t, const BakeOptions& o) const {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
     glViewport(0, 0, t.width, t.height);
-    glClearColor(0, 0, 0, 0);
-    glClearDepth(1.0);
     glDepthMask(GL_TRUE);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    const bool layered = t.layout == BakeLayout::kLayered;
+    const GLenum all[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                           GL_COLOR_ATTACHMENT3};
+    if (layered) {
+      // Every layer to 0 (an integer attachment is cleared by value), then the opaque pass draws
+      // into the packed layer only.
+      glDrawBuffers(4, all);
+      const GLfloat zero[4] = {0, 0, 0, 0}, far_depth = 1;
+      const GLuint zero_u[4] = {0, 0, 0, 0};
+      for (GLint a = 0; a < 3; ++a) glClearBufferfv(GL_COLOR, a, zero);
+      glClearBufferuiv(GL_COLOR, 3, zero_u);
+      glClearBufferfv(GL_DEPTH, 0, &far_depth);
+      const GLenum opaque[4] = {GL_NONE, GL_NONE, GL_NONE, GL_COLOR_ATTACHMENT3};
+      glDrawBuffers(4, opaque);
+    } else {
+      glClearColor(0, 0, 0, 0);
+      glClearDepth(1.0);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glCullFace(GL_BACK);
@@ -674,6 +779,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUseProgram(programs.program[std::size_t(bp.variant)]);
       if (bp.blend && !blending) {
         blending = true;
+        if (layered) glDrawBuffers(3, all);  // the blended layers
         glEnable(GL_BLEND);
         glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
         glDepthMask(GL_FALSE);
@@ -691,7 +797,6 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
       const bool triangles = p.topology == Topology::kTriangles;
       glUniform1i(u.two_sided, triangles && m.double_sided);
-      glUniform1i(u.line, p.topology == Topology::kLines);
       glUniform1f(u.alpha_scale,
                   p.topology == Topology::kLines ? std::clamp(o.line_alpha_scale, 0.f, 1.f) : 1.f);
       if (p.normals.empty()) glVertexAttrib3f(kNormal, 0, 0, 1);
@@ -724,12 +829,17 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     glFrontFace(GL_CCW);
   }
 
-  // Resolves the row, reads the three attachments back and writes the divided values into the
-  // maps at rows [band_y, band_y + height).
-  void read_bake_row(const BakeTarget& t, int band_y, BakedMaps& out) const {
+  // Resolves the row, reads the three attachments back into `px` (grown as needed) and writes the
+  // divided values into the maps at rows [band_y, band_y + height).
+  void read_bake_row(const BakeTarget& t, int band_y, RowPixels& px, BakedMaps& out) const {
     const std::size_t n = std::size_t(t.width) * std::size_t(t.height);
-    std::vector<std::uint8_t> color(n * 4);
-    std::vector<std::uint16_t> normal(n * 4), depth(n * 4);
+    if (px.color.size() < n * 4) {
+      px.color.resize(n * 4);
+      px.normal.resize(n * 4);
+      px.depth.resize(n * 4);
+    }
+    const std::vector<std::uint8_t>& color = px.color;
+    const std::vector<std::uint16_t>&normal = px.normal, &depth = px.depth;
     for (int a = 0; a < 3; ++a) {
       const GLenum att = GL_COLOR_ATTACHMENT0 + GLenum(a);
       if (t.resolve_fbo != t.draw_fbo) {
@@ -743,10 +853,10 @@ class GlImpostorRenderer final : public ImpostorRenderer {
       glReadBuffer(att);
       glPixelStorei(GL_PACK_ALIGNMENT, 1);
       if (a == 0) {
-        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, color.data());
+        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, px.color.data());
       } else {
         glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_SHORT,
-                     a == 1 ? normal.data() : depth.data());
+                     a == 1 ? px.normal.data() : px.depth.data());
       }
     }
     if (t.resolve_fbo != t.draw_fbo) {
@@ -783,6 +893,41 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     }
   }
 
+  // kLayered: reads the packed layer back (and the blended layers when the scene has blended
+  // primitives; `px` is only ever used for one scene) into `px`, and writes the composited texels into the
+  // maps at rows [band_y, band_y + height) (bake_layers.h).
+  void read_layered_row(const BakeTarget& t, int band_y, bool blended, RowPixels& px, BakedMaps& out) const {
+    const std::size_t n = std::size_t(t.width) * std::size_t(t.height);
+    if (px.packed.size() < n * 4) {
+      px.packed.resize(n * 4);
+      px.color16.resize(n * 4);
+      px.normal.resize(n * 4);
+      px.depth.resize(n * 4);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.draw_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_COLOR_ATTACHMENT3);
+    glReadPixels(0, 0, t.width, t.height, GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, px.packed.data());
+    if (blended) {  // else the blended layers stay as resize() made them: 0
+      std::uint16_t* layers[3] = {px.color16.data(), px.normal.data(), px.depth.data()};
+      for (int a = 0; a < 3; ++a) {
+        glReadBuffer(GL_COLOR_ATTACHMENT0 + GLenum(a));
+        glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_SHORT, layers[a]);
+      }
+    }
+    auto& cb = out.color.bytes();
+    auto& nb = out.normal_depth.bytes();
+    const std::size_t stride = std::size_t(out.color.width()) * 4;
+    for (int y = 0; y < t.height; ++y) {
+      const std::size_t src_row = std::size_t(t.height - 1 - y) * std::size_t(t.width) * 4;  // bottom up
+      const std::size_t dst_row = std::size_t(band_y + y) * stride;
+      for (int x = 0; x < t.width; ++x) {
+        const std::size_t s = src_row + std::size_t(x) * 4, d = dst_row + std::size_t(x) * 4;
+        composite_bake_texel(&px.packed[s], &px.color16[s], &px.normal[s], &px.depth[s], &cb[d], &nb[d]);
+      }
+    }
+  }
+
   struct DrawTarget {
     GLuint draw_fbo = 0, resolve_fbo = 0;
   };
@@ -796,18 +941,18 @@ class GlImpostorRenderer final : public ImpostorRenderer {
                         std::to_string(max_samples_) + ")");
     if (o.background.a != 0 && o.background.a != 255)
       throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
-    const int atlas = imp.frames_per_side * imp.frame_px;
-    if (imp.frames_per_side < 2 || imp.frame_px < 1 || atlas > max_texture_size_)
-      throw RenderError("impostor atlas of " + std::to_string(imp.frames_per_side) + " x " +
-                        std::to_string(imp.frame_px) +
+    const ImpostorGeometry& g = imp.geometry;
+    const int atlas = g.frames_per_side * g.frame_px;
+    if (g.frames_per_side < 2 || g.frame_px < 1 || atlas > max_texture_size_)
+      throw RenderError("impostor atlas of " + std::to_string(g.frames_per_side) + " x " +
+                        std::to_string(g.frame_px) +
                         " px frames is not drawable here (2 or more frames, at most " +
                         std::to_string(max_texture_size_) + " px)");
     for (const image::Image* m : {&imp.color, &imp.normal_depth})
       if (m->width() != atlas || m->height() != atlas)
         throw RenderError("impostor maps must be " + std::to_string(atlas) + "x" + std::to_string(atlas) +
                           " pixels, got " + std::to_string(m->width()) + "x" + std::to_string(m->height()));
-    if (!(imp.radius > 0) || !(imp.half_extent >= imp.radius) || imp.padding_px < 0 ||
-        2 * imp.padding_px >= imp.frame_px)
+    if (!(g.radius > 0) || !(g.half_extent >= g.radius) || g.padding_px < 0 || 2 * g.padding_px >= g.frame_px)
       throw RenderError(
           "impostor geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
   }
@@ -874,7 +1019,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
     const Mat4 view = cam.view_matrix();
     std::vector<std::pair<float, std::size_t>> keys;
     for (std::size_t i = 0; i < imp.instances.size(); ++i) {
-      const Vec3 w = (imp.instances[i] * imp.center.homogeneous()).hnormalized();
+      const Vec3 w = (imp.instances[i] * imp.geometry.center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), i});  // more negative = farther
     }
     std::stable_sort(keys.begin(), keys.end(),

@@ -3,9 +3,11 @@
 //
 // Bake: a Scene is drawn into an atlas once per BakeView, an orthographic view of a rectangle in
 // object space, into that view's pixel rectangle of the atlas. Every view of one atlas row is one
-// instanced draw per primitive (the instance selects the view: its transform comes from a buffer
-// texture, gl_ClipDistance keeps it inside its rectangle), so 256 frames cost 16 draws per
-// primitive, not 256. Three maps come out (docs/stages/impostor.md, "Maps"):
+// instanced draw per primitive (the instance selects the view's transform from a uniform array;
+// every view frames the whole source, so nothing reaches a neighbouring rectangle), so 256
+// frames cost 16 draws per primitive, not 256. Textures are sampled from the mip level nearest
+// the texel's footprint (bilinear within it, not trilinear: docs/stages/impostor.md). Three maps come out
+// (docs/stages/impostor.md, "Maps"):
 //   - colour: the sRGB-encoded base colour (baseColorFactor * COLOR_0 * texture, unlit) with
 //     straight alpha = the coverage of the texel (MSAA samples covered; BLEND primitives add
 //     their alpha over what lies behind them, as the scene renderer composites them);
@@ -57,25 +59,27 @@ struct BakeOptions {
   // Contexts drawing rows of the atlas side by side (llvmpipe runs vertex work on the calling
   // thread, so one context uses one core for it). The bytes do not depend on this.
   int threads = 1;
+  // msaa 1: opaque and masked primitives are drawn into one packed layer and blended ones into
+  // layers of their own, composited on read-back (bake_layers.h; llvmpipe's cost per shaded block
+  // grows with every attachment). false: every primitive into the three maps' attachments at
+  // once, as for msaa > 1. The maps agree within one level per channel (tested).
+  bool pack_opaque = true;
 };
 
 struct BakedMaps {
   image::Image color;         // sRGB RGB, straight alpha = coverage
   image::Image normal_depth;  // RGB = normal * 0.5 + 0.5 (object space), A = depth
+  // Whether opaque and masked primitives went into the packed layer (BakeOptions::pack_opaque):
+  // msaa 1 and no opaque or masked line with a fractional alpha (line_alpha_scale < 1), which the
+  // packed layer, covered or not, cannot hold.
+  bool packed_opaque = false;
 };
 
 // What render_octahedral() needs of an impostor (impostor.json + its two PNGs; the names follow
 // libs/impostor/impostor_json.h).
 struct OctahedralImpostor {
-  image::Image color, normal_depth;  // atlas_px x atlas_px each
-  int frames_per_side = 16;
-  bool hemi = true;
-  Vec3 center = Vec3::Zero();  // sphere centre, object space
-  float radius = 1;            // sphere radius R
-  float half_extent = 1;       // frame half extent W
-  int frame_px = 256;
-  int padding_px = 16;
-  int mip_levels = 4;                             // GL_TEXTURE_MAX_LEVEL of both maps
+  image::Image color, normal_depth;  // atlas_px x atlas_px each, atlas_px = frames_per_side * frame_px
+  ImpostorGeometry geometry;
   std::vector<Mat4> instances{Mat4::Identity()};  // object -> world
 };
 

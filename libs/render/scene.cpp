@@ -54,8 +54,8 @@ Bounds Scene::bounds() const {
   for (const ImpostorSet& set : impostors) {
     if (!set.atlas) continue;
     Bounds sphere;
-    sphere.extend(set.atlas->center - Vec3::Constant(set.atlas->radius));
-    sphere.extend(set.atlas->center + Vec3::Constant(set.atlas->radius));
+    sphere.extend(set.atlas->geometry.center - Vec3::Constant(set.atlas->geometry.radius));
+    sphere.extend(set.atlas->geometry.center + Vec3::Constant(set.atlas->geometry.radius));
     for (const Mat4& m : set.instances) out.extend(sphere.transformed(m));
   }
   return out;

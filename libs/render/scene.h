@@ -84,23 +84,29 @@ struct Mesh {
   std::vector<Mat4> instances;  // world matrices; the mesh is drawn once per entry
 };
 
-// A (hemi-)octahedral impostor as the reference shader draws it (shaders/octahedral_impostor.*,
-// docs/stages/impostor.md "The reference shader"; the fields follow impostor.json): both maps
-// atlas_px x atlas_px RGBA8, top row first, ALREADY premultiplied by coverage
-// (premultiply_impostor_maps() in impostor_atlas.h turns impostor.json's straight PNGs into them).
+// Where a (hemi-)octahedral impostor's frames are and what they span: the reference shader's
+// uniforms (shaders/octahedral_impostor.*, docs/stages/impostor.md "The reference shader"); the
+// fields follow impostor.json (impostor_geometry() in impostor_atlas.h reads them from it).
+struct ImpostorGeometry {
+  int frames_per_side = 16;    // N: frames per atlas side
+  bool hemi = true;            // upper hemisphere only
+  Vec3 center = Vec3::Zero();  // sphere centre, object space
+  float radius = 1;            // sphere radius R
+  float half_extent = 1;       // frame half extent W
+  int frame_px = 256;          // texels per frame side
+  int padding_px = 16;         // transparent texels round the sphere's disc in every frame
+  int mip_levels = 4;          // GL_TEXTURE_MAX_LEVEL of both maps
+};
+
+// A (hemi-)octahedral impostor as the reference shader draws it: both maps atlas_px x atlas_px
+// RGBA8, top row first, ALREADY premultiplied by coverage (premultiply_impostor_maps() in
+// impostor_atlas.h turns impostor.json's straight PNGs into them).
 struct ImpostorAtlas {
   std::string name;                        // for messages
   int atlas_px = 0;                        // frames_per_side * frame_px
   std::vector<std::uint8_t> color;         // sRGB(linear rgb * a), a = coverage
   std::vector<std::uint8_t> normal_depth;  // rgb = (normal * 0.5 + 0.5) * a, a = depth
-  int frames_per_side = 16;
-  bool hemi = true;
-  Vec3 center = Vec3::Zero();  // sphere centre, object space
-  float radius = 1;            // sphere radius R
-  float half_extent = 1;       // frame half extent W
-  int frame_px = 256;
-  int padding_px = 16;
-  int mip_levels = 4;  // GL_TEXTURE_MAX_LEVEL of both maps
+  ImpostorGeometry geometry;
 };
 
 // Instances of one impostor (object -> world: rotation, translation, uniform scale). The atlas

@@ -136,11 +136,6 @@ std::array<double, 2> trunk_foot(const image::Image& color, const Layout& layout
 
 }  // namespace
 
-double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry) {
-  const Layout layout = plan_layout(params, geometry);
-  return 2 * layout.frame_half_extent / params.frame_px;
-}
-
 BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& p,
                          const SourceDesc& source) {
   if (p.cutout_vertices < 4 || p.cutout_vertices > 8)

@@ -29,6 +29,7 @@
 #include "libs/render/scene.h"
 #include "stages/impostor/impostor_gltf.h"
 #include "stages/impostor/layout.h"
+#include "stages/impostor/source.h"
 
 namespace sylva::impostor {
 
@@ -43,14 +44,6 @@ struct BakeParams {
   double switch_distance_m = 0;  // > 0: recorded instead of the error model's (a proven distance)
 };
 
-struct SourceDesc {
-  std::string type = "mesh";  // "mesh" or "lod"
-  std::string file;           // the file baked
-  int level = -1;             // LOD level, -1 for a mesh
-  double epsilon = 0;         // the level's epsilon (m), 0 for a mesh
-  double line_pixel_m = 0;    // pixel size the source's line alphas are for (m), 0: no line alphas
-};
-
 struct BakeOutput {
   ImpostorInfo info;  // map names are the stage's file names
   image::Image color, normal_depth;
@@ -62,8 +55,5 @@ struct BakeOutput {
 // drawing fails.
 BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene,
                          const BakeParams& params, const SourceDesc& source);
-
-// The texel (m) the atlas would have for this scene and these parameters: 2 W / frame_px.
-double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry);
 
 }  // namespace sylva::impostor

@@ -4,7 +4,7 @@ namespace sylva {
 
 namespace {
 // Bump whenever the bytes of any output can change (maps, impostor.json, impostor.glb).
-constexpr int kVersion = 5;  // 5: coincident blended lines baked as one (line_merge.h)
+constexpr int kVersion = 6;  // 6: packed opaque layer (bake_layers.h), nearest mip level of textures
 }  // namespace
 
 StageInfo impostor_stage_info() {

@@ -82,25 +82,13 @@ class ImpostorStage final : public Stage {
                            ", which the artifact lacks");
         return *f;
       };
-      // The coarsest level measures the tree (every level is within its epsilon of the others),
-      // widened by that epsilon so the estimate never falls short of a finer level's extent.
-      impostor::SourceGeometry g = impostor::measure(load(level_file(levels.size() - 1)));
-      g.radius += levels.back().epsilon;
-      g.horizontal_radius += levels.back().epsilon;
-      double texel = 0;
+      // The coarsest level within one atlas texel (source.h).
       try {
-        texel = impostor::atlas_texel(params.layout, g);
+        src = impostor::choose_source(levels, load(level_file(levels.size() - 1)), params.layout);
       } catch (const std::invalid_argument& e) {
         throw StageError(e.what());
       }
-      const std::size_t chosen = impostor::choose_level(levels, texel);
-      scene = load(level_file(chosen));
-      src.type = "lod";
-      src.file = levels[chosen].file;
-      src.level = int(chosen);
-      src.epsilon = levels[chosen].epsilon;
-      src.line_pixel_m =
-          levels[chosen].pixel_error > 0 ? levels[chosen].epsilon / levels[chosen].pixel_error : 0;
+      scene = load(level_file(std::size_t(src.level)));
     } else {
       const ArtifactFile& f = mesh_file(in);
       scene = load(f);

@@ -157,4 +157,9 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
   return out;
 }
 
+double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry) {
+  const Layout layout = plan_layout(params, geometry);
+  return 2 * layout.frame_half_extent / params.frame_px;
+}
+
 }  // namespace sylva::impostor

@@ -52,4 +52,8 @@ struct Layout {
 // (padding too wide for the frame, an atlas beyond 16384 px, too few frames).
 Layout plan_layout(const LayoutParams& params, const SourceGeometry& geometry);
 
+// The texel (m) the atlas would have for this geometry and these parameters: 2 W / frame_px.
+// Throws as plan_layout().
+double atlas_texel(const LayoutParams& params, const SourceGeometry& geometry);
+
 }  // namespace sylva::impostor

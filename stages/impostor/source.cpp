@@ -45,4 +45,20 @@ std::size_t choose_level(const std::vector<LodLevelRef>& levels, double texel_m)
   return best;
 }
 
+SourceDesc choose_source(const std::vector<LodLevelRef>& levels, const render::Scene& coarsest,
+                         const LayoutParams& layout) {
+  if (levels.empty()) throw std::invalid_argument("choose_source: no levels");
+  SourceGeometry g = measure(coarsest);
+  g.radius += levels.back().epsilon;
+  g.horizontal_radius += levels.back().epsilon;
+  const std::size_t i = choose_level(levels, atlas_texel(layout, g));
+  SourceDesc d;
+  d.type = "lod";
+  d.file = levels[i].file;
+  d.level = int(i);
+  d.epsilon = levels[i].epsilon;
+  d.line_pixel_m = levels[i].pixel_error > 0 ? levels[i].epsilon / levels[i].pixel_error : 0;
+  return d;
+}
+
 }  // namespace sylva::impostor

@@ -10,7 +10,20 @@
 #include <string>
 #include <vector>
 
+#include "libs/render/scene.h"
+#include "stages/impostor/layout.h"
+
 namespace sylva::impostor {
+
+// What an impostor is baked from (impostor.json's "source"; bake.h uses epsilon and
+// line_pixel_m).
+struct SourceDesc {
+  std::string type = "mesh";  // "mesh" or "lod"
+  std::string file;           // the file baked
+  int level = -1;             // LOD level, -1 for a mesh
+  double epsilon = 0;         // the level's epsilon (m), 0 for a mesh
+  double line_pixel_m = 0;    // pixel size the source's line alphas are for (m), 0: no line alphas
+};
 
 struct LodLevelRef {
   std::string file;            // e.g. "lod3.glb"
@@ -25,5 +38,14 @@ std::vector<LodLevelRef> parse_lod_levels(const std::string& lod_json, const std
 
 // Index of the coarsest level with epsilon <= texel_m; the finest (0) when none qualifies.
 std::size_t choose_level(const std::vector<LodLevelRef>& levels, double texel_m);
+
+// The level of a lod chain the stage bakes, for these layout parameters: the texel is estimated
+// from `coarsest` (the scene of levels.back(), which measures the tree: every level lies within
+// its epsilon of the others) widened by the coarsest level's epsilon, so that the estimate never
+// falls short of a finer level's extent; then choose_level(). type "lod", the level's file,
+// index, epsilon and line pixel (epsilon / pixel_error, 0 when lod.json gives no pixel error).
+// Throws std::invalid_argument for an empty list or parameters that give no atlas.
+SourceDesc choose_source(const std::vector<LodLevelRef>& levels, const render::Scene& coarsest,
+                         const LayoutParams& layout);
 
 }  // namespace sylva::impostor

@@ -127,12 +127,7 @@ TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawer) {
   OctahedralImpostor ref;
   ref.color = m.color;
   ref.normal_depth = m.normal_depth;
-  ref.frames_per_side = m.geometry.frames_per_side;
-  ref.frame_px = m.geometry.frame_px;
-  ref.padding_px = m.geometry.padding_px;
-  ref.mip_levels = m.geometry.mip_levels;
-  ref.radius = m.geometry.radius;
-  ref.half_extent = m.geometry.half_extent;
+  ref.geometry = m.geometry;
   ref.instances = instances;
   const Image want = impostors_->render_octahedral(ref, std::span<const Camera>(&cam, 1), options()).front();
   const Image got = renderer_->render(impostor_scene(m, instances), cam, options());

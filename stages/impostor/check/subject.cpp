@@ -3,6 +3,7 @@
 
 #include "libs/image/image_io.h"
 #include "libs/render/gltf_scene.h"
+#include "libs/render/impostor_atlas.h"
 
 namespace sylva::impostor {
 
@@ -11,15 +12,7 @@ render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image 
   render::OctahedralImpostor o;
   o.color = std::move(color);
   o.normal_depth = std::move(normal_depth);
-  o.frames_per_side = info.frames_per_side;
-  o.hemi = info.hemi;
-  o.center =
-      render::Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
-  o.radius = float(info.sphere_radius);
-  o.half_extent = float(info.frame_half_extent);
-  o.frame_px = info.frame_px;
-  o.padding_px = info.padding_px;
-  o.mip_levels = info.mip_levels;
+  o.geometry = render::impostor_geometry(info);
   return o;
 }
 

@@ -296,6 +296,117 @@ TEST(Bake, CoincidentBlendedLinesBakeAsTheirComposite) {
   EXPECT_GT(one_internode, 200);
 }
 
+// The packed opaque layer and the blended layers composited on read-back (render::BakeOptions::
+// pack_opaque, the default with msaa 1) bake what drawing every primitive into the three maps'
+// attachments bakes: the same bytes where only opaque primitives are, within two levels per
+// channel where lines blend (the three attachments hold the lines' colour in 8 bits, the blended
+// layers in 16), the same coverage. Multisampled bakes and opaque lines of fractional alpha take
+// the three attachments.
+TEST(Bake, ThePackedOpaqueLayerBakesWhatTheThreeAttachmentsBake) {
+  render::ImpostorRenderer& r = render::shared_impostor_renderer();
+  BakeParams p = small_params();
+  p.layout.frame_px = 128;
+  auto bake_both = [&](const render::Scene& scene) {
+    const Layout layout = plan_layout(p.layout, measure(scene));
+    render::BakeOptions o;
+    o.atlas_width = layout.atlas_width;
+    o.atlas_height = layout.atlas_height;
+    o.msaa = 1;
+    o.line_alpha_scale = 0.5f;  // the twigs are blended: they may carry it
+    std::pair<render::BakedMaps, render::BakedMaps> out{r.bake(scene, layout.views, o), {}};
+    o.pack_opaque = false;
+    out.second = r.bake(scene, layout.views, o);
+    EXPECT_TRUE(out.first.packed_opaque);
+    EXPECT_FALSE(out.second.packed_opaque);
+    return out;
+  };
+  const auto box = bake_both(box_scene());
+  EXPECT_EQ(box.first.color, box.second.color);
+  EXPECT_EQ(box.first.normal_depth, box.second.normal_depth);
+
+  const auto [packed, three] = bake_both(twig_scene(false));
+  int worst = 0, covered = 0;
+  double cover_packed = 0, cover_three = 0;
+  for (const auto& [a, b] :
+       {std::pair{&packed.color, &three.color}, {&packed.normal_depth, &three.normal_depth}})
+    for (std::size_t i = 0; i < a->bytes().size(); ++i)
+      worst = std::max(worst, std::abs(int(a->bytes()[i]) - int(b->bytes()[i])));
+  for (std::size_t i = 3; i < packed.color.bytes().size(); i += 4) {
+    cover_packed += packed.color.bytes()[i], cover_three += three.color.bytes()[i];
+    covered += three.color.bytes()[i] > 0;
+  }
+  ASSERT_GT(covered, 20000);
+  EXPECT_LE(worst, 2);
+  EXPECT_NEAR(cover_packed / cover_three, 1.0, 0.001);
+
+  // msaa 2, or an opaque line carrying a fractional alpha: the three attachments.
+  const render::Scene twigs = twig_scene(false);
+  const Layout layout = plan_layout(p.layout, measure(twigs));
+  render::BakeOptions o;
+  o.atlas_width = layout.atlas_width;
+  o.atlas_height = layout.atlas_height;
+  o.msaa = 2;
+  EXPECT_FALSE(r.bake(twigs, layout.views, o).packed_opaque);
+  render::Scene opaque_twigs = twigs;
+  opaque_twigs.materials[1].alpha_mode = render::AlphaMode::kOpaque;
+  o.msaa = 1;
+  o.line_alpha_scale = 0.5f;
+  EXPECT_FALSE(r.bake(opaque_twigs, layout.views, o).packed_opaque);
+  o.line_alpha_scale = 1;
+  EXPECT_TRUE(r.bake(opaque_twigs, layout.views, o).packed_opaque);
+}
+
+// Textures are sampled from their nearest mip level (bilinearly within it), not blended between
+// two. A horizontal quad under a 4 x 4 red/green checker repeated so that the frame looking
+// straight down reads it at mip level ~0.75: level 1 (2 x 2 texel averages of the checker) is one
+// colour, so the nearest level paints the whole quad one colour; trilinear filtering would mix a
+// quarter of level 0's checker in.
+TEST(Bake, TexturesAreSampledFromTheirNearestMipLevel) {
+  render::Scene s;
+  render::Texture t;
+  t.name = "checker";
+  t.width = t.height = 4;
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) {
+      const bool red = (x + y) % 2 == 0;
+      t.rgba.insert(t.rgba.end(), {std::uint8_t(red ? 255 : 0), std::uint8_t(red ? 0 : 255), 0, 255});
+    }
+  s.textures.push_back(t);
+  render::Material m;
+  m.name = "checker";
+  m.base_color_texture = 0;
+  m.double_sided = true;
+  s.materials.push_back(m);
+  // Frames of 64 px with 4 px of padding: the quad (half size 1, radius sqrt 2) spans
+  // 2 / (2 W) 64 = 56 / sqrt 2 = 39.6 texels; 16.6 repeats of 4 texels over them: mip level
+  // log2(66.4 / 39.6) = 0.75.
+  const float uv = 16.6f;
+  render::Primitive p;
+  p.material = 0;
+  p.positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
+  p.normals.assign(4, render::Vec3(0, 1, 0));
+  p.texcoords = {{0, 0}, {uv, 0}, {uv, uv}, {0, uv}};
+  p.indices = {0, 2, 1, 0, 3, 2};
+  render::Mesh mesh;
+  mesh.primitives.push_back(p);
+  mesh.instances.push_back(render::Mat4::Identity());
+  s.meshes.push_back(mesh);
+  BakeParams bp = small_params();
+  bp.layout.frames_per_side = 3;  // frame (1, 1) looks straight down
+  bp.layout.mip_levels = 2;
+  const BakeOutput b = bake_impostor(render::shared_impostor_renderer(), s, bp, {});
+  int lo = 255, hi = 0, covered = 0;
+  for (int y = 64; y < 128; ++y)
+    for (int x = 64; x < 128; ++x) {
+      const image::Rgba8 c = b.color.at(x, y);
+      if (c.a < 255) continue;
+      ++covered;
+      lo = std::min(lo, int(c.r)), hi = std::max(hi, int(c.r));
+    }
+  EXPECT_GT(covered, 1200);
+  EXPECT_LE(hi - lo, 1) << "red from " << lo << " to " << hi;
+}
+
 TEST(Bake, BadRequestsAreRenderErrors) {
   render::ImpostorRenderer& r = render::shared_impostor_renderer();
   render::BakeView v;
@@ -309,8 +420,8 @@ TEST(Bake, BadRequestsAreRenderErrors) {
     EXPECT_STREQ(e.what(), "bake view 0 lies outside the atlas");
   }
   render::OctahedralImpostor imp;
-  imp.frames_per_side = 4;
-  imp.frame_px = 64;
+  imp.geometry.frames_per_side = 4;
+  imp.geometry.frame_px = 64;
   imp.color = image::Image(100, 100);
   imp.normal_depth = image::Image(100, 100);
   try {

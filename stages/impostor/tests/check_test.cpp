@@ -60,14 +60,9 @@ const Chain& oak_chain() {
 // Bakes as the stage does from a lod chain: the coarsest level within one texel.
 ImpostorSubject bake(const BakeParams& p) {
   const Chain& c = oak_chain();
-  const double texel = atlas_texel(p.layout, measure(c.levels.back()));
-  const std::size_t level = choose_level(c.refs, texel);
-  SourceDesc src;
-  src.type = "lod";
-  src.level = int(level);
-  src.epsilon = c.refs[level].epsilon;
-  src.line_pixel_m = c.refs[level].epsilon / c.refs[level].pixel_error;
-  const BakeOutput b = bake_impostor(render::shared_impostor_renderer(), c.levels[level], p, src);
+  const SourceDesc src = choose_source(c.refs, c.levels.back(), p.layout);
+  const BakeOutput b =
+      bake_impostor(render::shared_impostor_renderer(), c.levels[std::size_t(src.level)], p, src);
   ImpostorSubject s;
   s.label = "test";
   s.info = b.info;
