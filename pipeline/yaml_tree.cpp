@@ -102,7 +102,7 @@ struct TreeReader {
     return v;
   }
   bool node(RawNode& n, int depth) {
-    if (depth > 10000 || s.size() - at < 2) return ok = false;
+    if (depth > kMaxYamlDepth || s.size() - at < 2) return ok = false;
     const int kind = static_cast<unsigned char>(s[at]);
     n.include = s[at + 1] != 0;
     at += 2;
@@ -149,16 +149,34 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
   // converted nodes stops an alias bomb (9 levels of 9 aliases: 387 million nodes) at the limit.
   std::uint64_t converted = 0;
   bool too_big = false;
+  // Every later pass over the tree (variables, includes, the parse cache) recurses too, so the
+  // nesting is bounded once, here, far below what any thread's stack holds.
+  int depth = 0;
+  bool too_deep = false;
   // Converts recursively; `!include` values are marked, and replaced by resolve_includes().
   auto convert = [&](auto&& self, const YAML::Node& n, const SourceLoc& fallback) -> RawNode {
     RawNode r;
-    if (too_big) return r;
+    if (too_big || too_deep) return r;
     if (++converted > limits_.yaml_nodes) {
       too_big = true;
       ok = false;
       return r;
     }
     r.loc = n.Mark().line >= 0 ? loc_of(file, n.Mark()) : fallback;
+    if (depth >= kMaxYamlDepth) {
+      sources_.error(diags_, r.loc,
+                     "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
+      too_deep = true;
+      ok = false;
+      return r;
+    }
+    struct Nest {
+      int& level;
+      explicit Nest(int& l) : level(++l) {}
+      ~Nest() { --level; }
+      Nest(const Nest&) = delete;
+      Nest& operator=(const Nest&) = delete;
+    } nest(depth);
     if (n.Tag() == "!include") {
       if (!n.IsScalar()) {
         sources_.error(diags_, r.loc, "!include needs a file name");

@@ -59,7 +59,11 @@ class SourceFiles {
 //
 // Limits (each exceeded one is a diagnostic, docs/recipes.md "Limits"): a file of more than
 // `file_bytes` is not read, one that expands (aliases included: the "billion laughs") to more
-// than `yaml_nodes` nodes is not converted, `!include` nests at most `include_depth` deep.
+// than `yaml_nodes` nodes is not converted, `!include` nests at most `include_depth` deep; YAML
+// nested deeper than kMaxYamlDepth is refused.
+// Mappings and sequences nest at most this deep in one file (a recipe needs about ten levels).
+inline constexpr int kMaxYamlDepth = 128;
+
 struct YamlLimits {
   std::uint64_t file_bytes = 16u << 20;
   std::uint64_t yaml_nodes = 1'000'000;

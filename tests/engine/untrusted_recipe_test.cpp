@@ -181,6 +181,16 @@ TEST_F(UntrustedRecipeTest, AliasBombStopsAtTheYamlNodeLimit) {
             "(aliases count once per use); raise the limit with --limit yaml-nodes=N\n");
 }
 
+// The fuzzer's stack overflow (ASan): a few hundred nested flow sequences, fewer than yaml-cpp
+// itself refuses (it says "bad file" at about 500).
+TEST_F(UntrustedRecipeTest, DeepNestingStopsAtTheDepthLimit) {
+  EXPECT_FALSE(load("version: 1\nname: r\nx: " + std::string(300, '[') + std::string(300, ']') + "\n"));
+  EXPECT_EQ(errors(), "T/project/r.yaml:3:131: error: YAML nested deeper than 128 levels\n");
+  // 100 levels pass the reader: the only error is the recipe's own.
+  EXPECT_FALSE(load("version: 1\nname: r\nx: " + std::string(100, '[') + std::string(100, ']') + "\n"));
+  EXPECT_EQ(errors().substr(0, 44), "T/project/r.yaml:3:1: error: unknown key 'x'");
+}
+
 TEST_F(UntrustedRecipeTest, FileSizeIncludeDepthMatrixNodesAndErrorsAreCapped) {
   LoadOptions small;
   small.limits.file_bytes = 64;
