@@ -164,8 +164,7 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
     }
     r.loc = n.Mark().line >= 0 ? loc_of(file, n.Mark()) : fallback;
     if (depth >= kMaxYamlDepth) {
-      sources_.error(diags_, r.loc,
-                     "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
+      sources_.error(diags_, r.loc, "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
       too_deep = true;
       ok = false;
       return r;
