@@ -175,5 +175,29 @@ TEST(SpeciesLook, NorwaySpruceIsConicalAtEveryAge) {
   }
 }
 
+// The silver birch's fine twigs hang: every age, seeds 1-3 and 7, at least 60 % of the last
+// level's twigs end at least a third of their length below their base (the birch before issue
+// 9's look pass: 35-48 %; now 64-86 %).
+TEST(SpeciesLook, BirchTwigsHang) {
+  const SpeciesPreset s = load_species_preset("configs/species/birch.yaml");
+  for (const AgeVariant& a : s.ages) {
+    for (std::uint64_t seed : {1, 2, 3, 7}) {
+      const tree::Tree t = generate_with_cards(s, a, seed);
+      const std::string what = a.age + " seed " + std::to_string(seed);
+      std::uint32_t last = 0;
+      for (const tree::Branch& b : t.branches) last = std::max(last, b.level);
+      int twigs = 0, hanging = 0;
+      for (const tree::Branch& b : t.branches) {
+        if (b.level != last || b.nodes.size() < 2) continue;
+        ++twigs;
+        if (b.nodes.front().position.y - b.nodes.back().position.y >= branch_length(b) / 3) ++hanging;
+      }
+      std::printf("[ birch    ] %s: %d of %d twigs hang (%.2f)\n", what.c_str(), hanging, twigs,
+                  double(hanging) / twigs);
+      EXPECT_GE(hanging, 0.6 * twigs) << what;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sylva::generate
