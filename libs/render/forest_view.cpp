@@ -148,9 +148,26 @@ Bounds ForestView::bounds() const {
   return b;
 }
 
+namespace {
+
+double distance_scale(const forest::Species& s, const ForestViewOptions& o) {
+  return o.pixel_error_px > 0 ? s.pixel_error_px / o.pixel_error_px : 1.0;
+}
+
+}  // namespace
+
+int ForestView::parallax_steps_for(std::size_t species, double distance, const ForestViewOptions& o) const {
+  const forest::Species& s = forest_.species.at(species);
+  const double scale = distance_scale(s, o);
+  int steps = ImpostorSet{}.parallax_steps;
+  for (const forest::ParallaxStep& p : s.levels.back().parallax)
+    if (p.from_m * scale <= distance) steps = p.steps;
+  return steps;
+}
+
 std::size_t ForestView::level_for(std::size_t species, double distance, const ForestViewOptions& o) const {
   const forest::Species& s = forest_.species.at(species);
-  const double scale = o.pixel_error_px > 0 ? s.pixel_error_px / o.pixel_error_px : 1.0;
+  const double scale = distance_scale(s, o);
   std::size_t level = 0;
   for (std::size_t l = 1; l < s.levels.size(); ++l)
     if (s.levels[l].switch_distance_m * scale <= distance) level = l;
@@ -158,7 +175,7 @@ std::size_t ForestView::level_for(std::size_t species, double distance, const Fo
 }
 
 Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestViewOptions& o,
-                             ForestViewStats& stats) {
+                             ForestViewStats& stats) const {
   const Mat4 vp = camera.projection_matrix(aspect) * camera.view_matrix();
   const auto planes = frustum_planes(vp);
   const std::size_t ns = forest_.species.size();
@@ -169,7 +186,13 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
   stats.per_level.assign(o.full_detail ? 1 : max_levels, 0);
   // drawn[s][l]: (distance, instance) of the trees species s draws at level l.
   std::vector<std::vector<std::vector<std::pair<double, std::uint32_t>>>> drawn(ns);
-  for (std::size_t s = 0; s < ns; ++s) drawn[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
+  stats.species_trees.resize(ns);
+  stats.species_primitives.resize(ns);
+  for (std::size_t s = 0; s < ns; ++s) {
+    drawn[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
+    stats.species_trees[s].assign(drawn[s].size(), 0);
+    stats.species_primitives[s].assign(drawn[s].size(), 0);
+  }
   for (std::size_t t = 0; t < forest_.tiles.size(); ++t) {
     if (o.cull && outside(planes, tile_bounds_[t])) continue;
     bool any = false;
@@ -181,6 +204,7 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       const std::size_t l = o.full_detail ? 0 : level_for(s, d, o);
       drawn[s][l].push_back({d, i});
       ++stats.per_level[l];
+      ++stats.species_trees[s][l];
       ++stats.trees_drawn;
     }
     stats.tiles_drawn += any ? 1 : 0;
@@ -201,16 +225,30 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
         throw RenderError("forest view: no full-detail model was given for species '" +
                           forest_.species[s].name + "'");
       std::sort(drawn[s][l].begin(), drawn[s][l].end());
+      if (!o.full_detail && octahedral_[s] && l + 1 == forest_.species[s].levels.size()) {
+        // One set per parallax step count, nearest (most steps) first; the drawer sorts every
+        // impostor of the view far to near across sets.
+        for (std::size_t b = 0; b < drawn[s][l].size();) {
+          const int steps = parallax_steps_for(s, drawn[s][l][b].first, o);
+          ImpostorSet set{octahedral_[s], {}, steps};
+          std::size_t e = b;
+          for (; e < drawn[s][l].size() && parallax_steps_for(s, drawn[s][l][e].first, o) == steps; ++e)
+            set.instances.push_back(tree_matrix_[drawn[s][l][e].second]);
+          stats.impostor_steps[steps] += e - b;
+          b = e;
+          scene.impostors.push_back(std::move(set));
+        }
+        stats.impostors += drawn[s][l].size();
+        stats.primitives += 2 * drawn[s][l].size();
+        stats.species_primitives[s][l] += 2 * drawn[s][l].size();
+        continue;
+      }
       std::vector<Mat4> worlds;
       worlds.reserve(drawn[s][l].size());
       for (const auto& [d, i] : drawn[s][l]) worlds.push_back(tree_matrix_[i]);
-      if (!o.full_detail && octahedral_[s] && l + 1 == forest_.species[s].levels.size()) {
-        stats.impostors += worlds.size();
-        stats.primitives += 2 * worlds.size();
-        scene.impostors.push_back({octahedral_[s], std::move(worlds)});
-        continue;
-      }
+      const std::size_t before = stats.primitives;
       append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds, stats.primitives);
+      stats.species_primitives[s][l] += stats.primitives - before;
     }
   // Last of the opaque draws: where trees stand, the ground fails the depth test.
   if (o.ground && !ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
