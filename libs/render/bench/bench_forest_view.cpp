@@ -2,6 +2,9 @@
 // set's size, each phase timed in CPU seconds of the whole process (llvmpipe's threads included)
 // and of the calling thread, with the trees and primitives drawn per species and level.
 //   bench_forest_view out/forest_celba/forest/instances.json [--view NAME]... [--msaa N]
+//     [--supersample K] [--width W --height H] [--exact-impostors 1] [--out DIR]
+// --exact-impostors 1 draws every impostor with the reference shader's 16 parallax steps (the
+// exact view the parallax table is judged against).
 #include <sys/resource.h>
 
 #include <chrono>
@@ -11,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/check/judge.h"
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
@@ -46,6 +50,8 @@ int main(int argc, char** argv) {
   const std::filesystem::path file = argv[1];
   std::vector<std::string> views;
   int msaa = -1, width = -1, height = -1, supersample = -1;
+  bool exact = false;  // every impostor with the reference shader's 16 steps, not the parallax table
+  bool judge = false;  // judge the parallax table's view against the exact one
   std::string out;
   for (int i = 2; i + 1 < argc; i += 2) {
     if (!std::strcmp(argv[i], "--view")) views.push_back(argv[i + 1]);
@@ -53,6 +59,8 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
     if (!std::strcmp(argv[i], "--width")) width = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--supersample")) supersample = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--exact-impostors")) exact = std::string(argv[i + 1]) == "1";
+    if (!std::strcmp(argv[i], "--judge-parallax")) judge = std::string(argv[i + 1]) == "1";
     if (!std::strcmp(argv[i], "--height")) height = std::atoi(argv[i + 1]);
   }
   Lap lap;
@@ -72,7 +80,10 @@ int main(int argc, char** argv) {
     std::printf("view %s (%dx%d, MSAA %d, supersample %d)\n", c.name.c_str(), options.width, options.height,
                 options.msaa, options.supersample);
     render::ForestViewStats st;
-    const render::Scene scene = fv.view_scene(c, float(options.width) / float(options.height), {}, st);
+    render::Scene scene = fv.view_scene(c, float(options.width) / float(options.height), {}, st);
+    if (exact)
+      for (render::ImpostorSet& is : scene.impostors)
+        is.parallax_steps = render::ImpostorSet{}.parallax_steps;
     lap.print("scene");
     const image::Image img = renderer->render(scene, c, options);
     lap.print("render");
@@ -80,8 +91,31 @@ int main(int argc, char** argv) {
       image::write_png(img, std::filesystem::path(out) / (c.name + ".png"));
       lap.print("png");
     }
+    if (judge) {
+      // As `sylva lodcheck` judges a forest view: trees only (no ground), transparent background
+      // (alpha = coverage), the exact view (16 steps everywhere) as the reference.
+      render::ForestViewOptions trees;
+      trees.ground = false;
+      render::RenderOptions ro = options;
+      ro.background.a = 0;
+      render::ForestViewStats unused;
+      render::Scene fast = fv.view_scene(c, float(options.width) / float(options.height), trees, unused);
+      render::Scene ref = fast;
+      for (render::ImpostorSet& is : ref.impostors) is.parallax_steps = render::ImpostorSet{}.parallax_steps;
+      const image::Image a = renderer->render(ref, c, ro), b = renderer->render(fast, c, ro);
+      const check::ViewJudgement j = check::judge_coverage(a, b, check::CoverageThresholds{}, "forest");
+      std::printf(
+          "  parallax table vs 16 steps: footprint %zu px, fail %.3f %%, cov_mean %.4f, cov_bias %+.4f, "
+          "colour %.4f: %s\n",
+          j.stats.footprint_pixels, 100 * j.stats.failing_fraction, j.stats.coverage_mean_error,
+          j.stats.coverage_bias, j.stats.shade_mean_error, j.failure.empty() ? "passed" : j.failure.c_str());
+      lap.print("judge");
+    }
     std::printf("  trees %zu of %zu, impostors %zu, primitives %zu\n", st.trees_drawn, st.trees, st.impostors,
                 st.primitives);
+    std::printf("  impostors by parallax steps:");
+    for (const auto& [steps, n] : st.impostor_steps) std::printf(" %d: %zu", steps, n);
+    std::printf("\n");
     for (std::size_t s = 0; s < st.species_trees.size(); ++s) {
       std::printf("  %-12s", fv.forest().species[s].name.c_str());
       for (std::size_t l = 0; l < st.species_trees[s].size(); ++l)
