@@ -5,9 +5,12 @@
 // become Scene::impostors sets (the atlas shared, not copied, between views).
 #include "libs/render/forest_view.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 
 #include "libs/image/image_io.h"
 #include "libs/impostor/impostor_json.h"
@@ -86,32 +89,58 @@ void append(Scene& dst, const Scene& src, const std::vector<Mat4>& worlds, std::
 
 ForestView ForestView::load(const std::filesystem::path& instances_json) {
   forest::Forest f = forest::read_instances(instances_json);
-  std::vector<std::vector<Scene>> levels;
   const std::filesystem::path dir = instances_json.parent_path();
-  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral;
-  for (const forest::Species& s : f.species) {
-    std::vector<Scene> ls;
-    for (const forest::Level& l : s.levels) ls.push_back(load_gltf_scene(dir / l.file));
-    levels.push_back(std::move(ls));
-    octahedral.push_back(nullptr);
-    const forest::Level& last = s.levels.back();
-    if (last.octahedral.empty()) continue;
-    const impostor::ImpostorInfo info = impostor::read_impostor_json((dir / last.octahedral).string());
-    ImpostorGeometry g;
-    g.frames_per_side = info.frames_per_side;
-    g.hemi = info.hemi;
-    g.center = Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
-    g.radius = float(info.sphere_radius);
-    g.half_extent = float(info.frame_half_extent);
-    g.frame_px = info.frame_px;
-    g.padding_px = info.padding_px;
-    g.mip_levels = info.mip_levels;
-    octahedral.back() = std::make_shared<const ImpostorAtlas>(
-        make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
-                            image::read_image(dir / info.normal_depth_map), g));
-  }
+  // Every file is read by its own task (GLB/glTF decoding, the impostor maps' PNG decoding and
+  // premultiplication are independent); results by index, and the first failure in file order
+  // is the one reported, whatever the timing.
+  std::vector<std::vector<Scene>> levels(f.species.size());
+  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral(f.species.size());
   Scene ground;
-  if (!f.ground.empty()) ground = load_gltf_scene(dir / f.ground);
+  struct Job {
+    std::size_t species, level;  // level == levels.size(): the impostor; species == none: the ground
+  };
+  constexpr std::size_t kNone = std::size_t(-1);
+  std::vector<Job> jobs;
+  for (std::size_t s = 0; s < f.species.size(); ++s) {
+    levels[s].resize(f.species[s].levels.size());
+    for (std::size_t l = 0; l < f.species[s].levels.size(); ++l) jobs.push_back({s, l});
+    if (!f.species[s].levels.back().octahedral.empty()) jobs.push_back({s, f.species[s].levels.size()});
+  }
+  if (!f.ground.empty()) jobs.push_back({kNone, 0});
+  std::vector<std::exception_ptr> errors(jobs.size());
+  tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t j) {
+    try {
+      const Job& job = jobs[j];
+      if (job.species == kNone) {
+        ground = load_gltf_scene(dir / f.ground);
+        return;
+      }
+      const forest::Species& s = f.species[job.species];
+      if (job.level < s.levels.size()) {
+        levels[job.species][job.level] = load_gltf_scene(dir / s.levels[job.level].file);
+        return;
+      }
+      const forest::Level& last = s.levels.back();
+      const impostor::ImpostorInfo info = impostor::read_impostor_json((dir / last.octahedral).string());
+      ImpostorGeometry g;
+      g.frames_per_side = info.frames_per_side;
+      g.hemi = info.hemi;
+      g.center =
+          Vec3(float(info.sphere_center[0]), float(info.sphere_center[1]), float(info.sphere_center[2]));
+      g.radius = float(info.sphere_radius);
+      g.half_extent = float(info.frame_half_extent);
+      g.frame_px = info.frame_px;
+      g.padding_px = info.padding_px;
+      g.mip_levels = info.mip_levels;
+      octahedral[job.species] = std::make_shared<const ImpostorAtlas>(
+          make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
+                              image::read_image(dir / info.normal_depth_map), g));
+    } catch (...) {
+      errors[j] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
   ForestView view(std::move(f), std::move(levels));
   if (!ground.meshes.empty()) view.set_ground(std::move(ground));
   for (std::size_t s = 0; s < octahedral.size(); ++s)

@@ -42,8 +42,8 @@ void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std
   }
 }
 
-ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
-                                  const image::Image& normal_depth, const ImpostorGeometry& g) {
+ImpostorAtlas make_impostor_atlas(std::string name, image::Image color, image::Image normal_depth,
+                                  const ImpostorGeometry& g) {
   const int px = g.frames_per_side * g.frame_px;
   for (const image::Image* m : {&color, &normal_depth})
     if (m->width() != px || m->height() != px)
@@ -61,8 +61,8 @@ ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
   a.frame_px = g.frame_px;
   a.padding_px = g.padding_px;
   a.mip_levels = g.mip_levels;
-  a.color = color.bytes();
-  a.normal_depth = normal_depth.bytes();
+  a.color = std::move(color.bytes());
+  a.normal_depth = std::move(normal_depth.bytes());
   premultiply_impostor_maps(a.color, a.normal_depth);
   return a;
 }

@@ -550,6 +550,15 @@ TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
     in_sets += set.instances.size();
   }
   EXPECT_EQ(in_sets, f.instances.size());
+  // Loading reads the files in parallel; a failure is reported for the first file in order.
+  fs::remove(out / "b_lod0.gltf");
+  fs::remove(out / "a_lod1.gltf");
+  try {
+    render::ForestView::load(out / "instances.json");
+    ADD_FAILURE() << "no error";
+  } catch (const render::SceneLoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("a_lod1.gltf"), std::string::npos) << e.what();
+  }
   // Bad tables are errors that say what is wrong.
   auto error_of = [&](Value::List table, bool on_b) {
     Value::Object sa = species("a", 40), sb = species("b", 40);
