@@ -490,6 +490,57 @@ TEST_F(ForestOutput, ImpostorSwitchDistanceInTheChainsTerms) {
   }
 }
 
+// ForestViewStats: per species and level, the trees drawn and exactly their level's primitives
+// each (the level switches at 520 m: a view from ~540 m sees species a at both levels).
+TEST_F(ForestOutput, ViewStatsCountTreesAndPrimitivesPerSpeciesAndLevel) {
+  const Value::Object params = {
+      {"size_m", Value(Value::List{100.0, 60.0})},
+      {"tile_size_m", Value(50.0)},
+      {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})}};
+  const fs::path out = dir_ / "stats";
+  const forest::Forest f = run(out, params);
+  const render::ForestView view = render::ForestView::load(out / "instances.json");
+  render::Camera cam;
+  cam.eye = render::Vec3(0, 2, 530);
+  cam.target = render::Vec3(0, 2, 0);
+  cam.fov_y_deg = 45;
+  cam.z_near = 1;
+  cam.z_far = 1000;
+  render::ForestViewOptions all;
+  all.cull = false;
+  render::ForestViewStats st;
+  view.view_scene(cam, 1.f, all, st);
+  // Expected from instances.json alone: each tree's box distance against its levels' switch
+  // distances, each level's primitives from the file.
+  std::vector<std::vector<std::size_t>> trees, prims;
+  std::size_t total = 2;  // the ground's quad
+  for (const forest::Species& sp : f.species) {
+    trees.emplace_back(sp.levels.size(), 0);
+    prims.emplace_back(sp.levels.size(), 0);
+  }
+  for (const forest::Instance& in : f.instances) {
+    const forest::Species& sp = f.species[in.species];
+    const forest::Box3 box = forest::transform_box(forest::instance_matrix(sp, in), sp.bounds);
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double e = std::max({box.min[k] - cam.eye[k], 0.0, cam.eye[k] - box.max[k]});
+      d2 += e * e;
+    }
+    std::size_t l = 0;
+    while (l + 1 < sp.levels.size() && sp.levels[l + 1].switch_distance_m <= std::sqrt(d2)) ++l;
+    ++trees[in.species][l];
+    prims[in.species][l] += sp.levels[l].primitives;
+    total += sp.levels[l].primitives;
+  }
+  EXPECT_GT(trees[0][0], 0u);
+  EXPECT_GT(trees[0][1], 0u);  // the view sees species a at both levels
+  EXPECT_EQ(st.species_trees, trees);
+  EXPECT_EQ(st.species_primitives, prims);
+  EXPECT_EQ(st.primitives, total);
+  EXPECT_EQ(st.trees_drawn, f.instances.size());
+  EXPECT_TRUE(st.impostor_steps.empty());
+}
+
 // species[i].impostor_parallax: from each proven distance on, the octahedral impostor is drawn
 // with fewer parallax steps (16 nearer); forest views group the impostors by steps.
 TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
