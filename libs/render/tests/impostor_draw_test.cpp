@@ -2,12 +2,16 @@
 // exactly as ImpostorRenderer::render_octahedral does (the drawer `sylva impostorcheck` proves),
 // and in the same depth buffer as the meshes. A hand-made atlas: every frame a disc of one colour
 // with a constant depth and normal, so each expectation follows from the shader's contract.
+#include "libs/render/impostor_draw.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 
 #include "libs/image/compare.h"
 #include "libs/image/image_io.h"
+#include "libs/render/gl_context.h"
+#include "libs/render/gl_util.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_atlas.h"
 #include "libs/render/impostor_renderer.h"
@@ -222,6 +226,54 @@ TEST_F(ImpostorDrawTest, HybridDrawsImpostorsMultisampledOverSupersampledMeshes)
   const image::CompareResult r = image::compare_images(renderer_->render(s, cam, options()), img);
   EXPECT_TRUE(r.passed) << r.failure;
   EXPECT_FALSE(image::compare_images(want, img).passed) << "the supersampled impostor's outline differs";
+}
+
+// The maps stay uploaded between calls while their atlas lives (a second call with the same atlas
+// uploads nothing) and are deleted once it is gone; a new atlas is drawn with its own maps.
+TEST_F(ImpostorDrawTest, MapsStayUploadedWhileTheirAtlasLives) {
+  const Maps m = disc_maps();
+  {
+    const std::unique_ptr<detail::GlContext> ctx = detail::create_egl_context();
+    detail::CurrentContext current(*ctx);
+    detail::ImpostorDrawer drawer;
+    {
+      const Scene a = impostor_scene(m, {Mat4::Identity()}), b = impostor_scene(m, {Mat4::Identity()});
+      GLuint first = 0;
+      {
+        detail::GlObjects gl;
+        first = drawer.upload(gl, a.impostors, 4096).color.at(0);
+      }
+      EXPECT_EQ(drawer.kept(), 1u);
+      {
+        detail::GlObjects gl;
+        EXPECT_EQ(drawer.upload(gl, a.impostors, 4096).color.at(0), first);  // the same texture
+      }
+      EXPECT_EQ(drawer.kept(), 1u);
+      {
+        detail::GlObjects gl;
+        std::vector<ImpostorSet> both = a.impostors;
+        both.push_back(b.impostors.front());  // another atlas, same pixels: its own maps
+        const auto up = drawer.upload(gl, both, 4096);
+        EXPECT_EQ(up.color.at(0), first);
+        EXPECT_NE(up.color.at(1), first);
+      }
+      EXPECT_EQ(drawer.kept(), 2u);
+    }
+    detail::GlObjects gl;
+    drawer.upload(gl, {}, 4096);  // both atlases are gone
+    EXPECT_EQ(drawer.kept(), 0u);
+    drawer.destroy();
+  }
+  // Through the renderer: a red disc, then (the red atlas gone) a blue one where it was.
+  const Camera cam = look(Vec3(0, 0, 5));
+  EXPECT_GT(renderer_->render(impostor_scene(m, {Mat4::Identity()}), cam, options()).at(56, 48).r, 100);
+  Maps blue = disc_maps();
+  for (std::size_t i = 0; i < blue.color.bytes().size(); i += 4)
+    if (blue.color.bytes()[i + 3])
+      blue.color.set(int(i / 4) % blue.color.width(), int(i / 4) / blue.color.width(), {40, 40, 200, 255});
+  const Rgba8 px = renderer_->render(impostor_scene(blue, {Mat4::Identity()}), cam, options()).at(56, 48);
+  EXPECT_LT(px.r, 60);
+  EXPECT_GT(px.b, 100);
 }
 
 TEST_F(ImpostorDrawTest, BadAtlasesAreClearErrors) {
