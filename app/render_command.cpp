@@ -125,6 +125,21 @@ class RenderCommand final : public CliCommand {
           std::fprintf(io.err, "sylva: view %s: %zu of %zu trees drawn (%zu as impostors), %zu primitives\n",
                        cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].impostors,
                        stats[0].primitives);
+          // Per species: trees at each level (level index: count), impostors by parallax steps.
+          for (std::size_t s = 0; s < stats[0].species_trees.size(); ++s) {
+            std::string line;
+            for (std::size_t l = 0; l < stats[0].species_trees[s].size(); ++l)
+              if (stats[0].species_trees[s][l] > 0)
+                line += " L" + std::to_string(l) + ": " + std::to_string(stats[0].species_trees[s][l]);
+            if (!line.empty())
+              std::fprintf(io.err, "sylva:   %s:%s\n", fv.forest().species[s].name.c_str(), line.c_str());
+          }
+          if (!stats[0].impostor_steps.empty()) {
+            std::string line;
+            for (const auto& [steps, n] : stats[0].impostor_steps)
+              line += " " + std::to_string(n) + " with " + std::to_string(steps) + " steps";
+            std::fprintf(io.err, "sylva:   impostors:%s\n", line.c_str());
+          }
           images.push_back({cams[i], std::move(imgs[0])});
         }
       } else {
@@ -164,8 +179,12 @@ class RenderCommand final : public CliCommand {
       return kExitBuildFailed;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(io.err, "sylva: rendered %zu view%s of %s at %dx%d (MSAA %dx) in %.2f s\n", images.size(),
-                 images.size() == 1 ? "" : "s", file_.c_str(), set.width, set.height, set.msaa, seconds);
+    const std::string aa = "MSAA " + std::to_string(set.msaa) + "x" +
+                           (set.supersample > 1 ? ", supersampled " + std::to_string(set.supersample) + "x" +
+                                                      std::to_string(set.supersample)
+                                                : std::string());
+    std::fprintf(io.err, "sylva: rendered %zu view%s of %s at %dx%d (%s) in %.2f s\n", images.size(),
+                 images.size() == 1 ? "" : "s", file_.c_str(), set.width, set.height, aa.c_str(), seconds);
     return kExitOk;
   }
 

@@ -31,6 +31,11 @@ json level_json(const Level& l) {
             {"primitives", l.primitives},
             {"impostor", l.impostor}};
   if (!l.octahedral.empty()) j["octahedral"] = l.octahedral;
+  if (!l.parallax.empty()) {
+    json rows = json::array();
+    for (const ParallaxStep& p : l.parallax) rows.push_back({{"from_m", p.from_m}, {"steps", p.steps}});
+    j["parallax"] = rows;
+  }
   return j;
 }
 
@@ -246,6 +251,19 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
         if (!lv.impostor || lv.octahedral.empty() ||
             lv.octahedral.find_first_of("/\\") != std::string::npos || lv.octahedral[0] == '.')
           r.fail(lw + ".octahedral must be a file name of this artifact, on the impostor level only");
+      }
+      if (levels[l].contains("parallax")) {
+        if (lv.octahedral.empty()) r.fail(lw + ".parallax is for an octahedral impostor level only");
+        const json& rows = r.array(levels[l], "parallax", lw);
+        for (std::size_t k = 0; k < rows.size(); ++k) {
+          const std::string pw = lw + ".parallax[" + std::to_string(k) + "]";
+          ParallaxStep p;
+          p.from_m = r.real(rows[k], "from_m", pw, 0);
+          p.steps = int(r.uint(rows[k], "steps", pw, 64));
+          if (!lv.parallax.empty() && !(p.from_m > lv.parallax.back().from_m))
+            r.fail(pw + ".from_m must be greater than the row before's");
+          lv.parallax.push_back(p);
+        }
       }
       sp.levels.push_back(std::move(lv));
     }

@@ -44,6 +44,17 @@ struct Box3 {
 // One level of a species' chain as the forest draws it: a glTF file of this artifact (the
 // species' level mesh alone, in object space) with the level's spatial error and switch distance
 // (DESIGN.md "LOD error model": valid from switch_distance_m on, at the chain's camera and delta).
+// A row of an octahedral impostor level's parallax table: from `from_m` on (a distance in the
+// terms of the level's switch distance), the reference impostor shader marches `steps` steps
+// (u_parallax_steps; 0 = flat frames) instead of its 16; each row is a distance at which
+// `sylva impostorcheck --parallax-steps N` proved the impostor with N steps (docs/stages/forest.md,
+// "Impostor parallax").
+struct ParallaxStep {
+  double from_m = 0;
+  int steps = 16;
+  friend bool operator==(const ParallaxStep&, const ParallaxStep&) = default;
+};
+
 struct Level {
   std::string file;              // e.g. "oak_lod3.gltf"
   double epsilon_m = 0;          // spatial error of the level
@@ -55,6 +66,9 @@ struct Level {
   // for plain glTF clients). Empty for billboards, whose cards are the impostor. Written only
   // when set.
   std::string octahedral;
+  // Octahedral impostor levels only: the parallax table, from_m strictly increasing, steps in
+  // 0..64 (nearer than the first row: 16). Written only when not empty.
+  std::vector<ParallaxStep> parallax;
   friend bool operator==(const Level&, const Level&) = default;
 };
 

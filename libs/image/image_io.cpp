@@ -33,15 +33,20 @@ Image read_image(const std::filesystem::path& path) {
   const OIIO::ImageSpec& spec = in->spec();
   const int w = spec.width, h = spec.height, nch = spec.nchannels;
   if (w <= 0 || h <= 0 || nch <= 0) fail(path, "image has no pixels");
-  std::vector<std::uint8_t> raw(std::size_t(w) * std::size_t(h) * std::size_t(nch));
-  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, raw.data()))
-    fail(path, "cannot decode image: " + oiio_message(in->geterror()));
-  in->close();
-
   // Map the channels to RGBA; a second channel of a two-channel image is alpha.
   const int alpha = spec.alpha_channel >= 0 ? spec.alpha_channel : (nch == 2 ? 1 : (nch >= 4 ? 3 : -1));
   Image img(w, h);
   auto& out = img.bytes();
+  if (nch == 4 && alpha == 3) {  // RGBA already: decode straight into the image
+    if (!in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, out.data()))
+      fail(path, "cannot decode image: " + oiio_message(in->geterror()));
+    in->close();
+    return img;
+  }
+  std::vector<std::uint8_t> raw(std::size_t(w) * std::size_t(h) * std::size_t(nch));
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, raw.data()))
+    fail(path, "cannot decode image: " + oiio_message(in->geterror()));
+  in->close();
   for (std::size_t i = 0; i < img.pixel_count(); ++i) {
     const std::uint8_t* p = &raw[i * std::size_t(nch)];
     std::uint8_t* q = &out[i * 4];

@@ -132,7 +132,8 @@ class Parser {
       error(YAML::Mark(), "camera set is empty");
       return set;
     }
-    if (!check_map(root, top, {"version", "width", "height", "msaa", "fov_y_deg", "views"})) return set;
+    if (!check_map(root, top, {"version", "width", "height", "msaa", "supersample", "fov_y_deg", "views"}))
+      return set;
 
     const auto version = integer(root, "version", top);
     if (!root["version"]) {
@@ -160,6 +161,14 @@ class Parser {
         error(root["msaa"].Mark(), "'msaa' must be 1 (off), 2, 4, 8 or 16, got " + std::to_string(*v));
       } else {
         set.msaa = *v;
+      }
+    }
+    if (auto v = integer(root, "supersample", top)) {
+      if (*v < 1 || *v > 4) {
+        error(root["supersample"].Mark(),
+              "'supersample' must be 1 (off), 2, 3 or 4, got " + std::to_string(*v));
+      } else {
+        set.supersample = *v;
       }
     }
     float default_fov = 40.f;

@@ -10,6 +10,7 @@
 //   width: 1024            # image size in pixels, 1..16384
 //   height: 1024
 //   msaa: 4                # optional, samples per pixel: 1 (off), 2, 4, 8 or 16; default 4
+//   supersample: 1         # optional, 1..4: draw k x the size and average k x k blocks; default 1
 //   fov_y_deg: 40          # optional default vertical field of view for the views; default 40
 //   views:
 //     - name: front        # [A-Za-z0-9_.-]+, unique; used in output file names
@@ -74,6 +75,7 @@ struct CameraSet {
   int width = 1024;
   int height = 1024;
   int msaa = 4;
+  int supersample = 1;  // RenderOptions::supersample
   std::vector<CameraView> views;
 };
 

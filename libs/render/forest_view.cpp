@@ -5,9 +5,12 @@
 // become Scene::impostors sets (the atlas shared, not copied, between views).
 #include "libs/render/forest_view.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 
 #include "libs/image/image_io.h"
 #include "libs/impostor/impostor_json.h"
@@ -86,24 +89,49 @@ void append(Scene& dst, const Scene& src, const std::vector<Mat4>& worlds, std::
 
 ForestView ForestView::load(const std::filesystem::path& instances_json) {
   forest::Forest f = forest::read_instances(instances_json);
-  std::vector<std::vector<Scene>> levels;
   const std::filesystem::path dir = instances_json.parent_path();
-  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral;
-  for (const forest::Species& s : f.species) {
-    std::vector<Scene> ls;
-    for (const forest::Level& l : s.levels) ls.push_back(load_gltf_scene(dir / l.file));
-    levels.push_back(std::move(ls));
-    octahedral.push_back(nullptr);
-    const forest::Level& last = s.levels.back();
-    if (last.octahedral.empty()) continue;
-    const impostor::ImpostorInfo info = impostor::read_impostor_json((dir / last.octahedral).string());
-    const ImpostorGeometry g = impostor_geometry(info);
-    octahedral.back() = std::make_shared<const ImpostorAtlas>(
-        make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
-                            image::read_image(dir / info.normal_depth_map), g));
-  }
+  // Every file is read by its own task (GLB/glTF decoding, the impostor maps' PNG decoding and
+  // premultiplication are independent); results by index, and the first failure in file order
+  // is the one reported, whatever the timing.
+  std::vector<std::vector<Scene>> levels(f.species.size());
+  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral(f.species.size());
   Scene ground;
-  if (!f.ground.empty()) ground = load_gltf_scene(dir / f.ground);
+  struct Job {
+    std::size_t species, level;  // level == levels.size(): the impostor; species == none: the ground
+  };
+  constexpr std::size_t kNone = std::size_t(-1);
+  std::vector<Job> jobs;
+  for (std::size_t s = 0; s < f.species.size(); ++s) {
+    levels[s].resize(f.species[s].levels.size());
+    for (std::size_t l = 0; l < f.species[s].levels.size(); ++l) jobs.push_back({s, l});
+    if (!f.species[s].levels.back().octahedral.empty()) jobs.push_back({s, f.species[s].levels.size()});
+  }
+  if (!f.ground.empty()) jobs.push_back({kNone, 0});
+  std::vector<std::exception_ptr> errors(jobs.size());
+  tbb::parallel_for(std::size_t(0), jobs.size(), [&](std::size_t j) {
+    try {
+      const Job& job = jobs[j];
+      if (job.species == kNone) {
+        ground = load_gltf_scene(dir / f.ground);
+        return;
+      }
+      const forest::Species& s = f.species[job.species];
+      if (job.level < s.levels.size()) {
+        levels[job.species][job.level] = load_gltf_scene(dir / s.levels[job.level].file);
+        return;
+      }
+      const forest::Level& last = s.levels.back();
+      const impostor::ImpostorInfo info = impostor::read_impostor_json((dir / last.octahedral).string());
+      const ImpostorGeometry g = impostor_geometry(info);
+      octahedral[job.species] = std::make_shared<const ImpostorAtlas>(
+          make_impostor_atlas(s.name + " (" + last.octahedral + ")", image::read_image(dir / info.color_map),
+                              image::read_image(dir / info.normal_depth_map), g));
+    } catch (...) {
+      errors[j] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
   ForestView view(std::move(f), std::move(levels));
   if (!ground.meshes.empty()) view.set_ground(std::move(ground));
   for (std::size_t s = 0; s < octahedral.size(); ++s)
@@ -140,9 +168,26 @@ Bounds ForestView::bounds() const {
   return b;
 }
 
+namespace {
+
+double distance_scale(const forest::Species& s, const ForestViewOptions& o) {
+  return o.pixel_error_px > 0 ? s.pixel_error_px / o.pixel_error_px : 1.0;
+}
+
+}  // namespace
+
+int ForestView::parallax_steps_for(std::size_t species, double distance, const ForestViewOptions& o) const {
+  const forest::Species& s = forest_.species.at(species);
+  const double scale = distance_scale(s, o);
+  int steps = ImpostorSet{}.parallax_steps;
+  for (const forest::ParallaxStep& p : s.levels.back().parallax)
+    if (p.from_m * scale <= distance) steps = p.steps;
+  return steps;
+}
+
 std::size_t ForestView::level_for(std::size_t species, double distance, const ForestViewOptions& o) const {
   const forest::Species& s = forest_.species.at(species);
-  const double scale = o.pixel_error_px > 0 ? s.pixel_error_px / o.pixel_error_px : 1.0;
+  const double scale = distance_scale(s, o);
   std::size_t level = 0;
   for (std::size_t l = 1; l < s.levels.size(); ++l)
     if (s.levels[l].switch_distance_m * scale <= distance) level = l;
@@ -150,7 +195,7 @@ std::size_t ForestView::level_for(std::size_t species, double distance, const Fo
 }
 
 Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestViewOptions& o,
-                             ForestViewStats& stats) {
+                             ForestViewStats& stats) const {
   const Mat4 vp = camera.projection_matrix(aspect) * camera.view_matrix();
   const auto planes = frustum_planes(vp);
   const std::size_t ns = forest_.species.size();
@@ -161,7 +206,13 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
   stats.per_level.assign(o.full_detail ? 1 : max_levels, 0);
   // drawn[s][l]: (distance, instance) of the trees species s draws at level l.
   std::vector<std::vector<std::vector<std::pair<double, std::uint32_t>>>> drawn(ns);
-  for (std::size_t s = 0; s < ns; ++s) drawn[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
+  stats.species_trees.resize(ns);
+  stats.species_primitives.resize(ns);
+  for (std::size_t s = 0; s < ns; ++s) {
+    drawn[s].resize(o.full_detail ? 1 : forest_.species[s].levels.size());
+    stats.species_trees[s].assign(drawn[s].size(), 0);
+    stats.species_primitives[s].assign(drawn[s].size(), 0);
+  }
   for (std::size_t t = 0; t < forest_.tiles.size(); ++t) {
     if (o.cull && outside(planes, tile_bounds_[t])) continue;
     bool any = false;
@@ -173,6 +224,7 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       const std::size_t l = o.full_detail ? 0 : level_for(s, d, o);
       drawn[s][l].push_back({d, i});
       ++stats.per_level[l];
+      ++stats.species_trees[s][l];
       ++stats.trees_drawn;
     }
     stats.tiles_drawn += any ? 1 : 0;
@@ -193,16 +245,30 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
         throw RenderError("forest view: no full-detail model was given for species '" +
                           forest_.species[s].name + "'");
       std::sort(drawn[s][l].begin(), drawn[s][l].end());
+      if (!o.full_detail && octahedral_[s] && l + 1 == forest_.species[s].levels.size()) {
+        // One set per parallax step count, nearest (most steps) first; the drawer sorts every
+        // impostor of the view far to near across sets.
+        for (std::size_t b = 0; b < drawn[s][l].size();) {
+          const int steps = parallax_steps_for(s, drawn[s][l][b].first, o);
+          ImpostorSet set{octahedral_[s], {}, steps};
+          std::size_t e = b;
+          for (; e < drawn[s][l].size() && parallax_steps_for(s, drawn[s][l][e].first, o) == steps; ++e)
+            set.instances.push_back(tree_matrix_[drawn[s][l][e].second]);
+          stats.impostor_steps[steps] += e - b;
+          b = e;
+          scene.impostors.push_back(std::move(set));
+        }
+        stats.impostors += drawn[s][l].size();
+        stats.primitives += 2 * drawn[s][l].size();
+        stats.species_primitives[s][l] += 2 * drawn[s][l].size();
+        continue;
+      }
       std::vector<Mat4> worlds;
       worlds.reserve(drawn[s][l].size());
       for (const auto& [d, i] : drawn[s][l]) worlds.push_back(tree_matrix_[i]);
-      if (!o.full_detail && octahedral_[s] && l + 1 == forest_.species[s].levels.size()) {
-        stats.impostors += worlds.size();
-        stats.primitives += 2 * worlds.size();
-        scene.impostors.push_back({octahedral_[s], std::move(worlds)});
-        continue;
-      }
+      const std::size_t before = stats.primitives;
       append(scene, o.full_detail ? full_[s] : levels_.at(s).at(l), worlds, stats.primitives);
+      stats.species_primitives[s][l] += stats.primitives - before;
     }
   // Last of the opaque draws: where trees stand, the ground fails the depth test.
   if (o.ground && !ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);

@@ -10,8 +10,9 @@
 // (ForestViewOptions::pixel_error_px): the switch distances then scale by delta / delta'.
 // The impostor, when a species has one, is its last level: a (hemi-)octahedral impostor (the
 // level's `octahedral` impostor.json) is drawn by the scene renderer with the reference impostor
-// shader (Scene::impostors, instanced, in the trees' depth buffer); billboards are drawn as the
-// level's mesh of cards like every other level.
+// shader (Scene::impostors, instanced, in the trees' depth buffer), with as many parallax steps
+// as the level's parallax table proves enough at the tree's distance (16 nearer than its first
+// row); billboards are drawn as the level's mesh of cards like every other level.
 //
 // Frustum culling: a tile's box, then each tree's box, against the six planes of the view
 // (Celba §4.6.3: "compute the AABB's effective radius and test it as a sphere against the plane"
@@ -19,6 +20,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +45,10 @@ struct ForestViewStats {
   std::size_t primitives =
       0;  // triangles + lines + points drawn (an impostor: its 2-triangle quad; the ground)
   std::vector<std::size_t> per_level;  // trees drawn at each level index (full detail: index 0)
+  // [species][level]: trees drawn and primitives drawn (full detail: level 0 only).
+  std::vector<std::vector<std::size_t>> species_trees, species_primitives;
+  // Octahedral impostors drawn with each number of parallax steps (the level's parallax table).
+  std::map<int, std::size_t> impostor_steps;
 };
 
 class ForestView {
@@ -63,6 +69,10 @@ class ForestView {
 
   // The level species s's tree is drawn with at `distance` metres (the rule above).
   std::size_t level_for(std::size_t species, double distance, const ForestViewOptions& options) const;
+  // The parallax steps species s's octahedral impostor is drawn with at `distance` metres: the
+  // last row of its level's parallax table whose distance (scaled like the switch distances) is
+  // at most `distance`, else the reference shader's 16.
+  int parallax_steps_for(std::size_t species, double distance, const ForestViewOptions& options) const;
 
   // Renders each camera (its own LOD selection and culling), one image per camera.
   std::vector<image::Image> render(Renderer& renderer, std::span<const Camera> cameras,
@@ -72,10 +82,12 @@ class ForestView {
   // World box of the whole forest (every tree's box and the ground).
   Bounds bounds() const;
 
- private:
+  // The scene one view draws (what render() draws for `camera`): its LOD choice and culling,
+  // with `stats` filled.
   Scene view_scene(const Camera& camera, float aspect, const ForestViewOptions& options,
-                   ForestViewStats& stats);
+                   ForestViewStats& stats) const;
 
+ private:
   forest::Forest forest_;
   std::vector<std::vector<Scene>> levels_;                        // [species][level]
   std::vector<Scene> full_;                                       // [species], may be empty scenes

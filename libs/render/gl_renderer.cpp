@@ -11,6 +11,9 @@
 //
 // Determinism: nothing depends on timing or on hash-table order; every sort is a stable sort
 // with an index tie-break; llvmpipe rasterises deterministically.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -129,6 +132,58 @@ void main() {
 }
 )";
 
+// Supersampling (RenderOptions::supersample = k): each output pixel is the mean of its k x k
+// block of the k-times larger image, drawn as one full-screen triangle.
+constexpr const char* kDownsampleVertexShader = R"(#version 330 core
+void main() {
+  vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), float((gl_VertexID & 2) * 2 - 1));
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kDownsampleFragmentShader = R"(#version 330 core
+uniform sampler2D u_source;
+uniform int u_k;
+out vec4 o_color;
+void main() {
+  ivec2 base = ivec2(gl_FragCoord.xy) * u_k;
+  vec4 sum = vec4(0.0);
+  for (int y = 0; y < u_k; ++y)
+    for (int x = 0; x < u_k; ++x) sum += texelFetch(u_source, base + ivec2(x, y), 0);
+  o_color = sum / float(u_k * u_k);
+}
+)";
+
+// Hybrid antialiasing (supersample k with msaa = k^2): the sample s of a pixel of the
+// multisampled target IS the sub-pixel u_sub of its k x k block in the supersampled one. To the
+// multisampled target: one pass per sample (glSampleMaski), colour and depth.
+constexpr const char* kToSamplesFragmentShader = R"(#version 330 core
+uniform sampler2D u_color;
+uniform sampler2D u_depth;
+uniform int u_k;
+uniform ivec2 u_sub;
+out vec4 o_color;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy) * u_k + u_sub;
+  o_color = texelFetch(u_color, p, 0);
+  gl_FragDepth = texelFetch(u_depth, p, 0).r;
+}
+)";
+
+// Back to the supersampled target: colour only (the depth there is still right: impostors,
+// the only pass drawn multisampled, do not write depth).
+constexpr const char* kFromSamplesFragmentShader = R"(#version 330 core
+uniform sampler2DMS u_samples;
+uniform int u_k;
+uniform int u_sample_of[16];  // sample index of sub-pixel x + k y
+out vec4 o_color;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  ivec2 sub = p % u_k;
+  o_color = texelFetch(u_samples, p / u_k, u_sample_of[sub.x + u_k * sub.y]);
+}
+)";
+
 // Vertex attribute locations (see the shader).
 enum : GLuint {
   kPosition = 0,
@@ -140,6 +195,8 @@ enum : GLuint {
   kNormalMatrix = 9
 };
 constexpr int kInstanceFloats = 16 + 9;
+
+constexpr int kMaxSupersample = 4;
 
 using detail::check_gl;
 using detail::CurrentContext;
@@ -153,8 +210,7 @@ using detail::upload_texture;
 struct GpuPrimitive {
   const Primitive* source = nullptr;
   GLuint vao_instanced = 0;  // vertex arrays + per-instance matrices
-  GLuint vao_single = 0;     // vertex arrays + sorted index buffer; matrices set as constants
-  GLuint sorted_indices = 0;
+  GLuint vao_single = 0;     // vertex arrays (elements from Uploaded::blend_indices); matrices as constants
   GLsizei index_count = 0;
   bool blend = false;
 };
@@ -200,6 +256,9 @@ class GlRenderer final : public Renderer {
   explicit GlRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
     program_ = detail::link_program(kVertexShader, kFragmentShader, "scene");
+    downsample_ = detail::link_program(kDownsampleVertexShader, kDownsampleFragmentShader, "downsample");
+    to_samples_ = detail::link_program(kDownsampleVertexShader, kToSamplesFragmentShader, "to samples");
+    from_samples_ = detail::link_program(kDownsampleVertexShader, kFromSamplesFragmentShader, "from samples");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture_size_);
@@ -211,6 +270,9 @@ class GlRenderer final : public Renderer {
     try {
       CurrentContext current(*ctx_);
       glDeleteProgram(program_);
+      glDeleteProgram(downsample_);
+      glDeleteProgram(to_samples_);
+      glDeleteProgram(from_samples_);
       impostors_.destroy();
     } catch (...) {
       // The context is going away with us; nothing else to release.
@@ -243,54 +305,134 @@ class GlRenderer final : public Renderer {
   }
 
  private:
+  // Where a view is drawn. Without supersampling: draw_fbo (msaa samples), resolved into
+  // resolve_fbo. Supersampled by k: draw_fbo is k times the size, one sample per pixel, averaged
+  // into output_fbo; with msaa = k^2 as well ("hybrid"), impostors are drawn into samples_fbo,
+  // whose k^2 samples per pixel are the k x k sub-pixels of draw_fbo (sample_of).
   struct Target {
-    GLuint draw_fbo = 0;     // multisampled when msaa > 1
-    GLuint resolve_fbo = 0;  // single-sampled; == draw_fbo when msaa == 1
+    int width = 0, height = 0;   // of draw_fbo: k x the output's
+    GLuint draw_fbo = 0;         // multisampled when msaa > 1 and not supersampled
+    GLuint resolve_fbo = 0;      // single-sampled; == draw_fbo when msaa == 1 or supersampled
+    GLuint color_texture = 0;    // draw_fbo's colour when supersampled
+    GLuint depth_texture = 0;    // draw_fbo's depth when hybrid
+    GLuint output_fbo = 0;       // the output size; == resolve_fbo when not supersampled
+    GLuint samples_fbo = 0;      // hybrid: output size, k^2 samples
+    GLuint samples_texture = 0;  // its colour
+    std::vector<int> sample_of;  // hybrid: sample index of sub-pixel x + k y
+    GLuint empty_vao = 0;        // for the full-screen passes
   };
 
   struct Uploaded {
     std::vector<GLuint> textures;
     std::vector<GpuMesh> meshes;
+    GLuint blend_indices = 0;  // every blended draw's sorted elements of one view (0: no BLEND primitive)
   };
 
   void validate(const RenderOptions& o) const {
-    if (o.width < 1 || o.height < 1 || o.width > max_size_ || o.height > max_size_)
+    if (o.supersample < 1 || o.supersample > kMaxSupersample)
+      throw RenderError("supersample " + std::to_string(o.supersample) + " is not supported (1.." +
+                        std::to_string(kMaxSupersample) + ")");
+    const int k = o.supersample;
+    if (o.width < 1 || o.height < 1 || o.width * k > max_size_ || o.height * k > max_size_)
       throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                        (k > 1 ? " supersampled " + std::to_string(k) + "x" : std::string()) +
                         " is outside 1.." + std::to_string(max_size_));
     if (o.msaa < 1 || o.msaa > max_samples_)
       throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
                         std::to_string(max_samples_) + ")");
+    if (k > 1 && o.msaa > 1 && o.msaa != k * k)
+      throw RenderError("supersample " + std::to_string(k) + " needs msaa 1 or " + std::to_string(k * k) +
+                        " (the samples of a pixel are its sub-pixels), got msaa " + std::to_string(o.msaa));
     if (o.background.a != 0 && o.background.a != 255)
       throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
     if (!(o.line_width_px > 0) || !(o.default_point_size_px > 0) || !(o.min_point_size_px > 0))
       throw RenderError("line width and point sizes must be positive");
   }
 
+  static bool hybrid(const RenderOptions& o) { return o.supersample > 1 && o.msaa > 1; }
+
   Target make_target(GlObjects& gl, const RenderOptions& o) const {
-    auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
+    Target t;
+    const int k = o.supersample;
+    t.width = o.width * k;
+    t.height = o.height * k;
+    auto renderbuffer = [&](GLuint fbo, GLenum attachment, GLenum format, int samples, int w, int h) {
       const GLuint rb = gl.renderbuffer();
       glBindRenderbuffer(GL_RENDERBUFFER, rb);
       if (samples > 1) {
-        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, o.width, o.height);
+        glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
       } else {
-        glRenderbufferStorage(GL_RENDERBUFFER, format, o.width, o.height);
+        glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
       }
       glBindFramebuffer(GL_FRAMEBUFFER, fbo);
       glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
     };
-    Target t;
-    t.draw_fbo = gl.framebuffer();
-    attach(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, o.msaa);
-    attach(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw RenderError("cannot create a " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                        " framebuffer");
-    t.resolve_fbo = t.draw_fbo;
-    if (o.msaa > 1) {
-      t.resolve_fbo = gl.framebuffer();
-      attach(t.resolve_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, 1);
+    auto texture = [&](GLuint fbo, GLenum attachment, GLenum internal, GLenum format, GLenum type) {
+      const GLuint tex = gl.texture();
+      glBindTexture(GL_TEXTURE_2D, tex);
+      glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), t.width, t.height, 0, format, type, nullptr);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, tex, 0);
+      return tex;
+    };
+    auto complete = [&](const std::string& what) {
       if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw RenderError("cannot create the resolve framebuffer");
+        throw RenderError("cannot create " + what);
+    };
+    t.draw_fbo = gl.framebuffer();
+    if (k == 1) {
+      renderbuffer(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, o.msaa, t.width, t.height);
+      renderbuffer(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa, t.width, t.height);
+      complete("a " + std::to_string(t.width) + "x" + std::to_string(t.height) + " framebuffer");
+      t.resolve_fbo = t.output_fbo = t.draw_fbo;
+      if (o.msaa > 1) {
+        t.resolve_fbo = t.output_fbo = gl.framebuffer();
+        renderbuffer(t.resolve_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, 1, t.width, t.height);
+        complete("the resolve framebuffer");
+      }
+      return t;
+    }
+    t.color_texture = texture(t.draw_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE);
+    if (hybrid(o)) {
+      t.depth_texture =
+          texture(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, GL_FLOAT);
+    } else {
+      renderbuffer(t.draw_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, 1, t.width, t.height);
+    }
+    complete("a " + std::to_string(t.width) + "x" + std::to_string(t.height) + " framebuffer");
+    t.resolve_fbo = t.draw_fbo;
+    t.output_fbo = gl.framebuffer();
+    renderbuffer(t.output_fbo, GL_COLOR_ATTACHMENT0, GL_RGBA8, 1, o.width, o.height);
+    complete("the downsampling framebuffer");
+    t.empty_vao = gl.vertex_array();
+    if (hybrid(o)) {
+      t.samples_fbo = gl.framebuffer();
+      t.samples_texture = gl.texture();
+      glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, t.samples_texture);
+      glTexImage2DMultisample(GL_TEXTURE_2D_MULTISAMPLE, o.msaa, GL_RGBA8, o.width, o.height, GL_TRUE);
+      glBindFramebuffer(GL_FRAMEBUFFER, t.samples_fbo);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D_MULTISAMPLE,
+                             t.samples_texture, 0);
+      renderbuffer(t.samples_fbo, GL_DEPTH_ATTACHMENT, GL_DEPTH_COMPONENT32F, o.msaa, o.width, o.height);
+      complete("the multisampled framebuffer");
+      // Each sample stands for the sub-pixel its position falls in (the device's pattern has
+      // one sample per k x k cell, as the standard 4-sample pattern does for k = 2); else by index.
+      t.sample_of.assign(std::size_t(k * k), -1);
+      bool bijective = true;
+      for (int s = 0; s < o.msaa; ++s) {
+        GLfloat pos[2] = {0.5f, 0.5f};
+        glGetMultisamplefv(GL_SAMPLE_POSITION, GLuint(s), pos);
+        const int sx = std::clamp(int(pos[0] * float(k)), 0, k - 1),
+                  sy = std::clamp(int(pos[1] * float(k)), 0, k - 1);
+        int& slot = t.sample_of[std::size_t(sx + k * sy)];
+        bijective = bijective && slot < 0;
+        slot = s;
+      }
+      if (!bijective)
+        for (int s = 0; s < o.msaa; ++s) t.sample_of[std::size_t(s)] = s;
     }
     return t;
   }
@@ -352,10 +494,7 @@ class GlRenderer final : public Renderer {
           gp.vao_single = gl.vertex_array();
           glBindVertexArray(gp.vao_single);
           attach_vertex_buffers(vb);
-          gp.sorted_indices = gl.buffer();
-          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gp.sorted_indices);
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)), nullptr,
-                       GL_STREAM_DRAW);
+          if (!up.blend_indices) up.blend_indices = gl.buffer();
         }
         glBindVertexArray(0);
         gm.primitives.push_back(gp);
@@ -456,7 +595,9 @@ class GlRenderer final : public Renderer {
   void draw(const Scene& scene, const Uploaded& up, const detail::ImpostorDrawer::Uploaded& imp,
             const Camera& cam, const RenderOptions& o, const Target& t) {
     glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
-    glViewport(0, 0, o.width, o.height);
+    glViewport(0, 0, t.width, t.height);
+    // Supersampled, lines and points keep their width in output pixels: k drawn pixels.
+    const float k = float(o.supersample);
     const bool transparent = o.background.a == 0;
     glClearColor(transparent ? 0.f : o.background.r / 255.f, transparent ? 0.f : o.background.g / 255.f,
                  transparent ? 0.f : o.background.b / 255.f, o.background.a / 255.f);
@@ -469,12 +610,12 @@ class GlRenderer final : public Renderer {
     glCullFace(GL_BACK);
     glDisable(GL_BLEND);
     glEnable(GL_PROGRAM_POINT_SIZE);
-    if (o.msaa > 1) {
+    if (o.msaa > 1 && o.supersample == 1) {
       glEnable(GL_MULTISAMPLE);
     } else {
       glDisable(GL_MULTISAMPLE);
     }
-    glLineWidth(std::clamp(o.line_width_px, line_width_range_[0], line_width_range_[1]));
+    glLineWidth(std::clamp(o.line_width_px * k, line_width_range_[0], line_width_range_[1]));
 
     const float aspect = float(o.width) / float(o.height);
     const Mat4 view = cam.view_matrix();
@@ -483,9 +624,9 @@ class GlRenderer final : public Renderer {
     const Uniforms u = uniforms();
     glUniformMatrix4fv(u.view, 1, GL_FALSE, view.data());
     glUniformMatrix4fv(u.proj, 1, GL_FALSE, proj.data());
-    glUniform1f(u.viewport_height, float(o.height));
-    glUniform1f(u.default_point_size, o.default_point_size_px);
-    glUniform1f(u.min_point_size, o.min_point_size_px);
+    glUniform1f(u.viewport_height, float(t.height));
+    glUniform1f(u.default_point_size, o.default_point_size_px * k);
+    glUniform1f(u.min_point_size, o.min_point_size_px * k);
     glUniform1i(u.texture, 0);
     glUniform3fv(u.ambient, 1, o.lighting.ambient.data());
     glUniform3fv(u.light_color, 1, o.lighting.light_color.data());
@@ -524,32 +665,54 @@ class GlRenderer final : public Renderer {
 
     // Impostors: behind what pass 1 drew where it is nearer, blended over it elsewhere.
     if (!scene.impostors.empty()) {
-      impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
+      if (hybrid(o)) {
+        to_samples(t, o);
+        impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
+        from_samples(t, o);
+      } else {
+        impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
+      }
       glUseProgram(program_);
     }
 
     // Pass 2: blended, far to near (Zhang et al. 2017, 6.1), depth test on, depth write off.
+    // Every draw's sorted elements go into one index buffer, uploaded once before the first
+    // draw: rewriting one buffer per draw would make the driver finish every earlier draw that
+    // reads it first (llvmpipe: a full flush and wait per blended instance).
     if (!blended.empty()) {
       std::stable_sort(blended.begin(), blended.end(),
                        [](const BlendDraw& a, const BlendDraw& b) { return a.depth > b.depth; });
+      std::vector<std::size_t> offset(blended.size() + 1, 0);
+      for (std::size_t i = 0; i < blended.size(); ++i)
+        offset[i + 1] = offset[i] + blended[i].prim->source->indices.size();
+      std::vector<std::uint32_t> sorted(offset.back());
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blended.size()), [&](const auto& r) {
+        std::vector<std::pair<float, std::uint32_t>> keys;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          const BlendDraw& d = blended[i];
+          sort_elements(*d.prim->source, view * d.mesh->source->instances[d.instance], keys,
+                        &sorted[offset[i]]);
+        }
+      });
+      // A new data store per view (glBufferData), so no earlier view's draw is waited for.
+      glBindVertexArray(0);
+      glBindBuffer(GL_ARRAY_BUFFER, up.blend_indices);
+      glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(sorted.size() * sizeof(std::uint32_t)), sorted.data(),
+                   GL_STREAM_DRAW);
       glEnable(GL_BLEND);
       glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
       glDepthMask(GL_FALSE);
-      std::vector<std::uint32_t> sorted;
-      std::vector<std::pair<float, std::uint32_t>> keys;
-      for (const BlendDraw& d : blended) {
+      for (std::size_t i = 0; i < blended.size(); ++i) {
+        const BlendDraw& d = blended[i];
         const Primitive& p = *d.prim->source;
-        const Mat4& model = d.mesh->source->instances[d.instance];
         set_primitive_state(scene, up, u, p, d.mesh->mirrored);
-        sort_elements(p, view * model, keys, sorted);
         glBindVertexArray(d.prim->vao_single);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, d.prim->sorted_indices);
-        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(sorted.size() * sizeof(std::uint32_t)),
-                        sorted.data());
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, up.blend_indices);
         const float* inst = &d.mesh->instance_data[d.instance * kInstanceFloats];
         for (GLuint c = 0; c < 4; ++c) glVertexAttrib4fv(kModel + c, inst + c * 4);
         for (GLuint c = 0; c < 3; ++c) glVertexAttrib3fv(kNormalMatrix + c, inst + 16 + c * 3);
-        glDrawElements(gl_mode(p.topology), d.prim->index_count, GL_UNSIGNED_INT, nullptr);
+        glDrawElements(gl_mode(p.topology), d.prim->index_count, GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(std::uintptr_t(offset[i] * sizeof(std::uint32_t))));
       }
       glDepthMask(GL_TRUE);
       glDisable(GL_BLEND);
@@ -557,11 +720,69 @@ class GlRenderer final : public Renderer {
     glBindVertexArray(0);
   }
 
+  // Hybrid antialiasing: the supersampled colour and depth into the multisampled target (sample
+  // s of a pixel = its sub-pixel), ready for the impostors; bound, with its viewport.
+  void to_samples(const Target& t, const RenderOptions& o) const {
+    const int k = o.supersample;
+    glBindFramebuffer(GL_FRAMEBUFFER, t.samples_fbo);
+    glViewport(0, 0, o.width, o.height);
+    glEnable(GL_MULTISAMPLE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(to_samples_);
+    glUniform1i(glGetUniformLocation(to_samples_, "u_color"), 0);
+    glUniform1i(glGetUniformLocation(to_samples_, "u_depth"), 1);
+    glUniform1i(glGetUniformLocation(to_samples_, "u_k"), k);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, t.color_texture);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, t.depth_texture);
+    glActiveTexture(GL_TEXTURE0);
+    glBindVertexArray(t.empty_vao);
+    glEnable(GL_SAMPLE_MASK);
+    const GLint sub = glGetUniformLocation(to_samples_, "u_sub");
+    for (int i = 0; i < k * k; ++i) {
+      glSampleMaski(0, 1u << unsigned(t.sample_of[std::size_t(i)]));
+      glUniform2i(sub, i % k, i / k);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    glDisable(GL_SAMPLE_MASK);
+    glBindVertexArray(0);
+    glDepthFunc(GL_LESS);
+  }
+
+  // ... and the samples' colour back into the supersampled target (its depth is unchanged:
+  // impostors do not write depth); draw_fbo bound again with its viewport and depth test.
+  void from_samples(const Target& t, const RenderOptions& o) const {
+    const int k = o.supersample;
+    glBindFramebuffer(GL_FRAMEBUFFER, t.draw_fbo);
+    glViewport(0, 0, t.width, t.height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(from_samples_);
+    glUniform1i(glGetUniformLocation(from_samples_, "u_samples"), 0);
+    glUniform1i(glGetUniformLocation(from_samples_, "u_k"), k);
+    glUniform1iv(glGetUniformLocation(from_samples_, "u_sample_of"), GLsizei(t.sample_of.size()),
+                 t.sample_of.data());
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, t.samples_texture);
+    glBindVertexArray(t.empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D_MULTISAMPLE, 0);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+  }
+
   // The primitive's elements ordered far to near (view depth of their centroid; ties keep file
   // order), written as an index list into `out`.
   static void sort_elements(const Primitive& p, const Mat4& model_view,
-                            std::vector<std::pair<float, std::uint32_t>>& keys,
-                            std::vector<std::uint32_t>& out) {
+                            std::vector<std::pair<float, std::uint32_t>>& keys, std::uint32_t* out) {
     const std::size_t per = p.topology == Topology::kTriangles ? 3 : p.topology == Topology::kLines ? 2 : 1;
     const std::size_t n = p.indices.size() / per;
     const Eigen::RowVector4f row = model_view.row(2);
@@ -574,7 +795,6 @@ class GlRenderer final : public Renderer {
     }
     std::stable_sort(keys.begin(), keys.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });
-    out.resize(n * per);
     for (std::size_t e = 0; e < n; ++e)
       for (std::size_t k = 0; k < per; ++k)
         out[e * per + k] = p.indices[std::size_t(keys[e].second) * per + k];
@@ -584,9 +804,26 @@ class GlRenderer final : public Renderer {
     if (t.resolve_fbo != t.draw_fbo) {
       glBindFramebuffer(GL_READ_FRAMEBUFFER, t.draw_fbo);
       glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.resolve_fbo);
-      glBlitFramebuffer(0, 0, o.width, o.height, 0, 0, o.width, o.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      glBlitFramebuffer(0, 0, t.width, t.height, 0, 0, t.width, t.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.resolve_fbo);
+    if (t.output_fbo != t.resolve_fbo) {
+      glBindFramebuffer(GL_FRAMEBUFFER, t.output_fbo);
+      glViewport(0, 0, o.width, o.height);
+      glDisable(GL_DEPTH_TEST);
+      glDisable(GL_BLEND);
+      glDisable(GL_CULL_FACE);
+      glDisable(GL_MULTISAMPLE);
+      glUseProgram(downsample_);
+      glUniform1i(glGetUniformLocation(downsample_, "u_source"), 0);
+      glUniform1i(glGetUniformLocation(downsample_, "u_k"), o.supersample);
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, t.color_texture);
+      glBindVertexArray(t.empty_vao);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindVertexArray(0);
+      glEnable(GL_DEPTH_TEST);
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t.output_fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     std::vector<std::uint8_t> raw(std::size_t(o.width) * std::size_t(o.height) * 4);
@@ -611,6 +848,7 @@ class GlRenderer final : public Renderer {
   std::unique_ptr<detail::GlContext> ctx_;
   std::mutex mutex_;
   GLuint program_ = 0;
+  GLuint downsample_ = 0, to_samples_ = 0, from_samples_ = 0;
   detail::ImpostorDrawer impostors_;
   GLint max_samples_ = 1;
   GLint max_size_ = 4096;
@@ -628,6 +866,7 @@ RenderOptions options_for(const CameraSet& set, RenderOptions base) {
   base.width = set.width;
   base.height = set.height;
   base.msaa = set.msaa;
+  base.supersample = set.supersample;
   return base;
 }
 

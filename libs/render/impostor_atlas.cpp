@@ -55,8 +55,8 @@ ImpostorGeometry impostor_geometry(const impostor::ImpostorInfo& info) {
   return g;
 }
 
-ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
-                                  const image::Image& normal_depth, const ImpostorGeometry& g) {
+ImpostorAtlas make_impostor_atlas(std::string name, image::Image color, image::Image normal_depth,
+                                  const ImpostorGeometry& g) {
   const int px = g.frames_per_side * g.frame_px;
   for (const image::Image* m : {&color, &normal_depth})
     if (m->width() != px || m->height() != px)
@@ -67,8 +67,8 @@ ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
   a.name = std::move(name);
   a.atlas_px = px;
   a.geometry = g;
-  a.color = color.bytes();
-  a.normal_depth = normal_depth.bytes();
+  a.color = std::move(color.bytes());
+  a.normal_depth = std::move(normal_depth.bytes());
   premultiply_impostor_maps(a.color, a.normal_depth);
   return a;
 }

@@ -26,8 +26,9 @@ void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std
 // color: sRGB RGB with straight alpha = coverage; normal_depth: rgb = normal * 0.5 + 0.5, a =
 // depth (docs/stages/impostor.md "Maps"). Premultiplied: colour rgb = sRGB(linear(rgb) * a),
 // normal rgb = round(rgb * a / 255), alpha and depth unchanged. Throws RenderError (one line,
-// naming `name`) when the maps are not both frames_per_side * frame_px square.
-ImpostorAtlas make_impostor_atlas(std::string name, const image::Image& color,
-                                  const image::Image& normal_depth, const ImpostorGeometry& geometry);
+// naming `name`) when the maps are not both frames_per_side * frame_px square. The maps' pixels
+// move into the atlas (pass temporaries: a 4096-px atlas is 64 MB a map).
+ImpostorAtlas make_impostor_atlas(std::string name, image::Image color, image::Image normal_depth,
+                                  const ImpostorGeometry& geometry);
 
 }  // namespace sylva::render

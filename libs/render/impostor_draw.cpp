@@ -10,8 +10,10 @@ namespace sylva::render::detail {
 
 namespace {
 
-GLuint upload_map(GlObjects& gl, const std::vector<std::uint8_t>& rgba, int px, bool srgb, int mip_levels) {
-  const GLuint id = gl.texture();
+// A texture the drawer owns (kept between calls, not in the call's GlObjects).
+GLuint upload_map(const std::vector<std::uint8_t>& rgba, int px, bool srgb, int mip_levels) {
+  GLuint id = 0;
+  glGenTextures(1, &id);
   glBindTexture(GL_TEXTURE_2D, id);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, px, px, 0, GL_RGBA, GL_UNSIGNED_BYTE,
@@ -31,11 +33,23 @@ GLuint upload_map(GlObjects& gl, const std::vector<std::uint8_t>& rgba, int px, 
 void ImpostorDrawer::destroy() {
   if (program_) glDeleteProgram(program_);
   program_ = 0;
+  for (const Kept& k : kept_) {
+    const GLuint t[2] = {k.color, k.normal_depth};
+    glDeleteTextures(2, t);
+  }
+  kept_.clear();
 }
 
 ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector<ImpostorSet>& sets,
                                                 GLint max_texture_px) {
   Uploaded up;
+  // Maps of atlases that no longer exist are deleted first (whatever this call draws).
+  std::erase_if(kept_, [](const Kept& k) {
+    if (!k.atlas.expired()) return false;
+    const GLuint t[2] = {k.color, k.normal_depth};
+    glDeleteTextures(2, t);
+    return true;
+  });
   if (sets.empty()) return up;
   if (!program_)
     program_ = link_program(octahedral_impostor_vertex_shader(), octahedral_impostor_fragment_shader(),
@@ -54,8 +68,15 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
       throw RenderError(
           "impostor '" + a.name +
           "': geometry is inconsistent (radius > 0, half extent >= radius, padding < frame / 2)");
-    up.color.push_back(upload_map(gl, a.color, a.atlas_px, true, g.mip_levels));
-    up.normal_depth.push_back(upload_map(gl, a.normal_depth, a.atlas_px, false, g.mip_levels));
+    auto k =
+        std::find_if(kept_.begin(), kept_.end(), [&](const Kept& e) { return e.atlas.lock() == s.atlas; });
+    if (k == kept_.end()) {
+      kept_.push_back({s.atlas, upload_map(a.color, a.atlas_px, true, g.mip_levels),
+                       upload_map(a.normal_depth, a.atlas_px, false, g.mip_levels)});
+      k = kept_.end() - 1;
+    }
+    up.color.push_back(k->color);
+    up.normal_depth.push_back(k->normal_depth);
   }
   const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
   up.vao = gl.vertex_array();
@@ -85,7 +106,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
   const Mat4 view = cam.view_matrix();
   for (std::size_t s = 0; s < sets.size(); ++s)
     for (std::size_t i = 0; i < sets[s].instances.size(); ++i) {
-      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->geometry.center.homogeneous()).hnormalized();
+      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), std::uint32_t(s), std::uint32_t(i)});
     }
   if (keys.empty()) return;
@@ -126,7 +147,6 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     if (s != current) {
       current = s;
       const ImpostorAtlas& a = *sets[s].atlas;
-      const ImpostorGeometry& g = a.geometry;
       glUniform1i(u("u_frames"), g.frames_per_side);
       glUniform1i(u("u_hemi"), g.hemi);
       glUniform3fv(u("u_center"), 1, g.center.data());

@@ -57,6 +57,10 @@ struct RenderOptions {
   int width = 1024;  // pixels, 1..GL_MAX_RENDERBUFFER_SIZE
   int height = 1024;
   int msaa = 4;  // samples per pixel; 1 = no multisampling; at most GL_MAX_SAMPLES (4 on llvmpipe)
+  // k in 1..4: draw a k·width x k·height image (with `msaa` samples per pixel of it) and average
+  // each k x k block into one pixel; line widths and point sizes stay in output pixels. On
+  // llvmpipe msaa 1 with k = 2 costs about a third of msaa 4 for dense foliage (docs/renderer.md).
+  int supersample = 1;
   image::Rgba8 background{191, 204, 217, 255};  // sRGB-encoded; alpha 0 gives a transparent image
   Lighting lighting;
   float default_point_size_px = 2.f;  // POINTS without _SIZE
@@ -88,7 +92,7 @@ class Renderer {
   virtual std::string device_description() const = 0;
 };
 
-// RenderOptions for a camera set: `base` with the set's width, height and msaa.
+// RenderOptions for a camera set: `base` with the set's width, height, msaa and supersample.
 RenderOptions options_for(const CameraSet& set, RenderOptions base = {});
 
 struct RenderedView {

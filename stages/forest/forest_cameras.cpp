@@ -42,6 +42,7 @@ std::string forest_camera_set(const Forest& f, const Terrain& terrain, const For
   std::string y = "# The forest camera set written by stage forest (docs/stages/forest.md, \"Cameras\").\n";
   y += "version: 1\nwidth: " + std::to_string(o.width_px) + "\nheight: " + std::to_string(o.height_px) +
        "\nmsaa: " + std::to_string(o.msaa) + "\n";
+  if (o.supersample > 1) y += "supersample: " + std::to_string(o.supersample) + "\n";
   char buf[64];
   std::snprintf(buf, sizeof buf, "fov_y_deg: %.6g\n", o.fov_y_deg);
   y += buf;

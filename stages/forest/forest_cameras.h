@@ -13,6 +13,7 @@ namespace sylva::forest {
 
 struct ForestCameraOptions {
   int width_px = 960, height_px = 540, msaa = 4;
+  int supersample = 2;  // the camera set's `supersample` (with msaa 4: hybrid, docs/renderer.md)
   double fov_y_deg = 45;
   int frames_per_path = 2;    // views per path (>= 1)
   double eye_height_m = 1.7;  // walkthrough eye above the ground

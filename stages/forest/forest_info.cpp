@@ -4,7 +4,7 @@ namespace sylva {
 
 namespace {
 // Bump whenever the bytes of any output can change.
-constexpr int kVersion = 5;
+constexpr int kVersion = 6;
 
 ParamSpec optional_path(const std::string& name, const std::string& doc) {
   ParamSpec p = Param::path(name).describe(doc);
@@ -78,7 +78,13 @@ StageInfo forest_stage_info() {
            Param::real("max_altitude_m", 1e9).range(-1e9, 1e9).describe("terrain: highest ground height"),
            Param::real("min_spacing_m", 0)
                .range(0, 1e4)
-               .describe("poisson: minimum distance to any tree (0 = half the footprint's diagonal)")}),
+               .describe("poisson: minimum distance to any tree (0 = half the footprint's diagonal)"),
+           Param::real_list("impostor_parallax", Value::List{})
+               .range(0, 1e9)
+               .describe(
+                   "pairs [from_m, steps, ...]: from from_m on (impostor.json's terms) forest views draw "
+                   "the octahedral impostor with `steps` parallax steps instead of 16 (0 = flat), each "
+                   "distance proven by `sylva impostorcheck --parallax-steps N --search-distance`")}),
       optional_path("height_map", "terrain height map (16-bit PNG, EXR, ...; grey 0..1 -> height_range_m)"),
       Param::real_list("height_range_m", Value::List{0.0, 10.0})
           .items(2, 2)
@@ -112,9 +118,14 @@ StageInfo forest_stage_info() {
       Param::object("georeference", {Param::real("longitude_deg", 0).range(-180, 180),
                                      Param::real("latitude_deg", 45).range(-90, 90),
                                      Param::real("height_m", 0).range(-1e4, 1e5)}),
-      Param::object("cameras", {Param::integer("width_px", 960).range(16, 8192),
-                                Param::integer("height_px", 540).range(16, 8192),
-                                Param::integer("frames_per_path", 2).range(1, 100)}),
+      Param::object(
+          "cameras",
+          {Param::integer("width_px", 960).range(16, 8192), Param::integer("height_px", 540).range(16, 8192),
+           Param::integer("frames_per_path", 2).range(1, 100),
+           Param::integer("supersample", 2)
+               .range(1, 2)
+               .describe("2: meshes drawn 2 x 2 supersampled, impostors with 4x MSAA "
+                         "(4 samples per pixel either way); 1: everything with 4x MSAA")}),
   };
   return info;
 }

@@ -77,7 +77,31 @@ struct SpeciesInput {
   impostor::ImpostorInfo impostor_info;
   const ArtifactFile* color_map = nullptr;
   const ArtifactFile* normal_depth_map = nullptr;
+  // species[i].impostor_parallax: (from_m in impostor.json's terms, steps).
+  std::vector<ParallaxStep> parallax;
 };
+
+// species[i].impostor_parallax: pairs (distance, steps), distances strictly increasing, steps an
+// integer 0..64, for an octahedral impostor only.
+std::vector<ParallaxStep> parallax_table(const Value& v, const std::string& species, bool octahedral) {
+  const std::vector<double> r = reals(v);
+  if (r.empty()) return {};
+  const std::string what = "species '" + species + "': impostor_parallax ";
+  if (!octahedral) throw StageError(what + "needs a (hemi-)octahedral impostor input for the species");
+  if (r.size() % 2)
+    throw StageError(what + "must be pairs [from_m, steps, ...], got " + std::to_string(r.size()) +
+                     " numbers");
+  std::vector<ParallaxStep> out;
+  for (std::size_t k = 0; k < r.size(); k += 2) {
+    if (r[k + 1] != std::floor(r[k + 1]) || r[k + 1] < 0 || r[k + 1] > 64)
+      throw StageError(what + "steps must be integers 0..64, got " + format_real(r[k + 1]));
+    if (!out.empty() && !(r[k] > out.back().from_m))
+      throw StageError(what + "distances must increase, got " + format_real(r[k]) + " after " +
+                       format_real(out.back().from_m));
+    out.push_back({r[k], int(r[k + 1])});
+  }
+  return out;
+}
 
 std::size_t primitive_count(const json& g) {
   std::size_t n = 0;
@@ -235,6 +259,7 @@ class ForestStage final : public Stage {
       names.push_back(r.name);
       inputs.push_back(read_species(*lods[i], r.name));
       if (!impostors.empty()) read_impostor(*impostors[i], r.name, inputs.back());
+      inputs.back().parallax = parallax_table(sp.at("impostor_parallax"), r.name, inputs.back().octahedral);
       r.bounds = inputs.back().bounds;
       r.density_per_ha = sp.at("density_per_ha").as_real();
       auto range = [&](const char* key) {
@@ -334,14 +359,28 @@ class ForestStage final : public Stage {
         for (std::size_t l = 0; l < levels.size(); ++l)
           sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
                                levels[l].at("epsilon_m").get<double>(),
-                               levels[l].at("switch_distance_m").get<double>(), in.primitives[l], false, ""});
-        if (in.has_impostor)
-          sp.levels.push_back(
-              {names[s] + "_impostor.gltf", in.impostor_epsilon_m,
-               impostor_switch_distance_m(in.impostor_switch_distance_m, in.impostor_pixel_error_px,
-                                          in.impostor_camera.fov_y_rad, in.impostor_camera.height_px,
-                                          sp.pixel_error_px, sp.fov_y_deg, sp.height_px),
-               in.primitives.back(), true, in.octahedral ? names[s] + "_impostor.json" : ""});
+                               levels[l].at("switch_distance_m").get<double>(),
+                               in.primitives[l],
+                               false,
+                               "",
+                               {}});
+        if (in.has_impostor) {
+          // Distances in impostor.json's terms (its delta and camera) move into the chain's.
+          auto chain_terms = [&](double d) {
+            return impostor_switch_distance_m(d, in.impostor_pixel_error_px, in.impostor_camera.fov_y_rad,
+                                              in.impostor_camera.height_px, sp.pixel_error_px, sp.fov_y_deg,
+                                              sp.height_px);
+          };
+          sp.levels.push_back({names[s] + "_impostor.gltf",
+                               in.impostor_epsilon_m,
+                               chain_terms(in.impostor_switch_distance_m),
+                               in.primitives.back(),
+                               true,
+                               in.octahedral ? names[s] + "_impostor.json" : "",
+                               {}});
+          for (const ParallaxStep& p : in.parallax)
+            sp.levels.back().parallax.push_back({chain_terms(p.from_m), p.steps});
+        }
       } catch (const json::exception& e) {
         throw StageError("input '" + in.node + "': lod.json: " + e.what());
       }
@@ -430,6 +469,7 @@ class ForestStage final : public Stage {
     co.width_px = int(cams.at("width_px").as_int());
     co.height_px = int(cams.at("height_px").as_int());
     co.frames_per_path = int(cams.at("frames_per_path").as_int());
+    co.supersample = int(cams.at("supersample").as_int());
     co.fov_y_deg = f.species.empty() ? 45 : f.species[0].fov_y_deg;
     ctx.write_output("cameras.yaml", forest_camera_set(f, lp.terrain, co));
   }

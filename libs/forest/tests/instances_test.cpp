@@ -22,8 +22,8 @@ Forest sample_forest(bool binary) {
   s.bounds = {{-3, 0, -2.5}, {3, 12.25, 2.5}};
   s.base_rotation_deg = {0, 90, 0};
   s.base_translation_y_m = -0.1;
-  s.levels = {{"oak_lod0.gltf", 0.001, 2.6, 1000, false, ""},
-              {"oak_impostor.gltf", 0.4, 1100, 12, true, "oak_impostor.json"}};
+  s.levels = {{"oak_lod0.gltf", 0.001, 2.6, 1000, false, "", {}},
+              {"oak_impostor.gltf", 0.4, 1100, 12, true, "oak_impostor.json", {{1100, 4}, {1374.125, 0}}}};
   f.species.push_back(s);
   f.stats.push_back({3, 2, 1});
   f.ground = "ground.glb";
@@ -74,6 +74,16 @@ TEST(Instances, BadInputNamesTheProblem) {
         err.what(),
         "i.json: error: species[0].levels[1].octahedral must be a file name of this artifact, on the "
         "impostor level only");
+  }
+  std::string p = write_instances(sample_forest(false)).json;
+  p.replace(p.find("1374.125"), 8, "1000");
+  try {
+    parse_instances(p, "", "i.json");
+    FAIL();
+  } catch (const FormatError& err) {
+    EXPECT_STREQ(
+        err.what(),
+        "i.json: error: species[0].levels[1].parallax[1].from_m must be greater than the row before's");
   }
   EXPECT_THROW(parse_instances("{", "", "i.json"), FormatError);
   EXPECT_THROW(parse_instances("[]", "", "i.json"), FormatError);

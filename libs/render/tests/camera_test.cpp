@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "libs/render/renderer.h"
+
 namespace sylva::render {
 namespace {
 
@@ -38,6 +40,7 @@ views:
   EXPECT_EQ(set.width, 640);
   EXPECT_EQ(set.height, 480);
   EXPECT_EQ(set.msaa, 4);
+  EXPECT_EQ(set.supersample, 1);
   ASSERT_EQ(set.views.size(), 3u);
   const auto& o = std::get<OrbitView>(set.views[0].placement);
   EXPECT_EQ(set.views[0].name, "front");
@@ -71,6 +74,20 @@ views:
       "cams.yaml:4:7: error: 'msaa' must be 1 (off), 2, 4, 8 or 16, got 3\n"
       "cams.yaml:7:14: error: unknown key 'azimuth' in orbit of view 'front'; did you mean 'azimuth_deg'?\n"
       "cams.yaml:9:10: error: 'eye' in view 'top' must be a list of three numbers [x, y, z]");
+}
+
+// `supersample` k draws k x the size and averages k x k blocks (RenderOptions::supersample).
+TEST(CameraSet, Supersample) {
+  const CameraSet set = parse_camera_set(
+      "version: 1\nwidth: 64\nheight: 32\nmsaa: 4\nsupersample: 2\n"
+      "views:\n  - name: a\n    orbit: {}\n",
+      "cams.yaml");
+  EXPECT_EQ(set.supersample, 2);
+  EXPECT_EQ(options_for(set).supersample, 2);
+  EXPECT_EQ(options_for(set).msaa, 4);
+  EXPECT_EQ(
+      errors_of("version: 1\nwidth: 64\nheight: 32\nsupersample: 5\nviews:\n  - name: a\n    orbit: {}\n"),
+      "cams.yaml:4:14: error: 'supersample' must be 1 (off), 2, 3 or 4, got 5");
 }
 
 TEST(CameraSet, StructuralErrors) {

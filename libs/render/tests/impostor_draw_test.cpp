@@ -2,11 +2,16 @@
 // exactly as ImpostorRenderer::render_octahedral does (the drawer `sylva impostorcheck` proves),
 // and in the same depth buffer as the meshes. A hand-made atlas: every frame a disc of one colour
 // with a constant depth and normal, so each expectation follows from the shader's contract.
+#include "libs/render/impostor_draw.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 
+#include "libs/image/compare.h"
 #include "libs/image/image_io.h"
+#include "libs/render/gl_context.h"
+#include "libs/render/gl_util.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_atlas.h"
 #include "libs/render/impostor_renderer.h"
@@ -172,6 +177,98 @@ TEST_F(ImpostorDrawTest, MeshesInFrontHideImpostorsAndImpostorsHideMeshesBehind)
   const Rgba8 back = img.at(48, 10);
   EXPECT_LT(back.r, 30);
   EXPECT_GT(back.b, 100);
+}
+
+// Supersampled by 2 with 4 samples per pixel ("hybrid"): the meshes are drawn 2 x 2 supersampled,
+// their colour and depth moved into a 4-sample target (a pixel's samples = its sub-pixels) where
+// the impostors are drawn multisampled, then back. The depth test between the two holds as in
+// one buffer; away from the impostor the image is exactly the supersampled one, and the whole is
+// within the verifier's thresholds of the 4x MSAA image (the impostor shaded once per pixel, as
+// there; supersampled, its outline would be shaded per sub-pixel).
+TEST_F(ImpostorDrawTest, HybridDrawsImpostorsMultisampledOverSupersampledMeshes) {
+  const Maps m = disc_maps();
+  testing::GltfBuilder b;
+  const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 1)});
+  const int quad = b.add_mesh({testing::quad(1.f, blue)});
+  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(-0.5f, 0, 1.5f), .scale = Vec3(0.8f, 0.8f, 1)}));
+  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(0, 0, -2), .scale = Vec3(6, 6, 1)}));
+  b.write_glb(dir_ / "quads.glb");
+  Scene s = load_gltf_scene(dir_ / "quads.glb");
+  s.impostors = impostor_scene(m, {Mat4::Identity()}).impostors;
+  const Camera cam = look(Vec3(0, 0, 5));
+  RenderOptions hybrid = options(), ss = options();
+  hybrid.supersample = ss.supersample = 2;
+  ss.msaa = 1;
+  const Image img = renderer_->render(s, cam, hybrid), want = renderer_->render(s, cam, ss);
+  image::write_png(img, dir_ / "hybrid.png");
+  const Rgba8 disc = img.at(56, 48), front = img.at(38, 48), back = img.at(48, 10);
+  EXPECT_GT(disc.r, 100);
+  EXPECT_LT(disc.b, 60);
+  EXPECT_LT(front.r, 30);
+  EXPECT_GT(front.b, 100);
+  EXPECT_LT(back.r, 30);
+  EXPECT_GT(back.b, 100);
+  std::size_t outside = 0, differ = 0;
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) {
+      if (x >= 20 && x < 76 && y >= 20 && y < 76) continue;  // the impostor's quad: ~23 px around the centre
+      ++outside;
+      const Rgba8 a = img.at(x, y), c = want.at(x, y);
+      differ += a.r != c.r || a.g != c.g || a.b != c.b || a.a != c.a;
+    }
+  EXPECT_GT(outside, 5000u);
+  EXPECT_EQ(differ, 0u);
+  const image::CompareResult r = image::compare_images(renderer_->render(s, cam, options()), img);
+  EXPECT_TRUE(r.passed) << r.failure;
+  EXPECT_FALSE(image::compare_images(want, img).passed) << "the supersampled impostor's outline differs";
+}
+
+// The maps stay uploaded between calls while their atlas lives (a second call with the same atlas
+// uploads nothing) and are deleted once it is gone; a new atlas is drawn with its own maps.
+TEST_F(ImpostorDrawTest, MapsStayUploadedWhileTheirAtlasLives) {
+  const Maps m = disc_maps();
+  {
+    const std::unique_ptr<detail::GlContext> ctx = detail::create_egl_context();
+    detail::CurrentContext current(*ctx);
+    detail::ImpostorDrawer drawer;
+    {
+      const Scene a = impostor_scene(m, {Mat4::Identity()}), b = impostor_scene(m, {Mat4::Identity()});
+      GLuint first = 0;
+      {
+        detail::GlObjects gl;
+        first = drawer.upload(gl, a.impostors, 4096).color.at(0);
+      }
+      EXPECT_EQ(drawer.kept(), 1u);
+      {
+        detail::GlObjects gl;
+        EXPECT_EQ(drawer.upload(gl, a.impostors, 4096).color.at(0), first);  // the same texture
+      }
+      EXPECT_EQ(drawer.kept(), 1u);
+      {
+        detail::GlObjects gl;
+        std::vector<ImpostorSet> both = a.impostors;
+        both.push_back(b.impostors.front());  // another atlas, same pixels: its own maps
+        const auto up = drawer.upload(gl, both, 4096);
+        EXPECT_EQ(up.color.at(0), first);
+        EXPECT_NE(up.color.at(1), first);
+      }
+      EXPECT_EQ(drawer.kept(), 2u);
+    }
+    detail::GlObjects gl;
+    drawer.upload(gl, {}, 4096);  // both atlases are gone
+    EXPECT_EQ(drawer.kept(), 0u);
+    drawer.destroy();
+  }
+  // Through the renderer: a red disc, then (the red atlas gone) a blue one where it was.
+  const Camera cam = look(Vec3(0, 0, 5));
+  EXPECT_GT(renderer_->render(impostor_scene(m, {Mat4::Identity()}), cam, options()).at(56, 48).r, 100);
+  Maps blue = disc_maps();
+  for (std::size_t i = 0; i < blue.color.bytes().size(); i += 4)
+    if (blue.color.bytes()[i + 3])
+      blue.color.set(int(i / 4) % blue.color.width(), int(i / 4) / blue.color.width(), {40, 40, 200, 255});
+  const Rgba8 px = renderer_->render(impostor_scene(blue, {Mat4::Identity()}), cam, options()).at(56, 48);
+  EXPECT_LT(px.r, 60);
+  EXPECT_GT(px.b, 100);
 }
 
 TEST_F(ImpostorDrawTest, BadAtlasesAreClearErrors) {

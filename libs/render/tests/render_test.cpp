@@ -572,6 +572,86 @@ TEST_F(RenderTest, CameraSetRendersEveryView) {
 }
 
 // Invalid options are refused with a clear message, not a GL error.
+// Supersampled by 2, the image is the mean of each 2 x 2 block of the same scene drawn at twice
+// the size (one sample per pixel there), lines twice as wide: edges of a lit wavy sheet, a
+// slanted diagonal line and blended lines, to 8-bit rounding.
+TEST_F(RenderTest, SupersampledIsTheMeanOfEachBlockOfTheLargerImage) {
+  GltfBuilder b;
+  const int green = b.add_material({.base_color = Vec4(0.2f, 0.7f, 0.3f, 1), .double_sided = true});
+  const int red = b.add_material({.base_color = Vec4(1, 0, 0, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+  PrimitiveData diagonal;
+  diagonal.mode = TINYGLTF_MODE_LINE;
+  diagonal.material = red;
+  diagonal.positions = {Vec3(-0.7f, -0.6f, 0.2f), Vec3(0.6f, 0.7f, 0.2f)};
+  NodeData sheet{.mesh = b.add_mesh({testing::dense_grid(6, green)})};
+  sheet.rotation = Eigen::Quaternionf(Eigen::AngleAxisf(0.4f, Vec3(0.3f, 1, 0.2f).normalized()));
+  b.add_root(b.add_node(sheet));
+  b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(0.1f, 40, 44, red), diagonal})}));
+  const Scene scene = load(b);
+  const Camera cam = look(Vec3(0, 0, 2));
+  RenderOptions o = small(48, 1);
+  o.supersample = 2;
+  RenderOptions big = small(96, 1);
+  big.line_width_px = 2;
+  const Image got = render(scene, cam, o), full = render(scene, cam, big),
+              plain = render(scene, cam, small(48, 1));
+  keep(got, "supersampled");
+  ASSERT_EQ(got.width(), 48);
+  ASSERT_EQ(got.height(), 48);
+  int worst = 0;
+  std::size_t unlike_plain = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const Rgba8 g = got.at(x, y), p = plain.at(x, y);
+      const std::uint8_t* gc = &g.r;
+      bool differs = false;
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const Rgba8 f = full.at(2 * x + dx, 2 * y + dy);
+            sum += (&f.r)[c];
+          }
+        worst = std::max(worst, std::abs(4 * int(gc[c]) - sum));
+        differs = differs || std::abs(int(gc[c]) - int((&p.r)[c])) > 2;
+      }
+      unlike_plain += differs;
+    }
+  EXPECT_LE(worst, 2) << "4 x pixel - block sum: at most the rounding of a mean of four";
+  EXPECT_GT(unlike_plain, 60u) << "the edges are antialiased, unlike one sample per pixel";
+}
+
+// Supersampled by 2 with 4 samples: meshes are drawn supersampled, impostors multisampled. A
+// scene without impostors is exactly the supersampled one; msaa must be 1 or k^2.
+TEST_F(RenderTest, HybridWithoutImpostorsIsTheSupersampledImage) {
+  GltfBuilder b;
+  const int green = b.add_material({.base_color = Vec4(0.2f, 0.7f, 0.3f, 1), .double_sided = true});
+  const int red = b.add_material({.base_color = Vec4(1, 0, 0, 0.5f), .alpha_mode = "BLEND", .unlit = true});
+  b.add_root(b.add_node({.mesh = b.add_mesh({testing::dense_grid(6, green)})}));
+  b.add_root(b.add_node({.mesh = b.add_mesh({line_rows(0.1f, 20, 24, red)})}));
+  const Scene scene = load(b);
+  const Camera cam = look(Vec3(0.3f, 0.4f, 2));
+  RenderOptions hybrid = small(40, 4), ss = small(40, 1);
+  hybrid.supersample = ss.supersample = 2;
+  EXPECT_EQ(render(scene, cam, hybrid).bytes(), render(scene, cam, ss).bytes());
+  hybrid.msaa = 2;
+  try {
+    render(scene, cam, hybrid);
+    FAIL() << "expected RenderError";
+  } catch (const RenderError& e) {
+    EXPECT_STREQ(e.what(),
+                 "supersample 2 needs msaa 1 or 4 (the samples of a pixel are its sub-pixels), got msaa 2");
+  }
+  hybrid.msaa = 1;
+  hybrid.supersample = 5;
+  try {
+    render(scene, cam, hybrid);
+    FAIL() << "expected RenderError";
+  } catch (const RenderError& e) {
+    EXPECT_STREQ(e.what(), "supersample 5 is not supported (1..4)");
+  }
+}
+
 TEST_F(RenderTest, InvalidOptions) {
   const Scene empty;
   RenderOptions o = small();

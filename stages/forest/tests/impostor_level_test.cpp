@@ -71,10 +71,10 @@ TEST(ImpostorLevel, RecordedSwitchDistanceInTheChainsTerms) {
 
 TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {
   Species with;
-  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false, ""});
-  with.levels.push_back({"imp", 0.5, 9, 2, true, ""});  // 4 levels
+  for (int l = 0; l < 3; ++l) with.levels.push_back({"a", 0.1 * l, 1.0 * l, 1, false, "", {}});
+  with.levels.push_back({"imp", 0.5, 9, 2, true, "", {}});  // 4 levels
   Species without;
-  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false, ""});
+  for (int l = 0; l < 2; ++l) without.levels.push_back({"b", 0.1 * l, 1.0 * l, 1, false, "", {}});
   const int n = 4;
   EXPECT_EQ(species_level(with, 0, n), 0u);
   EXPECT_EQ(species_level(with, 2, n), 2u);
@@ -118,9 +118,9 @@ TEST(Tileset, ChainErrorsNeverGrowTowardTheLeaves) {
   // (0.3): the impostor's tile gets 0.3, so a client never refines from it into a larger error.
   const std::vector<std::pair<std::string, double>> expected{
       {"t_lod2.gltf", 0.3}, {"t_lod1.gltf", 0.3}, {"t_lod0.gltf", 0.001}};
-  EXPECT_EQ(one_tree_chain({{"a_lod0.gltf", 0.001, 2, 10, false, ""},
-                            {"a_lod1.gltf", 0.3, 600, 5, false, ""},
-                            {"a_impostor.gltf", 0.1, 200, 2, true, ""}}),
+  EXPECT_EQ(one_tree_chain({{"a_lod0.gltf", 0.001, 2, 10, false, "", {}},
+                            {"a_lod1.gltf", 0.3, 600, 5, false, "", {}},
+                            {"a_impostor.gltf", 0.1, 200, 2, true, "", {}}}),
             expected);
 }
 
@@ -128,9 +128,9 @@ TEST(Tileset, ImpostorTileErrorIsTheErrorOfItsRecordedSwitchDistance) {
   // An impostor whose model epsilon (0.5 m) would switch at 1304 m but whose proven distance is
   // 200 m: its tile's error is 200 x 0.5 px x 2 tan(22.5 deg) / 1080 px, so a client with
   // maximumScreenSpaceError 0.5 shows it from 200 m on, where sylva's views do.
-  const auto chain = one_tree_chain({{"a_lod0.gltf", 0.001, 2, 10, false, ""},
-                                     {"a_lod1.gltf", 0.03, 78, 5, false, ""},
-                                     {"a_impostor.gltf", 0.5, 200, 2, true, ""}});
+  const auto chain = one_tree_chain({{"a_lod0.gltf", 0.001, 2, 10, false, "", {}},
+                                     {"a_lod1.gltf", 0.03, 78, 5, false, "", {}},
+                                     {"a_impostor.gltf", 0.5, 200, 2, true, "", {}}});
   ASSERT_EQ(chain.size(), 3u);
   EXPECT_EQ(chain[0].first, "t_lod2.gltf");
   const double want = 200 * 0.5 * 2 * std::tan(std::numbers::pi / 8) / 1080;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -125,7 +126,8 @@ Value::Object species(const std::string& name, double density) {
           {"max_slope_deg", Value(90.0)},
           {"min_altitude_m", Value(-1e9)},
           {"max_altitude_m", Value(1e9)},
-          {"min_spacing_m", Value(0.0)}};
+          {"min_spacing_m", Value(0.0)},
+          {"impostor_parallax", Value(Value::List{})}};
 }
 
 class ForestOutput : public ::testing::Test {
@@ -255,6 +257,8 @@ TEST_F(ForestOutput, InstancesTilesTilesetAndCameras) {
   // cameras.yaml is a camera set libs/render reads.
   const render::CameraSet cams = render::load_camera_set(out / "cameras.yaml");
   EXPECT_EQ(cams.width, 960);
+  EXPECT_EQ(cams.msaa, 4);
+  EXPECT_EQ(cams.supersample, 2);    // meshes 2 x 2 supersampled, impostors 4x MSAA
   EXPECT_EQ(cams.views.size(), 5u);  // 2 walkthrough, 2 fly-over, 1 overview
 
   // Determinism: the same parameters give the same bytes; another seed another forest.
@@ -484,6 +488,150 @@ TEST_F(ForestOutput, ImpostorSwitchDistanceInTheChainsTerms) {
     EXPECT_STREQ(e.what(),
                  "input 'imp_b' (impostor): impostor.json records no switch distance (switch_distance_m 0)");
   }
+}
+
+// ForestViewStats: per species and level, the trees drawn and exactly their level's primitives
+// each (the level switches at 520 m: a view from ~540 m sees species a at both levels).
+TEST_F(ForestOutput, ViewStatsCountTreesAndPrimitivesPerSpeciesAndLevel) {
+  const Value::Object params = {
+      {"size_m", Value(Value::List{100.0, 60.0})},
+      {"tile_size_m", Value(50.0)},
+      {"species", Value(Value::List{Value(species("a", 20)), Value(species("b", 40))})}};
+  const fs::path out = dir_ / "stats";
+  const forest::Forest f = run(out, params);
+  const render::ForestView view = render::ForestView::load(out / "instances.json");
+  render::Camera cam;
+  cam.eye = render::Vec3(0, 2, 530);
+  cam.target = render::Vec3(0, 2, 0);
+  cam.fov_y_deg = 45;
+  cam.z_near = 1;
+  cam.z_far = 1000;
+  render::ForestViewOptions all;
+  all.cull = false;
+  render::ForestViewStats st;
+  view.view_scene(cam, 1.f, all, st);
+  // Expected from instances.json alone: each tree's box distance against its levels' switch
+  // distances, each level's primitives from the file.
+  std::vector<std::vector<std::size_t>> trees, prims;
+  std::size_t total = 2;  // the ground's quad
+  for (const forest::Species& sp : f.species) {
+    trees.emplace_back(sp.levels.size(), 0);
+    prims.emplace_back(sp.levels.size(), 0);
+  }
+  for (const forest::Instance& in : f.instances) {
+    const forest::Species& sp = f.species[in.species];
+    const forest::Box3 box = forest::transform_box(forest::instance_matrix(sp, in), sp.bounds);
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double e = std::max({box.min[k] - cam.eye[k], 0.0, cam.eye[k] - box.max[k]});
+      d2 += e * e;
+    }
+    std::size_t l = 0;
+    while (l + 1 < sp.levels.size() && sp.levels[l + 1].switch_distance_m <= std::sqrt(d2)) ++l;
+    ++trees[in.species][l];
+    prims[in.species][l] += sp.levels[l].primitives;
+    total += sp.levels[l].primitives;
+  }
+  EXPECT_GT(trees[0][0], 0u);
+  EXPECT_GT(trees[0][1], 0u);  // the view sees species a at both levels
+  EXPECT_EQ(st.species_trees, trees);
+  EXPECT_EQ(st.species_primitives, prims);
+  EXPECT_EQ(st.primitives, total);
+  EXPECT_EQ(st.trees_drawn, f.instances.size());
+  EXPECT_TRUE(st.impostor_steps.empty());
+}
+
+// species[i].impostor_parallax: from each proven distance on, the octahedral impostor is drawn
+// with fewer parallax steps (16 nearer); forest views group the impostors by steps.
+TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
+  inputs_.push_back(fake_impostor(dir_ / "imp_a", 8, "imp_a", true));
+  inputs_.push_back(fake_impostor(dir_ / "imp_b", 5, "imp_b", true));
+  Value::Object a = species("a", 40), b = species("b", 40);
+  a["impostor_parallax"] = Value(Value::List{140.0, 4.0, 170.0, 0.0});
+  const Value::Object params = {{"size_m", Value(Value::List{60.0, 60.0})},
+                                {"tile_size_m", Value(30.0)},
+                                {"species", Value(Value::List{Value(a), Value(b)})}};
+  const fs::path out = dir_ / "par";
+  const forest::Forest f = run(out, params);
+  const std::vector<forest::ParallaxStep> want = {{140, 4}, {170, 0}};
+  EXPECT_EQ(f.species[0].levels.back().parallax, want);
+  EXPECT_TRUE(f.species[1].levels.back().parallax.empty());
+  const render::ForestView view = render::ForestView::load(out / "instances.json");
+  EXPECT_EQ(view.parallax_steps_for(0, 139.9, {}), 16);
+  EXPECT_EQ(view.parallax_steps_for(0, 140, {}), 4);
+  EXPECT_EQ(view.parallax_steps_for(0, 169.9, {}), 4);
+  EXPECT_EQ(view.parallax_steps_for(0, 170, {}), 0);
+  EXPECT_EQ(view.parallax_steps_for(1, 1e6, {}), 16);
+  render::ForestViewOptions coarse;
+  coarse.pixel_error_px = 1.0;  // twice the chain's delta: every distance halves
+  EXPECT_EQ(view.parallax_steps_for(0, 70, coarse), 4);
+  // A view from 160 m: every tree an impostor (from 100 m), species a's split by the table.
+  render::Camera cam;
+  cam.eye = render::Vec3(0, 2, 160);
+  cam.target = render::Vec3(0, 2, 0);
+  cam.fov_y_deg = 45;
+  cam.z_near = 1;
+  cam.z_far = 400;
+  render::ForestViewStats st;
+  const render::Scene scene = view.view_scene(cam, 1.f, {}, st);
+  std::map<int, std::size_t> expect;
+  std::size_t a_trees = 0;
+  for (const forest::Instance& in : f.instances) {
+    const auto m = forest::instance_matrix(f.species[in.species], in);
+    const forest::Box3 box = forest::transform_box(m, f.species[in.species].bounds);
+    double d2 = 0;
+    const double eye[3] = {0, 2, 160};
+    for (int k = 0; k < 3; ++k) {
+      const double e = std::max({box.min[k] - eye[k], 0.0, eye[k] - box.max[k]});
+      d2 += e * e;
+    }
+    ASSERT_GE(std::sqrt(d2), 100.0);
+    ++expect[in.species == 0 ? view.parallax_steps_for(0, std::sqrt(d2), {}) : 16];
+    a_trees += in.species == 0;
+  }
+  EXPECT_EQ(st.trees_drawn, f.instances.size());  // all in view
+  EXPECT_EQ(st.impostors, f.instances.size());
+  EXPECT_EQ(st.impostor_steps, expect);
+  EXPECT_EQ(expect.size(), 3u) << "the table splits species a's impostors three ways";
+  EXPECT_EQ(st.species_trees[0].back(), a_trees);
+  EXPECT_EQ(st.species_primitives[0].back(), 2 * a_trees);
+  std::size_t in_sets = 0;
+  for (const render::ImpostorSet& set : scene.impostors) {
+    EXPECT_EQ(expect.count(set.parallax_steps), 1u);
+    in_sets += set.instances.size();
+  }
+  EXPECT_EQ(in_sets, f.instances.size());
+  // Loading reads the files in parallel; a failure is reported for the first file in order.
+  fs::remove(out / "b_lod0.gltf");
+  fs::remove(out / "a_lod1.gltf");
+  try {
+    render::ForestView::load(out / "instances.json");
+    ADD_FAILURE() << "no error";
+  } catch (const render::SceneLoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("a_lod1.gltf"), std::string::npos) << e.what();
+  }
+  // Bad tables are errors that say what is wrong.
+  auto error_of = [&](Value::List table, bool on_b) {
+    Value::Object sa = species("a", 40), sb = species("b", 40);
+    (on_b ? sb : sa)["impostor_parallax"] = Value(std::move(table));
+    Value::Object p = params;
+    p["species"] = Value(Value::List{Value(sa), Value(sb)});
+    try {
+      run(dir_ / "bad", p);
+    } catch (const StageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error_of({140.0, 4.0, 170.0}, false),
+            "species 'a': impostor_parallax must be pairs [from_m, steps, ...], got 3 numbers");
+  EXPECT_EQ(error_of({140.0, 4.5}, false),
+            "species 'a': impostor_parallax steps must be integers 0..64, got 4.5");
+  EXPECT_EQ(error_of({140.0, 4.0, 140.0, 0.0}, false),
+            "species 'a': impostor_parallax distances must increase, got 140.0 after 140.0");
+  inputs_[3] = fake_impostor(dir_ / "imp_b2", 5, "imp_b");  // billboards
+  EXPECT_EQ(error_of({140.0, 4.0}, true),
+            "species 'b': impostor_parallax needs a (hemi-)octahedral impostor input for the species");
 }
 
 }  // namespace

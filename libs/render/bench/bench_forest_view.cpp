@@ -1,0 +1,127 @@
+// Forest-view benchmark (docs/performance.md "Forest"): one forest artifact's views at the camera
+// set's size, each phase timed in CPU seconds of the whole process (llvmpipe's threads included)
+// and of the calling thread, with the trees and primitives drawn per species and level.
+//   bench_forest_view out/forest_celba/forest/instances.json [--view NAME]... [--msaa N]
+//     [--supersample K] [--width W --height H] [--exact-impostors 1] [--out DIR]
+// --exact-impostors 1 draws every impostor with the reference shader's 16 parallax steps (the
+// exact view the parallax table is judged against).
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "libs/check/judge.h"
+#include "libs/image/image_io.h"
+#include "libs/render/camera.h"
+#include "libs/render/forest_view.h"
+
+namespace {
+
+double cpu(int who) {
+  rusage r{};
+  getrusage(who, &r);
+  return double(r.ru_utime.tv_sec) + double(r.ru_utime.tv_usec) * 1e-6 + double(r.ru_stime.tv_sec) +
+         double(r.ru_stime.tv_usec) * 1e-6;
+}
+
+struct Lap {
+  double c = cpu(RUSAGE_SELF), t = cpu(RUSAGE_THREAD),
+         w = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  void print(const char* what) {
+    const Lap now;
+    std::printf("  %-12s cpu %7.2f s  calling thread %7.2f s  wall %7.2f s\n", what, now.c - c, now.t - t,
+                now.w - w);
+    *this = now;
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace sylva;
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s instances.json [--view NAME]... [--msaa N] [--out DIR]\n", argv[0]);
+    return 2;
+  }
+  const std::filesystem::path file = argv[1];
+  std::vector<std::string> views;
+  int msaa = -1, width = -1, height = -1, supersample = -1;
+  bool exact = false;  // every impostor with the reference shader's 16 steps, not the parallax table
+  bool judge = false;  // judge the parallax table's view against the exact one
+  std::string out;
+  for (int i = 2; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--view")) views.push_back(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--msaa")) msaa = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
+    if (!std::strcmp(argv[i], "--width")) width = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--supersample")) supersample = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--exact-impostors")) exact = std::string(argv[i + 1]) == "1";
+    if (!std::strcmp(argv[i], "--judge-parallax")) judge = std::string(argv[i + 1]) == "1";
+    if (!std::strcmp(argv[i], "--height")) height = std::atoi(argv[i + 1]);
+  }
+  Lap lap;
+  render::ForestView fv = render::ForestView::load(file);
+  lap.print("load");
+  render::CameraSet set = render::load_camera_set(file.parent_path() / "cameras.yaml");
+  auto renderer = render::Renderer::create_headless();
+  lap.print("context");
+  render::RenderOptions options = render::options_for(set);
+  if (msaa > 0) options.msaa = msaa;
+  if (width > 0) options.width = width;
+  if (supersample > 0) options.supersample = supersample;
+  if (height > 0) options.height = height;
+  const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
+  for (const render::Camera& c : cams) {
+    if (!views.empty() && std::find(views.begin(), views.end(), c.name) == views.end()) continue;
+    std::printf("view %s (%dx%d, MSAA %d, supersample %d)\n", c.name.c_str(), options.width, options.height,
+                options.msaa, options.supersample);
+    render::ForestViewStats st;
+    render::Scene scene = fv.view_scene(c, float(options.width) / float(options.height), {}, st);
+    if (exact)
+      for (render::ImpostorSet& is : scene.impostors)
+        is.parallax_steps = render::ImpostorSet{}.parallax_steps;
+    lap.print("scene");
+    const image::Image img = renderer->render(scene, c, options);
+    lap.print("render");
+    if (!out.empty()) {
+      image::write_png(img, std::filesystem::path(out) / (c.name + ".png"));
+      lap.print("png");
+    }
+    if (judge) {
+      // As `sylva lodcheck` judges a forest view: trees only (no ground), transparent background
+      // (alpha = coverage), the exact view (16 steps everywhere) as the reference.
+      render::ForestViewOptions trees;
+      trees.ground = false;
+      render::RenderOptions ro = options;
+      ro.background.a = 0;
+      render::ForestViewStats unused;
+      render::Scene fast = fv.view_scene(c, float(options.width) / float(options.height), trees, unused);
+      render::Scene ref = fast;
+      for (render::ImpostorSet& is : ref.impostors) is.parallax_steps = render::ImpostorSet{}.parallax_steps;
+      const image::Image a = renderer->render(ref, c, ro), b = renderer->render(fast, c, ro);
+      const check::ViewJudgement j = check::judge_coverage(a, b, check::CoverageThresholds{}, "forest");
+      std::printf(
+          "  parallax table vs 16 steps: footprint %zu px, fail %.3f %%, cov_mean %.4f, cov_bias %+.4f, "
+          "colour %.4f: %s\n",
+          j.stats.footprint_pixels, 100 * j.stats.failing_fraction, j.stats.coverage_mean_error,
+          j.stats.coverage_bias, j.stats.shade_mean_error, j.failure.empty() ? "passed" : j.failure.c_str());
+      lap.print("judge");
+    }
+    std::printf("  trees %zu of %zu, impostors %zu, primitives %zu\n", st.trees_drawn, st.trees, st.impostors,
+                st.primitives);
+    std::printf("  impostors by parallax steps:");
+    for (const auto& [steps, n] : st.impostor_steps) std::printf(" %d: %zu", steps, n);
+    std::printf("\n");
+    for (std::size_t s = 0; s < st.species_trees.size(); ++s) {
+      std::printf("  %-12s", fv.forest().species[s].name.c_str());
+      for (std::size_t l = 0; l < st.species_trees[s].size(); ++l)
+        std::printf(" L%zu %4zu/%9zu", l, st.species_trees[s][l], st.species_primitives[s][l]);
+      std::printf("\n");
+    }
+  }
+  return 0;
+}
