@@ -110,8 +110,8 @@ TEST(PackManifest, ReadErrorsNameTheElement) {
     EXPECT_NE(at, std::string::npos) << from;
     return t.replace(at, from.size(), to);
   };
-  EXPECT_EQ(error_of(replaced("\"version\": 3", "\"version\": 7")),
-            "m.json: version: 7 is not supported (this sylva reads versions 1 to 3)");
+  EXPECT_EQ(error_of(replaced("\"version\": 4", "\"version\": 7")),
+            "m.json: version: 7 is not supported (this sylva reads versions 1 to 4)");
   EXPECT_EQ(error_of(replaced("\"path\": \"oak.glb\"", "\"path\": \"../oak.glb\"")),
             "m.json: files[0].path: '../oak.glb' is not a plain relative path");
   EXPECT_EQ(error_of(replaced("\"size\": 5", "\"size\": -5")),
@@ -205,7 +205,7 @@ TEST(PackManifest, LevelsCarryTheirNumbers) {
 // Version 2: levels are file names; read as levels with the file only.
 TEST(PackManifest, ReadsVersionTwoLevelNames) {
   std::string text = write_manifest(sample());
-  const std::string v = "\"version\": 3";
+  const std::string v = "\"version\": 4";
   text.replace(text.find(v), v.size(), "\"version\": 2");
   const std::size_t from = text.find("\"levels\": [");
   const std::size_t to = text.find("]", from);
@@ -214,13 +214,13 @@ TEST(PackManifest, ReadsVersionTwoLevelNames) {
   EXPECT_EQ(back.version, 2);
   ASSERT_EQ(back.species[0].levels.size(), 1u);
   EXPECT_EQ(back.species[0].levels[0], named("oak_lod0.glb"));
-  // Written back, it is a version 3 manifest.
-  EXPECT_NE(write_manifest(back).find("\"version\": 3"), std::string::npos);
+  // Written back, it is a version 4 manifest.
+  EXPECT_NE(write_manifest(back).find("\"version\": 4"), std::string::npos);
 }
 
 TEST(PackManifest, ReadsVersionOneWithoutForests) {
   std::string text = write_manifest(sample());
-  const std::string v = "\"version\": 3", forests = "\"forests\": [],\n";
+  const std::string v = "\"version\": 4", forests = "\"forests\": [],\n";
   text.replace(text.find(v), v.size(), "\"version\": 1");
   ASSERT_NE(text.find(forests), std::string::npos) << text;
   text.erase(text.find(forests), forests.size());
