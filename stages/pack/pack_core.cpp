@@ -367,6 +367,15 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     return std::string(buf);
   };
 
+  // Why a candidate is not kept: the latest decision about it, until its own band start has been
+  // decided (what happened there is its reason).
+  std::vector<char> settled(n, 0);
+  auto note = [&](std::size_t j, double b, std::string why) {
+    if (settled[j]) return;
+    out[j].reason = std::move(why);
+    settled[j] = b >= cand[j].switch_distance_m;
+  };
+
   // Level 0: the finest, drawn nearest; its measurement at its own switch distance is recorded.
   std::size_t c = 0;
   out[0].kept = true;
@@ -385,15 +394,16 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     if (has_impostor) {
       const std::size_t imp = n - 1;
       if (!saves(imp, c)) {
-        out[imp].reason = saving_reason(imp, c, b);
+        note(imp, b, saving_reason(imp, c, b));
       } else if (const LevelMeter::Result r = measure(imp, b); r.error.passed) {
         best = imp;
         best_error = r.error;
         for (std::size_t j = c + 1; j < meshes; ++j)
-          out[j].reason = "the impostor (" + std::to_string(cand[imp].primitives) +
-                          " primitives) passes from " + describe(b) + " m";
+          note(j, b,
+               "the impostor (" + std::to_string(cand[imp].primitives) + " primitives) passes from " +
+                   describe(b) + " m");
       } else {
-        out[imp].reason = "fails at " + describe(b) + " m: " + r.failure;
+        note(imp, b, "fails at " + describe(b) + " m: " + r.failure);
       }
     }
     // The band's own mesh level (when it is coarser than the current one; the impostor's band
@@ -405,21 +415,22 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
       if (cand[j].switch_distance_m == b) from = j;
     for (std::size_t j = from; !best && j < meshes; ++j) {
       if (!saves(j, c)) {
-        out[j].reason = saving_reason(j, c, b);
+        note(j, b, saving_reason(j, c, b));
         continue;
       }
       const LevelMeter::Result r = measure(j, b);
       if (!r.error.passed) {
-        out[j].reason = "fails at " + describe(b) + " m: " + r.failure;
+        note(j, b, "fails at " + describe(b) + " m: " + r.failure);
         for (std::size_t k = j + 1; k < meshes; ++k)
-          out[k].reason =
-              "not measured at " + describe(b) + " m: level " + std::to_string(j) + ", finer, fails there";
+          note(k, b,
+               "not measured at " + describe(b) + " m: level " + std::to_string(j) + ", finer, fails there");
         break;
       }
       // Passes; a coarser one may pass too.
       if (mesh_best)
-        out[*mesh_best].reason = "level " + std::to_string(j) + " (" + std::to_string(cand[j].primitives) +
-                                 " primitives) passes at " + describe(b) + " m too";
+        note(*mesh_best, b,
+             "level " + std::to_string(j) + " (" + std::to_string(cand[j].primitives) +
+                 " primitives) passes at " + describe(b) + " m too");
       mesh_best = j;
       best_error = r.error;
     }
@@ -427,12 +438,12 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     // coarsest first, up to the first that passes.
     for (std::size_t j = from; !best && !mesh_best && j-- > c + 1;) {
       if (!saves(j, c)) {
-        out[j].reason = saving_reason(j, c, b);
+        note(j, b, saving_reason(j, c, b));
         continue;
       }
       const LevelMeter::Result r = measure(j, b);
       if (!r.error.passed) {
-        out[j].reason = "fails at " + describe(b) + " m: " + r.failure;
+        note(j, b, "fails at " + describe(b) + " m: " + r.failure);
         continue;
       }
       mesh_best = j;

@@ -9,15 +9,17 @@
 //                          MSFT_lod), k = 0.. in chain order;
 //   <species>_impostor.glb the impostor level alone (when there is one);
 //   <species>.lod.json     engine-neutral: levels, switch distances, screen coverage, sizes.
-// Levels kept (select_levels), with a LevelMeter (measured choice): mesh level 0, measured at its
-// switch distance; then at each band start (each further mesh level's switch distance, then the
-// impostor's), the candidate with the fewest primitives whose shipped file passes the image check
-// there — the impostor first, then the mesh levels coarser than the current one, finest first,
-// up to the first that fails — among those that save at least min_saving of the current level's
-// primitives; a kept level is drawn from the band start where it was chosen. Without a meter
-// (error model): mesh level 0; every further mesh level whose switch distance lies before the
-// impostor's and that saves min_saving over the level kept before it; the impostor when it saves
-// min_saving over the last kept mesh level.
+// Levels kept (select_levels), with a LevelMeter (measured choice; docs/stages/pack.md "Levels
+// kept"): mesh level 0, measured at its switch distance; then at each band start (each further
+// mesh level's switch distance, then the impostor's), among the candidates that save at least
+// min_saving of the current level's primitives, the one with the fewest primitives whose shipped
+// file passes the image check there: the impostor first; else the band's own level and the
+// coarser ones, finest first, up to the first that fails; else the levels between the current
+// one and the band's own, coarsest first, up to the first that passes; else the current level
+// draws the band too. A kept level is drawn from the band start where it was chosen. Without a
+// meter (error model): mesh level 0; every further mesh level whose switch distance lies before
+// the impostor's and that saves min_saving over the level kept before it; the impostor when it
+// saves min_saving over the last kept mesh level.
 // Every mesh is reordered by meshoptimizer (strip-friendly vertex cache order, fetch) and compressed as
 // asked; textures are the lod stage's PNGs, byte for byte. Pure over the scenes read from the
 // lod files: no file system, no clock; rendering only through the LevelMeter.
