@@ -56,7 +56,10 @@ void trim_level_extras(gltf::Scene& s, std::size_t first_node, std::size_t first
 
 }  // namespace
 
-PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction) {
+namespace {
+
+// The largest axis extent of the mesh's positions (m): what its position grid spans.
+double mesh_extent(const gltf::Mesh& mesh) {
   std::array<double, 3> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
@@ -67,6 +70,18 @@ PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fracti
     }
   double extent = 0;
   for (std::size_t c = 0; c < 3; ++c) extent = std::max(extent, hi[c] - lo[c]);
+  return extent;
+}
+
+// sqrt(3)/2 of a step of a `bits` grid over `extent`: the largest rounding error (m).
+double grid_error(double extent, int bits) {
+  return std::sqrt(3.0) / 2 * (extent / double((1u << bits) - 1));
+}
+
+}  // namespace
+
+PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction) {
+  const double extent = mesh_extent(mesh);
   const double budget = fraction * epsilon;  // allowed rounding error, m
   if (!(budget > 0) || !(extent >= 0)) return {};
   const double half_diagonal = std::sqrt(3.0) / 2;
@@ -182,6 +197,10 @@ struct Candidate {
   double switch_distance_m = 0;  // its own (proven) switch distance
   std::uint64_t primitives = 0;
   std::vector<int> bits;  // per mesh of `scene`
+  // Per mesh: its extent, and whether its position_error grid would need more than 16 bits (it
+  // has 16 bits or float positions; with a meter, a coarser grid that measures as passing).
+  std::vector<double> extent;
+  std::vector<char> fine;
   double float_error = 0;
   LodLevel grid;  // position_bits, position_error_m, position_float
 };
@@ -226,20 +245,32 @@ class Prepared {
         c.grid.position_float = true;
         continue;
       }
-      for (std::size_t m = 0; m < c.bits.size(); ++m) {
-        const PositionGrid g = position_grid(c.scene->meshes[m], c.epsilon_m, options.position_error,
-                                             options.position_error_max);
-        c.bits[m] = g.bits;
-        c.grid.position_bits = std::max(c.grid.position_bits, g.bits);
-        c.grid.position_error_m = std::max(c.grid.position_error_m, g.max_error_m);
-        if (g.bits == 0) {
-          c.grid.position_float = true;
-          // Float positions: exact, or within position_error x epsilon through the EXPONENTIAL filter.
-          if (w.meshopt)
-            c.grid.position_error_m = std::max(c.grid.position_error_m, options.position_error * c.epsilon_m);
-        }
-      }
       c.float_error = options.position_error * c.epsilon_m;
+      std::vector<int> bits;
+      for (const gltf::Mesh& mesh : c.scene->meshes) {
+        const PositionGrid g =
+            position_grid(mesh, c.epsilon_m, options.position_error, options.position_error_max);
+        bits.push_back(g.bits);
+        c.extent.push_back(mesh_extent(mesh));
+        c.fine.push_back(g.bits == 0 || g.relaxed);
+      }
+      set_bits(c, std::move(bits));
+    }
+  }
+
+  // Candidate `c`'s position grids (one entry per mesh; 0: float) and the numbers lod.json states.
+  void set_bits(Candidate& c, std::vector<int> bits) const {
+    c.bits = std::move(bits);
+    c.grid = {};
+    for (std::size_t m = 0; m < c.bits.size(); ++m) {
+      c.grid.position_bits = std::max(c.grid.position_bits, c.bits[m]);
+      if (c.bits[m] > 0) {
+        c.grid.position_error_m = std::max(c.grid.position_error_m, grid_error(c.extent[m], c.bits[m]));
+      } else {
+        c.grid.position_float = true;
+        // Float positions: exact, or within position_error x epsilon through the EXPONENTIAL filter.
+        if (w.meshopt) c.grid.position_error_m = std::max(c.grid.position_error_m, c.float_error);
+      }
     }
   }
 
@@ -457,6 +488,29 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
       k.measured = best_error;
       k.reason.clear();
       c = *best;
+    }
+  }
+
+  // A kept level whose position_error grid would need more than 16 bits (the finest level of a
+  // large tree): the coarsest grid from position_bits_min bits on whose file measures as passing
+  // at the level's switch distance (16 bits, or float, when none does).
+  for (std::size_t j = 0; j < n; ++j) {
+    Candidate& k = p.candidates[j];
+    if (!out[j].kept || k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; }))
+      continue;
+    for (int b = options.position_bits_min; b < 16; ++b) {
+      Candidate coarser = k;
+      std::vector<int> bits = k.bits;
+      for (std::size_t m = 0; m < bits.size(); ++m)
+        if (k.fine[m]) bits[m] = b;
+      p.set_bits(coarser, std::move(bits));
+      const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
+      const LevelMeter::Result r =
+          meter.measure(key, p.level_file(coarser, k.switch_distance_m), out[j].switch_distance_m);
+      if (!r.error.passed) continue;
+      k = std::move(coarser);
+      out[j].measured = r.error;
+      break;
     }
   }
   return out;

@@ -58,6 +58,10 @@ struct PackOptions {
   // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
   // kept before it; [0, 1).
   double min_saving = 0.1;
+  // With a meter: a kept level whose position_error grid would need more than 16 bits gets the
+  // coarsest grid of position_bits_min..15 bits whose file measures as passing at its switch
+  // distance (else the rule above). 14 is gltfpack's default; [1, 16].
+  int position_bits_min = 14;
 };
 
 // The impostor level: impostor.glb read back, and impostor.json's numbers (libs/impostor).

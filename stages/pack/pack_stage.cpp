@@ -80,6 +80,7 @@ class PackStage : public Stage {
     options.normal_bits = static_cast<int>(ctx.integer("normal_bits"));
     options.texcoord_bits = static_cast<int>(ctx.integer("texcoord_bits"));
     options.min_saving = ctx.real("min_saving");
+    options.position_bits_min = static_cast<int>(ctx.integer("position_bits_min"));
     const bool measure = ctx.boolean("measure");
     check::ViewCheckOptions view_options;
     if (measure) {

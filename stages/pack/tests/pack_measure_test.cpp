@@ -282,5 +282,27 @@ TEST_F(PackMeasure, TheSameChoiceAndBytesEveryRun) {
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(a[i].bytes == b[i].bytes) << a[i].name;
 }
 
+// A level whose epsilon / 4 grid would need more than 16 bits (level 0 at epsilon 20 um over 1 m:
+// 18 bits; 16 bits round by 13 um, within epsilon) gets the coarsest grid from position_bits_min
+// on that measures as passing at its switch distance: 14 bits here (the box renderer draws the
+// box that fills the frame at 9.7 mm alike); without a meter, or with position_bits_min 16, 16.
+TEST_F(PackMeasure, AFineLevelGetsTheCoarsestGridThatPasses) {
+  std::vector<Level> levels = honest();
+  levels[0] = {8, 0.00002, 0.0};
+  const SpeciesInput in = chain(levels);
+  LodDescription d;
+  pack_species(in, {}, &d, &meter_);
+  EXPECT_EQ(d.levels[0].position_bits, 14);
+  EXPECT_DOUBLE_EQ(d.levels[0].position_error_m, std::sqrt(3.0) / 2 * (1.0 / 16383));
+  ASSERT_TRUE(d.levels[0].measured.has_value());
+  EXPECT_TRUE(d.levels[0].measured->passed);
+  pack_species(in, {}, &d);
+  EXPECT_EQ(d.levels[0].position_bits, 16);
+  PackOptions o;
+  o.position_bits_min = 16;
+  pack_species(in, o, &d, &meter_);
+  EXPECT_EQ(d.levels[0].position_bits, 16);
+}
+
 }  // namespace
 }  // namespace sylva::pack
