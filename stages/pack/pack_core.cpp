@@ -197,8 +197,8 @@ struct Candidate {
   double switch_distance_m = 0;  // its own (proven) switch distance
   std::uint64_t primitives = 0;
   std::vector<int> bits;  // per mesh of `scene`
-  // Per mesh: its extent, and whether its position_error grid would need more than 16 bits (it
-  // has 16 bits or float positions; with a meter, a coarser grid that measures as passing).
+  // Per mesh: its extent, and whether its grid has more than position_bits_min bits or float
+  // positions (with a meter, a coarser grid that measures as passing).
   std::vector<double> extent;
   std::vector<char> fine;
   double float_error = 0;
@@ -252,7 +252,7 @@ class Prepared {
             position_grid(mesh, c.epsilon_m, options.position_error, options.position_error_max);
         bits.push_back(g.bits);
         c.extent.push_back(mesh_extent(mesh));
-        c.fine.push_back(g.bits == 0 || g.relaxed);
+        c.fine.push_back(g.bits == 0 || g.bits > options.position_bits_min);
       }
       set_bits(c, std::move(bits));
     }
@@ -491,18 +491,22 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     }
   }
 
-  // A kept level whose position_error grid would need more than 16 bits (the finest level of a
-  // large tree): the coarsest grid from position_bits_min bits on whose file measures as passing
-  // at the level's switch distance (16 bits, or float, when none does).
+  // A kept level whose grid (above) has more than position_bits_min bits (the finest levels):
+  // the coarsest grid from position_bits_min bits on whose file measures as passing at the level's
+  // switch distance (its own grid when none does). Never coarser than position_bits_min, nor than
+  // the grid the level's epsilon asks for.
   for (std::size_t j = 0; j < n; ++j) {
     Candidate& k = p.candidates[j];
     if (!out[j].kept || k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; }))
       continue;
-    for (int b = options.position_bits_min; b < 16; ++b) {
+    int finest = 0;  // bits of the finest grid among the fine meshes (16 for float positions)
+    for (std::size_t m = 0; m < k.bits.size(); ++m)
+      if (k.fine[m]) finest = std::max(finest, k.bits[m] == 0 ? 16 : k.bits[m]);
+    for (int b = options.position_bits_min; b < finest; ++b) {
       Candidate coarser = k;
       std::vector<int> bits = k.bits;
       for (std::size_t m = 0; m < bits.size(); ++m)
-        if (k.fine[m]) bits[m] = b;
+        if (k.fine[m] && (bits[m] == 0 || bits[m] > b)) bits[m] = b;
       p.set_bits(coarser, std::move(bits));
       const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
       const LevelMeter::Result r =

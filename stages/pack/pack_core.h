@@ -58,9 +58,9 @@ struct PackOptions {
   // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
   // kept before it; [0, 1).
   double min_saving = 0.1;
-  // With a meter: a kept level whose position_error grid would need more than 16 bits gets the
-  // coarsest grid of position_bits_min..15 bits whose file measures as passing at its switch
-  // distance (else the rule above). 14 is gltfpack's default; [1, 16].
+  // With a meter: a kept level whose grid (the rule above) has more than position_bits_min bits,
+  // or float positions, gets the coarsest grid from position_bits_min bits on whose file measures
+  // as passing at its switch distance (else its own). 14 is gltfpack's default; [1, 16].
   int position_bits_min = 14;
 };
 

@@ -51,8 +51,9 @@ StageInfo pack_stage_info() {
           .describe("the name of each forest input, in `needs` order ([a-z0-9_-]+): the manifest's forests"),
       Param::integer("position_bits_min", 14)
           .range(1, 16)
-          .describe("with measure: a level whose position_error grid would need more than 16 bits gets the "
-                    "coarsest grid from this many bits that measures as passing at its switch distance"),
+          .describe(
+              "with measure: a level whose grid has more bits gets the coarsest grid from this many bits "
+              "on that measures as passing at its switch distance"),
       Param::boolean("measure", true)
           .describe("choose each band's level by image error measured with lodcheck's renderer and views "
                     "against the lod input's full.glb (false: the error model's switch distances)"),
