@@ -202,6 +202,24 @@ TEST(PackManifest, LevelsCarryTheirNumbers) {
             "m.json: species[0].levels[0].kind: expected \"mesh\" or \"impostor\"");
 }
 
+// Version 4: a level may carry the image error the pack measured; it round-trips exactly and its
+// fields are checked like the others.
+TEST(PackManifest, LevelsCarryTheirMeasuredError) {
+  Manifest m = sample();
+  m.species[0].levels[0].measured = MeasuredError{0.00015, 0.0019, true};
+  const std::string text = write_manifest(m);
+  EXPECT_NE(text.find("\"measured\": {\n            \"coverage_mean_error\": 0.0019,\n            "
+                      "\"failing_fraction\": 0.00015,\n            \"passed\": true\n          }"),
+            std::string::npos)
+      << text;
+  const Manifest back = parse_manifest(text, "m.json");
+  EXPECT_EQ(back.species[0].levels[0], m.species[0].levels[0]);
+  std::string t = text;
+  const std::string from = "\"passed\": true";
+  t.replace(t.find(from), from.size(), "\"passed\": 1");
+  EXPECT_EQ(error_of(t), "m.json: species[0].levels[0].measured.passed: expected true or false");
+}
+
 // Version 2: levels are file names; read as levels with the file only.
 TEST(PackManifest, ReadsVersionTwoLevelNames) {
   std::string text = write_manifest(sample());

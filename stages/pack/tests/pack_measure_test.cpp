@@ -19,6 +19,9 @@
 #include "libs/render/gltf_scene.h"
 #include "stages/pack/level_meter.h"
 #include "stages/pack/pack_core.h"
+#include "stages/pack/pack_stage.h"
+#include "tests/support/fake_stage_context.h"
+#include "tests/support/test_support.h"
 
 namespace sylva::pack {
 namespace {
@@ -302,6 +305,75 @@ TEST_F(PackMeasure, AFineLevelGetsTheCoarsestGridThatPasses) {
   o.position_bits_min = 16;
   pack_species(in, o, &d, &meter_);
   EXPECT_EQ(d.levels[0].position_bits, 16);
+}
+
+// The stage: a lod input as the lod stage writes it (lod.gltf over lod<i>.gltf and .bin files,
+// lod.json with the chain's camera, full.glb), measured through the renderer the stage is given.
+void write_lod_dir(const std::filesystem::path& dir, const std::vector<Level>& levels, bool full) {
+  std::filesystem::create_directories(dir);
+  SpeciesInput in = chain(levels, -1);
+  gltf::Scene c = in.chain;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    c.meshes[i].buffer = int(i);
+    c.buffer_uris.push_back("lod" + std::to_string(i) + ".bin");
+  }
+  const gltf::EncodedFiles files = gltf::encode_external(c);
+  test::write_file(dir / "lod.gltf", files.gltf);
+  for (const auto& r : files.resources) test::write_file(dir / r.name, r.bytes);
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    gltf::Scene l = in.levels[i];
+    l.buffer_uris = {"lod" + std::to_string(i) + ".bin"};
+    test::write_file(dir / ("lod" + std::to_string(i) + ".gltf"), gltf::encode_external(l).gltf);
+  }
+  test::write_file(dir / "lod.json",
+                   R"({"camera": {"fov_y_deg": 45.0, "height_px": 200}, "pixel_error_px": 0.5})");
+  if (full) test::write_file(dir / "full.glb", gltf::encode(one_mesh_scene(box(10, 0), {})));
+}
+
+TEST(PackMeasureStage, MeasuresWithTheRendererItIsGivenAndRecordsTheErrors) {
+  test::TempDir tmp;
+  std::vector<Level> levels = honest();
+  levels[2].lowered = 3 * levels[2].eps;  // fails at its own switch distance (above)
+  write_lod_dir(tmp.path() / "lod", levels, true);
+  BoxRenderer renderer;
+  const auto stage = make_pack_stage([&]() -> render::Renderer& { return renderer; });
+  for (const bool measure : {true, false}) {
+    const std::filesystem::path out = tmp.path() / (measure ? "measured" : "model");
+    std::filesystem::create_directories(out);
+    test::FakeStageContext ctx(*stage, {{"lod_box", "lod", tmp.path() / "lod"}}, out,
+                               {{"species", Value::List{Value("box")}},
+                                {"measure", Value(measure)},
+                                {"measure_max_failing_fraction", Value(0.0)}});
+    stage->run(ctx);
+    const nlohmann::json lod = nlohmann::json::parse(test::read_file(out / "box.lod.json"));
+    const nlohmann::json manifest = nlohmann::json::parse(test::read_file(out / "manifest.json"));
+    EXPECT_EQ(manifest["species"][0]["levels"], lod["levels"]);
+    std::vector<int> kept;
+    for (const auto& l : lod["levels"]) {
+      kept.push_back(l["source_level"].get<int>());
+      EXPECT_EQ(l.contains("measured"), measure) << l.dump();
+    }
+    EXPECT_EQ(kept, measure ? std::vector<int>({0, 1, 3}) : std::vector<int>({0, 1, 2, 3}));
+  }
+  EXPECT_GT(renderer.calls, 0);
+}
+
+TEST(PackMeasureStage, ALodInputWithoutFullDetailIsAnError) {
+  test::TempDir tmp;
+  write_lod_dir(tmp.path() / "lod", honest(), false);
+  BoxRenderer renderer;
+  const auto stage = make_pack_stage([&]() -> render::Renderer& { return renderer; });
+  test::FakeStageContext ctx(*stage, {{"lod_box", "lod", tmp.path() / "lod"}}, tmp.path(),
+                             {{"species", Value::List{Value("box")}}});
+  try {
+    stage->run(ctx);
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_STREQ(e.what(),
+                 "input 'lod_box' has no full.glb, the full-detail model the measured level choice judges "
+                 "against (a lod node of stage version 10 or later writes it; or set `measure: false`)");
+  }
+  EXPECT_EQ(renderer.calls, 0);
 }
 
 }  // namespace
