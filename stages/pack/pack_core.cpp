@@ -407,10 +407,38 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     settled[j] = b >= cand[j].switch_distance_m;
   };
 
-  // Level 0: the finest, drawn nearest; its measurement at its own switch distance is recorded.
+  // A kept level whose grid (above) has more than position_bits_min bits (the finest levels): the
+  // coarsest grid from position_bits_min bits on whose file measures as passing at distance d
+  // (the level's switch distance) is taken, with that measurement; true when one is. Never coarser
+  // than position_bits_min, nor than the grid the level's epsilon asks for.
+  auto coarsest_grid = [&](std::size_t j, double d) {
+    Candidate& k = p.candidates[j];
+    if (k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; })) return false;
+    int finest = 0;  // bits of the finest grid among the fine meshes (16 for float positions)
+    for (std::size_t m = 0; m < k.bits.size(); ++m)
+      if (k.fine[m]) finest = std::max(finest, k.bits[m] == 0 ? 16 : k.bits[m]);
+    for (int b = options.position_bits_min; b < finest; ++b) {
+      Candidate coarser = k;
+      std::vector<int> bits = k.bits;
+      for (std::size_t m = 0; m < bits.size(); ++m)
+        if (k.fine[m] && (bits[m] == 0 || bits[m] > b)) bits[m] = b;
+      p.set_bits(coarser, std::move(bits));
+      const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
+      const LevelMeter::Result r = meter.measure(key, p.level_file(coarser, k.switch_distance_m), d);
+      if (!r.error.passed) continue;
+      k = std::move(coarser);
+      out[j].measured = r.error;
+      return true;
+    }
+    return false;
+  };
+
+  // Level 0: the finest, drawn nearest; measured at its own switch distance (its coarsest grid
+  // that passes there, else its own grid), and the measurement recorded.
   std::size_t c = 0;
   out[0].kept = true;
-  out[0].measured = measure(0, out[0].switch_distance_m).error;
+  if (!coarsest_grid(0, out[0].switch_distance_m))
+    out[0].measured = measure(0, out[0].switch_distance_m).error;
 
   std::vector<double> starts;
   for (std::size_t j = 1; j < n; ++j) starts.push_back(cand[j].switch_distance_m);
@@ -491,32 +519,8 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     }
   }
 
-  // A kept level whose grid (above) has more than position_bits_min bits (the finest levels):
-  // the coarsest grid from position_bits_min bits on whose file measures as passing at the level's
-  // switch distance (its own grid when none does). Never coarser than position_bits_min, nor than
-  // the grid the level's epsilon asks for.
-  for (std::size_t j = 0; j < n; ++j) {
-    Candidate& k = p.candidates[j];
-    if (!out[j].kept || k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; }))
-      continue;
-    int finest = 0;  // bits of the finest grid among the fine meshes (16 for float positions)
-    for (std::size_t m = 0; m < k.bits.size(); ++m)
-      if (k.fine[m]) finest = std::max(finest, k.bits[m] == 0 ? 16 : k.bits[m]);
-    for (int b = options.position_bits_min; b < finest; ++b) {
-      Candidate coarser = k;
-      std::vector<int> bits = k.bits;
-      for (std::size_t m = 0; m < bits.size(); ++m)
-        if (k.fine[m] && (bits[m] == 0 || bits[m] > b)) bits[m] = b;
-      p.set_bits(coarser, std::move(bits));
-      const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
-      const LevelMeter::Result r =
-          meter.measure(key, p.level_file(coarser, k.switch_distance_m), out[j].switch_distance_m);
-      if (!r.error.passed) continue;
-      k = std::move(coarser);
-      out[j].measured = r.error;
-      break;
-    }
-  }
+  for (std::size_t j = 1; j < n; ++j)
+    if (out[j].kept) coarsest_grid(j, out[j].switch_distance_m);
   return out;
 }
 
