@@ -5,7 +5,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "libs/gltf/writer.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/lod/chain.h"
 #include "stages/lod/lod_gltf.h"
@@ -36,12 +35,7 @@ std::string lod_full_detail_glb(const Recipe& recipe, const RecipeBuild& built, 
   if (!tree.materials.leaf_texture.empty())
     if (const ArtifactFile* f = tree_in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
   const lod::Precomputed pre = lod::precompute(tree, chain);
-  lod::Level full = lod::build_full_detail(tree, pre, chain);
-  if (branches_only) {
-    full.leaves = {};
-    full.needles = {};
-  }
-  return gltf::encode(lod::level_scene(tree, full, 0, tex));
+  return lod::encode_full_detail(tree, lod::build_full_detail(tree, pre, chain), tex, branches_only);
 }
 
 }  // namespace sylva

@@ -2,7 +2,6 @@
 
 #include "stages/lod/lod_stage.h"
 #include "stages/mesh/mesh_stage.h"
-#include "stages/pack/pack_stage.h"
 
 // Each geometry stage folder exposes its factory in its adapter header and its StageInfo in
 // <name>_info.h (registered lazily by register_stages.cpp); list them here, sorted.
@@ -12,7 +11,6 @@ namespace sylva {
 void register_geometry_stages(StageRegistry& registry) {
   registry.add(make_lod_stage());
   registry.add(make_mesh_stage());
-  registry.add(make_pack_stage());
 }
 
 }  // namespace sylva

@@ -22,7 +22,7 @@ void register_builtin_stages(StageRegistry& registry, StageResolver& gfx, StageR
   registry.add(make_lazy_stage(impostor_stage_info(), gfx));
   registry.add(make_lazy_stage(lod_stage_info(), geometry));
   registry.add(make_lazy_stage(mesh_stage_info(), geometry));
-  registry.add(make_lazy_stage(pack_stage_info(), geometry));
+  registry.add(make_lazy_stage(pack_stage_info(), gfx));
   registry.add(make_lazy_stage(verify_stage_info(), gfx));
 }
 

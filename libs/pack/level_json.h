@@ -2,7 +2,7 @@
 // `species[].levels[i]` (the same keys in both files, one writer). Keys: file, kind,
 // impostor_kind (impostor levels only), source_level, epsilon_m, pixel_error_px,
 // switch_distance_m, screen_coverage, primitives, triangles, lines, bytes, position_bits,
-// position_error_m, position_float (lod_json.h says what each means).
+// position_error_m, position_float, measured (when measured; lod_json.h says what each means).
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -22,6 +22,10 @@ nlohmann::json level_json(const LodLevel& l) {
                           {"position_error_m", l.position_error_m},
                           {"position_float", l.position_float}};
   if (!l.impostor_kind.empty()) level["impostor_kind"] = l.impostor_kind;
+  if (l.measured)
+    level["measured"] = {{"failing_fraction", l.measured->failing_fraction},
+                         {"coverage_mean_error", l.measured->coverage_mean_error},
+                         {"passed", l.measured->passed}};
   return level;
 }
 
@@ -35,7 +39,7 @@ std::string write_lod_json(const LodDescription& d) {
                        {"switch_distance_m", l.switch_distance_m},
                        {"primitives", l.primitives},
                        {"reason", l.reason}});
-  const nlohmann::json j = {{"format", "sylva-pack-lod"},  {"version", 3},
+  const nlohmann::json j = {{"format", "sylva-pack-lod"},  {"version", 4},
                             {"species", d.species},        {"chain", d.chain},
                             {"levels", std::move(levels)}, {"dropped", std::move(dropped)}};
   return j.dump(2) + "\n";

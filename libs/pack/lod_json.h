@@ -1,11 +1,12 @@
 // <species>.lod.json (issue 14; docs/formats.md "Pack lod.json"): the engine-neutral description
 // of a species' shipped LOD chain, for engines that do not read MSFT_lod. One writer, here.
 //
-//   {"format": "sylva-pack-lod", "version": 3, "species": "oak", "chain": "oak.glb",
+//   {"format": "sylva-pack-lod", "version": 4, "species": "oak", "chain": "oak.glb",
 //    "levels": [{"file": "oak_lod0.glb", "kind": "mesh", "source_level": 0, "epsilon_m": ..,
 //                "pixel_error_px": .., "switch_distance_m": .., "screen_coverage": ..,
 //                "primitives": .., "triangles": .., "lines": .., "bytes": .., "position_bits": ..,
-//                "position_error_m": .., "position_float": ..},
+//                "position_error_m": .., "position_float": ..,
+//                "measured": {"failing_fraction": .., "coverage_mean_error": .., "passed": ..}},
 //               ..., {"file": "oak_impostor.glb", "kind": "impostor", "impostor_kind": "billboards",
 //                     "source_level": -1, ...}],
 //    "dropped": [{"kind": "mesh", "source_level": 3, "switch_distance_m": .., "primitives": ..,
@@ -18,10 +19,21 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace sylva::pack {
+
+// A level's image error as the pack measured it (its measured level choice): the level as shipped
+// against the full-detail tree at the level's switch distance, `sylva lodcheck`'s cameras and
+// verdict (libs/check/view_check.h); the worse of the views for each number.
+struct MeasuredError {
+  double failing_fraction = 0;     // footprint pixels whose coverage changed by more than delta (0..1)
+  double coverage_mean_error = 0;  // mean coverage change over the footprint (0..1)
+  bool passed = false;             // every view within the check's bounds
+  friend bool operator==(const MeasuredError&, const MeasuredError&) = default;
+};
 
 struct LodLevel {
   std::string file;
@@ -37,6 +49,7 @@ struct LodLevel {
   int position_bits = 0;
   double position_error_m = 0;
   bool position_float = false;
+  std::optional<MeasuredError> measured;  // absent when the pack did not measure (measure: false)
   friend bool operator==(const LodLevel&, const LodLevel&) = default;
 };
 

@@ -105,6 +105,13 @@ class Reader {
     l.position_bits = integer(obj, where, "position_bits");
     l.position_error_m = number(obj, where, "position_error_m");
     l.position_float = boolean(obj, where, "position_float");
+    if (obj.contains("measured")) {
+      const std::string at = where + ".measured";
+      const json& m = obj["measured"];
+      if (!m.is_object()) fail(at, "expected an object");
+      l.measured = MeasuredError{number(m, at, "failing_fraction"), number(m, at, "coverage_mean_error"),
+                                 boolean(m, at, "passed")};
+    }
     return l;
   }
   std::string path(const json& obj, const std::string& where, const char* key) const {

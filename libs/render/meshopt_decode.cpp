@@ -102,6 +102,8 @@ bool decode_meshopt_glb(std::string& bytes) {
     views[v]["byteOffset"] = base + off;
   }
   bin += decoded_all;
+  const std::size_t bin_length = bin.size();
+  while (bin.size() % 4) bin.push_back('\0');  // a GLB chunk ends on a 4-byte boundary
   // Fallback buffers (no data) go; every view of them was decoded above.
   std::vector<int> remap(buffers.size(), -1);
   nlohmann::json kept = nlohmann::json::array();
@@ -113,7 +115,7 @@ bool decode_meshopt_glb(std::string& bytes) {
     kept.push_back(buffers[b]);
   }
   if (kept.empty()) kept.push_back(nlohmann::json::object());
-  kept[0]["byteLength"] = bin.size();
+  kept[0]["byteLength"] = bin_length;
   for (auto& view : views) {
     const std::size_t b = view.value("buffer", std::size_t(0));
     if (b >= remap.size() || remap[b] < 0)

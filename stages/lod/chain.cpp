@@ -225,8 +225,11 @@ Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const Ch
 }
 
 std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options) {
+  return build_chain(tree, precompute(tree, options), options);
+}
+
+std::vector<Level> build_chain(const tree::Tree& tree, const Precomputed& pre, const ChainOptions& options) {
   const std::vector<LevelSpec> specs = plan_levels(options);
-  const Precomputed pre = precompute(tree, options);
   // Levels are independent given the precomputed data: one task per level, each into its slot.
   std::vector<Level> out(specs.size());
   tbb::parallel_for(std::size_t{0}, specs.size(),

@@ -148,5 +148,7 @@ Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const Ch
 
 // Every level of plan_levels(options).
 std::vector<Level> build_chain(const tree::Tree& tree, const ChainOptions& options);
+// The same from data precompute(tree, options) made (the stage also builds the full detail from it).
+std::vector<Level> build_chain(const tree::Tree& tree, const Precomputed& pre, const ChainOptions& options);
 
 }  // namespace sylva::lod

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "libs/gltf/writer.h"
 #include "libs/tree/default_colors.h"
 #include "stages/lod/ribbons.h"
 
@@ -286,6 +287,15 @@ gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels
     s.nodes[0].extensions = {{"MSFT_lod", {{"ids", ids}}}};
   }
   return s;
+}
+
+std::string encode_full_detail(const tree::Tree& tree, Level full, const OutputTextures& tex,
+                               bool branches_only) {
+  if (branches_only) {
+    full.leaves = {};
+    full.needles = {};
+  }
+  return gltf::encode(level_scene(tree, full, 0, tex));
 }
 
 std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,

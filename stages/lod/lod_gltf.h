@@ -80,6 +80,13 @@ std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const 
                                                   const Camera& camera, const OutputTextures& tex,
                                                   bool ribbons);
 
+// full.glb: the full-detail model (build_full_detail: epsilon 0, every leaf and needle) as one
+// GLB, written like level 0 (level_scene index 0, atlas embedded): the reference the chain's
+// levels are judged against (`sylva lodcheck`; the pack stage's measured level choice). With
+// `branches_only` the leaves and needles are left out.
+std::string encode_full_detail(const tree::Tree& tree, Level full, const OutputTextures& tex,
+                               bool branches_only = false);
+
 // Summary JSON of the chain (lod.json).
 nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels,
                              const ChainOptions& options, bool ribbons);

@@ -14,10 +14,11 @@ StageInfo lod_stage_info() {
   // 8: opacity-weighted card clusters (each card weighs its atlas variant's measured opacity),
   // card_coverage_check and card_max_scale.
   // 9: card_places (the cards of one placement, a crossed pair, clustered as one unit).
-  info.version = 9;
+  // 10: full.glb, the full-detail model (the pack stage measures its levels against it).
+  info.version = 10;
   info.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
   info.output_type = "lod";
-  info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png"};
+  info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png", "full.glb"};
   info.inputs = {{"tree"}, 1, 1, "one tree artifact (tree.sylt, optional leaves.png)"};
   info.params = {
       Param::object(

@@ -1,6 +1,7 @@
 // The thin adapter of stage `lod`: declares the parameters, reads the tree artifact, runs the
 // pure chain (chain.h) and writes the chain's files (lod_gltf.h: lod.gltf with MSFT_lod,
-// lod<i>.gltf + lod<i>.bin, leaves.png, ribbons variants) and lod.json.
+// lod<i>.gltf + lod<i>.bin, leaves.png, ribbons variants), lod.json and full.glb (the
+// full-detail model the levels are judged against).
 // Seeds: Zhang et al. 2017 §3–§6 (parameters delta, epsilon, E1–E5, Γ, H, N); Remolar et al.
 // FSA/VDF (leaves). docs/stages/lod.md lists every parameter with its equation.
 #include "stages/lod/lod_stage.h"
@@ -66,8 +67,12 @@ class LodStage : public Stage {
     }
     // 3. The chain (pure core).
     std::vector<lod::Level> levels;
+    lod::Level full;
     try {
-      levels = lod::build_chain(tree, o);
+      const lod::Precomputed pre = lod::precompute(tree, o);
+      levels = lod::build_chain(tree, pre, o);
+      ctx.check_cancelled();
+      full = lod::build_full_detail(tree, pre, o);
     } catch (const std::invalid_argument& e) {
       throw StageError(e.what());
     }
@@ -82,6 +87,12 @@ class LodStage : public Stage {
       throw StageError(std::string("writing glTF: ") + e.what());
     }
     ctx.write_output("lod.json", lod::chain_summary(tree, levels, o, ribbons).dump(2) + "\n");
+    // The full-detail model the levels are judged against (the pack stage measures with it).
+    try {
+      ctx.write_output("full.glb", lod::encode_full_detail(tree, std::move(full), tex));
+    } catch (const gltf::GltfError& e) {
+      throw StageError(std::string("writing full.glb: ") + e.what());
+    }
   }
 
  private:

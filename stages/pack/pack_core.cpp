@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <list>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "libs/gltf/compose.h"
@@ -46,16 +46,20 @@ nlohmann::json level_node_extras(const nlohmann::json& extras) {
   return out;
 }
 
-gltf::Scene lean_level(const gltf::Scene& level) {
-  gltf::Scene s = level;
-  for (gltf::Mesh& m : s.meshes) m.extras = nullptr;
-  for (gltf::Node& n : s.nodes) n.extras = level_node_extras(n.extras);
-  return s;
+// A mesh level's nodes and meshes from index `first_node` / `first_mesh` on, in the copy of the
+// scene that is being encoded: only the level's numbers in the nodes' extras, none in the meshes'.
+void trim_level_extras(gltf::Scene& s, std::size_t first_node, std::size_t first_mesh) {
+  for (std::size_t m = first_mesh; m < s.meshes.size(); ++m) s.meshes[m].extras = nullptr;
+  for (std::size_t n = first_node; n < s.nodes.size(); ++n)
+    s.nodes[n].extras = level_node_extras(s.nodes[n].extras);
 }
 
 }  // namespace
 
-PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction) {
+namespace {
+
+// The largest axis extent of the mesh's positions (m): what its position grid spans.
+double mesh_extent(const gltf::Mesh& mesh) {
   std::array<double, 3> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
@@ -66,6 +70,18 @@ PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fracti
     }
   double extent = 0;
   for (std::size_t c = 0; c < 3; ++c) extent = std::max(extent, hi[c] - lo[c]);
+  return extent;
+}
+
+// sqrt(3)/2 of a step of a `bits` grid over `extent`: the largest rounding error (m).
+double grid_error(double extent, int bits) {
+  return std::sqrt(3.0) / 2 * (extent / double((1u << bits) - 1));
+}
+
+}  // namespace
+
+PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction) {
+  const double extent = mesh_extent(mesh);
   const double budget = fraction * epsilon;  // allowed rounding error, m
   if (!(budget > 0) || !(extent >= 0)) return {};
   const double half_diagonal = std::sqrt(3.0) / 2;
@@ -169,10 +185,142 @@ double coverage_at(double radius, double tan_half_fov, double d) {
 
 }  // namespace
 
-std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions& options) {
-  const ParsedChain chain = parse_chain(in);
-  if (!(options.min_saving >= 0 && options.min_saving < 1))
-    throw std::invalid_argument("min_saving must lie in [0, 1)");
+namespace {
+
+// A candidate level (mesh levels in lod order, then the impostor) ready to encode: its scene, the
+// numbers the lod stage or impostor.json gave it, and its position grid (per mesh).
+struct Candidate {
+  bool impostor = false;
+  std::size_t source_level = 0;
+  const gltf::Scene* scene = nullptr;
+  double epsilon_m = 0, pixel_error_px = 0;
+  double switch_distance_m = 0;  // its own (proven) switch distance
+  std::uint64_t primitives = 0;
+  std::vector<int> bits;  // per mesh of `scene`
+  // Per mesh: its extent, and whether its grid has more than position_bits_min bits or float
+  // positions (with a meter, a coarser grid that measures as passing).
+  std::vector<double> extent;
+  std::vector<char> fine;
+  double float_error = 0;
+  LodLevel grid;  // position_bits, position_error_m, position_float
+};
+
+// The chain parsed and every candidate prepared, and the writer's options: what both the level
+// choice (which measures the files as shipped) and pack_species need.
+class Prepared {
+ public:
+  Prepared(const SpeciesInput& in, const PackOptions& options) : in_(in), options_(options) {
+    parsed = parse_chain(in);
+    if (!(options.min_saving >= 0 && options.min_saving < 1))
+      throw std::invalid_argument("min_saving must lie in [0, 1)");
+    w.format = gltf::FileFormat::kGlb;
+    w.meshopt = options.compression == Compression::kMeshopt;
+    w.meshopt_merge_views = w.meshopt;
+    w.draco.enabled = options.compression == Compression::kDraco;
+    w.quantize.enabled = options.quantize && !w.draco.enabled;
+    w.quantize.normal_bits = options.normal_bits;
+    w.quantize.texcoord_bits = options.texcoord_bits;
+    for (std::size_t i = 0; i < in.levels.size(); ++i) {
+      Candidate c;
+      c.source_level = i;
+      c.scene = &in.levels[i];
+      c.epsilon_m = parsed.levels[i].epsilon_m;
+      c.pixel_error_px = parsed.levels[i].pixel_error_px;
+      c.switch_distance_m = parsed.levels[i].switch_distance_m;
+      candidates.push_back(std::move(c));
+    }
+    if (in.impostor) {
+      Candidate c;
+      c.impostor = true;
+      c.scene = &in.impostor->scene;
+      c.epsilon_m = in.impostor->epsilon_m;
+      c.pixel_error_px = in.impostor->pixel_error_px;
+      c.switch_distance_m = std::max(in.impostor->switch_distance_m, parsed.levels[0].switch_distance_m);
+      candidates.push_back(std::move(c));
+    }
+    for (Candidate& c : candidates) {
+      c.primitives = primitives_of(*c.scene);
+      c.bits.assign(c.scene->meshes.size(), 0);
+      if (!w.quantize.enabled) {
+        c.grid.position_float = true;
+        continue;
+      }
+      c.float_error = options.position_error * c.epsilon_m;
+      std::vector<int> bits;
+      for (const gltf::Mesh& mesh : c.scene->meshes) {
+        const PositionGrid g =
+            position_grid(mesh, c.epsilon_m, options.position_error, options.position_error_max);
+        bits.push_back(g.bits);
+        c.extent.push_back(mesh_extent(mesh));
+        c.fine.push_back(g.bits == 0 || g.bits > options.position_bits_min);
+      }
+      set_bits(c, std::move(bits));
+    }
+  }
+
+  // Candidate `c`'s position grids (one entry per mesh; 0: float) and the numbers lod.json states.
+  void set_bits(Candidate& c, std::vector<int> bits) const {
+    c.bits = std::move(bits);
+    c.grid = {};
+    for (std::size_t m = 0; m < c.bits.size(); ++m) {
+      c.grid.position_bits = std::max(c.grid.position_bits, c.bits[m]);
+      if (c.bits[m] > 0) {
+        c.grid.position_error_m = std::max(c.grid.position_error_m, grid_error(c.extent[m], c.bits[m]));
+      } else {
+        c.grid.position_float = true;
+        // Float positions: exact, or within position_error x epsilon through the EXPONENTIAL filter.
+        if (w.meshopt) c.grid.position_error_m = std::max(c.grid.position_error_m, c.float_error);
+      }
+    }
+  }
+
+  // The scene `s` as a pack file: reordered for compression, the pack's asset extras, encoded
+  // with each mesh's position grid (`bits`, `float_error`: one entry per mesh of `s`).
+  std::string encode(gltf::Scene s, std::vector<int> bits, std::vector<double> float_error) {
+    w.quantize.position_bits = std::move(bits);
+    w.quantize.float_position_error = std::move(float_error);
+    if (options_.optimize) gltf::optimize_scene(s, gltf::OptimizeOrder::kSize);
+    nlohmann::json extras = s.extras.is_object() ? s.extras : nlohmann::json::object();
+    extras["sylva_stage"] = "pack";
+    extras["species"] = in_.species;
+    s.extras = std::move(extras);
+    return gltf::encode(s, w);
+  }
+
+  // Candidate `c`'s file alone (<species>_lod<k>.glb or _impostor.glb), drawn from
+  // `switch_distance_m`: a mesh level keeps only its numbers in its extras (the lod stage's
+  // diagnostics stay in the lod artifact), trimmed in the copy being encoded.
+  std::string level_file(const Candidate& c, double switch_distance_m) {
+    gltf::Scene s = *c.scene;
+    if (!c.impostor) {
+      trim_level_extras(s, 0, 0);
+      for (gltf::Node& n : s.nodes)
+        if (n.extras.contains("switch_distance_m")) n.extras["switch_distance_m"] = switch_distance_m;
+    }
+    return encode(std::move(s), c.bits, std::vector<double>(c.scene->meshes.size(), c.float_error));
+  }
+
+  ParsedChain parsed;
+  std::vector<Candidate> candidates;
+  gltf::WriteOptions w;
+
+ private:
+  const SpeciesInput& in_;
+  const PackOptions& options_;
+};
+
+std::string describe(double d) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", d);
+  return buf;
+}
+
+std::string level_name(const Candidate& c) {
+  return c.impostor ? std::string("the impostor") : "level " + std::to_string(c.source_level);
+}
+
+// The error model's choice (no meter): docs/stages/pack.md "Levels kept".
+std::vector<LevelChoice> model_choice(const Prepared& p, const PackOptions& options) {
   std::vector<LevelChoice> out;
   const double keep_at_most = 1 - options.min_saving;
   const LevelChoice* previous = nullptr;  // the level kept last
@@ -190,20 +338,20 @@ std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions
         static_cast<unsigned long long>(c.primitives), options.min_saving);
     return std::string(buf);
   };
-  out.reserve(in.levels.size() + 1);
-  for (std::size_t i = 0; i < in.levels.size(); ++i) {
+  const Candidate* impostor = p.candidates.back().impostor ? &p.candidates.back() : nullptr;
+  out.reserve(p.candidates.size());
+  for (const Candidate& k : p.candidates) {
     LevelChoice c;
-    c.source_level = i;
-    c.switch_distance_m = chain.levels[i].switch_distance_m;
-    c.primitives = primitives_of(in.levels[i]);
-    if (i == 0) {
+    c.impostor = k.impostor;
+    c.source_level = k.source_level;
+    c.switch_distance_m = k.switch_distance_m;
+    c.primitives = k.primitives;
+    if (!k.impostor && k.source_level == 0) {
       c.kept = true;
-    } else if (in.impostor && c.switch_distance_m >= in.impostor->switch_distance_m) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf,
-                    "the impostor is proven from %.6g m, before this level's switch distance %.6g m",
-                    in.impostor->switch_distance_m, c.switch_distance_m);
-      c.reason = buf;
+    } else if (!k.impostor && impostor && c.switch_distance_m >= impostor->switch_distance_m) {
+      // (impostor->switch_distance_m is at least level 0's, so this compares with impostor.json's.)
+      c.reason = "the impostor is proven from " + describe(impostor->switch_distance_m) +
+                 " m, before this level's switch distance " + describe(c.switch_distance_m) + " m";
     } else if (too_little(c)) {
       c.reason = saving_reason(c);
     } else {
@@ -212,24 +360,184 @@ std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions
     out.push_back(c);
     if (out.back().kept) previous = &out.back();
   }
-  if (in.impostor) {
-    LevelChoice c;
-    c.impostor = true;
-    c.switch_distance_m = std::max(in.impostor->switch_distance_m, chain.levels[0].switch_distance_m);
-    c.primitives = primitives_of(in.impostor->scene);
-    if (too_little(c))
-      c.reason = saving_reason(c);
-    else
-      c.kept = true;
-    out.push_back(c);
-  }
   return out;
 }
 
+// The measured choice (docs/stages/pack.md "Levels kept"): per band start, the candidate with the
+// fewest primitives whose shipped file passes the image check there.
+std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options, LevelMeter& meter) {
+  const std::vector<Candidate>& cand = p.candidates;
+  const std::size_t n = cand.size();
+  const bool has_impostor = cand.back().impostor;
+  const std::size_t meshes = has_impostor ? n - 1 : n;
+  std::vector<LevelChoice> out(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    out[j].impostor = cand[j].impostor;
+    out[j].source_level = cand[j].source_level;
+    out[j].switch_distance_m = cand[j].switch_distance_m;
+    out[j].primitives = cand[j].primitives;
+  }
+  std::vector<std::string> files(n);  // each candidate's file, encoded once, as it is measured
+  auto measure = [&](std::size_t j, double d) {
+    if (files[j].empty()) files[j] = p.level_file(cand[j], cand[j].switch_distance_m);
+    return meter.measure(cand[j].impostor ? -1 : int(cand[j].source_level), files[j], d);
+  };
+  const double keep_at_most = 1 - options.min_saving;
+  auto saves = [&](std::size_t j, std::size_t c) {
+    return double(cand[j].primitives) <= keep_at_most * double(cand[c].primitives);
+  };
+  auto saving_reason = [&](std::size_t j, std::size_t c, double b) {
+    const double saved =
+        cand[c].primitives == 0 ? 0 : 1 - double(cand[j].primitives) / double(cand[c].primitives);
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "saves %.3g of the primitives of %s (%llu -> %llu) at %s m, less than min_saving %.3g",
+                  saved, level_name(cand[c]).c_str(), static_cast<unsigned long long>(cand[c].primitives),
+                  static_cast<unsigned long long>(cand[j].primitives), describe(b).c_str(),
+                  options.min_saving);
+    return std::string(buf);
+  };
+
+  // Why a candidate is not kept: the latest decision about it, until its own band start has been
+  // decided (what happened there is its reason).
+  std::vector<char> settled(n, 0);
+  auto note = [&](std::size_t j, double b, std::string why) {
+    if (settled[j]) return;
+    out[j].reason = std::move(why);
+    settled[j] = b >= cand[j].switch_distance_m;
+  };
+
+  // A kept level whose grid (above) has more than position_bits_min bits (the finest levels): the
+  // coarsest grid from position_bits_min bits on whose file measures as passing at distance d
+  // (the level's switch distance) is taken, with that measurement; true when one is. Never coarser
+  // than position_bits_min, nor than the grid the level's epsilon asks for.
+  auto coarsest_grid = [&](std::size_t j, double d) {
+    Candidate& k = p.candidates[j];
+    if (k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; })) return false;
+    int finest = 0;  // bits of the finest grid among the fine meshes (16 for float positions)
+    for (std::size_t m = 0; m < k.bits.size(); ++m)
+      if (k.fine[m]) finest = std::max(finest, k.bits[m] == 0 ? 16 : k.bits[m]);
+    for (int b = options.position_bits_min; b < finest; ++b) {
+      Candidate coarser = k;
+      std::vector<int> bits = k.bits;
+      for (std::size_t m = 0; m < bits.size(); ++m)
+        if (k.fine[m] && (bits[m] == 0 || bits[m] > b)) bits[m] = b;
+      p.set_bits(coarser, std::move(bits));
+      const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
+      const LevelMeter::Result r = meter.measure(key, p.level_file(coarser, k.switch_distance_m), d);
+      if (!r.error.passed) continue;
+      k = std::move(coarser);
+      out[j].measured = r.error;
+      return true;
+    }
+    return false;
+  };
+
+  // Level 0: the finest, drawn nearest; measured at its own switch distance (its coarsest grid
+  // that passes there, else its own grid), and the measurement recorded.
+  std::size_t c = 0;
+  out[0].kept = true;
+  if (!coarsest_grid(0, out[0].switch_distance_m))
+    out[0].measured = measure(0, out[0].switch_distance_m).error;
+
+  std::vector<double> starts;
+  for (std::size_t j = 1; j < n; ++j) starts.push_back(cand[j].switch_distance_m);
+  std::sort(starts.begin(), starts.end());
+  starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+  for (const double b : starts) {
+    if (cand[c].impostor) break;  // nothing has fewer primitives
+    if (!(b > out[c].switch_distance_m)) continue;
+    std::optional<std::size_t> best, mesh_best;
+    MeasuredError best_error;
+    // The impostor first: when it passes, no mesh level has fewer primitives.
+    if (has_impostor) {
+      const std::size_t imp = n - 1;
+      if (!saves(imp, c)) {
+        note(imp, b, saving_reason(imp, c, b));
+      } else if (const LevelMeter::Result r = measure(imp, b); r.error.passed) {
+        best = imp;
+        best_error = r.error;
+        for (std::size_t j = c + 1; j < meshes; ++j)
+          note(j, b,
+               "the impostor (" + std::to_string(cand[imp].primitives) + " primitives) passes from " +
+                   describe(b) + " m");
+      } else {
+        note(imp, b, "fails at " + describe(b) + " m: " + r.failure);
+      }
+    }
+    // The band's own mesh level (when it is coarser than the current one; the impostor's band
+    // has none: the first level coarser than the current one) and the coarser ones, finest first,
+    // up to the first that fails: a coarser level of the chain has a larger epsilon, so the
+    // levels after a failure are not measured.
+    std::size_t from = c + 1;
+    for (std::size_t j = c + 1; j < meshes; ++j)
+      if (cand[j].switch_distance_m == b) from = j;
+    for (std::size_t j = from; !best && j < meshes; ++j) {
+      if (!saves(j, c)) {
+        note(j, b, saving_reason(j, c, b));
+        continue;
+      }
+      const LevelMeter::Result r = measure(j, b);
+      if (!r.error.passed) {
+        note(j, b, "fails at " + describe(b) + " m: " + r.failure);
+        for (std::size_t k = j + 1; k < meshes; ++k)
+          note(k, b,
+               "not measured at " + describe(b) + " m: level " + std::to_string(j) + ", finer, fails there");
+        break;
+      }
+      // Passes; a coarser one may pass too.
+      if (mesh_best)
+        note(*mesh_best, b,
+             "level " + std::to_string(j) + " (" + std::to_string(cand[j].primitives) +
+                 " primitives) passes at " + describe(b) + " m too");
+      mesh_best = j;
+      best_error = r.error;
+    }
+    // Nothing from there on passes: the levels between the current one and the band's own,
+    // coarsest first, up to the first that passes.
+    for (std::size_t j = from; !best && !mesh_best && j-- > c + 1;) {
+      if (!saves(j, c)) {
+        note(j, b, saving_reason(j, c, b));
+        continue;
+      }
+      const LevelMeter::Result r = measure(j, b);
+      if (!r.error.passed) {
+        note(j, b, "fails at " + describe(b) + " m: " + r.failure);
+        continue;
+      }
+      mesh_best = j;
+      best_error = r.error;
+    }
+    if (!best) best = mesh_best;
+    if (best) {  // else the current level draws this band too
+      LevelChoice& k = out[*best];
+      k.kept = true;
+      k.switch_distance_m = b;
+      k.measured = best_error;
+      k.reason.clear();
+      c = *best;
+    }
+  }
+
+  for (std::size_t j = 1; j < n; ++j)
+    if (out[j].kept) coarsest_grid(j, out[j].switch_distance_m);
+  return out;
+}
+
+}  // namespace
+
+std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions& options,
+                                       LevelMeter* meter) {
+  Prepared p(in, options);
+  return meter ? measured_choice(p, options, *meter) : model_choice(p, options);
+}
+
 std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options,
-                                     LodDescription* description) {
-  const ParsedChain parsed = parse_chain(in);
-  const std::vector<LevelChoice> choice = select_levels(in, options);
+                                     LodDescription* description, LevelMeter* meter) {
+  Prepared p(in, options);
+  const ParsedChain& parsed = p.parsed;
+  const std::vector<LevelChoice> choice =
+      meter ? measured_choice(p, options, *meter) : model_choice(p, options);
 
   // The camera's tan(phi/2): from the impostor's camera, checked against the chain's coverages
   // (c_i is the coverage at level i + 1's switch distance; any unclamped one fixes tan(phi/2)).
@@ -251,60 +559,37 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
     tan_half = t;
   }
 
-  gltf::WriteOptions w;
-  w.format = gltf::FileFormat::kGlb;
-  w.meshopt = options.compression == Compression::kMeshopt;
-  w.meshopt_merge_views = w.meshopt;
-  w.draco.enabled = options.compression == Compression::kDraco;
-  w.quantize.enabled = options.quantize && !w.draco.enabled;
-  w.quantize.normal_bits = options.normal_bits;
-  w.quantize.texcoord_bits = options.texcoord_bits;
-  // `position_bits` (grids) and `float_error` (the bound for float positions, meshopt's EXPONENTIAL
-  // filter) have one entry per mesh of the scene being encoded.
-  auto encode = [&](gltf::Scene s, std::vector<int> position_bits, std::vector<double> float_error) {
-    w.quantize.position_bits = std::move(position_bits);
-    w.quantize.float_position_error = std::move(float_error);
-    if (options.optimize) gltf::optimize_scene(s, gltf::OptimizeOrder::kSize);
-    nlohmann::json extras = s.extras.is_object() ? s.extras : nlohmann::json::object();
-    extras["sylva_stage"] = "pack";
-    extras["species"] = in.species;
-    s.extras = std::move(extras);
-    return gltf::encode(s, w);
-  };
-
-  // The kept levels, nearest first: their scenes, numbers and position grids.
+  // The kept levels, nearest first: their candidates and numbers.
   struct Kept {
-    const gltf::Scene* scene;
+    const Candidate* candidate;
     nlohmann::json node_extras;
     std::vector<std::string> inputs;
     LodLevel level;
-    std::vector<int> bits;  // per mesh of `scene`
-    double float_error = 0;
   };
   std::vector<Kept> kept;
-  std::list<gltf::Scene> lean;  // the kept mesh levels without the lod stage's diagnostics (stable addresses)
   LodDescription d;
   d.species = in.species;
   d.chain = in.species + ".glb";
   std::size_t mesh_index = 0;
-  for (const LevelChoice& c : choice) {
+  for (std::size_t j = 0; j < choice.size(); ++j) {
+    const LevelChoice& c = choice[j];
     if (!c.kept) {
       d.dropped.push_back({c.impostor ? "impostor" : "mesh", c.impostor ? -1 : int(c.source_level),
                            c.switch_distance_m, c.primitives, c.reason});
       continue;
     }
+    const Candidate& cand = p.candidates[j];
     Kept k;
+    k.candidate = &cand;
     LodLevel& l = k.level;
+    l = cand.grid;
     if (c.impostor) {
       const ImpostorLevelInput& im = *in.impostor;
-      k.scene = &im.scene;
       k.inputs = im.inputs;
       l.file = in.species + "_impostor.glb";
       l.kind = "impostor";
       l.impostor_kind = im.kind;
       l.source_level = -1;
-      l.epsilon_m = im.epsilon_m;
-      l.pixel_error_px = im.pixel_error_px;
       k.node_extras = {{"sylva_lod_level", kept.size()},
                        {"kind", "impostor"},
                        {"impostor_kind", im.kind},
@@ -313,49 +598,36 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
                        {"switch_distance_m", c.switch_distance_m}};
     } else {
       const ChainLevel& cl = parsed.levels[c.source_level];
-      k.scene = &lean.emplace_back(lean_level(in.levels[c.source_level]));
       k.inputs = c.source_level < in.level_inputs.size() ? in.level_inputs[c.source_level]
                                                          : std::vector<std::string>{};
       l.file = in.species + "_lod" + std::to_string(mesh_index++) + ".glb";
       l.source_level = int(c.source_level);
-      l.epsilon_m = cl.epsilon_m;
-      l.pixel_error_px = cl.pixel_error_px;
       k.node_extras = level_node_extras(cl.node->extras);
+      if (k.node_extras.contains("switch_distance_m"))
+        k.node_extras["switch_distance_m"] = c.switch_distance_m;
     }
+    l.epsilon_m = cand.epsilon_m;
+    l.pixel_error_px = cand.pixel_error_px;
     l.switch_distance_m = c.switch_distance_m;
-    count_primitives(*k.scene, l);
+    count_primitives(*cand.scene, l);
     l.primitives = c.primitives;
-    k.bits.assign(k.scene->meshes.size(), 0);
-    if (w.quantize.enabled) {
-      for (std::size_t m = 0; m < k.bits.size(); ++m) {
-        const PositionGrid g = position_grid(k.scene->meshes[m], l.epsilon_m, options.position_error,
-                                             options.position_error_max);
-        k.bits[m] = g.bits;
-        l.position_bits = std::max(l.position_bits, g.bits);
-        l.position_error_m = std::max(l.position_error_m, g.max_error_m);
-        if (g.bits == 0) {
-          l.position_float = true;
-          // Float positions: exact, or within position_error x epsilon through the EXPONENTIAL filter.
-          if (w.meshopt)
-            l.position_error_m = std::max(l.position_error_m, options.position_error * l.epsilon_m);
-        }
-      }
-      k.float_error = options.position_error * l.epsilon_m;
-    } else {
-      l.position_float = true;
-    }
+    l.measured = c.measured;
     kept.push_back(std::move(k));
   }
 
   // Screen coverage of kept level k: the coverage at the next kept level's switch distance. A
-  // mesh level j after it: the lod chain's value c_{j-1} (the coverage at level j's switch
-  // distance, as the lod stage computed it); the impostor: computed with the impostor's camera.
+  // mesh level j drawn from its own switch distance: the lod chain's value c_{j-1} (the coverage
+  // there, as the lod stage computed it); the impostor, or a mesh level the measured choice draws
+  // from another distance: computed with the chain's camera.
   for (std::size_t k = 0; k < kept.size(); ++k) {
     double c = 0;
     if (k + 1 < kept.size()) {
       const Kept& next = kept[k + 1];
-      c = next.level.kind == "impostor" ? coverage_at(radius, tan_half, next.level.switch_distance_m)
-                                        : parsed.coverage[std::size_t(next.level.source_level) - 1];
+      const bool own = next.level.kind != "impostor" &&
+                       next.level.switch_distance_m ==
+                           parsed.levels[std::size_t(next.level.source_level)].switch_distance_m;
+      c = own ? parsed.coverage[std::size_t(next.level.source_level) - 1]
+              : coverage_at(radius, tan_half, next.level.switch_distance_m);
     }
     kept[k].level.screen_coverage = c;
   }
@@ -370,18 +642,20 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   std::vector<int> level_nodes;
   nlohmann::json coverage = nlohmann::json::array();
   for (Kept& k : kept) {
-    const std::size_t first_mesh = chain.meshes.size();
-    const std::vector<int> roots = gltf::append_scene(chain, *k.scene);
+    const Candidate& cand = *k.candidate;
+    const std::size_t first_mesh = chain.meshes.size(), first_node = chain.nodes.size();
+    const std::vector<int> roots = gltf::append_scene(chain, *cand.scene);
     if (roots.size() != 1)
       throw std::invalid_argument(k.level.file + ": the level's scene has " + std::to_string(roots.size()) +
                                   " root nodes, expected 1");
+    if (!cand.impostor) trim_level_extras(chain, first_node, first_mesh);
     gltf::Node& n = chain.nodes[std::size_t(roots[0])];
     n.extras = k.node_extras;
     n.extensions = nullptr;
     level_nodes.push_back(roots[0]);
     for (std::size_t m = first_mesh; m < chain.meshes.size(); ++m) {
-      chain_bits.push_back(k.bits[m - first_mesh]);
-      chain_float_error.push_back(k.float_error);
+      chain_bits.push_back(cand.bits[m - first_mesh]);
+      chain_float_error.push_back(cand.float_error);
     }
     coverage.push_back(k.level.screen_coverage);
   }
@@ -398,9 +672,9 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
     chain_inputs.insert(chain_inputs.end(), in.impostor->inputs.begin(), in.impostor->inputs.end());
 
   std::vector<PackedFile> out;
-  out.push_back({d.chain, encode(std::move(chain), chain_bits, chain_float_error), chain_inputs});
+  out.push_back({d.chain, p.encode(std::move(chain), chain_bits, chain_float_error), chain_inputs});
   for (Kept& k : kept) {
-    std::string bytes = encode(*k.scene, k.bits, std::vector<double>(k.scene->meshes.size(), k.float_error));
+    std::string bytes = p.level_file(*k.candidate, k.level.switch_distance_m);
     k.level.bytes = bytes.size();
     out.push_back({k.level.file, std::move(bytes), k.inputs});
     d.levels.push_back(k.level);

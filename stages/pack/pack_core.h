@@ -9,14 +9,20 @@
 //                          MSFT_lod), k = 0.. in chain order;
 //   <species>_impostor.glb the impostor level alone (when there is one);
 //   <species>.lod.json     engine-neutral: levels, switch distances, screen coverage, sizes.
-// Levels kept (select_levels): mesh level 0; every further mesh level whose switch distance lies
-// before the impostor's (from there the impostor is proven and has fewer primitives) and that
-// saves at least min_saving of the primitives of the level kept before it (otherwise the finer
-// level, proven from its own switch distance on, is drawn instead); the impostor when it saves
-// min_saving over the last kept mesh level.
+// Levels kept (select_levels), with a LevelMeter (measured choice; docs/stages/pack.md "Levels
+// kept"): mesh level 0, measured at its switch distance; then at each band start (each further
+// mesh level's switch distance, then the impostor's), among the candidates that save at least
+// min_saving of the current level's primitives, the one with the fewest primitives whose shipped
+// file passes the image check there: the impostor first; else the band's own level and the
+// coarser ones, finest first, up to the first that fails; else the levels between the current
+// one and the band's own, coarsest first, up to the first that passes; else the current level
+// draws the band too. A kept level is drawn from the band start where it was chosen. Without a
+// meter (error model): mesh level 0; every further mesh level whose switch distance lies before
+// the impostor's and that saves min_saving over the level kept before it; the impostor when it
+// saves min_saving over the last kept mesh level.
 // Every mesh is reordered by meshoptimizer (strip-friendly vertex cache order, fetch) and compressed as
 // asked; textures are the lod stage's PNGs, byte for byte. Pure over the scenes read from the
-// lod files: no file system, no clock.
+// lod files: no file system, no clock; rendering only through the LevelMeter.
 #pragma once
 
 #include <cstdint>
@@ -52,6 +58,10 @@ struct PackOptions {
   // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
   // kept before it; [0, 1).
   double min_saving = 0.1;
+  // With a meter: a kept level whose grid (the rule above) has more than position_bits_min bits,
+  // or float positions, gets the coarsest grid from position_bits_min bits on whose file measures
+  // as passing at its switch distance (else its own). 14 is gltfpack's default; [1, 16].
+  int position_bits_min = 14;
 };
 
 // The impostor level: impostor.glb read back, and impostor.json's numbers (libs/impostor).
@@ -93,25 +103,44 @@ struct SpeciesInput {
   std::optional<ImpostorLevelInput> impostor;          // the chain's last level, when given
 };
 
+// The measured level choice's one side effect, rendering, behind an interface: the pack stage's
+// RenderedLevelMeter (level_meter.h) draws with `sylva lodcheck`'s machinery
+// (libs/check/view_check.h); tests give fakes.
+class LevelMeter {
+ public:
+  struct Result {
+    MeasuredError error;  // the worse view's numbers, and whether every view passed
+    std::string failure;  // the first failing view's sentence ("az0: coverage of ..."), "" when passed
+  };
+  virtual ~LevelMeter() = default;
+  // The image error of the candidate level `key` (a mesh level's lod index, or -1 for the
+  // impostor), whose file as shipped is `glb`, seen from `distance_m`. A key always comes with the
+  // same bytes. Throws std::runtime_error when it cannot measure (the stage reports it).
+  virtual Result measure(int key, const std::string& glb, double distance_m) = 0;
+};
+
 // What select_levels decided for one candidate level (mesh levels in lod order, then the impostor).
 struct LevelChoice {
   bool impostor = false;
   std::size_t source_level = 0;  // index into SpeciesInput::levels (mesh levels)
-  double switch_distance_m = 0;
+  double switch_distance_m = 0;  // kept: where the pack draws it from; dropped: its own
   std::uint64_t primitives = 0;  // triangles + lines + points
   bool kept = false;
-  std::string reason;  // why a level was dropped (empty when kept)
+  std::string reason;                     // why a level was dropped (empty when kept)
+  std::optional<MeasuredError> measured;  // kept, with a meter: at switch_distance_m
 };
-// Throws std::invalid_argument like pack_species for a malformed chain.
-std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions& options);
+// Throws std::invalid_argument like pack_species for a malformed chain; what the meter throws.
+std::vector<LevelChoice> select_levels(const SpeciesInput& in, const PackOptions& options,
+                                       LevelMeter* meter = nullptr);
 
 // The species' files: chain GLB, kept level GLBs (nearest first, the impostor last), lod.json; in
 // that order. Throws std::invalid_argument when the chain is not an MSFT_lod chain over the
 // levels (its root node names n-1 others, each node holds a level with epsilon_m and
 // switch_distance_m extras), or when the impostor's camera differs from the chain's (its switch
 // distance would be for another view). `description`, when not null, receives what lod.json
-// states (the kept levels' numbers, the dropped levels), for the manifest.
+// states (the kept levels' numbers, the dropped levels), for the manifest. With `meter` the levels
+// are chosen by measured image error (select_levels) and each kept level records its measurement.
 std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& options,
-                                     LodDescription* description = nullptr);
+                                     LodDescription* description = nullptr, LevelMeter* meter = nullptr);
 
 }  // namespace sylva::pack

@@ -5,7 +5,9 @@ namespace sylva {
 StageInfo pack_stage_info() {
   StageInfo info;
   info.name = "pack";
-  info.version = 7;
+  // 8: levels chosen by measured image error (measure: true), measured numbers in lod.json and
+  // the manifest (version 4); a level drawn from another band start states that switch distance.
+  info.version = 8;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
       "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
@@ -47,6 +49,26 @@ StageInfo pack_stage_info() {
               "buffers (lossless), or copied as the forest stage wrote them"),
       Param::string_list("forests", Value::List{})
           .describe("the name of each forest input, in `needs` order ([a-z0-9_-]+): the manifest's forests"),
+      Param::integer("position_bits_min", 14)
+          .range(1, 16)
+          .describe(
+              "with measure: a level whose grid has more bits gets the coarsest grid from this many bits "
+              "on that measures as passing at its switch distance"),
+      Param::boolean("measure", true)
+          .describe("choose each band's level by image error measured with lodcheck's renderer and views "
+                    "against the lod input's full.glb (false: the error model's switch distances)"),
+      Param::real_list("measure_azimuths_deg", Value::List{0.0, 90.0})
+          .describe("the views of the measurement: azimuths in degrees (lodcheck's default 0 and 90)"),
+      Param::integer("measure_supersample", 2)
+          .range(1, 4)
+          .describe("render the measurement at this multiple of the chain's image height, averaged down"),
+      Param::real("measure_max_failing_fraction", 0.01)
+          .range(0, 1)
+          .describe("a view passes while at most this fraction of the tree's pixels change coverage by more "
+                    "than delta"),
+      Param::real("measure_max_coverage_error", 0.15)
+          .range(0, 1)
+          .describe("... and the mean coverage change over the tree's pixels is at most this"),
       Param::integer("texcoord_bits", 12)
           .range(8, 16)
           .describe("bits per texture coordinate (uvs in [0, 1])"),

@@ -1,8 +1,9 @@
 // The adapter of stage `pack`: names each lod input (and the impostor input beside it) by
 // `species`, reads the lod files and impostor.glb (libs/gltf reader) and impostor.json
-// (libs/impostor), runs the core, compresses or copies each forest input's files, merges other
-// pack nodes' outputs (their files checked against their manifests), and writes manifest.json
-// (libs/pack).
+// (libs/impostor), runs the core — with `measure`, through a RenderedLevelMeter over the lod
+// input's full.glb and lod.json's camera (level_meter.h) —, compresses or copies each forest
+// input's files, merges other pack nodes' outputs (their files checked against their manifests),
+// and writes manifest.json (libs/pack).
 #include "stages/pack/pack_stage.h"
 
 #include <fnmatch.h>
@@ -11,6 +12,8 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
+#include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -20,7 +23,10 @@
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/pack/manifest.h"
+#include "libs/render/gltf_scene.h"
+#include "libs/render/shared_renderer.h"
 #include "pipeline/digest.h"
+#include "stages/pack/level_meter.h"
 #include "stages/pack/pack_core.h"
 #include "stages/pack/pack_info.h"
 
@@ -30,7 +36,8 @@ namespace {
 
 class PackStage : public Stage {
  public:
-  PackStage() : info_(pack_stage_info()) {}
+  explicit PackStage(std::function<render::Renderer&()> renderer)
+      : info_(pack_stage_info()), renderer_(std::move(renderer)) {}
   const StageInfo& info() const override { return info_; }
 
   void run(StageContext& ctx) const override {
@@ -73,6 +80,22 @@ class PackStage : public Stage {
     options.normal_bits = static_cast<int>(ctx.integer("normal_bits"));
     options.texcoord_bits = static_cast<int>(ctx.integer("texcoord_bits"));
     options.min_saving = ctx.real("min_saving");
+    options.position_bits_min = static_cast<int>(ctx.integer("position_bits_min"));
+    const bool measure = ctx.boolean("measure");
+    check::ViewCheckOptions view_options;
+    if (measure) {
+      view_options.azimuths_deg.clear();
+      for (const Value& a : ctx.param("measure_azimuths_deg").as_list()) {
+        const double az = a.as_real();
+        if (!(az >= -360 && az <= 360))
+          throw StageError("`measure_azimuths_deg` entry " + std::to_string(az) + " is not in [-360, 360]");
+        view_options.azimuths_deg.push_back(az);
+      }
+      if (view_options.azimuths_deg.empty()) throw StageError("`measure_azimuths_deg` is empty");
+      view_options.supersample = static_cast<int>(ctx.integer("measure_supersample"));
+      view_options.max_failing_fraction = ctx.real("measure_max_failing_fraction");
+      view_options.max_coverage_error = ctx.real("measure_max_coverage_error");
+    }
 
     static const std::regex kName("[a-z0-9_-]+");
     std::set<std::string> seen, forests_seen;    // species and forest names
@@ -95,11 +118,18 @@ class PackStage : public Stage {
       if (imp) s.impostor = read_impostor(*imp);
       std::vector<pack::PackedFile> files;
       pack::LodDescription described;
+      const std::string which = "species '" + species + "' (input '" + in.node + "'" +
+                                (imp ? ", impostor '" + imp->node + "'" : std::string()) + "): ";
+      std::optional<pack::RenderedLevelMeter> meter;
+      if (measure) meter.emplace(make_meter(ctx, in, view_options));
       try {
-        files = pack::pack_species(s, options, &described);
+        files = pack::pack_species(s, options, &described, meter ? &*meter : nullptr);
       } catch (const std::invalid_argument& e) {
-        throw StageError("species '" + species + "' (input '" + in.node + "'" +
-                         (imp ? ", impostor '" + imp->node + "'" : std::string()) + "): " + e.what());
+        throw StageError(which + e.what());
+      } catch (const Cancelled&) {
+        throw;
+      } catch (const std::runtime_error& e) {  // the measurement: a file the loader refuses, rendering
+        throw StageError(which + "measuring its levels: " + e.what());
       }
       ctx.check_cancelled();
       pack::SpeciesEntry entry{
@@ -131,6 +161,46 @@ class PackStage : public Stage {
   }
 
  private:
+  // The measured level choice's meter for lod input `in`: its full-detail model (full.glb), the
+  // camera and pixel error its chain is for (lod.json), the process's headless renderer.
+  pack::RenderedLevelMeter make_meter(StageContext& ctx, const InputArtifact& in,
+                                      check::ViewCheckOptions view_options) const {
+    const ArtifactFile* full = in.file("full.glb");
+    if (!full)
+      throw StageError("input '" + in.node +
+                       "' has no full.glb, the full-detail model the measured level choice judges against "
+                       "(a lod node of stage version 10 or later writes it; or set `measure: false`)");
+    const ArtifactFile* summary = in.file("lod.json");
+    if (!summary) throw StageError("input '" + in.node + "' has no lod.json (is it a lod node?)");
+    check::CheckCamera camera;
+    try {
+      const nlohmann::json j = nlohmann::json::parse(read_file(summary->path));
+      camera.fov_y_rad = j.at("camera").at("fov_y_deg").get<double>() * std::numbers::pi / 180;
+      camera.height_px = j.at("camera").at("height_px").get<int>();
+      // An edge moved by delta pixels changes a pixel's coverage by at most delta (as lodcheck).
+      view_options.pixel_threshold = std::min(1.0, j.at("pixel_error_px").get<double>());
+    } catch (const nlohmann::json::exception& e) {
+      throw StageError("input '" + in.node + "': lod.json: " + e.what());
+    }
+    if (!(camera.fov_y_rad > 0) || camera.height_px <= 0)
+      throw StageError("input '" + in.node + "': lod.json: camera has no positive fov_y_deg and height_px");
+    render::Scene scene;
+    try {
+      scene = render::load_gltf_scene(full->path);
+    } catch (const std::exception& e) {
+      throw StageError("input '" + in.node + "': " + e.what());
+    }
+    render::Renderer* renderer = nullptr;
+    try {
+      renderer = &renderer_();
+    } catch (const render::RenderError& e) {
+      throw StageError(std::string("measuring the levels needs the headless renderer: ") + e.what());
+    }
+    pack::RenderedLevelMeter meter(*renderer, std::move(scene), camera, view_options);
+    meter.check_cancelled = [&ctx] { ctx.check_cancelled(); };
+    return meter;
+  }
+
   // The chain and its levels as the lod stage wrote them (lod.gltf, lod<i>.gltf with their .bin
   // and texture files beside them), and the input files each output is made from.
   static pack::SpeciesInput read_species(const InputArtifact& in, const std::string& species) {
@@ -337,10 +407,14 @@ class PackStage : public Stage {
   }
 
   StageInfo info_;
+  std::function<render::Renderer&()> renderer_;
 };
 
 }  // namespace
 
-std::unique_ptr<Stage> make_pack_stage() { return std::make_unique<PackStage>(); }
+std::unique_ptr<Stage> make_pack_stage(std::function<render::Renderer&()> renderer) {
+  if (!renderer) renderer = []() -> render::Renderer& { return render::shared_renderer(); };
+  return std::make_unique<PackStage>(std::move(renderer));
+}
 
 }  // namespace sylva

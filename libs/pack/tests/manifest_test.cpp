@@ -110,8 +110,8 @@ TEST(PackManifest, ReadErrorsNameTheElement) {
     EXPECT_NE(at, std::string::npos) << from;
     return t.replace(at, from.size(), to);
   };
-  EXPECT_EQ(error_of(replaced("\"version\": 3", "\"version\": 7")),
-            "m.json: version: 7 is not supported (this sylva reads versions 1 to 3)");
+  EXPECT_EQ(error_of(replaced("\"version\": 4", "\"version\": 7")),
+            "m.json: version: 7 is not supported (this sylva reads versions 1 to 4)");
   EXPECT_EQ(error_of(replaced("\"path\": \"oak.glb\"", "\"path\": \"../oak.glb\"")),
             "m.json: files[0].path: '../oak.glb' is not a plain relative path");
   EXPECT_EQ(error_of(replaced("\"size\": 5", "\"size\": -5")),
@@ -202,10 +202,28 @@ TEST(PackManifest, LevelsCarryTheirNumbers) {
             "m.json: species[0].levels[0].kind: expected \"mesh\" or \"impostor\"");
 }
 
+// Version 4: a level may carry the image error the pack measured; it round-trips exactly and its
+// fields are checked like the others.
+TEST(PackManifest, LevelsCarryTheirMeasuredError) {
+  Manifest m = sample();
+  m.species[0].levels[0].measured = MeasuredError{0.00015, 0.0019, true};
+  const std::string text = write_manifest(m);
+  EXPECT_NE(text.find("\"measured\": {\n            \"coverage_mean_error\": 0.0019,\n            "
+                      "\"failing_fraction\": 0.00015,\n            \"passed\": true\n          }"),
+            std::string::npos)
+      << text;
+  const Manifest back = parse_manifest(text, "m.json");
+  EXPECT_EQ(back.species[0].levels[0], m.species[0].levels[0]);
+  std::string t = text;
+  const std::string from = "\"passed\": true";
+  t.replace(t.find(from), from.size(), "\"passed\": 1");
+  EXPECT_EQ(error_of(t), "m.json: species[0].levels[0].measured.passed: expected true or false");
+}
+
 // Version 2: levels are file names; read as levels with the file only.
 TEST(PackManifest, ReadsVersionTwoLevelNames) {
   std::string text = write_manifest(sample());
-  const std::string v = "\"version\": 3";
+  const std::string v = "\"version\": 4";
   text.replace(text.find(v), v.size(), "\"version\": 2");
   const std::size_t from = text.find("\"levels\": [");
   const std::size_t to = text.find("]", from);
@@ -214,13 +232,13 @@ TEST(PackManifest, ReadsVersionTwoLevelNames) {
   EXPECT_EQ(back.version, 2);
   ASSERT_EQ(back.species[0].levels.size(), 1u);
   EXPECT_EQ(back.species[0].levels[0], named("oak_lod0.glb"));
-  // Written back, it is a version 3 manifest.
-  EXPECT_NE(write_manifest(back).find("\"version\": 3"), std::string::npos);
+  // Written back, it is a version 4 manifest.
+  EXPECT_NE(write_manifest(back).find("\"version\": 4"), std::string::npos);
 }
 
 TEST(PackManifest, ReadsVersionOneWithoutForests) {
   std::string text = write_manifest(sample());
-  const std::string v = "\"version\": 3", forests = "\"forests\": [],\n";
+  const std::string v = "\"version\": 4", forests = "\"forests\": [],\n";
   text.replace(text.find(v), v.size(), "\"version\": 1");
   ASSERT_NE(text.find(forests), std::string::npos) << text;
   text.erase(text.find(forests), forests.size());

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "libs/gltf/reader.h"
 #include "libs/gltf/writer.h"
 #include "libs/tree/default_colors.h"
 #include "libs/tree/sylt_format.h"
@@ -87,7 +88,8 @@ std::vector<std::uint32_t> indices(const fs::path& dir, const nlohmann::json& j,
 // every level with MSFT_lod and reads the levels' own lod<i>.bin (bytes stored once); lod<i>.gltf
 // and lod.json exist; levels with lines have a ribbons variant without LINES whose buffer 0 is
 // lod<i>.bin. Screen coverages are screen fractions: non-increasing, in [0, 1], last 0, and
-// coverage_distance() inverts them. No tangents, no unused material or image; every leaf
+// coverage_distance() inverts them; full.glb, the full-detail model, is a GLB with more triangles
+// than level 0. No tangents, no unused material or image; every leaf
 // triangle is wound counter-clockwise around its own normal (the issue-10 defect: all of them
 // were clockwise). Every file passes the glTF-Validator.
 TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
@@ -105,7 +107,7 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     tree::write_sylt(in / "tree.sylt", t);
     FakeContext ctx(*stage, in, out, {{"levels", Value(4)}, {"ribbons", Value(true)}});
     stage->run(ctx);
-    std::set<std::string> expected = {"lod.gltf", "lod.json"};
+    std::set<std::string> expected = {"lod.gltf", "lod.json", "full.glb"};
     for (int i = 0; i < 4; ++i)
       for (const char* ext : {".gltf", ".bin"}) expected.insert("lod" + std::to_string(i) + ext);
     std::set<std::string> extra;
@@ -122,6 +124,17 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
         ribbon_files.insert(f.substr(0, f.size() - 5) + ".bin");
       }
     EXPECT_EQ(extra, ribbon_files);
+    const std::string full = sylva::test::read_file(out / "full.glb");
+    ASSERT_EQ(full.compare(0, 4, "glTF"), 0);
+    auto triangles = [](const gltf::Scene& scene) {
+      std::size_t n = 0;
+      for (const auto& m : scene.meshes)
+        for (const auto& p : m.primitives)
+          if (p.mode == gltf::PrimitiveMode::kTriangles) n += p.indices.size() / 3;
+      return n;
+    };
+    EXPECT_GT(triangles(gltf::read_scene(out / "full.glb")), triangles(gltf::read_scene(out / "lod0.gltf")));
+    to_validate.push_back(out / "full.glb");
     EXPECT_FALSE(ribbon_files.empty());  // the coarse levels have lines
 
     const nlohmann::json j = read_json(out / "lod.gltf");

@@ -80,13 +80,14 @@ if (JSON.stringify(got) !== JSON.stringify(want)) {
 console.log(`changed: ${changed.size} files (${own.size} of the birch chain, ${forestBirch.join(" ")}, ${tiles.length} forest tiles, each naming a changed birch buffer)`);
 ' "$pack2" "$changed" || fail "the changed files are not exactly birch's and what names them"
 
-# The manifest states every level's numbers exactly as the species' lod.json does; every forest
+# The manifest states every level's numbers exactly as the species' lod.json does, each with the
+# image error the pack measured (its measured level choice); every forest
 # .gltf is meshopt-compressed (its shared .bin buffers: EXT_meshopt_compression).
 node -e '
 const fs = require("fs"), path = require("path");
 const dir = process.argv[1];
 const m = JSON.parse(fs.readFileSync(path.join(dir, "manifest.json"), "utf8"));
-if (m.version !== 3) { console.error("manifest version " + m.version + ", expected 3"); process.exit(1); }
+if (m.version !== 4) { console.error("manifest version " + m.version + ", expected 4"); process.exit(1); }
 if (m.species.length !== 3) { console.error("manifest lists " + m.species.length + " species, expected 3"); process.exit(1); }
 for (const s of m.species) {
   const lod = JSON.parse(fs.readFileSync(path.join(dir, s.lod_json), "utf8"));
@@ -95,7 +96,8 @@ for (const s of m.species) {
     process.exit(1);
   }
   for (const l of s.levels)
-    if (!(l.epsilon_m > 0 && l.switch_distance_m > 0 && l.primitives > 0 && l.bytes === m.files.find((f) => f.path === l.file).size)) {
+    if (!(l.epsilon_m > 0 && l.switch_distance_m > 0 && l.primitives > 0 && l.bytes === m.files.find((f) => f.path === l.file).size &&
+          l.measured && l.measured.failing_fraction >= 0 && l.measured.coverage_mean_error >= 0 && typeof l.measured.passed === "boolean")) {
       console.error(s.name + ": level " + l.file + " lacks its numbers: " + JSON.stringify(l)); process.exit(1);
     }
 }

@@ -401,5 +401,28 @@ TEST(PackCore, RefusesAChainThatDoesNotMatchItsLevels) {
   }
 }
 
+// A meshopt GLB whose decoded views end off a 4-byte boundary (one triangle: 6 bytes of 16-bit
+// indices, the last view) loads in sylva's renderer (libs/render pads the decoded BIN chunk), as
+// the measured level choice loads every candidate level.
+TEST(PackCore, AMeshoptLevelWithAnOddTriangleCountLoadsInTheRenderer) {
+  gltf::Scene s;
+  s.materials.push_back({});
+  gltf::Mesh m;
+  gltf::Primitive p;
+  p.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  p.indices = {0, 1, 2};
+  p.material = 0;
+  m.primitives.push_back(p);
+  s.meshes.push_back(m);
+  gltf::Node n;
+  n.mesh = 0;
+  s.nodes.push_back(n);
+  s.roots = {0};
+  gltf::WriteOptions w;
+  w.meshopt = true;
+  const render::Scene back = render::load_gltf_scene_from_memory(gltf::encode(s, w), "one triangle");
+  EXPECT_EQ(back.triangle_count(), 1u);
+}
+
 }  // namespace
 }  // namespace sylva::pack
