@@ -106,7 +106,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
   const Mat4 view = cam.view_matrix();
   for (std::size_t s = 0; s < sets.size(); ++s)
     for (std::size_t i = 0; i < sets[s].instances.size(); ++i) {
-      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->center.homogeneous()).hnormalized();
+      const Vec3 w = (sets[s].instances[i] * sets[s].atlas->geometry.center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), std::uint32_t(s), std::uint32_t(i)});
     }
   if (keys.empty()) return;
@@ -147,6 +147,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     if (s != current) {
       current = s;
       const ImpostorAtlas& a = *sets[s].atlas;
+      const ImpostorGeometry& g = a.geometry;
       glUniform1i(u("u_frames"), g.frames_per_side);
       glUniform1i(u("u_hemi"), g.hemi);
       glUniform3fv(u("u_center"), 1, g.center.data());
