@@ -333,7 +333,7 @@ class GlRenderer final : public Renderer {
       throw RenderError("supersample " + std::to_string(o.supersample) + " is not supported (1.." +
                         std::to_string(kMaxSupersample) + ")");
     const int k = o.supersample;
-    if (o.width < 1 || o.height < 1 || o.width * k > max_size_ || o.height * k > max_size_)
+    if (o.width < 1 || o.height < 1 || o.width > max_size_ / k || o.height > max_size_ / k)
       throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                         (k > 1 ? " supersampled " + std::to_string(k) + "x" : std::string()) +
                         " is outside 1.." + std::to_string(max_size_));

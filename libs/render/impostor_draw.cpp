@@ -71,8 +71,16 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
     auto k =
         std::find_if(kept_.begin(), kept_.end(), [&](const Kept& e) { return e.atlas.lock() == s.atlas; });
     if (k == kept_.end()) {
-      kept_.push_back({s.atlas, upload_map(a.color, a.atlas_px, true, g.mip_levels),
-                       upload_map(a.normal_depth, a.atlas_px, false, g.mip_levels)});
+      const Kept fresh{s.atlas, upload_map(a.color, a.atlas_px, true, g.mip_levels),
+                       upload_map(a.normal_depth, a.atlas_px, false, g.mip_levels)};
+      // A map that did not upload (out of memory) is not kept: the next call tries again.
+      if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+        const GLuint t[2] = {fresh.color, fresh.normal_depth};
+        glDeleteTextures(2, t);
+        throw RenderError("impostor '" + a.name + "': its maps could not be uploaded (GL error " +
+                          std::to_string(e) + ")");
+      }
+      kept_.push_back(fresh);
       k = kept_.end() - 1;
     }
     up.color.push_back(k->color);

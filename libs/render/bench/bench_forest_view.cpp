@@ -2,9 +2,10 @@
 // set's size, each phase timed in CPU seconds of the whole process (llvmpipe's threads included)
 // and of the calling thread, with the trees and primitives drawn per species and level.
 //   bench_forest_view out/forest_celba/forest/instances.json [--view NAME]... [--msaa N]
-//     [--supersample K] [--width W --height H] [--exact-impostors 1] [--out DIR]
+//     [--supersample K] [--width W --height H] [--exact-impostors 1] [--judge-parallax 1] [--out DIR]
 // --exact-impostors 1 draws every impostor with the reference shader's 16 parallax steps (the
-// exact view the parallax table is judged against).
+// exact view the parallax table is judged against); --judge-parallax 1 also renders that exact
+// view and judges the parallax table's view against it (forest lodcheck's judgement).
 #include <sys/resource.h>
 
 #include <chrono>
@@ -44,7 +45,11 @@ struct Lap {
 int main(int argc, char** argv) {
   using namespace sylva;
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s instances.json [--view NAME]... [--msaa N] [--out DIR]\n", argv[0]);
+    std::fprintf(
+        stderr,
+        "usage: %s instances.json [--view NAME]... [--msaa N] [--supersample K] [--width W --height H]\n"
+        "  [--exact-impostors 1] [--judge-parallax 1] [--out DIR]\n",
+        argv[0]);
     return 2;
   }
   const std::filesystem::path file = argv[1];

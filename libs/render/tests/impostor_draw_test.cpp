@@ -123,6 +123,20 @@ Scene impostor_scene(const Maps& m, std::vector<Mat4> instances) {
   return s;
 }
 
+// Two blue quads around the impostor at the origin: x in [-0.9, -0.1] at z = 1.5 (in front),
+// 6 m wide at z = -2 (behind); the disc impostor of `m` at the origin.
+Scene quads_around_impostor(const Maps& m, const std::filesystem::path& dir) {
+  testing::GltfBuilder b;
+  const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 1)});
+  const int quad = b.add_mesh({testing::quad(1.f, blue)});
+  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(-0.5f, 0, 1.5f), .scale = Vec3(0.8f, 0.8f, 1)}));
+  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(0, 0, -2), .scale = Vec3(6, 6, 1)}));
+  b.write_glb(dir / "quads.glb");
+  Scene s = load_gltf_scene(dir / "quads.glb");
+  s.impostors = impostor_scene(m, {Mat4::Identity()}).impostors;
+  return s;
+}
+
 // Same pixels as the reference drawer, for overlapping instances drawn far to near.
 TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawer) {
   const Maps m = disc_maps();
@@ -152,15 +166,7 @@ TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawer) {
 // One depth buffer: an opaque quad in front of the impostor hides it, one behind is hidden by it.
 TEST_F(ImpostorDrawTest, MeshesInFrontHideImpostorsAndImpostorsHideMeshesBehind) {
   const Maps m = disc_maps();
-  testing::GltfBuilder b;
-  const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 1)});
-  const int quad = b.add_mesh({testing::quad(1.f, blue)});
-  // Front: covers x in [-0.9, -0.1] at z = 1.5; back: 6 m wide at z = -2.
-  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(-0.5f, 0, 1.5f), .scale = Vec3(0.8f, 0.8f, 1)}));
-  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(0, 0, -2), .scale = Vec3(6, 6, 1)}));
-  b.write_glb(dir_ / "quads.glb");
-  Scene s = load_gltf_scene(dir_ / "quads.glb");
-  s.impostors = impostor_scene(m, {Mat4::Identity()}).impostors;
+  const Scene s = quads_around_impostor(m, dir_.path());
   const Camera cam = look(Vec3(0, 0, 5));
   const RenderOptions o = options();
   const Image img = renderer_->render(s, cam, o);
@@ -187,14 +193,7 @@ TEST_F(ImpostorDrawTest, MeshesInFrontHideImpostorsAndImpostorsHideMeshesBehind)
 // there; supersampled, its outline would be shaded per sub-pixel).
 TEST_F(ImpostorDrawTest, HybridDrawsImpostorsMultisampledOverSupersampledMeshes) {
   const Maps m = disc_maps();
-  testing::GltfBuilder b;
-  const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 1)});
-  const int quad = b.add_mesh({testing::quad(1.f, blue)});
-  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(-0.5f, 0, 1.5f), .scale = Vec3(0.8f, 0.8f, 1)}));
-  b.add_root(b.add_node({.mesh = quad, .translation = Vec3(0, 0, -2), .scale = Vec3(6, 6, 1)}));
-  b.write_glb(dir_ / "quads.glb");
-  Scene s = load_gltf_scene(dir_ / "quads.glb");
-  s.impostors = impostor_scene(m, {Mat4::Identity()}).impostors;
+  const Scene s = quads_around_impostor(m, dir_.path());
   const Camera cam = look(Vec3(0, 0, 5));
   RenderOptions hybrid = options(), ss = options();
   hybrid.supersample = ss.supersample = 2;

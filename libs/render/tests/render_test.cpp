@@ -571,7 +571,6 @@ TEST_F(RenderTest, CameraSetRendersEveryView) {
   EXPECT_EQ(views[1].camera.name, "right");
 }
 
-// Invalid options are refused with a clear message, not a GL error.
 // Supersampled by 2, the image is the mean of each 2 x 2 block of the same scene drawn at twice
 // the size (one sample per pixel there), lines twice as wide: edges of a lit wavy sheet, a
 // slanted diagonal line and blended lines, to 8-bit rounding.
@@ -652,6 +651,7 @@ TEST_F(RenderTest, HybridWithoutImpostorsIsTheSupersampledImage) {
   }
 }
 
+// Invalid options are refused with a clear message, not a GL error.
 TEST_F(RenderTest, InvalidOptions) {
   const Scene empty;
   RenderOptions o = small();
