@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include "libs/gltf/compose.h"
 #include "libs/gltf/optimize.h"
@@ -240,22 +242,36 @@ class Prepared {
     }
     for (Candidate& c : candidates) {
       c.primitives = primitives_of(*c.scene);
-      c.bits.assign(c.scene->meshes.size(), 0);
-      if (!w.quantize.enabled) {
-        c.grid.position_float = true;
-        continue;
-      }
-      c.float_error = options.position_error * c.epsilon_m;
-      std::vector<int> bits;
-      for (const gltf::Mesh& mesh : c.scene->meshes) {
-        const PositionGrid g =
-            position_grid(mesh, c.epsilon_m, options.position_error, options.position_error_max);
-        bits.push_back(g.bits);
-        c.extent.push_back(mesh_extent(mesh));
-        c.fine.push_back(g.bits == 0 || g.bits > options.position_bits_min);
-      }
-      set_bits(c, std::move(bits));
+      for (const gltf::Mesh& mesh : c.scene->meshes) c.extent.push_back(mesh_extent(mesh));
+      set_grid(c, c.switch_distance_m);
     }
+  }
+
+  // Candidate `c`'s position grids for drawing it from distance `d`: the rule of
+  // PackOptions::position_error for the spatial error that projects to as many pixels at d as
+  // the level's epsilon at its own switch distance, epsilon x min(1, d / switch distance) (a
+  // level drawn nearer than its own switch distance gets a finer grid; its rounding stays the
+  // same fraction of a pixel). Sets bits, float_error, fine and grid.
+  void set_grid(Candidate& c, double d) const {
+    const std::size_t meshes = c.scene->meshes.size();
+    c.fine.assign(meshes, 0);
+    if (!w.quantize.enabled) {
+      c.bits.assign(meshes, 0);
+      c.grid = {};
+      c.grid.position_float = true;
+      return;
+    }
+    const double scale = c.switch_distance_m > 0 && d < c.switch_distance_m ? d / c.switch_distance_m : 1.0;
+    const double epsilon = c.epsilon_m * scale;
+    c.float_error = options_.position_error * epsilon;
+    std::vector<int> bits;
+    for (std::size_t m = 0; m < meshes; ++m) {
+      const PositionGrid g =
+          position_grid(c.scene->meshes[m], epsilon, options_.position_error, options_.position_error_max);
+      bits.push_back(g.bits);
+      c.fine[m] = g.bits == 0 || g.bits > options_.position_bits_min;
+    }
+    set_bits(c, std::move(bits));
   }
 
   // Candidate `c`'s position grids (one entry per mesh; 0: float) and the numbers lod.json states.
@@ -378,7 +394,21 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     out[j].primitives = cand[j].primitives;
   }
   std::vector<std::string> files(n);  // each candidate's file, encoded once, as it is measured
+  // A candidate drawn from nearer than its own switch distance ships on a finer grid (set_grid):
+  // those files by candidate and grid, with the meter's key for each (keys from 1000000 on, in
+  // the order they are first measured: deterministic).
+  std::map<std::pair<std::size_t, std::vector<int>>, std::pair<int, std::string>> nearer_files;
+  int next_key = 1000000;
   auto measure = [&](std::size_t j, double d) {
+    if (d < cand[j].switch_distance_m) {
+      Candidate at = cand[j];
+      p.set_grid(at, d);
+      if (at.bits != cand[j].bits) {
+        auto [it, added] = nearer_files.try_emplace({j, at.bits});
+        if (added) it->second = {next_key++, p.level_file(at, cand[j].switch_distance_m)};
+        return meter.measure(it->second.first, it->second.second, d);
+      }
+    }
     if (files[j].empty()) files[j] = p.level_file(cand[j], cand[j].switch_distance_m);
     return meter.measure(cand[j].impostor ? -1 : int(cand[j].source_level), files[j], d);
   };
@@ -407,10 +437,11 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     settled[j] = b >= cand[j].switch_distance_m;
   };
 
-  // A kept level whose grid (above) has more than position_bits_min bits (the finest levels): the
-  // coarsest grid from position_bits_min bits on whose file measures as passing at distance d
-  // (the level's switch distance) is taken, with that measurement; true when one is. Never coarser
-  // than position_bits_min, nor than the grid the level's epsilon asks for.
+  // A kept level whose grid (above, for the distance it is drawn from) has more than
+  // position_bits_min bits (the finest levels): the coarsest grid from position_bits_min bits on
+  // whose file measures as passing at distance d (where the level is drawn from) is taken, with
+  // that measurement; true when one is. Never coarser than position_bits_min, nor than the grid
+  // the level's epsilon asks for at d.
   auto coarsest_grid = [&](std::size_t j, double d) {
     Candidate& k = p.candidates[j];
     if (k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; })) return false;
@@ -519,8 +550,14 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     }
   }
 
-  for (std::size_t j = 1; j < n; ++j)
-    if (out[j].kept) coarsest_grid(j, out[j].switch_distance_m);
+  // A level kept from nearer than its own switch distance ships the grid it was measured with
+  // there (its measurement is that file's), then, as every kept level, the coarsest grid search.
+  for (std::size_t j = 1; j < n; ++j) {
+    if (!out[j].kept) continue;
+    if (out[j].switch_distance_m < cand[j].switch_distance_m)
+      p.set_grid(p.candidates[j], out[j].switch_distance_m);
+    coarsest_grid(j, out[j].switch_distance_m);
+  }
   return out;
 }
 

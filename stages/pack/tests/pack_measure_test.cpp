@@ -307,6 +307,41 @@ TEST_F(PackMeasure, AFineLevelGetsTheCoarsestGridThatPasses) {
   EXPECT_EQ(d.levels[0].position_bits, 16);
 }
 
+// A level kept from a band start b nearer than its own switch distance s gets the grid of
+// epsilon x b / s (the same fraction of a pixel at b as its epsilon / 4 grid at s): level 2
+// (epsilon 18 mm over 1 m, s 8.69 m) kept from level 1's 2.90 m needs sqrt(3)/2 / (2^B - 1) <=
+// 0.25 x 6 mm, B = 10 bits (1.5 mm), not its own 8 bits (4.5 mm, 3x the pixels at 2.9 m). With
+// position_bits_min 9, that grid has more bits than the floor, so it is searched from 9 bits on,
+// measured at 2.9 m (the box renderer draws the box's corners alike on any grid): 9. The model
+// choice draws every level from its own switch distance: 8 bits.
+TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceGetsTheGridOfThatDistance) {
+  std::vector<Level> levels = honest();
+  levels[2].lowered = 0.3 * levels[1].eps;  // passes from level 1's 2.9 m (test above)
+  const SpeciesInput in = chain(levels);
+  LodDescription d;
+  pack_species(in, {}, &d, &meter_);
+  ASSERT_EQ(d.levels.size(), 4u);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  EXPECT_DOUBLE_EQ(d.levels[1].switch_distance_m, switch_distance(0.006));
+  EXPECT_EQ(d.levels[1].position_bits, 10);
+  EXPECT_DOUBLE_EQ(d.levels[1].position_error_m, std::sqrt(3.0) / 2 * (1.0 / 1023));
+  EXPECT_LE(d.levels[1].position_error_m, 0.25 * 0.018 * switch_distance(0.006) / switch_distance(0.018));
+  ASSERT_TRUE(d.levels[1].measured.has_value());
+  EXPECT_TRUE(d.levels[1].measured->passed);
+  // Level 3 and the impostor are drawn from their own switch distances: their own grids (level 3:
+  // 13.5 mm, 7 bits).
+  EXPECT_EQ(d.levels[2].source_level, 3);
+  EXPECT_EQ(d.levels[2].position_bits, 7);
+  PackOptions o;
+  o.position_bits_min = 9;
+  pack_species(in, o, &d, &meter_);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  EXPECT_EQ(d.levels[1].position_bits, 9);
+  pack_species(in, {}, &d);
+  ASSERT_EQ(d.levels[2].source_level, 2);
+  EXPECT_EQ(d.levels[2].position_bits, 8);
+}
+
 // The stage: a lod input as the lod stage writes it (lod.gltf over lod<i>.gltf and .bin files,
 // lod.json with the chain's camera, full.glb), measured through the renderer the stage is given.
 void write_lod_dir(const std::filesystem::path& dir, const std::vector<Level>& levels, bool full) {
