@@ -7,7 +7,9 @@ StageInfo pack_stage_info() {
   info.name = "pack";
   // 8: levels chosen by measured image error (measure: true), measured numbers in lod.json and
   // the manifest (version 4); a level drawn from another band start states that switch distance.
-  info.version = 8;
+  // 9: an impostor failing at its own distance is kept from the first farther distance (x 1.25
+  // steps) where it passes.
+  info.version = 9;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
       "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
