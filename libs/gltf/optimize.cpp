@@ -42,6 +42,7 @@ void optimize_primitive(Primitive& p, OptimizeOrder order) {
                                3 * sizeof(float), 1.05f);
     }
   }
+  if (p.mode == PrimitiveMode::kLines && order == OptimizeOrder::kSize) return;  // (optimize.h)
   std::vector<unsigned int> remap(n);
   const std::size_t used =
       meshopt_optimizeVertexFetchRemap(remap.data(), p.indices.data(), p.indices.size(), n);

@@ -30,6 +30,18 @@ GLuint upload_map(const std::vector<std::uint8_t>& rgba, int px, bool srgb, int 
 
 }  // namespace
 
+void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parallax_steps) {
+  auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
+  glUniform1i(u("u_frames"), g.frames_per_side);
+  glUniform1i(u("u_hemi"), g.hemi);
+  glUniform3fv(u("u_center"), 1, g.center.data());
+  glUniform1f(u("u_radius"), g.radius);
+  glUniform1f(u("u_half_extent"), g.half_extent);
+  glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
+  glUniform1i(u("u_parallax_steps"), std::clamp(parallax_steps, 0, 64));
+  glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
+}
+
 void ImpostorDrawer::destroy() {
   if (program_) glDeleteProgram(program_);
   program_ = 0;
@@ -154,16 +166,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     const std::size_t s = keys[begin].set;
     if (s != current) {
       current = s;
-      const ImpostorAtlas& a = *sets[s].atlas;
-      const ImpostorGeometry& g = a.geometry;
-      glUniform1i(u("u_frames"), g.frames_per_side);
-      glUniform1i(u("u_hemi"), g.hemi);
-      glUniform3fv(u("u_center"), 1, g.center.data());
-      glUniform1f(u("u_radius"), g.radius);
-      glUniform1f(u("u_half_extent"), g.half_extent);
-      glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
-      glUniform1i(u("u_parallax_steps"), std::clamp(sets[s].parallax_steps, 0, 64));
-      glUniform1f(u("u_atlas_px"), float(a.atlas_px));
+      set_impostor_uniforms(program_, sets[s].atlas->geometry, sets[s].parallax_steps);
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, up.color[s]);
       glActiveTexture(GL_TEXTURE1);

@@ -24,6 +24,10 @@
 
 namespace sylva::render::detail {
 
+// The reference shader's per-impostor uniforms (frames, hemi, sphere, frame extent, padding,
+// parallax steps clamped to 0..64, atlas size) for `g` on `program`, which must be in use.
+void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parallax_steps);
+
 class ImpostorDrawer {
  public:
   struct Uploaded {

@@ -40,6 +40,7 @@
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
 #include "libs/render/impostor_atlas.h"
+#include "libs/render/impostor_draw.h"
 #include "libs/render/line_merge.h"
 
 namespace sylva::render {
@@ -414,14 +415,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
 
     glUseProgram(draw_program_);
     auto u = [&](const char* n) { return glGetUniformLocation(draw_program_, n); };
-    glUniform1i(u("u_frames"), g.frames_per_side);
-    glUniform1i(u("u_hemi"), g.hemi);
-    glUniform3fv(u("u_center"), 1, g.center.data());
-    glUniform1f(u("u_radius"), g.radius);
-    glUniform1f(u("u_half_extent"), g.half_extent);
-    glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
-    glUniform1i(u("u_parallax_steps"), std::clamp(draw.parallax_steps, 0, 64));
-    glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
+    detail::set_impostor_uniforms(draw_program_, g, draw.parallax_steps);
     glUniform3fv(u("u_ambient"), 1, o.lighting.ambient.data());
     glUniform3fv(u("u_light_color"), 1, o.lighting.light_color.data());
     const Vec3 l =

@@ -379,6 +379,11 @@ std::vector<LevelChoice> model_choice(const Prepared& p, const PackOptions& opti
   return out;
 }
 
+// How far the measured choice looks for an impostor that fails at its own distance: up to
+// 1.25^8 = 5.96 x that distance, in steps of 1.25.
+constexpr int kImpostorFartherSteps = 8;
+constexpr double kImpostorFartherFactor = 1.25;
+
 // The measured choice (docs/stages/pack.md "Levels kept"): per band start, the candidate with the
 // fewest primitives whose shipped file passes the image check there.
 std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options, LevelMeter& meter) {
@@ -548,6 +553,26 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
       k.reason.clear();
       c = *best;
     }
+  }
+
+  // An impostor that fails at its own distance (a far tree is a few dozen pixels, where one pixel
+  // is 2 % of the check's footprint) is measured farther out, at b x 1.25^k, and kept from the
+  // first of those distances where it passes: a chain with an impostor ends with it.
+  if (has_impostor && !out[n - 1].kept && !cand[c].impostor && saves(n - 1, c)) {
+    double d = std::max(cand[n - 1].switch_distance_m, out[c].switch_distance_m);
+    for (int k = 0; k < kImpostorFartherSteps; ++k) {
+      d *= kImpostorFartherFactor;
+      const LevelMeter::Result r = measure(n - 1, d);
+      if (!r.error.passed) continue;
+      out[n - 1].kept = true;
+      out[n - 1].switch_distance_m = d;
+      out[n - 1].measured = r.error;
+      out[n - 1].reason.clear();
+      break;
+    }
+    if (!out[n - 1].kept)
+      out[n - 1].reason = (out[n - 1].reason.empty() ? std::string("fails") : out[n - 1].reason) +
+                          " (and at every distance up to " + describe(d) + " m)";
   }
 
   // A level kept from nearer than its own switch distance ships the grid it was measured with

@@ -8,7 +8,9 @@ StageInfo pack_stage_info() {
   // 8: levels chosen by measured image error (measure: true), measured numbers in lod.json and
   // the manifest (version 4); a level drawn from another band start states that switch distance.
   // 9: a level drawn from nearer than its own switch distance gets the position grid of that
-  // distance (epsilon x d / switch distance), searched from position_bits_min there.
+  // distance (epsilon x d / switch distance), searched from position_bits_min there; an impostor
+  // failing at its own distance is kept from the first farther distance (x 1.25 steps) where it
+  // passes; lines keep their vertex order (smaller files).
   info.version = 9;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "

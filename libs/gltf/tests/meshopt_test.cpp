@@ -180,6 +180,26 @@ TEST(GltfOptimize, SameTrianglesBetterCacheAndFetchOrder) {
   EXPECT_EQ(lines.colors.size(), 160u);
 }
 
+// For size (the pack), lines keep their order: a branch's vertices along it, a joint repeated per
+// segment, compress better than in first-use order (optimize.h); for the GPU they are fetch-ordered.
+TEST(GltfOptimize, ForSizeLinesKeepTheirVertexOrder) {
+  Scene s = sample(4);
+  Primitive& l = s.meshes[0].primitives[1];
+  // Segments listed back to front: first-use order would reverse the vertices.
+  std::vector<std::uint32_t> reversed;
+  for (std::size_t k = l.indices.size(); k >= 2; k -= 2)
+    reversed.insert(reversed.end(), {l.indices[k - 2], l.indices[k - 1]});
+  l.indices = reversed;
+  const Primitive before = l;
+  Scene gpu = s;
+  optimize_scene(s, OptimizeOrder::kSize);
+  EXPECT_EQ(s.meshes[0].primitives[1].positions, before.positions);
+  EXPECT_EQ(s.meshes[0].primitives[1].indices, before.indices);
+  optimize_scene(gpu, OptimizeOrder::kGpu);
+  EXPECT_NE(gpu.meshes[0].primitives[1].positions, before.positions);
+  EXPECT_EQ(gpu.meshes[0].primitives[1].indices[0], 0u);
+}
+
 // KHR_mesh_quantization (QuantizeOptions): the integers decode, through the node's transform,
 // to within half a grid step of every input position; uvs and normals within their bits; the
 // extension is required; with meshopt the normals go through the OCTAHEDRAL filter; every file

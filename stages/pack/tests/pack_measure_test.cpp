@@ -342,6 +342,25 @@ TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceGetsTheGridOfThatDista
   EXPECT_EQ(d.levels[2].position_bits, 8);
 }
 
+// An impostor that fails at its own distance (its box 3 epsilon too low: 1.5 px at 78.2 m) is
+// measured farther out, at 78.2 m x 1.25^k, and kept from the first distance where it passes
+// (without that search the chain would end at level 3).
+TEST_F(PackMeasure, AnImpostorFailingAtItsDistanceIsKeptFromFartherOut) {
+  const SpeciesInput in = chain(honest(), 3 * 0.162);
+  const std::vector<LevelChoice> choice = select_levels(in, {}, &meter_);
+  ASSERT_TRUE(choice.back().impostor);
+  ASSERT_TRUE(choice.back().kept) << choice.back().reason;
+  const double own = switch_distance(0.162);
+  const double k = std::log(choice.back().switch_distance_m / own) / std::log(1.25);
+  EXPECT_NEAR(k, std::round(k), 1e-9);
+  // 1.5 px at 78.2 m is within the check's half pixel from about three times as far: 1.25^5.
+  EXPECT_EQ(std::lround(k), 5);
+  ASSERT_TRUE(choice.back().measured.has_value());
+  EXPECT_TRUE(choice.back().measured->passed);
+  EXPECT_EQ(choice.back().reason, "");
+  EXPECT_EQ(kept(choice).size(), 5u);
+}
+
 // The stage: a lod input as the lod stage writes it (lod.gltf over lod<i>.gltf and .bin files,
 // lod.json with the chain's camera, full.glb), measured through the renderer the stage is given.
 void write_lod_dir(const std::filesystem::path& dir, const std::vector<Level>& levels, bool full) {
