@@ -480,6 +480,21 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
   for (std::size_t j = 1; j < n; ++j) starts.push_back(cand[j].switch_distance_m);
   std::sort(starts.begin(), starts.end());
   starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+  // Candidate j at band start b (the current level c): false, with its reason noted, when it
+  // saves too little over c (not measured); ...
+  auto too_little = [&](std::size_t j, double b) {
+    if (saves(j, c)) return false;
+    note(j, b, saving_reason(j, c, b));
+    return true;
+  };
+  // ... its measurement when it passes at b, else nullopt with the failure noted.
+  auto passes = [&](std::size_t j, double b) -> std::optional<MeasuredError> {
+    const LevelMeter::Result r = measure(j, b);
+    if (r.error.passed) return r.error;
+    note(j, b, "fails at " + describe(b) + " m: " + r.failure);
+    return std::nullopt;
+  };
+
   for (const double b : starts) {
     if (cand[c].impostor) break;  // nothing has fewer primitives
     if (!(b > out[c].switch_distance_m)) continue;
@@ -488,17 +503,14 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     // The impostor first: when it passes, no mesh level has fewer primitives.
     if (has_impostor) {
       const std::size_t imp = n - 1;
-      if (!saves(imp, c)) {
-        note(imp, b, saving_reason(imp, c, b));
-      } else if (const LevelMeter::Result r = measure(imp, b); r.error.passed) {
+      const std::optional<MeasuredError> e = too_little(imp, b) ? std::nullopt : passes(imp, b);
+      if (e) {
         best = imp;
-        best_error = r.error;
+        best_error = *e;
         for (std::size_t j = c + 1; j < meshes; ++j)
           note(j, b,
                "the impostor (" + std::to_string(cand[imp].primitives) + " primitives) passes from " +
                    describe(b) + " m");
-      } else {
-        note(imp, b, "fails at " + describe(b) + " m: " + r.failure);
       }
     }
     // The band's own mesh level (when it is coarser than the current one; the impostor's band
@@ -509,13 +521,9 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     for (std::size_t j = c + 1; j < meshes; ++j)
       if (cand[j].switch_distance_m == b) from = j;
     for (std::size_t j = from; !best && j < meshes; ++j) {
-      if (!saves(j, c)) {
-        note(j, b, saving_reason(j, c, b));
-        continue;
-      }
-      const LevelMeter::Result r = measure(j, b);
-      if (!r.error.passed) {
-        note(j, b, "fails at " + describe(b) + " m: " + r.failure);
+      if (too_little(j, b)) continue;
+      const std::optional<MeasuredError> e = passes(j, b);
+      if (!e) {
         for (std::size_t k = j + 1; k < meshes; ++k)
           note(k, b,
                "not measured at " + describe(b) + " m: level " + std::to_string(j) + ", finer, fails there");
@@ -527,22 +535,16 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
              "level " + std::to_string(j) + " (" + std::to_string(cand[j].primitives) +
                  " primitives) passes at " + describe(b) + " m too");
       mesh_best = j;
-      best_error = r.error;
+      best_error = *e;
     }
     // Nothing from there on passes: the levels between the current one and the band's own,
     // coarsest first, up to the first that passes.
     for (std::size_t j = from; !best && !mesh_best && j-- > c + 1;) {
-      if (!saves(j, c)) {
-        note(j, b, saving_reason(j, c, b));
-        continue;
+      if (too_little(j, b)) continue;
+      if (const std::optional<MeasuredError> e = passes(j, b)) {
+        mesh_best = j;
+        best_error = *e;
       }
-      const LevelMeter::Result r = measure(j, b);
-      if (!r.error.passed) {
-        note(j, b, "fails at " + describe(b) + " m: " + r.failure);
-        continue;
-      }
-      mesh_best = j;
-      best_error = r.error;
     }
     if (!best) best = mesh_best;
     if (best) {  // else the current level draws this band too

@@ -490,6 +490,17 @@ TEST_F(ForestOutput, ImpostorSwitchDistanceInTheChainsTerms) {
   }
 }
 
+// A 45-degree camera 2 m above the ground on the z axis at `z`, looking at the origin's column.
+render::Camera camera_on_z_axis(float z, float z_far) {
+  render::Camera cam;
+  cam.eye = render::Vec3(0, 2, z);
+  cam.target = render::Vec3(0, 2, 0);
+  cam.fov_y_deg = 45;
+  cam.z_near = 1;
+  cam.z_far = z_far;
+  return cam;
+}
+
 // ForestViewStats: per species and level, the trees drawn and exactly their level's primitives
 // each (the level switches at 520 m: a view from ~540 m sees species a at both levels).
 TEST_F(ForestOutput, ViewStatsCountTreesAndPrimitivesPerSpeciesAndLevel) {
@@ -500,12 +511,7 @@ TEST_F(ForestOutput, ViewStatsCountTreesAndPrimitivesPerSpeciesAndLevel) {
   const fs::path out = dir_ / "stats";
   const forest::Forest f = run(out, params);
   const render::ForestView view = render::ForestView::load(out / "instances.json");
-  render::Camera cam;
-  cam.eye = render::Vec3(0, 2, 530);
-  cam.target = render::Vec3(0, 2, 0);
-  cam.fov_y_deg = 45;
-  cam.z_near = 1;
-  cam.z_far = 1000;
+  const render::Camera cam = camera_on_z_axis(530, 1000);
   render::ForestViewOptions all;
   all.cull = false;
   render::ForestViewStats st;
@@ -566,12 +572,7 @@ TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
   coarse.pixel_error_px = 1.0;  // twice the chain's delta: every distance halves
   EXPECT_EQ(view.parallax_steps_for(0, 70, coarse), 4);
   // A view from 160 m: every tree an impostor (from 100 m), species a's split by the table.
-  render::Camera cam;
-  cam.eye = render::Vec3(0, 2, 160);
-  cam.target = render::Vec3(0, 2, 0);
-  cam.fov_y_deg = 45;
-  cam.z_near = 1;
-  cam.z_far = 400;
+  const render::Camera cam = camera_on_z_axis(160, 400);
   render::ForestViewStats st;
   const render::Scene scene = view.view_scene(cam, 1.f, {}, st);
   std::map<int, std::size_t> expect;
