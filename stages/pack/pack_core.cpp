@@ -16,6 +16,7 @@
 #include "libs/gltf/compose.h"
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/writer.h"
+#include "libs/image/png.h"
 #include "libs/pack/lod_json.h"
 
 namespace sylva::pack {
@@ -293,6 +294,7 @@ class Prepared {
   // The scene `s` as a pack file: reordered for compression, the pack's asset extras, encoded
   // with each mesh's position grid (`bits`, `float_error`: one entry per mesh of `s`).
   std::string encode(gltf::Scene s, std::vector<int> bits, std::vector<double> float_error) {
+    for (gltf::Image& im : s.images) im.bytes = smaller_png(im.bytes);
     w.quantize.position_bits = std::move(bits);
     w.quantize.float_position_error = std::move(float_error);
     if (options_.optimize) gltf::optimize_scene(s, gltf::OptimizeOrder::kSize);
@@ -303,15 +305,15 @@ class Prepared {
     return gltf::encode(s, w);
   }
 
-  // Candidate `c`'s file alone (<species>_lod<k>.glb or _impostor.glb), drawn from
-  // `switch_distance_m`: a mesh level keeps only its numbers in its extras (the lod stage's
-  // diagnostics stay in the lod artifact), trimmed in the copy being encoded.
-  std::string level_file(const Candidate& c, double switch_distance_m) {
+  // Candidate `c`'s file alone (<species>_lod<k>.glb or _impostor.glb). A mesh level's file
+  // carries no extras on its nodes and meshes: its numbers (epsilon, pixel error, the switch
+  // distance it is drawn from, its lod level) are lod.json's and the manifest's, and the lod
+  // stage's diagnostics stay in the lod artifact. Cleared in the copy being encoded.
+  std::string level_file(const Candidate& c) {
     gltf::Scene s = *c.scene;
     if (!c.impostor) {
-      trim_level_extras(s, 0, 0);
-      for (gltf::Node& n : s.nodes)
-        if (n.extras.contains("switch_distance_m")) n.extras["switch_distance_m"] = switch_distance_m;
+      for (gltf::Mesh& m : s.meshes) m.extras = nullptr;
+      for (gltf::Node& n : s.nodes) n.extras = nullptr;
     }
     return encode(std::move(s), c.bits, std::vector<double>(c.scene->meshes.size(), c.float_error));
   }
@@ -321,8 +323,29 @@ class Prepared {
   gltf::WriteOptions w;
 
  private:
+  // An embedded 8-bit RGBA PNG re-deflated at zlib level 9 (libs/image encode_png: the same
+  // filters and chunks as the stages write at level 6), when that is smaller and decodes to the
+  // same pixels; any other image as it is. Once per distinct image: the measured choice encodes
+  // a level's file several times.
+  const std::string& smaller_png(const std::string& bytes) {
+    const auto it = smaller_png_.find(bytes);
+    if (it != smaller_png_.end()) return it->second;
+    std::string out = bytes;
+    // PNG signature (8), IHDR length and type (8), width, height (8), bit depth, colour type.
+    const bool rgba8 = bytes.size() > 26 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 &&
+                       bytes.compare(12, 4, "IHDR") == 0 && bytes[24] == 8 && bytes[25] == 6;
+    if (rgba8) {
+      const image::Image pixels = image::decode_png(bytes);
+      const std::vector<std::uint8_t> png = image::encode_png(pixels, image::PngOptions{9});
+      const std::string_view v(reinterpret_cast<const char*>(png.data()), png.size());
+      if (png.size() < bytes.size() && image::decode_png(v) == pixels) out.assign(v);
+    }
+    return smaller_png_.emplace(bytes, std::move(out)).first->second;
+  }
+
   const SpeciesInput& in_;
   const PackOptions& options_;
+  std::map<std::string, std::string> smaller_png_;
 };
 
 std::string describe(double d) {
@@ -410,11 +433,11 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
       p.set_grid(at, d);
       if (at.bits != cand[j].bits) {
         auto [it, added] = nearer_files.try_emplace({j, at.bits});
-        if (added) it->second = {next_key++, p.level_file(at, cand[j].switch_distance_m)};
+        if (added) it->second = {next_key++, p.level_file(at)};
         return meter.measure(it->second.first, it->second.second, d);
       }
     }
-    if (files[j].empty()) files[j] = p.level_file(cand[j], cand[j].switch_distance_m);
+    if (files[j].empty()) files[j] = p.level_file(cand[j]);
     return meter.measure(cand[j].impostor ? -1 : int(cand[j].source_level), files[j], d);
   };
   const double keep_at_most = 1 - options.min_saving;
@@ -460,7 +483,7 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
         if (k.fine[m] && (bits[m] == 0 || bits[m] > b)) bits[m] = b;
       p.set_bits(coarser, std::move(bits));
       const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
-      const LevelMeter::Result r = meter.measure(key, p.level_file(coarser, k.switch_distance_m), d);
+      const LevelMeter::Result r = meter.measure(key, p.level_file(coarser), d);
       if (!r.error.passed) continue;
       k = std::move(coarser);
       out[j].measured = r.error;
@@ -738,7 +761,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   std::vector<PackedFile> out;
   out.push_back({d.chain, p.encode(std::move(chain), chain_bits, chain_float_error), chain_inputs});
   for (Kept& k : kept) {
-    std::string bytes = p.level_file(*k.candidate, k.level.switch_distance_m);
+    std::string bytes = p.level_file(*k.candidate);
     k.level.bytes = bytes.size();
     out.push_back({k.level.file, std::move(bytes), k.inputs});
     d.levels.push_back(k.level);

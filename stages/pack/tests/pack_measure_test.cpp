@@ -251,7 +251,8 @@ TEST_F(PackMeasure, ALevelBetterThanItsEpsilonReplacesTheFinerOneABandEarly) {
   EXPECT_EQ(kept(choice), (std::vector<std::string>{"0@0.966", "2@2.9", "3@26.1", "imp@78.2"}));
   EXPECT_FALSE(choice[1].kept);
   EXPECT_EQ(choice[1].reason, "level 2 (192 primitives) passes at 2.89706 m too");
-  // Drawn from 2.9 m: lod.json, the level's node and the coverage before it say so.
+  // Drawn from 2.9 m: lod.json, the level's node in the chain file and the coverage before it say
+  // so; the level's own file carries no extras (pack version 10).
   LodDescription d;
   const std::vector<PackedFile> files = pack_species(in, {}, &d, &meter_);
   ASSERT_EQ(d.levels.size(), 4u);
@@ -260,7 +261,9 @@ TEST_F(PackMeasure, ALevelBetterThanItsEpsilonReplacesTheFinerOneABandEarly) {
   const double top = 1 - levels[0].lowered, r = 0.5 * std::sqrt(2 + top * top);
   const double t = std::tan(kFov / 2), at = switch_distance(0.006);
   EXPECT_NEAR(d.levels[0].screen_coverage, std::numbers::pi * r * r / ((2 * at * t) * (2 * at * t)), 1e-6);
-  EXPECT_NE(files[2].bytes.find("\"switch_distance_m\":" + nlohmann::json(at).dump()), std::string::npos);
+  EXPECT_NE(files[0].bytes.find("\"switch_distance_m\":" + nlohmann::json(at).dump()), std::string::npos);
+  EXPECT_EQ(files[2].bytes.find("\"extras\":{\"epsilon_m\""), std::string::npos);
+  EXPECT_EQ(files[2].bytes.find("switch_distance_m"), std::string::npos);
 }
 
 TEST_F(PackMeasure, MinSavingSkipsLevelsWithoutMeasuringThem) {
