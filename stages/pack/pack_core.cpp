@@ -11,6 +11,7 @@
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "libs/gltf/compose.h"
@@ -179,6 +180,18 @@ double bounding_radius(const gltf::Scene& s) {
   return 0.5 * std::sqrt(d2);
 }
 
+// A branch or needle line's alpha drawn from d instead of its level's switch distance s, scale =
+// s / d. The lod stage stores in COLOR_0's alpha the pixel coverage c of the branch at s split
+// over the three lines of an internode, alpha = 1 - (1 - c)^(1/3) (docs/stages/lod.md "Line
+// alpha, as drawn"); c is a width over the pixel's, and a pixel at d is d / s of one at s, so
+// from d the same branch covers min(1, c s / d).
+float line_alpha_at(float alpha, double scale) {
+  if (!(alpha < 1)) return 1.0f;
+  const double c = -std::expm1(3 * std::log1p(-double(std::max(alpha, 0.0f))));  // 1 - (1 - a)^3
+  const double at = std::min(1.0, c * scale);
+  return at >= 1 ? 1.0f : float(-std::expm1(std::log1p(-at) / 3));
+}
+
 // MSFT_screencoverage at distance d (lod_gltf.h screen_coverages): pi R^2 / (2 d tan(phi/2))^2,
 // clamped to 1.
 double coverage_at(double radius, double tan_half_fov, double d) {
@@ -275,6 +288,36 @@ class Prepared {
     set_bits(c, std::move(bits));
   }
 
+  // Candidate `c` as drawn from distance `d`: set_grid(c, d) and, for a mesh level drawn from
+  // nearer than its own switch distance s, the level with its blended lines' alpha for d
+  // (line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
+  // s / d times the pixels they cover at s). Lines of other materials and every other
+  // primitive are the level's. The scenes are kept here, one per level and distance.
+  void draw_from(Candidate& c, double d) {
+    set_grid(c, d);
+    if (c.impostor || !(d < c.switch_distance_m)) return;
+    const gltf::Scene& level = in_.levels[c.source_level];
+    auto blended_lines = [&](const gltf::Primitive& p) {
+      return p.mode == gltf::PrimitiveMode::kLines && p.material >= 0 && !p.colors.empty() &&
+             level.materials[std::size_t(p.material)].alpha_mode == gltf::AlphaMode::kBlend;
+    };
+    bool any = false;
+    for (const gltf::Mesh& m : level.meshes)
+      any = any || std::any_of(m.primitives.begin(), m.primitives.end(), blended_lines);
+    if (!any) return;
+    auto [it, added] = drawn_from_.try_emplace({c.source_level, d});
+    if (added) {
+      it->second = level;
+      const double scale = c.switch_distance_m / d;
+      for (gltf::Mesh& m : it->second.meshes)
+        for (gltf::Primitive& p : m.primitives)
+          if (blended_lines(p))
+            for (std::size_t i = 3; i < p.colors.size(); i += 4)
+              p.colors[i] = line_alpha_at(p.colors[i], scale);
+    }
+    c.scene = &it->second;
+  }
+
   // Candidate `c`'s position grids (one entry per mesh; 0: float) and the numbers lod.json states.
   void set_bits(Candidate& c, std::vector<int> bits) const {
     c.bits = std::move(bits);
@@ -346,6 +389,7 @@ class Prepared {
   const SpeciesInput& in_;
   const PackOptions& options_;
   std::map<std::string, std::string> smaller_png_;
+  std::map<std::pair<std::size_t, double>, gltf::Scene> drawn_from_;  // draw_from's levels
 };
 
 std::string describe(double d) {
@@ -422,17 +466,19 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     out[j].primitives = cand[j].primitives;
   }
   std::vector<std::string> files(n);  // each candidate's file, encoded once, as it is measured
-  // A candidate drawn from nearer than its own switch distance ships on a finer grid (set_grid):
-  // those files by candidate and grid, with the meter's key for each (keys from 1000000 on, in
-  // the order they are first measured: deterministic).
-  std::map<std::pair<std::size_t, std::vector<int>>, std::pair<int, std::string>> nearer_files;
+  // A candidate drawn from nearer than its own switch distance ships on a finer grid and with
+  // its lines' alpha for that distance (draw_from): those files by candidate, grid and scene,
+  // with the meter's key for each (keys from 1000000 on, in the order they are first measured:
+  // deterministic).
+  std::map<std::tuple<std::size_t, std::vector<int>, const gltf::Scene*>, std::pair<int, std::string>>
+      nearer_files;
   int next_key = 1000000;
   auto measure = [&](std::size_t j, double d) {
     if (d < cand[j].switch_distance_m) {
       Candidate at = cand[j];
-      p.set_grid(at, d);
-      if (at.bits != cand[j].bits) {
-        auto [it, added] = nearer_files.try_emplace({j, at.bits});
+      p.draw_from(at, d);
+      if (at.bits != cand[j].bits || at.scene != cand[j].scene) {
+        auto [it, added] = nearer_files.try_emplace({j, at.bits, at.scene});
         if (added) it->second = {next_key++, p.level_file(at)};
         return meter.measure(it->second.first, it->second.second, d);
       }
@@ -600,12 +646,13 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
                           " (and at every distance up to " + describe(d) + " m)";
   }
 
-  // A level kept from nearer than its own switch distance ships the grid it was measured with
-  // there (its measurement is that file's), then, as every kept level, the coarsest grid search.
+  // A level kept from nearer than its own switch distance ships the grid and line alphas it was
+  // measured with there (its measurement is that file's), then, as every kept level, the
+  // coarsest grid search.
   for (std::size_t j = 1; j < n; ++j) {
     if (!out[j].kept) continue;
     if (out[j].switch_distance_m < cand[j].switch_distance_m)
-      p.set_grid(p.candidates[j], out[j].switch_distance_m);
+      p.draw_from(p.candidates[j], out[j].switch_distance_m);
     coarsest_grid(j, out[j].switch_distance_m);
   }
   return out;

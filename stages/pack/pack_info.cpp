@@ -11,9 +11,10 @@ StageInfo pack_stage_info() {
   // distance (epsilon x d / switch distance), searched from position_bits_min there; an impostor
   // failing at its own distance is kept from the first farther distance (x 1.25 steps) where it
   // passes; lines keep their vertex order (smaller files).
-  // 10: the files' JSON prints numbers as short as their floats and leaves out a primitive's
-  // default mode; a mesh level's own file carries no node or mesh extras (lod.json has them);
-  // embedded PNGs re-deflated at zlib level 9 (same pixels).
+  // 10: a level drawn from nearer than its own switch distance draws its blended lines with the
+  // alpha of that distance; the files' JSON prints numbers as short as their floats and leaves
+  // out a primitive's default mode; a mesh level's own file carries no node or mesh extras
+  // (lod.json has them); embedded PNGs re-deflated at zlib level 9 (same pixels).
   info.version = 10;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
