@@ -288,14 +288,15 @@ class Prepared {
     set_bits(c, std::move(bits));
   }
 
-  // Candidate `c` as drawn from distance `d`: set_grid(c, d) and, for a mesh level drawn from
-  // nearer than its own switch distance s, the level with its blended lines' alpha for d
+  // Candidate `c` as drawn from distance `d`: set_grid(c, d) and, with
+  // PackOptions::nearer_line_coverage, for a mesh level drawn from nearer than its own switch
+  // distance s, the level with its blended lines' alpha for d
   // (line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
   // s / d times the pixels they cover at s). Lines of other materials and every other
   // primitive are the level's. The scenes are kept here, one per level and distance.
   void draw_from(Candidate& c, double d) {
     set_grid(c, d);
-    if (c.impostor || !(d < c.switch_distance_m)) return;
+    if (!options_.nearer_line_coverage || c.impostor || !(d < c.switch_distance_m)) return;
     const gltf::Scene& level = in_.levels[c.source_level];
     auto blended_lines = [&](const gltf::Primitive& p) {
       return p.mode == gltf::PrimitiveMode::kLines && p.material >= 0 && !p.colors.empty() &&

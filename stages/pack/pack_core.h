@@ -65,6 +65,11 @@ struct PackOptions {
   // or float positions, gets the coarsest grid from position_bits_min bits on whose file measures
   // as passing where it is drawn from (else its own). 14 is gltfpack's default; [1, 16].
   int position_bits_min = 14;
+  // With a meter: a level drawn from a band start b nearer than its own switch distance s draws
+  // its blended lines (BLEND material, COLOR_0) with the alpha of the coverage c x s / b (capped
+  // at 1) of their coverage c at s (the lod stage's three-line split), measured and shipped so.
+  // Off: the lod stage's alphas (the coverage at s) wherever a level is drawn from.
+  bool nearer_line_coverage = false;
 };
 
 // The impostor level: impostor.glb read back, and impostor.json's numbers (libs/impostor).

@@ -11,9 +11,9 @@ StageInfo pack_stage_info() {
   // distance (epsilon x d / switch distance), searched from position_bits_min there; an impostor
   // failing at its own distance is kept from the first farther distance (x 1.25 steps) where it
   // passes; lines keep their vertex order (smaller files).
-  // 10: a level drawn from nearer than its own switch distance draws its blended lines with the
-  // alpha of that distance; the files' JSON prints numbers as short as their floats and leaves
-  // out a primitive's default mode; a mesh level's own file carries no node or mesh extras
+  // 10: with nearer_line_coverage, a level drawn from nearer than its own switch distance draws
+  // its blended lines with the alpha of that distance; the files' JSON prints numbers as short as their
+  // floats and leaves out a primitive's default mode; a mesh level's own file carries no node or mesh extras
   // (lod.json has them); embedded PNGs re-deflated at zlib level 9 (same pixels).
   info.version = 10;
   info.summary =
@@ -62,6 +62,10 @@ StageInfo pack_stage_info() {
           .describe(
               "with measure: a level whose grid has more bits gets the coarsest grid from this many bits "
               "on that measures as passing at its switch distance"),
+      Param::boolean("nearer_line_coverage", false)
+          .describe(
+              "with measure: a level drawn from nearer than its own switch distance draws its blended lines "
+              "with their coverage there (alpha for c x s / b); more bytes for line-heavy levels"),
       Param::boolean("measure", true)
           .describe("choose each band's level by image error measured with lodcheck's renderer and views "
                     "against the lod input's full.glb (false: the error model's switch distances)"),

@@ -347,13 +347,14 @@ TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceGetsTheGridOfThatDista
   EXPECT_EQ(d.levels[2].position_bits, 8);
 }
 
-// ... and draws its blended lines with their coverage at that distance. The lod stage's line
+// With nearer_line_coverage, a level drawn nearer draws its blended lines with their coverage at
+// that distance. The lod stage's line
 // alpha a is the coverage c = 1 - (1 - a)^3 of a branch at the level's switch distance s split
 // over three lines; from b the branch covers s / b times the pixels: level 2 (s 8.69 m) drawn
 // from 2.90 m (s / b = 3) with lines of alpha 0.05 (c 0.1426, at b 0.4279: alpha 0.1698), 0.5
 // (c 0.875, at b 1: alpha 1) and 1. Its lines of an opaque material, and level 3's (drawn from
-// its own switch distance), keep their alpha. Without the rule every alpha stays as written.
-TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceDrawsItsLinesWithTheirCoverageThere) {
+// its own switch distance), keep their alpha. Without the option every alpha stays as written.
+TEST_F(PackMeasure, WithNearerLineCoverageALevelDrawnNearerDrawsItsLinesWithTheirCoverageThere) {
   std::vector<Level> levels = honest();
   levels[2].lowered = 0.3 * levels[1].eps;  // passes from level 1's 2.9 m (tests above)
   SpeciesInput in = chain(levels);
@@ -380,6 +381,7 @@ TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceDrawsItsLinesWithTheir
   PackOptions o;
   o.compression = Compression::kNone;  // plain float GLBs: COLOR_0 as written
   o.quantize = false;
+  o.nearer_line_coverage = true;
   LodDescription d;
   const std::vector<PackedFile> files = pack_species(in, o, &d, &meter_);
   ASSERT_EQ(d.levels.size(), 4u);
@@ -417,10 +419,15 @@ TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceDrawsItsLinesWithTheir
   EXPECT_NEAR(drawn[3], thin, 1e-6);
   EXPECT_EQ(alpha_of(files, d.levels[1].file, 2), alphas);  // opaque material: not coverage
   EXPECT_EQ(alpha_of(files, d.levels[2].file, 1), alphas);  // level 3 from its own 26.1 m
-  // The model choice draws every level from its own switch distance: alphas as written.
+  // The model choice draws every level from its own switch distance: alphas as written; and so
+  // does the measured choice without nearer_line_coverage (the default).
   const std::vector<PackedFile> model = pack_species(in, o, &d);
   ASSERT_EQ(d.levels[2].source_level, 2);
   EXPECT_EQ(alpha_of(model, d.levels[2].file, 1), alphas);
+  o.nearer_line_coverage = false;
+  const std::vector<PackedFile> off = pack_species(in, o, &d, &meter_);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  EXPECT_EQ(alpha_of(off, d.levels[1].file, 1), alphas);
 }
 
 // An impostor that fails at its own distance (its box 3 epsilon too low: 1.5 px at 78.2 m) is
