@@ -367,10 +367,10 @@ class Prepared {
   gltf::WriteOptions w;
 
  private:
-  // An embedded 8-bit RGBA PNG re-deflated at zlib level 9 (libs/image encode_png: the same
-  // filters and chunks as the stages write at level 6), when that is smaller and decodes to the
-  // same pixels; any other image as it is. Once per distinct image: the measured choice encodes
-  // a level's file several times.
+  // An embedded 8-bit RGBA PNG re-encoded at zlib level 9 (libs/image encode_png; the stages
+  // write level 6), when that is smaller and decodes to the same pixels; any other image (another
+  // colour type or bit depth, which decode_png would convert) as it is. Once per distinct image: the measured
+  // choice encodes a level's file several times.
   const std::string& smaller_png(const std::string& bytes) {
     const auto it = smaller_png_.find(bytes);
     if (it != smaller_png_.end()) return it->second;
