@@ -1,6 +1,7 @@
 // EXT_meshopt_compression (the format gltfpack writes), with Debian's meshoptimizer codecs. The
 // JSON comes from tinygltf (its buffers left empty) and is patched with nlohmann::json, whose
-// sorted keys keep the bytes deterministic; the GLB container is assembled here because tinygltf
+// sorted keys keep the bytes deterministic, its numbers printed as short as their floats
+// (json_numbers.h); the GLB container is assembled here because tinygltf
 // cannot write a buffer without data (the fallback buffer).
 #include "libs/gltf/meshopt_encode.h"
 
@@ -15,6 +16,7 @@
 #include <tuple>
 #include <vector>
 
+#include "libs/gltf/json_numbers.h"
 #include "libs/gltf/writer.h"
 
 namespace sylva::gltf::detail {
@@ -275,6 +277,7 @@ std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::
     }
   }
   if (bin.empty() && !any) j.erase("buffers");
+  compact_gltf_numbers(j);  // floats printed as floats (json_numbers.h)
 
   std::string json_text = j.dump();
   pad4(json_text, ' ');

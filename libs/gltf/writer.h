@@ -98,6 +98,8 @@ struct WriteOptions {
   DracoOptions draco;
   // EXT_meshopt_compression (meshopt_encode.h): kGlb only, not with Draco. Every attribute and
   // index view is compressed losslessly with meshoptimizer's codecs; the extension is required.
+  // The JSON's numbers outside extras are printed as short as their floats and a primitive's
+  // default mode 4 is left out (json_numbers.h: compact_gltf_numbers).
   bool meshopt = false;
   // With meshopt: the views of one kind — vertex attributes of one element type (stride,
   // component type, type) and filter, or indices of one primitive mode and index size — are

@@ -7,13 +7,17 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "libs/gltf/compose.h"
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/writer.h"
+#include "libs/image/png.h"
 #include "libs/pack/lod_json.h"
 
 namespace sylva::pack {
@@ -176,6 +180,18 @@ double bounding_radius(const gltf::Scene& s) {
   return 0.5 * std::sqrt(d2);
 }
 
+// A branch or needle line's alpha drawn from d instead of its level's switch distance s, scale =
+// s / d. The lod stage stores in COLOR_0's alpha the pixel coverage c of the branch at s split
+// over the three lines of an internode, alpha = 1 - (1 - c)^(1/3) (docs/stages/lod.md "Line
+// alpha, as drawn"); c is a width over the pixel's, and a pixel at d is d / s of one at s, so
+// from d the same branch covers min(1, c s / d).
+float line_alpha_at(float alpha, double scale) {
+  if (!(alpha < 1)) return 1.0f;
+  const double c = -std::expm1(3 * std::log1p(-double(std::max(alpha, 0.0f))));  // 1 - (1 - a)^3
+  const double at = std::min(1.0, c * scale);
+  return at >= 1 ? 1.0f : float(-std::expm1(std::log1p(-at) / 3));
+}
+
 // MSFT_screencoverage at distance d (lod_gltf.h screen_coverages): pi R^2 / (2 d tan(phi/2))^2,
 // clamped to 1.
 double coverage_at(double radius, double tan_half_fov, double d) {
@@ -240,22 +256,67 @@ class Prepared {
     }
     for (Candidate& c : candidates) {
       c.primitives = primitives_of(*c.scene);
-      c.bits.assign(c.scene->meshes.size(), 0);
-      if (!w.quantize.enabled) {
-        c.grid.position_float = true;
-        continue;
-      }
-      c.float_error = options.position_error * c.epsilon_m;
-      std::vector<int> bits;
-      for (const gltf::Mesh& mesh : c.scene->meshes) {
-        const PositionGrid g =
-            position_grid(mesh, c.epsilon_m, options.position_error, options.position_error_max);
-        bits.push_back(g.bits);
-        c.extent.push_back(mesh_extent(mesh));
-        c.fine.push_back(g.bits == 0 || g.bits > options.position_bits_min);
-      }
-      set_bits(c, std::move(bits));
+      for (const gltf::Mesh& mesh : c.scene->meshes) c.extent.push_back(mesh_extent(mesh));
+      set_grid(c, c.switch_distance_m);
     }
+  }
+
+  // Candidate `c`'s position grids for drawing it from distance `d`: the rule of
+  // PackOptions::position_error for the spatial error that projects to as many pixels at d as
+  // the level's epsilon at its own switch distance, epsilon x min(1, d / switch distance) (a
+  // level drawn nearer than its own switch distance gets a finer grid; its rounding stays the
+  // same fraction of a pixel). Sets bits, float_error, fine and grid.
+  void set_grid(Candidate& c, double d) const {
+    const std::size_t meshes = c.scene->meshes.size();
+    c.fine.assign(meshes, 0);
+    if (!w.quantize.enabled) {
+      c.bits.assign(meshes, 0);
+      c.grid = {};
+      c.grid.position_float = true;
+      return;
+    }
+    const double scale = c.switch_distance_m > 0 && d < c.switch_distance_m ? d / c.switch_distance_m : 1.0;
+    const double epsilon = c.epsilon_m * scale;
+    c.float_error = options_.position_error * epsilon;
+    std::vector<int> bits;
+    for (std::size_t m = 0; m < meshes; ++m) {
+      const PositionGrid g =
+          position_grid(c.scene->meshes[m], epsilon, options_.position_error, options_.position_error_max);
+      bits.push_back(g.bits);
+      c.fine[m] = g.bits == 0 || g.bits > options_.position_bits_min;
+    }
+    set_bits(c, std::move(bits));
+  }
+
+  // Candidate `c` as drawn from distance `d`: set_grid(c, d) and, with
+  // PackOptions::nearer_line_coverage, for a mesh level drawn from nearer than its own switch
+  // distance s, the level with its blended lines' alpha for d
+  // (line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
+  // s / d times the pixels they cover at s). Lines of other materials and every other
+  // primitive are the level's. The scenes are kept here, one per level and distance.
+  void draw_from(Candidate& c, double d) {
+    set_grid(c, d);
+    if (!options_.nearer_line_coverage || c.impostor || !(d < c.switch_distance_m)) return;
+    const gltf::Scene& level = in_.levels[c.source_level];
+    auto blended_lines = [&](const gltf::Primitive& p) {
+      return p.mode == gltf::PrimitiveMode::kLines && p.material >= 0 && !p.colors.empty() &&
+             level.materials[std::size_t(p.material)].alpha_mode == gltf::AlphaMode::kBlend;
+    };
+    bool any = false;
+    for (const gltf::Mesh& m : level.meshes)
+      any = any || std::any_of(m.primitives.begin(), m.primitives.end(), blended_lines);
+    if (!any) return;
+    auto [it, added] = drawn_from_.try_emplace({c.source_level, d});
+    if (added) {
+      it->second = level;
+      const double scale = c.switch_distance_m / d;
+      for (gltf::Mesh& m : it->second.meshes)
+        for (gltf::Primitive& p : m.primitives)
+          if (blended_lines(p))
+            for (std::size_t i = 3; i < p.colors.size(); i += 4)
+              p.colors[i] = line_alpha_at(p.colors[i], scale);
+    }
+    c.scene = &it->second;
   }
 
   // Candidate `c`'s position grids (one entry per mesh; 0: float) and the numbers lod.json states.
@@ -277,6 +338,7 @@ class Prepared {
   // The scene `s` as a pack file: reordered for compression, the pack's asset extras, encoded
   // with each mesh's position grid (`bits`, `float_error`: one entry per mesh of `s`).
   std::string encode(gltf::Scene s, std::vector<int> bits, std::vector<double> float_error) {
+    for (gltf::Image& im : s.images) im.bytes = smaller_png(im.bytes);
     w.quantize.position_bits = std::move(bits);
     w.quantize.float_position_error = std::move(float_error);
     if (options_.optimize) gltf::optimize_scene(s, gltf::OptimizeOrder::kSize);
@@ -287,15 +349,15 @@ class Prepared {
     return gltf::encode(s, w);
   }
 
-  // Candidate `c`'s file alone (<species>_lod<k>.glb or _impostor.glb), drawn from
-  // `switch_distance_m`: a mesh level keeps only its numbers in its extras (the lod stage's
-  // diagnostics stay in the lod artifact), trimmed in the copy being encoded.
-  std::string level_file(const Candidate& c, double switch_distance_m) {
+  // Candidate `c`'s file alone (<species>_lod<k>.glb or _impostor.glb). A mesh level's file
+  // carries no extras on its nodes and meshes: its numbers (epsilon, pixel error, the switch
+  // distance it is drawn from, its lod level) are lod.json's and the manifest's, and the lod
+  // stage's diagnostics stay in the lod artifact. Cleared in the copy being encoded.
+  std::string level_file(const Candidate& c) {
     gltf::Scene s = *c.scene;
     if (!c.impostor) {
-      trim_level_extras(s, 0, 0);
-      for (gltf::Node& n : s.nodes)
-        if (n.extras.contains("switch_distance_m")) n.extras["switch_distance_m"] = switch_distance_m;
+      for (gltf::Mesh& m : s.meshes) m.extras = nullptr;
+      for (gltf::Node& n : s.nodes) n.extras = nullptr;
     }
     return encode(std::move(s), c.bits, std::vector<double>(c.scene->meshes.size(), c.float_error));
   }
@@ -305,8 +367,30 @@ class Prepared {
   gltf::WriteOptions w;
 
  private:
+  // An embedded 8-bit RGBA PNG re-encoded at zlib level 9 (libs/image encode_png; the stages
+  // write level 6), when that is smaller and decodes to the same pixels; any other image (another
+  // colour type or bit depth, which decode_png would convert) as it is. Once per distinct image: the measured
+  // choice encodes a level's file several times.
+  const std::string& smaller_png(const std::string& bytes) {
+    const auto it = smaller_png_.find(bytes);
+    if (it != smaller_png_.end()) return it->second;
+    std::string out = bytes;
+    // PNG signature (8), IHDR length and type (8), width, height (8), bit depth, colour type.
+    const bool rgba8 = bytes.size() > 26 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 &&
+                       bytes.compare(12, 4, "IHDR") == 0 && bytes[24] == 8 && bytes[25] == 6;
+    if (rgba8) {
+      const image::Image pixels = image::decode_png(bytes);
+      const std::vector<std::uint8_t> png = image::encode_png(pixels, image::PngOptions{9});
+      const std::string_view v(reinterpret_cast<const char*>(png.data()), png.size());
+      if (png.size() < bytes.size() && image::decode_png(v) == pixels) out.assign(v);
+    }
+    return smaller_png_.emplace(bytes, std::move(out)).first->second;
+  }
+
   const SpeciesInput& in_;
   const PackOptions& options_;
+  std::map<std::string, std::string> smaller_png_;
+  std::map<std::pair<std::size_t, double>, gltf::Scene> drawn_from_;  // draw_from's levels
 };
 
 std::string describe(double d) {
@@ -383,8 +467,24 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     out[j].primitives = cand[j].primitives;
   }
   std::vector<std::string> files(n);  // each candidate's file, encoded once, as it is measured
+  // A candidate drawn from nearer than its own switch distance ships on a finer grid and with
+  // its lines' alpha for that distance (draw_from): those files by candidate, grid and scene,
+  // with the meter's key for each (keys from 1000000 on, in the order they are first measured:
+  // deterministic).
+  std::map<std::tuple<std::size_t, std::vector<int>, const gltf::Scene*>, std::pair<int, std::string>>
+      nearer_files;
+  int next_key = 1000000;
   auto measure = [&](std::size_t j, double d) {
-    if (files[j].empty()) files[j] = p.level_file(cand[j], cand[j].switch_distance_m);
+    if (d < cand[j].switch_distance_m) {
+      Candidate at = cand[j];
+      p.draw_from(at, d);
+      if (at.bits != cand[j].bits || at.scene != cand[j].scene) {
+        auto [it, added] = nearer_files.try_emplace({j, at.bits, at.scene});
+        if (added) it->second = {next_key++, p.level_file(at)};
+        return meter.measure(it->second.first, it->second.second, d);
+      }
+    }
+    if (files[j].empty()) files[j] = p.level_file(cand[j]);
     return meter.measure(cand[j].impostor ? -1 : int(cand[j].source_level), files[j], d);
   };
   const double keep_at_most = 1 - options.min_saving;
@@ -412,10 +512,11 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
     settled[j] = b >= cand[j].switch_distance_m;
   };
 
-  // A kept level whose grid (above) has more than position_bits_min bits (the finest levels): the
-  // coarsest grid from position_bits_min bits on whose file measures as passing at distance d
-  // (the level's switch distance) is taken, with that measurement; true when one is. Never coarser
-  // than position_bits_min, nor than the grid the level's epsilon asks for.
+  // A kept level whose grid (above, for the distance it is drawn from) has more than
+  // position_bits_min bits (the finest levels): the coarsest grid from position_bits_min bits on
+  // whose file measures as passing at distance d (where the level is drawn from) is taken, with
+  // that measurement; true when one is. Never coarser than position_bits_min, nor than the grid
+  // the level's epsilon asks for at d.
   auto coarsest_grid = [&](std::size_t j, double d) {
     Candidate& k = p.candidates[j];
     if (k.impostor || std::none_of(k.fine.begin(), k.fine.end(), [](char f) { return f; })) return false;
@@ -429,7 +530,7 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
         if (k.fine[m] && (bits[m] == 0 || bits[m] > b)) bits[m] = b;
       p.set_bits(coarser, std::move(bits));
       const int key = 1000 + 100 * int(k.source_level) + b;  // another file of the same level
-      const LevelMeter::Result r = meter.measure(key, p.level_file(coarser, k.switch_distance_m), d);
+      const LevelMeter::Result r = meter.measure(key, p.level_file(coarser), d);
       if (!r.error.passed) continue;
       k = std::move(coarser);
       out[j].measured = r.error;
@@ -546,8 +647,15 @@ std::vector<LevelChoice> measured_choice(Prepared& p, const PackOptions& options
                           " (and at every distance up to " + describe(d) + " m)";
   }
 
-  for (std::size_t j = 1; j < n; ++j)
-    if (out[j].kept) coarsest_grid(j, out[j].switch_distance_m);
+  // A level kept from nearer than its own switch distance ships the grid and line alphas it was
+  // measured with there (its measurement is that file's), then, as every kept level, the
+  // coarsest grid search.
+  for (std::size_t j = 1; j < n; ++j) {
+    if (!out[j].kept) continue;
+    if (out[j].switch_distance_m < cand[j].switch_distance_m)
+      p.draw_from(p.candidates[j], out[j].switch_distance_m);
+    coarsest_grid(j, out[j].switch_distance_m);
+  }
   return out;
 }
 
@@ -701,7 +809,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   std::vector<PackedFile> out;
   out.push_back({d.chain, p.encode(std::move(chain), chain_bits, chain_float_error), chain_inputs});
   for (Kept& k : kept) {
-    std::string bytes = p.level_file(*k.candidate, k.level.switch_distance_m);
+    std::string bytes = p.level_file(*k.candidate);
     k.level.bytes = bytes.size();
     out.push_back({k.level.file, std::move(bytes), k.inputs});
     d.levels.push_back(k.level);

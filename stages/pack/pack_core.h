@@ -58,10 +58,18 @@ struct PackOptions {
   // A level is kept only when it has at most (1 - min_saving) x the primitives of the level
   // kept before it; [0, 1).
   double min_saving = 0.1;
-  // With a meter: a kept level whose grid (the rule above) has more than position_bits_min bits,
+  // A level drawn from a distance d nearer than its own switch distance (the measured choice may
+  // keep it from an earlier band start) gets the grid of this rule for epsilon x d / its switch
+  // distance: the same fraction of a pixel at d as epsilon's grid at its own distance.
+  // With a meter: a kept level whose grid (the rules above) has more than position_bits_min bits,
   // or float positions, gets the coarsest grid from position_bits_min bits on whose file measures
-  // as passing at its switch distance (else its own). 14 is gltfpack's default; [1, 16].
+  // as passing where it is drawn from (else its own). 14 is gltfpack's default; [1, 16].
   int position_bits_min = 14;
+  // With a meter: a level drawn from a band start b nearer than its own switch distance s draws
+  // its blended lines (BLEND material, COLOR_0) with the alpha of the coverage c x s / b (capped
+  // at 1) of their coverage c at s (the lod stage's three-line split), measured and shipped so.
+  // Off: the lod stage's alphas (the coverage at s) wherever a level is drawn from.
+  bool nearer_line_coverage = false;
 };
 
 // The impostor level: impostor.glb read back, and impostor.json's numbers (libs/impostor).
@@ -114,8 +122,9 @@ class LevelMeter {
   };
   virtual ~LevelMeter() = default;
   // The image error of the candidate level `key` (a mesh level's lod index, or -1 for the
-  // impostor), whose file as shipped is `glb`, seen from `distance_m`. A key always comes with the
-  // same bytes. Throws std::runtime_error when it cannot measure (the stage reports it).
+  // impostor; other keys name other files of a level: another position grid), whose file as
+  // shipped is `glb`, seen from `distance_m`. A key always comes with the same bytes. Throws
+  // std::runtime_error when it cannot measure (the stage reports it).
   virtual Result measure(int key, const std::string& glb, double distance_m) = 0;
 };
 

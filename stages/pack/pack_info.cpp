@@ -7,9 +7,15 @@ StageInfo pack_stage_info() {
   info.name = "pack";
   // 8: levels chosen by measured image error (measure: true), measured numbers in lod.json and
   // the manifest (version 4); a level drawn from another band start states that switch distance.
-  // 9: an impostor failing at its own distance is kept from the first farther distance (x 1.25
-  // steps) where it passes; lines keep their vertex order (smaller files).
-  info.version = 9;
+  // 9: a level drawn from nearer than its own switch distance gets the position grid of that
+  // distance (epsilon x d / switch distance), searched from position_bits_min there; an impostor
+  // failing at its own distance is kept from the first farther distance (x 1.25 steps) where it
+  // passes; lines keep their vertex order (smaller files).
+  // 10: with nearer_line_coverage, a level drawn from nearer than its own switch distance draws
+  // its blended lines with the alpha of that distance; the files' JSON prints numbers as short as their
+  // floats and leaves out a primitive's default mode; a mesh level's own file carries no node or mesh extras
+  // (lod.json has them); embedded PNGs re-deflated at zlib level 9 (same pixels).
+  info.version = 10;
   info.summary =
       "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
       "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
@@ -56,6 +62,10 @@ StageInfo pack_stage_info() {
           .describe(
               "with measure: a level whose grid has more bits gets the coarsest grid from this many bits "
               "on that measures as passing at its switch distance"),
+      Param::boolean("nearer_line_coverage", false)
+          .describe(
+              "with measure: a level drawn from nearer than its own switch distance draws its blended lines "
+              "with their coverage there (alpha for c x s / b); more bytes for line-heavy levels"),
       Param::boolean("measure", true)
           .describe("choose each band's level by image error measured with lodcheck's renderer and views "
                     "against the lod input's full.glb (false: the error model's switch distances)"),

@@ -81,6 +81,7 @@ class PackStage : public Stage {
     options.texcoord_bits = static_cast<int>(ctx.integer("texcoord_bits"));
     options.min_saving = ctx.real("min_saving");
     options.position_bits_min = static_cast<int>(ctx.integer("position_bits_min"));
+    options.nearer_line_coverage = ctx.boolean("nearer_line_coverage");
     const bool measure = ctx.boolean("measure");
     check::ViewCheckOptions view_options;
     if (measure) {

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <set>
 
+#include "libs/gltf/json_numbers.h"
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/scene.h"
 #include "libs/gltf/writer.h"
@@ -126,6 +127,62 @@ TEST(GltfMeshopt, ViewsDecodeToTheUncompressedBytes) {
   EXPECT_EQ(modes, (std::set<std::string>{"ATTRIBUTES", "TRIANGLES", "INDICES"}));
   test::TempDir dir;
   test::write_file(dir / "m.glb", packed);
+  SYLVA_EXPECT_VALID_GLTF(dir / "m.glb");
+}
+
+// A meshopt file's numbers are as short as their floats (0.8f as 0.8, not the widened double's
+// 0.800000011920929; 1.0 as 1), extras keep their doubles, triangles leave out their default
+// mode, and the float positions' min/max still bound the data exactly as floats.
+TEST(GltfMeshopt, NumbersAreAsShortAsTheirFloats) {
+  for (const float f :
+       {0.8f, 0.9f, 0.60382736f, -8.397303f, 1e-7f, 3.4e38f, 1.4e-45f, 16.003663f, 0.0016831488f}) {
+    EXPECT_EQ(float(float_json(f)), f) << f;
+    EXPECT_EQ(float_json(float_json(f)), float_json(f)) << f;
+  }
+  EXPECT_EQ(float_json(0.8f), 0.8);
+  EXPECT_EQ(float_json(double(0.9f)), 0.9);
+  Scene s = sample(6);
+  Material m;
+  m.name = "bark";
+  m.base_color = {0.8f, 0.60382736f, 0.1f, 1};
+  m.roughness = 0.9f;
+  m.metallic = 0;
+  s.materials.push_back(m);
+  for (Primitive& p : s.meshes[0].primitives) p.material = 0;
+  s.nodes[0].translation = {double(0.1f), 0, 0};
+  s.nodes[0].extras = {{"switch_distance_m", double(0.8f)}};
+  WriteOptions o;
+  o.meshopt = true;  // float positions (no quantisation)
+  const std::string bytes = encode(s, o);
+  EXPECT_EQ(encode(s, o), bytes);  // deterministic
+  const Glb g = parse_glb(bytes);
+  const std::string json =
+      bytes.substr(20, g.bin.empty() ? std::string::npos : bytes.size() - 20 - g.bin.size() - 8);
+  EXPECT_NE(json.find("\"baseColorFactor\":[0.8,0.60382736,0.1,1]"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"roughnessFactor\":0.9}"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"metallicFactor\":0,"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"translation\":[0.1,0,0]"), std::string::npos) << json;
+  EXPECT_EQ(json.find("0.800000011920929"), json.find("\"switch_distance_m\":0.800000011920929") + 20)
+      << json;
+  EXPECT_EQ(json.find("0.899999976"), std::string::npos) << json;
+  const nlohmann::json& prims = g.json["meshes"][0]["primitives"];
+  EXPECT_FALSE(prims[0].contains("mode"));
+  EXPECT_EQ(prims[1]["mode"], 1);
+  // POSITION: FLOAT, its min/max the data's extremes as floats.
+  for (std::size_t p = 0; p < 2; ++p) {
+    const nlohmann::json& a = g.json["accessors"][prims[p]["attributes"]["POSITION"].get<std::size_t>()];
+    ASSERT_EQ(a["componentType"], 5126);
+    const std::vector<float>& v = s.meshes[0].primitives[p].positions;
+    for (std::size_t c = 0; c < 3; ++c) {
+      float lo = v[c], hi = v[c];
+      for (std::size_t i = c; i < v.size(); i += 3) lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
+      EXPECT_EQ(float(a["min"][c].get<double>()), lo) << p << " " << c;
+      EXPECT_EQ(float(a["max"][c].get<double>()), hi) << p << " " << c;
+      EXPECT_EQ(a["max"][c].get<double>(), float_json(hi)) << p << " " << c;
+    }
+  }
+  test::TempDir dir;
+  test::write_file(dir / "m.glb", bytes);
   SYLVA_EXPECT_VALID_GLTF(dir / "m.glb");
 }
 

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "libs/gltf/writer.h"
@@ -21,6 +22,7 @@
 #include "stages/pack/pack_core.h"
 #include "stages/pack/pack_stage.h"
 #include "tests/support/fake_stage_context.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::pack {
@@ -251,7 +253,8 @@ TEST_F(PackMeasure, ALevelBetterThanItsEpsilonReplacesTheFinerOneABandEarly) {
   EXPECT_EQ(kept(choice), (std::vector<std::string>{"0@0.966", "2@2.9", "3@26.1", "imp@78.2"}));
   EXPECT_FALSE(choice[1].kept);
   EXPECT_EQ(choice[1].reason, "level 2 (192 primitives) passes at 2.89706 m too");
-  // Drawn from 2.9 m: lod.json, the level's node and the coverage before it say so.
+  // Drawn from 2.9 m: lod.json, the level's node in the chain file and the coverage before it say
+  // so; the level's own file carries no extras (pack version 10).
   LodDescription d;
   const std::vector<PackedFile> files = pack_species(in, {}, &d, &meter_);
   ASSERT_EQ(d.levels.size(), 4u);
@@ -260,7 +263,9 @@ TEST_F(PackMeasure, ALevelBetterThanItsEpsilonReplacesTheFinerOneABandEarly) {
   const double top = 1 - levels[0].lowered, r = 0.5 * std::sqrt(2 + top * top);
   const double t = std::tan(kFov / 2), at = switch_distance(0.006);
   EXPECT_NEAR(d.levels[0].screen_coverage, std::numbers::pi * r * r / ((2 * at * t) * (2 * at * t)), 1e-6);
-  EXPECT_NE(files[2].bytes.find("\"switch_distance_m\":" + nlohmann::json(at).dump()), std::string::npos);
+  EXPECT_NE(files[0].bytes.find("\"switch_distance_m\":" + nlohmann::json(at).dump()), std::string::npos);
+  EXPECT_EQ(files[2].bytes.find("\"extras\":{\"epsilon_m\""), std::string::npos);
+  EXPECT_EQ(files[2].bytes.find("switch_distance_m"), std::string::npos);
 }
 
 TEST_F(PackMeasure, MinSavingSkipsLevelsWithoutMeasuringThem) {
@@ -305,6 +310,124 @@ TEST_F(PackMeasure, AFineLevelGetsTheCoarsestGridThatPasses) {
   o.position_bits_min = 16;
   pack_species(in, o, &d, &meter_);
   EXPECT_EQ(d.levels[0].position_bits, 16);
+}
+
+// A level kept from a band start b nearer than its own switch distance s gets the grid of
+// epsilon x b / s (the same fraction of a pixel at b as its epsilon / 4 grid at s): level 2
+// (epsilon 18 mm over 1 m, s 8.69 m) kept from level 1's 2.90 m needs sqrt(3)/2 / (2^B - 1) <=
+// 0.25 x 6 mm, B = 10 bits (1.5 mm), not its own 8 bits (4.5 mm, 3x the pixels at 2.9 m). With
+// position_bits_min 9, that grid has more bits than the floor, so it is searched from 9 bits on,
+// measured at 2.9 m (the box renderer draws the box's corners alike on any grid): 9. The model
+// choice draws every level from its own switch distance: 8 bits.
+TEST_F(PackMeasure, ALevelDrawnNearerThanItsSwitchDistanceGetsTheGridOfThatDistance) {
+  std::vector<Level> levels = honest();
+  levels[2].lowered = 0.3 * levels[1].eps;  // passes from level 1's 2.9 m (test above)
+  const SpeciesInput in = chain(levels);
+  LodDescription d;
+  pack_species(in, {}, &d, &meter_);
+  ASSERT_EQ(d.levels.size(), 4u);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  EXPECT_DOUBLE_EQ(d.levels[1].switch_distance_m, switch_distance(0.006));
+  EXPECT_EQ(d.levels[1].position_bits, 10);
+  EXPECT_DOUBLE_EQ(d.levels[1].position_error_m, std::sqrt(3.0) / 2 * (1.0 / 1023));
+  EXPECT_LE(d.levels[1].position_error_m, 0.25 * 0.018 * switch_distance(0.006) / switch_distance(0.018));
+  ASSERT_TRUE(d.levels[1].measured.has_value());
+  EXPECT_TRUE(d.levels[1].measured->passed);
+  // Level 3 and the impostor are drawn from their own switch distances: their own grids (level 3:
+  // 13.5 mm, 7 bits).
+  EXPECT_EQ(d.levels[2].source_level, 3);
+  EXPECT_EQ(d.levels[2].position_bits, 7);
+  PackOptions o;
+  o.position_bits_min = 9;
+  pack_species(in, o, &d, &meter_);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  EXPECT_EQ(d.levels[1].position_bits, 9);
+  pack_species(in, {}, &d);
+  ASSERT_EQ(d.levels[2].source_level, 2);
+  EXPECT_EQ(d.levels[2].position_bits, 8);
+}
+
+// With nearer_line_coverage, a level drawn nearer draws its blended lines with their coverage at
+// that distance. The lod stage's line
+// alpha a is the coverage c = 1 - (1 - a)^3 of a branch at the level's switch distance s split
+// over three lines; from b the branch covers s / b times the pixels: level 2 (s 8.69 m) drawn
+// from 2.90 m (s / b = 3) with lines of alpha 0.05 (c 0.1426, at b 0.4279: alpha 0.1698), 0.5
+// (c 0.875, at b 1: alpha 1) and 1. Its lines of an opaque material, and level 3's (drawn from
+// its own switch distance), keep their alpha. Without the option every alpha stays as written.
+TEST_F(PackMeasure, WithNearerLineCoverageALevelDrawnNearerDrawsItsLinesWithTheirCoverageThere) {
+  std::vector<Level> levels = honest();
+  levels[2].lowered = 0.3 * levels[1].eps;  // passes from level 1's 2.9 m (tests above)
+  SpeciesInput in = chain(levels);
+  const std::vector<float> alphas = {0.05f, 0.5f, 1.0f, 0.05f};
+  for (std::size_t l = 0; l < in.levels.size(); ++l) {
+    gltf::Scene& s = in.levels[l];
+    gltf::Material blend = s.materials[0];
+    blend.name = "bark_lines";
+    blend.alpha_mode = gltf::AlphaMode::kBlend;
+    s.materials.push_back(blend);
+    gltf::Primitive lines;  // inside the box: the box renderer draws the same
+    lines.mode = gltf::PrimitiveMode::kLines;
+    lines.positions = {0, 0.1f, 0, 0, 0.2f, 0, 0, 0.3f, 0, 0, 0.4f, 0};
+    lines.indices = {0, 1, 1, 2, 2, 3};
+    for (const float a : alphas) lines.colors.insert(lines.colors.end(), {1, 1, 1, a});
+    lines.material = 1;
+    gltf::Primitive opaque = lines;
+    opaque.material = 0;
+    s.meshes[0].primitives.push_back(lines);
+    s.meshes[0].primitives.push_back(opaque);
+    in.chain.meshes[l] = s.meshes[0];
+  }
+  in.chain.materials = in.levels[0].materials;
+  PackOptions o;
+  o.compression = Compression::kNone;  // plain float GLBs: COLOR_0 as written
+  o.quantize = false;
+  o.nearer_line_coverage = true;
+  LodDescription d;
+  const std::vector<PackedFile> files = pack_species(in, o, &d, &meter_);
+  ASSERT_EQ(d.levels.size(), 4u);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  ASSERT_EQ(d.levels[2].source_level, 3);
+  EXPECT_DOUBLE_EQ(switch_distance(0.018) / d.levels[1].switch_distance_m, 3.0);
+  // COLOR_0 alpha of primitive p of a level file (float VEC4).
+  auto alpha_of = [](const std::vector<PackedFile>& in_files, const std::string& name, std::size_t p) {
+    const auto it =
+        std::find_if(in_files.begin(), in_files.end(), [&](const PackedFile& f) { return f.name == name; });
+    if (it == in_files.end()) {
+      ADD_FAILURE() << name;
+      return std::vector<float>{};
+    }
+    const test::Glb g = test::parse_glb(it->bytes);
+    const nlohmann::json& a =
+        g.json["accessors"][g.json["meshes"][0]["primitives"][p]["attributes"]["COLOR_0"].get<std::size_t>()];
+    const nlohmann::json& v = g.json["bufferViews"][a["bufferView"].get<std::size_t>()];
+    std::vector<float> out;
+    const std::size_t at = v.value("byteOffset", std::size_t(0)) + a.value("byteOffset", std::size_t(0));
+    for (std::size_t i = 0; i < a["count"].get<std::size_t>(); ++i) {
+      float x = 0;
+      std::memcpy(&x, g.bin.data() + at + 16 * i + 12, 4);
+      out.push_back(x);
+    }
+    return out;
+  };
+  const float thin = float(1 - std::cbrt(1 - 3 * (1 - std::pow(0.95, 3))));  // 0.1698
+  const std::vector<float> drawn = alpha_of(files, d.levels[1].file, 1);
+  ASSERT_EQ(drawn.size(), 4u);
+  EXPECT_NEAR(drawn[0], thin, 1e-6);
+  EXPECT_NEAR(thin, 0.1698, 1e-4);
+  EXPECT_EQ(drawn[1], 1.0f);
+  EXPECT_EQ(drawn[2], 1.0f);
+  EXPECT_NEAR(drawn[3], thin, 1e-6);
+  EXPECT_EQ(alpha_of(files, d.levels[1].file, 2), alphas);  // opaque material: not coverage
+  EXPECT_EQ(alpha_of(files, d.levels[2].file, 1), alphas);  // level 3 from its own 26.1 m
+  // The model choice draws every level from its own switch distance: alphas as written; and so
+  // does the measured choice without nearer_line_coverage (the default).
+  const std::vector<PackedFile> model = pack_species(in, o, &d);
+  ASSERT_EQ(d.levels[2].source_level, 2);
+  EXPECT_EQ(alpha_of(model, d.levels[2].file, 1), alphas);
+  o.nearer_line_coverage = false;
+  const std::vector<PackedFile> off = pack_species(in, o, &d, &meter_);
+  ASSERT_EQ(d.levels[1].source_level, 2);
+  EXPECT_EQ(alpha_of(off, d.levels[1].file, 1), alphas);
 }
 
 // An impostor that fails at its own distance (its box 3 epsilon too low: 1.5 px at 78.2 m) is

@@ -376,16 +376,23 @@ TEST(PackCore, OneViewPerAttributeKind) {
             "TRIANGLES");
   // A level file: one mesh, so still one view per attribute.
   EXPECT_EQ(test::parse_glb(files[1].bytes).json["bufferViews"].size(), 5u);
-  // The bytes of this fixed input (pack version 7: merged views, strip-friendly order, the
-  // level extras trimmed; 15 and 11 bits).
-  EXPECT_EQ(files[0].bytes.size(), 8352u);
-  EXPECT_EQ(files[1].bytes.size(), 7116u);
-  EXPECT_EQ(files[2].bytes.size(), 3056u);
-  // Only the level's numbers stay in its node's extras; its mesh carries none.
+  // The bytes of this fixed input (pack version 10: merged views, strip-friendly order, the
+  // level extras trimmed in the chain and none in a level's file, numbers as short as their
+  // floats; 15 and 11 bits). Version 9: 8352, 7116 and 3056 bytes.
+  EXPECT_EQ(files[0].bytes.size(), 8192u);
+  EXPECT_EQ(files[1].bytes.size(), 6952u);
+  EXPECT_EQ(files[2].bytes.size(), 2892u);
+  // A level's file carries no extras on its node or mesh (lod.json has its numbers); in the
+  // chain, only the level's numbers stay in its node's extras and its mesh carries none.
   const nlohmann::json level = test::parse_glb(files[1].bytes).json;
-  EXPECT_EQ(level["nodes"][0]["extras"],
-            (nlohmann::json{{"epsilon_m", 0.001}, {"pixel_error_px", 0.5}, {"switch_distance_m", 2.5}}));
+  EXPECT_FALSE(level["nodes"][0].contains("extras"));
   EXPECT_FALSE(level["meshes"][0].contains("extras"));
+  EXPECT_EQ(level["asset"]["extras"], (nlohmann::json{{"species", "oak"}, {"sylva_stage", "pack"}}));
+  const nlohmann::json& root = chain["nodes"][chain["scenes"][0]["nodes"][0].get<std::size_t>()];
+  const std::size_t lod1 = root["extensions"]["MSFT_lod"]["ids"][0];
+  EXPECT_EQ(chain["nodes"][lod1]["extras"],
+            (nlohmann::json{{"epsilon_m", 0.01}, {"pixel_error_px", 0.5}, {"switch_distance_m", 25.0}}));
+  EXPECT_FALSE(chain["meshes"][1].contains("extras"));
 }
 
 TEST(PackCore, RefusesAChainThatDoesNotMatchItsLevels) {
