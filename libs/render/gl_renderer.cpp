@@ -17,9 +17,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <numeric>
+#include <string>
 
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
@@ -72,7 +76,20 @@ void main() {
 }
 )";
 
-constexpr const char* kFragmentShader = R"(#version 330 core
+// The fragment shader's draw state (u_has_texture ... u_round_points) is not uniforms but
+// constants of one program per state (DrawState below): llvmpipe's JIT code then carries no
+// branch on it. The source is kFragmentStateFormat's declarations, then kFragmentShader.
+constexpr const char* kFragmentStateFormat = R"(#version 330 core
+const bool u_has_texture = %s;
+const int u_alpha_mode = %d;     // 0 opaque, 1 mask, 2 blend
+const bool u_lit = %s;
+const bool u_has_normals = %s;
+const bool u_two_sided = %s;     // glTF doubleSided triangles: a back face uses the reversed normal
+const bool u_cull_in_shader = %s;  // single-sided triangles of a mirrored instance: discard back faces
+const bool u_round_points = %s;
+)";
+
+constexpr const char* kFragmentShader = R"(
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_texcoord;
@@ -81,14 +98,7 @@ flat in float v_mirrored;
 
 uniform vec4 u_base_color;
 uniform sampler2D u_texture;
-uniform bool u_has_texture;
-uniform int u_alpha_mode;     // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
-uniform bool u_lit;
-uniform bool u_has_normals;
-uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
-uniform bool u_cull_in_shader;  // single-sided triangles of a mirrored instance: discard back faces
-uniform bool u_round_points;
 uniform vec3 u_ambient;
 uniform vec3 u_light_color;
 uniform vec3 u_light_dir;     // unit, toward the light
@@ -255,7 +265,6 @@ class GlRenderer final : public Renderer {
  public:
   explicit GlRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    program_ = detail::link_program(kVertexShader, kFragmentShader, "scene");
     downsample_ = detail::link_program(kDownsampleVertexShader, kDownsampleFragmentShader, "downsample");
     to_samples_ = detail::link_program(kDownsampleVertexShader, kToSamplesFragmentShader, "to samples");
     from_samples_ = detail::link_program(kDownsampleVertexShader, kFromSamplesFragmentShader, "from samples");
@@ -269,7 +278,7 @@ class GlRenderer final : public Renderer {
   ~GlRenderer() override {
     try {
       CurrentContext current(*ctx_);
-      glDeleteProgram(program_);
+      for (const auto& [key, program] : programs_) glDeleteProgram(program.id);
       glDeleteProgram(downsample_);
       glDeleteProgram(to_samples_);
       glDeleteProgram(from_samples_);
@@ -523,63 +532,103 @@ class GlRenderer final : public Renderer {
   }
 
   struct Uniforms {
-    GLint view, proj, viewport_height, default_point_size, min_point_size, base_color, texture, has_texture,
-        alpha_mode, alpha_cutoff, lit, has_normals, two_sided, cull_in_shader, round_points, ambient,
-        light_color, light_dir;
+    GLint view, proj, viewport_height, default_point_size, min_point_size, base_color, texture, alpha_cutoff,
+        ambient, light_color, light_dir;
   };
 
-  Uniforms uniforms() const {
-    auto u = [&](const char* n) { return glGetUniformLocation(program_, n); };
-    return {u("u_view"),
-            u("u_proj"),
-            u("u_viewport_height"),
-            u("u_default_point_size"),
-            u("u_min_point_size"),
-            u("u_base_color"),
-            u("u_texture"),
-            u("u_has_texture"),
-            u("u_alpha_mode"),
-            u("u_alpha_cutoff"),
-            u("u_lit"),
-            u("u_has_normals"),
-            u("u_two_sided"),
-            u("u_cull_in_shader"),
-            u("u_round_points"),
-            u("u_ambient"),
-            u("u_light_color"),
-            u("u_light_dir")};
+  static Uniforms uniforms(GLuint program) {
+    auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
+    return {u("u_view"),           u("u_proj"),        u("u_viewport_height"), u("u_default_point_size"),
+            u("u_min_point_size"), u("u_base_color"),  u("u_texture"),         u("u_alpha_cutoff"),
+            u("u_ambient"),        u("u_light_color"), u("u_light_dir")};
+  }
+
+  // What a draw's fragment shader is specialised for (kFragmentStateFormat).
+  struct DrawState {
+    bool textured = false;
+    int alpha_mode = 0;  // 0 opaque, 1 mask, 2 blend
+    bool lit = false, has_normals = false, two_sided = false, cull_in_shader = false, round_points = false;
+    int key() const {
+      return int(textured) | alpha_mode << 1 | int(lit) << 3 | int(has_normals) << 4 | int(two_sided) << 5 |
+             int(cull_in_shader) << 6 | int(round_points) << 7;
+    }
+  };
+
+  // One linked program per DrawState used so far, and which view's uniforms it holds.
+  struct Program {
+    GLuint id = 0;
+    Uniforms u{};
+    std::uint64_t view = 0;
+  };
+
+  // The uniforms every program of one view shares.
+  struct ViewUniforms {
+    Mat4 view = Mat4::Identity(), proj = Mat4::Identity();
+    float viewport_height = 0, default_point_size = 0, min_point_size = 0;
+    Vec3 ambient = Vec3::Zero(), light_color = Vec3::Zero(), light_dir = Vec3::UnitY();
+  };
+
+  // Makes the program for `st` current (linking it on first use) with this view's uniforms.
+  const Program& use_program(const DrawState& st) {
+    auto it = programs_.find(st.key());
+    if (it == programs_.end()) {
+      auto b = [](bool v) { return v ? "true" : "false"; };
+      char head[640];
+      std::snprintf(head, sizeof head, kFragmentStateFormat, b(st.textured), st.alpha_mode, b(st.lit),
+                    b(st.has_normals), b(st.two_sided), b(st.cull_in_shader), b(st.round_points));
+      Program p;
+      p.id = detail::link_program(kVertexShader, (std::string(head) + kFragmentShader).c_str(), "scene");
+      p.u = uniforms(p.id);
+      it = programs_.emplace(st.key(), p).first;
+    }
+    Program& p = it->second;
+    if (current_program_ != p.id) {
+      glUseProgram(p.id);
+      current_program_ = p.id;
+    }
+    if (p.view != view_serial_) {
+      const ViewUniforms& v = view_uniforms_;
+      glUniformMatrix4fv(p.u.view, 1, GL_FALSE, v.view.data());
+      glUniformMatrix4fv(p.u.proj, 1, GL_FALSE, v.proj.data());
+      glUniform1f(p.u.viewport_height, v.viewport_height);
+      glUniform1f(p.u.default_point_size, v.default_point_size);
+      glUniform1f(p.u.min_point_size, v.min_point_size);
+      glUniform1i(p.u.texture, 0);
+      glUniform3fv(p.u.ambient, 1, v.ambient.data());
+      glUniform3fv(p.u.light_color, 1, v.light_color.data());
+      glUniform3fv(p.u.light_dir, 1, v.light_dir.data());
+      p.view = view_serial_;
+    }
+    return p;
   }
 
   // Material and per-primitive state for one draw.
-  void set_primitive_state(const Scene& scene, const Uploaded& up, const Uniforms& u, const Primitive& p,
-                           bool mirrored_instances) const {
+  void set_primitive_state(const Scene& scene, const Uploaded& up, const Primitive& p,
+                           bool mirrored_instances) {
     static const Material kDefault;
     const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
-    glUniform4fv(u.base_color, 1, m.base_color.data());
-    const bool textured = m.base_color_texture >= 0 && !p.texcoords.empty();
-    glUniform1i(u.has_texture, textured);
-    if (textured) {
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, up.textures[std::size_t(m.base_color_texture)]);
-    }
-    glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0
-                              : m.alpha_mode == AlphaMode::kMask ? 1
-                                                                 : 2);
-    glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
-    const bool has_normals = !p.normals.empty();
+    DrawState st;
+    st.textured = m.base_color_texture >= 0 && !p.texcoords.empty();
+    st.alpha_mode = m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2;
+    st.has_normals = !p.normals.empty();
     // LINES are unlit, as three.js draws them (GLTFLoader: LineBasicMaterial = base colour x
     // COLOR_0): glTF defines no lighting for lines, and the verifier must see what clients do.
-    const bool lit =
-        !m.unlit && p.topology != Topology::kLines && (p.topology == Topology::kTriangles || has_normals);
-    glUniform1i(u.lit, lit);
-    glUniform1i(u.has_normals, has_normals);
+    st.lit =
+        !m.unlit && p.topology != Topology::kLines && (p.topology == Topology::kTriangles || st.has_normals);
     const bool triangles = p.topology == Topology::kTriangles;
-    glUniform1i(u.two_sided, triangles && m.double_sided);
-    glUniform1i(u.round_points, p.topology == Topology::kPoints);
+    st.two_sided = triangles && m.double_sided;
+    st.round_points = p.topology == Topology::kPoints;
     // Back faces of single-sided triangles are culled; GL's cull state is per draw, so a mesh
     // with a mirrored instance culls in the shader instead (front = CW there).
     const bool cull = triangles && !m.double_sided;
-    glUniform1i(u.cull_in_shader, cull && mirrored_instances);
+    st.cull_in_shader = cull && mirrored_instances;
+    const Program& program = use_program(st);
+    glUniform4fv(program.u.base_color, 1, m.base_color.data());
+    glUniform1f(program.u.alpha_cutoff, m.alpha_cutoff);
+    if (st.textured) {
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, up.textures[std::size_t(m.base_color_texture)]);
+    }
     if (cull && !mirrored_instances) {
       glEnable(GL_CULL_FACE);
     } else {
@@ -620,19 +669,18 @@ class GlRenderer final : public Renderer {
     const float aspect = float(o.width) / float(o.height);
     const Mat4 view = cam.view_matrix();
     const Mat4 proj = cam.projection_matrix(aspect);
-    glUseProgram(program_);
-    const Uniforms u = uniforms();
-    glUniformMatrix4fv(u.view, 1, GL_FALSE, view.data());
-    glUniformMatrix4fv(u.proj, 1, GL_FALSE, proj.data());
-    glUniform1f(u.viewport_height, float(t.height));
-    glUniform1f(u.default_point_size, o.default_point_size_px * k);
-    glUniform1f(u.min_point_size, o.min_point_size_px * k);
-    glUniform1i(u.texture, 0);
-    glUniform3fv(u.ambient, 1, o.lighting.ambient.data());
-    glUniform3fv(u.light_color, 1, o.lighting.light_color.data());
-    const Vec3 l =
-        o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
-    glUniform3fv(u.light_dir, 1, l.data());
+    view_uniforms_ = {view,
+                      proj,
+                      float(t.height),
+                      o.default_point_size_px * k,
+                      o.min_point_size_px * k,
+                      o.lighting.ambient,
+                      o.lighting.light_color,
+                      o.lighting.direction_to_light.norm() > 0
+                          ? Vec3(o.lighting.direction_to_light.normalized())
+                          : Vec3::UnitY()};
+    ++view_serial_;
+    current_program_ = 0;
 
     // Pass 1: opaque and masked, one instanced draw per primitive.
     struct BlendDraw {
@@ -656,7 +704,7 @@ class GlRenderer final : public Renderer {
           }
           continue;
         }
-        set_primitive_state(scene, up, u, *gp.source, gm.mirrored);
+        set_primitive_state(scene, up, *gp.source, gm.mirrored);
         glBindVertexArray(gp.vao_instanced);
         glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr,
                                 GLsizei(instances));
@@ -672,7 +720,7 @@ class GlRenderer final : public Renderer {
       } else {
         impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
       }
-      glUseProgram(program_);
+      current_program_ = 0;  // the impostor drawer used its own
     }
 
     // Pass 2: blended, far to near (Zhang et al. 2017, 6.1), depth test on, depth write off.
@@ -705,7 +753,7 @@ class GlRenderer final : public Renderer {
       for (std::size_t i = 0; i < blended.size(); ++i) {
         const BlendDraw& d = blended[i];
         const Primitive& p = *d.prim->source;
-        set_primitive_state(scene, up, u, p, d.mesh->mirrored);
+        set_primitive_state(scene, up, p, d.mesh->mirrored);
         glBindVertexArray(d.prim->vao_single);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, up.blend_indices);
         const float* inst = &d.mesh->instance_data[d.instance * kInstanceFloats];
@@ -847,7 +895,10 @@ class GlRenderer final : public Renderer {
 
   std::unique_ptr<detail::GlContext> ctx_;
   std::mutex mutex_;
-  GLuint program_ = 0;
+  std::map<int, Program> programs_;  // by DrawState::key()
+  GLuint current_program_ = 0;       // within draw(): the program in use, 0 = unknown
+  ViewUniforms view_uniforms_;
+  std::uint64_t view_serial_ = 0;  // draw() calls so far: a program whose `view` differs needs view_uniforms_
   GLuint downsample_ = 0, to_samples_ = 0, from_samples_ = 0;
   detail::ImpostorDrawer impostors_;
   GLint max_samples_ = 1;
