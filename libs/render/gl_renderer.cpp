@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <string>
@@ -279,6 +280,9 @@ class GlRenderer final : public Renderer {
     try {
       CurrentContext current(*ctx_);
       for (const auto& [key, program] : programs_) glDeleteProgram(program.id);
+      for (const KeptGeometry& k : kept_geometry_)
+        glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
+      kept_target_.gl.reset();
       glDeleteProgram(downsample_);
       glDeleteProgram(to_samples_);
       glDeleteProgram(from_samples_);
@@ -297,7 +301,7 @@ class GlRenderer final : public Renderer {
     validate(options);
     GlObjects gl;
     glGetError();  // start from a clean error state
-    const Target target = make_target(gl, options);
+    const Target& target = target_for(options);
     const Uploaded up = upload(gl, scene);
     const detail::ImpostorDrawer::Uploaded imp = impostors_.upload(gl, scene.impostors, max_texture_size_);
     check_gl("upload");
@@ -335,6 +339,29 @@ class GlRenderer final : public Renderer {
     std::vector<GLuint> textures;
     std::vector<GpuMesh> meshes;
     GLuint blend_indices = 0;  // every blended draw's sorted elements of one view (0: no BLEND primitive)
+  };
+
+  // A primitive's vertex arrays and, unless it is blended, its element buffer.
+  struct PrimitiveBuffers {
+    VertexBuffers vb;
+    GLuint elements = 0;
+    std::size_t vertices = 0, indices = 0;  // the counts uploaded
+  };
+
+  // The buffers of a Mesh::shared_geometry, kept between calls while the geometry's name lives
+  // (checked at every upload, as the impostor maps are) or until the renderer is destroyed.
+  struct KeptGeometry {
+    std::weak_ptr<const void> owner;
+    const void* key = nullptr;
+    std::vector<PrimitiveBuffers> primitives;
+    std::vector<GLuint> buffers;  // every name in `primitives`
+  };
+
+  // The target of the last call, kept for the next one of the same size and sampling.
+  struct KeptTarget {
+    std::unique_ptr<GlObjects> gl;
+    Target target;
+    int width = 0, height = 0, msaa = 0, supersample = 0;
   };
 
   void validate(const RenderOptions& o) const {
@@ -446,7 +473,97 @@ class GlRenderer final : public Renderer {
     return t;
   }
 
-  Uploaded upload(GlObjects& gl, const Scene& scene) const {
+  // The target for `o`, kept between calls while the size, samples and supersampling stay the
+  // same (every pass of a view overwrites all of it).
+  const Target& target_for(const RenderOptions& o) {
+    KeptTarget& k = kept_target_;
+    if (!k.gl || k.width != o.width || k.height != o.height || k.msaa != o.msaa ||
+        k.supersample != o.supersample) {
+      k.gl.reset();
+      auto gl = std::make_unique<GlObjects>();
+      k.target = make_target(*gl, o);
+      k.gl = std::move(gl);
+      k.width = o.width;
+      k.height = o.height;
+      k.msaa = o.msaa;
+      k.supersample = o.supersample;
+    }
+    return k.target;
+  }
+
+  // A primitive's vertex arrays and, unless it is blended, its element buffer, in buffers named
+  // by `new_buffer()`.
+  template <typename NewBuffer>
+  static PrimitiveBuffers upload_buffers(const Primitive& p, bool blend, NewBuffer&& new_buffer) {
+    auto array = [&](GLenum target, const auto& data) {
+      const GLuint name = new_buffer();
+      glBindBuffer(target, name);
+      glBufferData(target, GLsizeiptr(data.size() * sizeof(data[0])), data.data(), GL_STATIC_DRAW);
+      return name;
+    };
+    glBindVertexArray(0);
+    PrimitiveBuffers b;
+    b.vertices = p.positions.size();
+    b.indices = p.indices.size();
+    b.vb.position = array(GL_ARRAY_BUFFER, p.positions);
+    if (!p.normals.empty()) b.vb.normal = array(GL_ARRAY_BUFFER, p.normals);
+    if (!p.texcoords.empty()) b.vb.texcoord = array(GL_ARRAY_BUFFER, p.texcoords);
+    if (!p.colors.empty()) b.vb.color = array(GL_ARRAY_BUFFER, p.colors);
+    if (!p.sizes.empty() && p.topology == Topology::kPoints) b.vb.size = array(GL_ARRAY_BUFFER, p.sizes);
+    if (!blend) b.elements = array(GL_ELEMENT_ARRAY_BUFFER, p.indices);
+    return b;
+  }
+
+  // The buffers of a mesh naming shared geometry: kept from an earlier call when its name still
+  // lives and its primitives have the vertex and index counts kept, else uploaded and kept.
+  const std::vector<PrimitiveBuffers>& kept_buffers(const Scene& scene, const Mesh& mesh) {
+    auto same = [&](const KeptGeometry& k) {
+      if (k.key != mesh.shared_geometry.get()) return false;
+      const std::shared_ptr<const void> alive = k.owner.lock();
+      return alive && !alive.owner_before(mesh.shared_geometry) && !mesh.shared_geometry.owner_before(alive);
+    };
+    auto it = std::find_if(kept_geometry_.begin(), kept_geometry_.end(), same);
+    if (it != kept_geometry_.end()) {
+      bool fits = it->primitives.size() == mesh.primitives.size();
+      for (std::size_t i = 0; fits && i < mesh.primitives.size(); ++i)
+        fits = it->primitives[i].vertices == mesh.primitives[i].positions.size() &&
+               it->primitives[i].indices == mesh.primitives[i].indices.size();
+      if (fits) return it->primitives;
+      glDeleteBuffers(GLsizei(it->buffers.size()), it->buffers.data());
+      kept_geometry_.erase(it);
+    }
+    KeptGeometry k;
+    k.owner = mesh.shared_geometry;
+    k.key = mesh.shared_geometry.get();
+    auto new_buffer = [&] {
+      GLuint name = 0;
+      glGenBuffers(1, &name);
+      k.buffers.push_back(name);
+      return name;
+    };
+    for (const Primitive& p : mesh.primitives)
+      k.primitives.push_back(upload_buffers(p, blended(scene, p), new_buffer));
+    // Buffers that did not upload (out of memory) are not kept: the next call tries again.
+    if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+      glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
+      throw RenderError("mesh '" + mesh.name + "' could not be uploaded (GL error " + std::to_string(e) +
+                        ")");
+    }
+    kept_geometry_.push_back(std::move(k));
+    return kept_geometry_.back().primitives;
+  }
+
+  static bool blended(const Scene& scene, const Primitive& p) {
+    return p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+  }
+
+  Uploaded upload(GlObjects& gl, const Scene& scene) {
+    // Kept geometry whose name no longer lives is deleted first (whatever this call draws).
+    std::erase_if(kept_geometry_, [](const KeptGeometry& k) {
+      if (!k.owner.expired()) return false;
+      glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
+      return true;
+    });
     Uploaded up;
     for (const Texture& t : scene.textures) up.textures.push_back(upload_texture(gl, t));
     for (const Mesh& mesh : scene.meshes) {
@@ -462,24 +579,23 @@ class GlRenderer final : public Renderer {
         gm.mirrored |= mesh.instances[i].topLeftCorner<3, 3>().determinant() < 0;
       }
       const GLuint instance_buffer = upload_array(gl, GL_ARRAY_BUFFER, gm.instance_data);
-      for (const Primitive& p : mesh.primitives) {
-        check_primitive(scene, p);
+      for (const Primitive& p : mesh.primitives) check_primitive(scene, p);
+      std::vector<PrimitiveBuffers> own;
+      if (!mesh.shared_geometry)
+        for (const Primitive& p : mesh.primitives)
+          own.push_back(upload_buffers(p, blended(scene, p), [&] { return gl.buffer(); }));
+      const std::vector<PrimitiveBuffers>& buffers = mesh.shared_geometry ? kept_buffers(scene, mesh) : own;
+      for (std::size_t i = 0; i < mesh.primitives.size(); ++i) {
+        const Primitive& p = mesh.primitives[i];
+        const PrimitiveBuffers& b = buffers[i];
         GpuPrimitive gp;
         gp.source = &p;
         gp.index_count = GLsizei(p.indices.size());
-        gp.blend =
-            p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
-        VertexBuffers vb;
-        vb.position = upload_array(gl, GL_ARRAY_BUFFER, p.positions);
-        if (!p.normals.empty()) vb.normal = upload_array(gl, GL_ARRAY_BUFFER, p.normals);
-        if (!p.texcoords.empty()) vb.texcoord = upload_array(gl, GL_ARRAY_BUFFER, p.texcoords);
-        if (!p.colors.empty()) vb.color = upload_array(gl, GL_ARRAY_BUFFER, p.colors);
-        if (!p.sizes.empty() && p.topology == Topology::kPoints)
-          vb.size = upload_array(gl, GL_ARRAY_BUFFER, p.sizes);
+        gp.blend = blended(scene, p);
         if (!gp.blend) {
           gp.vao_instanced = gl.vertex_array();
           glBindVertexArray(gp.vao_instanced);
-          attach_vertex_buffers(vb);
+          attach_vertex_buffers(b.vb);
           glBindBuffer(GL_ARRAY_BUFFER, instance_buffer);
           const GLsizei stride = kInstanceFloats * sizeof(float);
           for (GLuint c = 0; c < 4; ++c) {
@@ -495,14 +611,11 @@ class GlRenderer final : public Renderer {
                 reinterpret_cast<const void*>(std::uintptr_t((16 + c * 3) * sizeof(float))));
             glVertexAttribDivisor(kNormalMatrix + c, 1);
           }
-          const GLuint ebo = gl.buffer();
-          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)),
-                       p.indices.data(), GL_STATIC_DRAW);
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.elements);
         } else {
           gp.vao_single = gl.vertex_array();
           glBindVertexArray(gp.vao_single);
-          attach_vertex_buffers(vb);
+          attach_vertex_buffers(b.vb);
           if (!up.blend_indices) up.blend_indices = gl.buffer();
         }
         glBindVertexArray(0);
@@ -895,6 +1008,8 @@ class GlRenderer final : public Renderer {
 
   std::unique_ptr<detail::GlContext> ctx_;
   std::mutex mutex_;
+  std::vector<KeptGeometry> kept_geometry_;
+  KeptTarget kept_target_;
   std::map<int, Program> programs_;  // by DrawState::key()
   GLuint current_program_ = 0;       // within draw(): the program in use, 0 = unknown
   ViewUniforms view_uniforms_;
