@@ -294,6 +294,8 @@ class GlRenderer final : public Renderer {
 
   std::string device_description() const override { return ctx_->description(); }
 
+  std::size_t kept_geometry() const override { return kept_geometry_.size(); }
+
   std::vector<image::Image> render_views(const Scene& scene, std::span<const Camera> cameras,
                                          const RenderOptions& options) override {
     std::lock_guard<std::mutex> lock(mutex_);
