@@ -63,8 +63,11 @@ bool outside(const std::array<Vec4, 6>& planes, const Bounds& b) {
   return false;
 }
 
-// Appends `src` (its textures, materials and meshes) to `dst` with each mesh drawn at `worlds`.
-void append(Scene& dst, const Scene& src, const std::vector<Mat4>& worlds, std::size_t& primitives) {
+// Appends `src` (its textures, materials and meshes) to `dst` with each mesh drawn at `worlds`;
+// each mesh's geometry is named as src's (Mesh::shared_geometry).
+void append(Scene& dst, const std::shared_ptr<const Scene>& shared, const std::vector<Mat4>& worlds,
+            std::size_t& primitives) {
+  const Scene& src = *shared;
   const int tex0 = int(dst.textures.size()), mat0 = int(dst.materials.size());
   dst.textures.insert(dst.textures.end(), src.textures.begin(), src.textures.end());
   for (Material m : src.materials) {
@@ -75,6 +78,7 @@ void append(Scene& dst, const Scene& src, const std::vector<Mat4>& worlds, std::
     Mesh m;
     m.name = mesh.name;
     m.primitives = mesh.primitives;
+    m.shared_geometry = std::shared_ptr<const void>(shared, &mesh);
     for (Primitive& p : m.primitives)
       if (p.material >= 0) p.material += mat0;
     m.instances.reserve(worlds.size() * mesh.instances.size());
@@ -141,9 +145,9 @@ ForestView ForestView::load(const std::filesystem::path& instances_json) {
 
 ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels)
     : forest_(std::move(forest)),
-      levels_(std::move(levels)),
-      full_(forest_.species.size()),
-      octahedral_(forest_.species.size()) {
+      full_(forest_.species.size(), std::make_shared<const Scene>()),
+      octahedral_(forest_.species.size()),
+      ground_(std::make_shared<const Scene>()) {
   for (const forest::Instance& in : forest_.instances) {
     const forest::Species& sp = forest_.species.at(in.species);
     const auto m = forest::instance_matrix(sp, in);
@@ -151,11 +155,17 @@ ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> le
     tree_bounds_.push_back(to_bounds(forest::transform_box(m, sp.bounds)));
   }
   for (const forest::Tile& t : forest_.tiles) tile_bounds_.push_back(to_bounds(t.bounds));
+  for (std::vector<Scene>& species : levels) {
+    levels_.emplace_back();
+    for (Scene& level : species) levels_.back().push_back(std::make_shared<const Scene>(std::move(level)));
+  }
 }
 
-void ForestView::set_full_detail(std::size_t species, Scene scene) { full_.at(species) = std::move(scene); }
+void ForestView::set_full_detail(std::size_t species, Scene scene) {
+  full_.at(species) = std::make_shared<const Scene>(std::move(scene));
+}
 
-void ForestView::set_ground(Scene ground) { ground_ = std::move(ground); }
+void ForestView::set_ground(Scene ground) { ground_ = std::make_shared<const Scene>(std::move(ground)); }
 
 void ForestView::set_octahedral(std::size_t species, std::shared_ptr<const ImpostorAtlas> atlas) {
   octahedral_.at(species) = std::move(atlas);
@@ -164,7 +174,7 @@ void ForestView::set_octahedral(std::size_t species, std::shared_ptr<const Impos
 Bounds ForestView::bounds() const {
   Bounds b;
   for (const Bounds& t : tree_bounds_) b.extend(t);
-  b.extend(ground_.bounds());
+  b.extend(ground_->bounds());
   return b;
 }
 
@@ -241,7 +251,7 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
   for (std::size_t l = 0; l < max_level; ++l)
     for (std::size_t s = 0; s < ns; ++s) {
       if (l >= drawn[s].size() || drawn[s][l].empty()) continue;
-      if (o.full_detail && full_[s].meshes.empty())
+      if (o.full_detail && full_[s]->meshes.empty())
         throw RenderError("forest view: no full-detail model was given for species '" +
                           forest_.species[s].name + "'");
       std::sort(drawn[s][l].begin(), drawn[s][l].end());
@@ -271,7 +281,7 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
       stats.species_primitives[s][l] += stats.primitives - before;
     }
   // Last of the opaque draws: where trees stand, the ground fails the depth test.
-  if (o.ground && !ground_.meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
+  if (o.ground && !ground_->meshes.empty()) append(scene, ground_, {Mat4::Identity()}, stats.primitives);
   return scene;
 }
 

@@ -89,13 +89,15 @@ class ForestView {
 
  private:
   forest::Forest forest_;
-  std::vector<std::vector<Scene>> levels_;                        // [species][level]
-  std::vector<Scene> full_;                                       // [species], may be empty scenes
-  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral_;  // [species], may be null
-  std::vector<Bounds> tree_bounds_;                               // world box per instance
-  std::vector<Mat4> tree_matrix_;                                 // world matrix per instance
+  // The scenes are shared and never changed once stored (a setter stores a new one): every view's
+  // meshes name them in Mesh::shared_geometry, so a renderer keeps their buffers uploaded.
+  std::vector<std::vector<std::shared_ptr<const Scene>>> levels_;  // [species][level]
+  std::vector<std::shared_ptr<const Scene>> full_;                 // [species], may be empty scenes
+  std::vector<std::shared_ptr<const ImpostorAtlas>> octahedral_;   // [species], may be null
+  std::vector<Bounds> tree_bounds_;                                // world box per instance
+  std::vector<Mat4> tree_matrix_;                                  // world matrix per instance
   std::vector<Bounds> tile_bounds_;
-  Scene ground_;  // may be empty
+  std::shared_ptr<const Scene> ground_;  // may be empty
 };
 
 // Cameras of a camera set for a forest: explicit eye/target views are used as they are; orbit

@@ -17,9 +17,14 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <numeric>
+#include <string>
 
 #include "libs/render/gl_context.h"
 #include "libs/render/gl_util.h"
@@ -72,7 +77,20 @@ void main() {
 }
 )";
 
-constexpr const char* kFragmentShader = R"(#version 330 core
+// The fragment shader's draw state (u_has_texture ... u_round_points) is not uniforms but
+// constants of one program per state (DrawState below): llvmpipe's JIT code then carries no
+// branch on it. The source is kFragmentStateFormat's declarations, then kFragmentShader.
+constexpr const char* kFragmentStateFormat = R"(#version 330 core
+const bool u_has_texture = %s;
+const int u_alpha_mode = %d;     // 0 opaque, 1 mask, 2 blend
+const bool u_lit = %s;
+const bool u_has_normals = %s;
+const bool u_two_sided = %s;     // glTF doubleSided triangles: a back face uses the reversed normal
+const bool u_cull_in_shader = %s;  // single-sided triangles of a mirrored instance: discard back faces
+const bool u_round_points = %s;
+)";
+
+constexpr const char* kFragmentShader = R"(
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_texcoord;
@@ -81,14 +99,7 @@ flat in float v_mirrored;
 
 uniform vec4 u_base_color;
 uniform sampler2D u_texture;
-uniform bool u_has_texture;
-uniform int u_alpha_mode;     // 0 opaque, 1 mask, 2 blend
 uniform float u_alpha_cutoff;
-uniform bool u_lit;
-uniform bool u_has_normals;
-uniform bool u_two_sided;     // glTF doubleSided triangles: a back face uses the reversed normal
-uniform bool u_cull_in_shader;  // single-sided triangles of a mirrored instance: discard back faces
-uniform bool u_round_points;
 uniform vec3 u_ambient;
 uniform vec3 u_light_color;
 uniform vec3 u_light_dir;     // unit, toward the light
@@ -255,7 +266,6 @@ class GlRenderer final : public Renderer {
  public:
   explicit GlRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    program_ = detail::link_program(kVertexShader, kFragmentShader, "scene");
     downsample_ = detail::link_program(kDownsampleVertexShader, kDownsampleFragmentShader, "downsample");
     to_samples_ = detail::link_program(kDownsampleVertexShader, kToSamplesFragmentShader, "to samples");
     from_samples_ = detail::link_program(kDownsampleVertexShader, kFromSamplesFragmentShader, "from samples");
@@ -269,7 +279,10 @@ class GlRenderer final : public Renderer {
   ~GlRenderer() override {
     try {
       CurrentContext current(*ctx_);
-      glDeleteProgram(program_);
+      for (const auto& [key, program] : programs_) glDeleteProgram(program.id);
+      for (const KeptGeometry& k : kept_geometry_)
+        glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
+      kept_target_.gl.reset();
       glDeleteProgram(downsample_);
       glDeleteProgram(to_samples_);
       glDeleteProgram(from_samples_);
@@ -281,6 +294,8 @@ class GlRenderer final : public Renderer {
 
   std::string device_description() const override { return ctx_->description(); }
 
+  std::size_t kept_geometry() const override { return kept_geometry_.size(); }
+
   std::vector<image::Image> render_views(const Scene& scene, std::span<const Camera> cameras,
                                          const RenderOptions& options) override {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -288,7 +303,7 @@ class GlRenderer final : public Renderer {
     validate(options);
     GlObjects gl;
     glGetError();  // start from a clean error state
-    const Target target = make_target(gl, options);
+    const Target& target = target_for(options);
     const Uploaded up = upload(gl, scene);
     const detail::ImpostorDrawer::Uploaded imp = impostors_.upload(gl, scene.impostors, max_texture_size_);
     check_gl("upload");
@@ -326,6 +341,29 @@ class GlRenderer final : public Renderer {
     std::vector<GLuint> textures;
     std::vector<GpuMesh> meshes;
     GLuint blend_indices = 0;  // every blended draw's sorted elements of one view (0: no BLEND primitive)
+  };
+
+  // A primitive's vertex arrays and, unless it is blended, its element buffer.
+  struct PrimitiveBuffers {
+    VertexBuffers vb;
+    GLuint elements = 0;
+    std::size_t vertices = 0, indices = 0;  // the counts uploaded
+  };
+
+  // The buffers of a Mesh::shared_geometry, kept between calls while the geometry's name lives
+  // (checked at every upload, as the impostor maps are) or until the renderer is destroyed.
+  struct KeptGeometry {
+    std::weak_ptr<const void> owner;
+    const void* key = nullptr;
+    std::vector<PrimitiveBuffers> primitives;
+    std::vector<GLuint> buffers;  // every name in `primitives`
+  };
+
+  // The target of the last call, kept for the next one of the same size and sampling.
+  struct KeptTarget {
+    std::unique_ptr<GlObjects> gl;
+    Target target;
+    int width = 0, height = 0, msaa = 0, supersample = 0;
   };
 
   void validate(const RenderOptions& o) const {
@@ -437,7 +475,97 @@ class GlRenderer final : public Renderer {
     return t;
   }
 
-  Uploaded upload(GlObjects& gl, const Scene& scene) const {
+  // The target for `o`, kept between calls while the size, samples and supersampling stay the
+  // same (every pass of a view overwrites all of it).
+  const Target& target_for(const RenderOptions& o) {
+    KeptTarget& k = kept_target_;
+    if (!k.gl || k.width != o.width || k.height != o.height || k.msaa != o.msaa ||
+        k.supersample != o.supersample) {
+      k.gl.reset();
+      auto gl = std::make_unique<GlObjects>();
+      k.target = make_target(*gl, o);
+      k.gl = std::move(gl);
+      k.width = o.width;
+      k.height = o.height;
+      k.msaa = o.msaa;
+      k.supersample = o.supersample;
+    }
+    return k.target;
+  }
+
+  // A primitive's vertex arrays and, unless it is blended, its element buffer, in buffers named
+  // by `new_buffer()`.
+  template <typename NewBuffer>
+  static PrimitiveBuffers upload_buffers(const Primitive& p, bool blend, NewBuffer&& new_buffer) {
+    auto array = [&](GLenum target, const auto& data) {
+      const GLuint name = new_buffer();
+      glBindBuffer(target, name);
+      glBufferData(target, GLsizeiptr(data.size() * sizeof(data[0])), data.data(), GL_STATIC_DRAW);
+      return name;
+    };
+    glBindVertexArray(0);
+    PrimitiveBuffers b;
+    b.vertices = p.positions.size();
+    b.indices = p.indices.size();
+    b.vb.position = array(GL_ARRAY_BUFFER, p.positions);
+    if (!p.normals.empty()) b.vb.normal = array(GL_ARRAY_BUFFER, p.normals);
+    if (!p.texcoords.empty()) b.vb.texcoord = array(GL_ARRAY_BUFFER, p.texcoords);
+    if (!p.colors.empty()) b.vb.color = array(GL_ARRAY_BUFFER, p.colors);
+    if (!p.sizes.empty() && p.topology == Topology::kPoints) b.vb.size = array(GL_ARRAY_BUFFER, p.sizes);
+    if (!blend) b.elements = array(GL_ELEMENT_ARRAY_BUFFER, p.indices);
+    return b;
+  }
+
+  // The buffers of a mesh naming shared geometry: kept from an earlier call when its name still
+  // lives and its primitives have the vertex and index counts kept, else uploaded and kept.
+  const std::vector<PrimitiveBuffers>& kept_buffers(const Scene& scene, const Mesh& mesh) {
+    auto same = [&](const KeptGeometry& k) {
+      if (k.key != mesh.shared_geometry.get()) return false;
+      const std::shared_ptr<const void> alive = k.owner.lock();
+      return alive && !alive.owner_before(mesh.shared_geometry) && !mesh.shared_geometry.owner_before(alive);
+    };
+    auto it = std::find_if(kept_geometry_.begin(), kept_geometry_.end(), same);
+    if (it != kept_geometry_.end()) {
+      bool fits = it->primitives.size() == mesh.primitives.size();
+      for (std::size_t i = 0; fits && i < mesh.primitives.size(); ++i)
+        fits = it->primitives[i].vertices == mesh.primitives[i].positions.size() &&
+               it->primitives[i].indices == mesh.primitives[i].indices.size();
+      if (fits) return it->primitives;
+      glDeleteBuffers(GLsizei(it->buffers.size()), it->buffers.data());
+      kept_geometry_.erase(it);
+    }
+    KeptGeometry k;
+    k.owner = mesh.shared_geometry;
+    k.key = mesh.shared_geometry.get();
+    auto new_buffer = [&] {
+      GLuint name = 0;
+      glGenBuffers(1, &name);
+      k.buffers.push_back(name);
+      return name;
+    };
+    for (const Primitive& p : mesh.primitives)
+      k.primitives.push_back(upload_buffers(p, blended(scene, p), new_buffer));
+    // Buffers that did not upload (out of memory) are not kept: the next call tries again.
+    if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+      glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
+      throw RenderError("mesh '" + mesh.name + "' could not be uploaded (GL error " + std::to_string(e) +
+                        ")");
+    }
+    kept_geometry_.push_back(std::move(k));
+    return kept_geometry_.back().primitives;
+  }
+
+  static bool blended(const Scene& scene, const Primitive& p) {
+    return p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
+  }
+
+  Uploaded upload(GlObjects& gl, const Scene& scene) {
+    // Kept geometry whose name no longer lives is deleted first (whatever this call draws).
+    std::erase_if(kept_geometry_, [](const KeptGeometry& k) {
+      if (!k.owner.expired()) return false;
+      glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
+      return true;
+    });
     Uploaded up;
     for (const Texture& t : scene.textures) up.textures.push_back(upload_texture(gl, t));
     for (const Mesh& mesh : scene.meshes) {
@@ -453,24 +581,23 @@ class GlRenderer final : public Renderer {
         gm.mirrored |= mesh.instances[i].topLeftCorner<3, 3>().determinant() < 0;
       }
       const GLuint instance_buffer = upload_array(gl, GL_ARRAY_BUFFER, gm.instance_data);
-      for (const Primitive& p : mesh.primitives) {
-        check_primitive(scene, p);
+      for (const Primitive& p : mesh.primitives) check_primitive(scene, p);
+      std::vector<PrimitiveBuffers> own;
+      if (!mesh.shared_geometry)
+        for (const Primitive& p : mesh.primitives)
+          own.push_back(upload_buffers(p, blended(scene, p), [&] { return gl.buffer(); }));
+      const std::vector<PrimitiveBuffers>& buffers = mesh.shared_geometry ? kept_buffers(scene, mesh) : own;
+      for (std::size_t i = 0; i < mesh.primitives.size(); ++i) {
+        const Primitive& p = mesh.primitives[i];
+        const PrimitiveBuffers& b = buffers[i];
         GpuPrimitive gp;
         gp.source = &p;
         gp.index_count = GLsizei(p.indices.size());
-        gp.blend =
-            p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
-        VertexBuffers vb;
-        vb.position = upload_array(gl, GL_ARRAY_BUFFER, p.positions);
-        if (!p.normals.empty()) vb.normal = upload_array(gl, GL_ARRAY_BUFFER, p.normals);
-        if (!p.texcoords.empty()) vb.texcoord = upload_array(gl, GL_ARRAY_BUFFER, p.texcoords);
-        if (!p.colors.empty()) vb.color = upload_array(gl, GL_ARRAY_BUFFER, p.colors);
-        if (!p.sizes.empty() && p.topology == Topology::kPoints)
-          vb.size = upload_array(gl, GL_ARRAY_BUFFER, p.sizes);
+        gp.blend = blended(scene, p);
         if (!gp.blend) {
           gp.vao_instanced = gl.vertex_array();
           glBindVertexArray(gp.vao_instanced);
-          attach_vertex_buffers(vb);
+          attach_vertex_buffers(b.vb);
           glBindBuffer(GL_ARRAY_BUFFER, instance_buffer);
           const GLsizei stride = kInstanceFloats * sizeof(float);
           for (GLuint c = 0; c < 4; ++c) {
@@ -486,14 +613,11 @@ class GlRenderer final : public Renderer {
                 reinterpret_cast<const void*>(std::uintptr_t((16 + c * 3) * sizeof(float))));
             glVertexAttribDivisor(kNormalMatrix + c, 1);
           }
-          const GLuint ebo = gl.buffer();
-          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
-          glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(p.indices.size() * sizeof(std::uint32_t)),
-                       p.indices.data(), GL_STATIC_DRAW);
+          glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.elements);
         } else {
           gp.vao_single = gl.vertex_array();
           glBindVertexArray(gp.vao_single);
-          attach_vertex_buffers(vb);
+          attach_vertex_buffers(b.vb);
           if (!up.blend_indices) up.blend_indices = gl.buffer();
         }
         glBindVertexArray(0);
@@ -523,63 +647,103 @@ class GlRenderer final : public Renderer {
   }
 
   struct Uniforms {
-    GLint view, proj, viewport_height, default_point_size, min_point_size, base_color, texture, has_texture,
-        alpha_mode, alpha_cutoff, lit, has_normals, two_sided, cull_in_shader, round_points, ambient,
-        light_color, light_dir;
+    GLint view, proj, viewport_height, default_point_size, min_point_size, base_color, texture, alpha_cutoff,
+        ambient, light_color, light_dir;
   };
 
-  Uniforms uniforms() const {
-    auto u = [&](const char* n) { return glGetUniformLocation(program_, n); };
-    return {u("u_view"),
-            u("u_proj"),
-            u("u_viewport_height"),
-            u("u_default_point_size"),
-            u("u_min_point_size"),
-            u("u_base_color"),
-            u("u_texture"),
-            u("u_has_texture"),
-            u("u_alpha_mode"),
-            u("u_alpha_cutoff"),
-            u("u_lit"),
-            u("u_has_normals"),
-            u("u_two_sided"),
-            u("u_cull_in_shader"),
-            u("u_round_points"),
-            u("u_ambient"),
-            u("u_light_color"),
-            u("u_light_dir")};
+  static Uniforms uniforms(GLuint program) {
+    auto u = [&](const char* n) { return glGetUniformLocation(program, n); };
+    return {u("u_view"),           u("u_proj"),        u("u_viewport_height"), u("u_default_point_size"),
+            u("u_min_point_size"), u("u_base_color"),  u("u_texture"),         u("u_alpha_cutoff"),
+            u("u_ambient"),        u("u_light_color"), u("u_light_dir")};
+  }
+
+  // What a draw's fragment shader is specialised for (kFragmentStateFormat).
+  struct DrawState {
+    bool textured = false;
+    int alpha_mode = 0;  // 0 opaque, 1 mask, 2 blend
+    bool lit = false, has_normals = false, two_sided = false, cull_in_shader = false, round_points = false;
+    int key() const {
+      return int(textured) | alpha_mode << 1 | int(lit) << 3 | int(has_normals) << 4 | int(two_sided) << 5 |
+             int(cull_in_shader) << 6 | int(round_points) << 7;
+    }
+  };
+
+  // One linked program per DrawState used so far, and which view's uniforms it holds.
+  struct Program {
+    GLuint id = 0;
+    Uniforms u{};
+    std::uint64_t view = 0;
+  };
+
+  // The uniforms every program of one view shares.
+  struct ViewUniforms {
+    Mat4 view = Mat4::Identity(), proj = Mat4::Identity();
+    float viewport_height = 0, default_point_size = 0, min_point_size = 0;
+    Vec3 ambient = Vec3::Zero(), light_color = Vec3::Zero(), light_dir = Vec3::UnitY();
+  };
+
+  // Makes the program for `st` current (linking it on first use) with this view's uniforms.
+  const Program& use_program(const DrawState& st) {
+    auto it = programs_.find(st.key());
+    if (it == programs_.end()) {
+      auto b = [](bool v) { return v ? "true" : "false"; };
+      char head[640];
+      std::snprintf(head, sizeof head, kFragmentStateFormat, b(st.textured), st.alpha_mode, b(st.lit),
+                    b(st.has_normals), b(st.two_sided), b(st.cull_in_shader), b(st.round_points));
+      Program p;
+      p.id = detail::link_program(kVertexShader, (std::string(head) + kFragmentShader).c_str(), "scene");
+      p.u = uniforms(p.id);
+      it = programs_.emplace(st.key(), p).first;
+    }
+    Program& p = it->second;
+    if (current_program_ != p.id) {
+      glUseProgram(p.id);
+      current_program_ = p.id;
+    }
+    if (p.view != view_serial_) {
+      const ViewUniforms& v = view_uniforms_;
+      glUniformMatrix4fv(p.u.view, 1, GL_FALSE, v.view.data());
+      glUniformMatrix4fv(p.u.proj, 1, GL_FALSE, v.proj.data());
+      glUniform1f(p.u.viewport_height, v.viewport_height);
+      glUniform1f(p.u.default_point_size, v.default_point_size);
+      glUniform1f(p.u.min_point_size, v.min_point_size);
+      glUniform1i(p.u.texture, 0);
+      glUniform3fv(p.u.ambient, 1, v.ambient.data());
+      glUniform3fv(p.u.light_color, 1, v.light_color.data());
+      glUniform3fv(p.u.light_dir, 1, v.light_dir.data());
+      p.view = view_serial_;
+    }
+    return p;
   }
 
   // Material and per-primitive state for one draw.
-  void set_primitive_state(const Scene& scene, const Uploaded& up, const Uniforms& u, const Primitive& p,
-                           bool mirrored_instances) const {
+  void set_primitive_state(const Scene& scene, const Uploaded& up, const Primitive& p,
+                           bool mirrored_instances) {
     static const Material kDefault;
     const Material& m = p.material >= 0 ? scene.materials[std::size_t(p.material)] : kDefault;
-    glUniform4fv(u.base_color, 1, m.base_color.data());
-    const bool textured = m.base_color_texture >= 0 && !p.texcoords.empty();
-    glUniform1i(u.has_texture, textured);
-    if (textured) {
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, up.textures[std::size_t(m.base_color_texture)]);
-    }
-    glUniform1i(u.alpha_mode, m.alpha_mode == AlphaMode::kOpaque ? 0
-                              : m.alpha_mode == AlphaMode::kMask ? 1
-                                                                 : 2);
-    glUniform1f(u.alpha_cutoff, m.alpha_cutoff);
-    const bool has_normals = !p.normals.empty();
+    DrawState st;
+    st.textured = m.base_color_texture >= 0 && !p.texcoords.empty();
+    st.alpha_mode = m.alpha_mode == AlphaMode::kOpaque ? 0 : m.alpha_mode == AlphaMode::kMask ? 1 : 2;
+    st.has_normals = !p.normals.empty();
     // LINES are unlit, as three.js draws them (GLTFLoader: LineBasicMaterial = base colour x
     // COLOR_0): glTF defines no lighting for lines, and the verifier must see what clients do.
-    const bool lit =
-        !m.unlit && p.topology != Topology::kLines && (p.topology == Topology::kTriangles || has_normals);
-    glUniform1i(u.lit, lit);
-    glUniform1i(u.has_normals, has_normals);
+    st.lit =
+        !m.unlit && p.topology != Topology::kLines && (p.topology == Topology::kTriangles || st.has_normals);
     const bool triangles = p.topology == Topology::kTriangles;
-    glUniform1i(u.two_sided, triangles && m.double_sided);
-    glUniform1i(u.round_points, p.topology == Topology::kPoints);
+    st.two_sided = triangles && m.double_sided;
+    st.round_points = p.topology == Topology::kPoints;
     // Back faces of single-sided triangles are culled; GL's cull state is per draw, so a mesh
     // with a mirrored instance culls in the shader instead (front = CW there).
     const bool cull = triangles && !m.double_sided;
-    glUniform1i(u.cull_in_shader, cull && mirrored_instances);
+    st.cull_in_shader = cull && mirrored_instances;
+    const Program& program = use_program(st);
+    glUniform4fv(program.u.base_color, 1, m.base_color.data());
+    glUniform1f(program.u.alpha_cutoff, m.alpha_cutoff);
+    if (st.textured) {
+      glActiveTexture(GL_TEXTURE0);
+      glBindTexture(GL_TEXTURE_2D, up.textures[std::size_t(m.base_color_texture)]);
+    }
     if (cull && !mirrored_instances) {
       glEnable(GL_CULL_FACE);
     } else {
@@ -620,19 +784,18 @@ class GlRenderer final : public Renderer {
     const float aspect = float(o.width) / float(o.height);
     const Mat4 view = cam.view_matrix();
     const Mat4 proj = cam.projection_matrix(aspect);
-    glUseProgram(program_);
-    const Uniforms u = uniforms();
-    glUniformMatrix4fv(u.view, 1, GL_FALSE, view.data());
-    glUniformMatrix4fv(u.proj, 1, GL_FALSE, proj.data());
-    glUniform1f(u.viewport_height, float(t.height));
-    glUniform1f(u.default_point_size, o.default_point_size_px * k);
-    glUniform1f(u.min_point_size, o.min_point_size_px * k);
-    glUniform1i(u.texture, 0);
-    glUniform3fv(u.ambient, 1, o.lighting.ambient.data());
-    glUniform3fv(u.light_color, 1, o.lighting.light_color.data());
-    const Vec3 l =
-        o.lighting.direction_to_light.norm() > 0 ? o.lighting.direction_to_light.normalized() : Vec3::UnitY();
-    glUniform3fv(u.light_dir, 1, l.data());
+    view_uniforms_ = {view,
+                      proj,
+                      float(t.height),
+                      o.default_point_size_px * k,
+                      o.min_point_size_px * k,
+                      o.lighting.ambient,
+                      o.lighting.light_color,
+                      o.lighting.direction_to_light.norm() > 0
+                          ? Vec3(o.lighting.direction_to_light.normalized())
+                          : Vec3::UnitY()};
+    ++view_serial_;
+    current_program_ = 0;
 
     // Pass 1: opaque and masked, one instanced draw per primitive.
     struct BlendDraw {
@@ -656,7 +819,7 @@ class GlRenderer final : public Renderer {
           }
           continue;
         }
-        set_primitive_state(scene, up, u, *gp.source, gm.mirrored);
+        set_primitive_state(scene, up, *gp.source, gm.mirrored);
         glBindVertexArray(gp.vao_instanced);
         glDrawElementsInstanced(gl_mode(gp.source->topology), gp.index_count, GL_UNSIGNED_INT, nullptr,
                                 GLsizei(instances));
@@ -672,7 +835,7 @@ class GlRenderer final : public Renderer {
       } else {
         impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
       }
-      glUseProgram(program_);
+      current_program_ = 0;  // the impostor drawer used its own
     }
 
     // Pass 2: blended, far to near (Zhang et al. 2017, 6.1), depth test on, depth write off.
@@ -705,7 +868,7 @@ class GlRenderer final : public Renderer {
       for (std::size_t i = 0; i < blended.size(); ++i) {
         const BlendDraw& d = blended[i];
         const Primitive& p = *d.prim->source;
-        set_primitive_state(scene, up, u, p, d.mesh->mirrored);
+        set_primitive_state(scene, up, p, d.mesh->mirrored);
         glBindVertexArray(d.prim->vao_single);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, up.blend_indices);
         const float* inst = &d.mesh->instance_data[d.instance * kInstanceFloats];
@@ -847,7 +1010,12 @@ class GlRenderer final : public Renderer {
 
   std::unique_ptr<detail::GlContext> ctx_;
   std::mutex mutex_;
-  GLuint program_ = 0;
+  std::vector<KeptGeometry> kept_geometry_;
+  KeptTarget kept_target_;
+  std::map<int, Program> programs_;  // by DrawState::key()
+  GLuint current_program_ = 0;       // within draw(): the program in use, 0 = unknown
+  ViewUniforms view_uniforms_;
+  std::uint64_t view_serial_ = 0;  // draw() calls so far: a program whose `view` differs needs view_uniforms_
   GLuint downsample_ = 0, to_samples_ = 0, from_samples_ = 0;
   detail::ImpostorDrawer impostors_;
   GLint max_samples_ = 1;

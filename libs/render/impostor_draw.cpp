@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
 
 #include "libs/render/impostor_renderer.h"
 
@@ -42,9 +45,24 @@ void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parall
   glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
 }
 
+GLuint ImpostorDrawer::program(int steps) {
+  steps = std::clamp(steps, 0, 64);
+  if (const auto it = programs_.find(steps); it != programs_.end()) return it->second;
+  static constexpr std::string_view kUniform = "uniform int u_parallax_steps;";
+  std::string fragment = octahedral_impostor_fragment_shader();
+  const std::size_t at = fragment.find(kUniform);
+  if (at == std::string::npos)
+    throw RenderError("the impostor fragment shader declares no 'uniform int u_parallax_steps;'");
+  fragment.replace(at, kUniform.size(), "const int u_parallax_steps = " + std::to_string(steps) + ";");
+  const GLuint id =
+      link_program(octahedral_impostor_vertex_shader(), fragment.c_str(), "octahedral impostor");
+  programs_.emplace(steps, id);
+  return id;
+}
+
 void ImpostorDrawer::destroy() {
-  if (program_) glDeleteProgram(program_);
-  program_ = 0;
+  for (const auto& [steps, id] : programs_) glDeleteProgram(id);
+  programs_.clear();
   for (const Kept& k : kept_) {
     const GLuint t[2] = {k.color, k.normal_depth};
     glDeleteTextures(2, t);
@@ -63,9 +81,7 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
     return true;
   });
   if (sets.empty()) return up;
-  if (!program_)
-    program_ = link_program(octahedral_impostor_vertex_shader(), octahedral_impostor_fragment_shader(),
-                            "octahedral impostor");
+  for (const ImpostorSet& s : sets) program(s.parallax_steps);
   for (const ImpostorSet& s : sets) {
     if (!s.atlas) throw RenderError("an impostor set has no atlas");
     const ImpostorAtlas& a = *s.atlas;
@@ -141,18 +157,27 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
   glBindBuffer(GL_ARRAY_BUFFER, up.instances);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(models.size() * sizeof(float)), models.data(), GL_STREAM_DRAW);
 
-  glUseProgram(program_);
-  auto u = [&](const char* n) { return glGetUniformLocation(program_, n); };
-  glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, view.data());
-  glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, cam.projection_matrix(aspect).data());
-  glUniform3fv(u("u_eye"), 1, cam.eye.data());
-  glUniform3fv(u("u_ambient"), 1, lighting.ambient.data());
-  glUniform3fv(u("u_light_color"), 1, lighting.light_color.data());
+  // The view's uniforms, set on each program once (before its first run).
+  const Mat4 proj = cam.projection_matrix(aspect);
   const Vec3 l =
       lighting.direction_to_light.norm() > 0 ? lighting.direction_to_light.normalized() : Vec3::UnitY();
-  glUniform3fv(u("u_light_dir"), 1, l.data());
-  glUniform1i(u("u_color"), 0);
-  glUniform1i(u("u_normal_depth"), 1);
+  std::map<int, bool> viewed;
+  auto use = [&](int steps) {
+    const GLuint id = program(steps);
+    glUseProgram(id);
+    if (viewed[std::clamp(steps, 0, 64)]) return id;
+    viewed[std::clamp(steps, 0, 64)] = true;
+    auto u = [&](const char* n) { return glGetUniformLocation(id, n); };
+    glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, view.data());
+    glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, proj.data());
+    glUniform3fv(u("u_eye"), 1, cam.eye.data());
+    glUniform3fv(u("u_ambient"), 1, lighting.ambient.data());
+    glUniform3fv(u("u_light_color"), 1, lighting.light_color.data());
+    glUniform3fv(u("u_light_dir"), 1, l.data());
+    glUniform1i(u("u_color"), 0);
+    glUniform1i(u("u_normal_depth"), 1);
+    return id;
+  };
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_FALSE);
@@ -166,7 +191,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     const std::size_t s = keys[begin].set;
     if (s != current) {
       current = s;
-      set_impostor_uniforms(program_, sets[s].atlas->geometry, sets[s].parallax_steps);
+      set_impostor_uniforms(use(sets[s].parallax_steps), sets[s].atlas->geometry, sets[s].parallax_steps);
       glActiveTexture(GL_TEXTURE0);
       glBindTexture(GL_TEXTURE_2D, up.color[s]);
       glActiveTexture(GL_TEXTURE1);

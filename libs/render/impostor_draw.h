@@ -12,8 +12,13 @@
 // for three species) stay uploaded between calls while their atlas lives: a drawer keeps each
 // atlas's textures with a weak reference to it and deletes them once the atlas is gone (checked
 // at every upload) or when the drawer is destroyed.
+//
+// One program per parallax step count, the count a compile-time constant of it (the shader's
+// `uniform int u_parallax_steps` declared `const`): llvmpipe's JIT code then has no loop for flat
+// frames and a fixed trip count otherwise. The pixels are the uniform's.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -59,7 +64,10 @@ class ImpostorDrawer {
     std::weak_ptr<const ImpostorAtlas> atlas;
     GLuint color = 0, normal_depth = 0;
   };
-  GLuint program_ = 0;  // linked on first use
+  // The program for `steps` (clamped to 0..64), linked on first use.
+  GLuint program(int steps);
+
+  std::map<int, GLuint> programs_;  // by parallax steps
   std::vector<Kept> kept_;
 };
 

@@ -79,6 +79,9 @@ class Renderer {
   static std::unique_ptr<Renderer> create_headless();
 
   // Renders every camera with one upload of the scene. Images are width x height, top row first.
+  // What stays uploaded between calls: the buffers of meshes naming shared geometry
+  // (Mesh::shared_geometry) while the name lives, impostor maps while their atlas lives, and the
+  // target while the size and sampling stay the same; the pixels are those of a fresh upload.
   // Throws RenderError for invalid options (size, msaa above what the device supports).
   virtual std::vector<image::Image> render_views(const Scene& scene, std::span<const Camera> cameras,
                                                  const RenderOptions& options) = 0;
@@ -90,6 +93,10 @@ class Renderer {
 
   // The device, for reports: e.g. "llvmpipe (LLVM 15.0.6, 256 bits); OpenGL 4.5 (Core Profile) Mesa 22.3.6".
   virtual std::string device_description() const = 0;
+
+  // Meshes whose buffers are kept uploaded after the last call: the Mesh::shared_geometry names
+  // drawn so far that still live (a name found dead at a call's start is dropped then). For tests.
+  virtual std::size_t kept_geometry() const { return 0; }
 };
 
 // RenderOptions for a camera set: `base` with the set's width, height, msaa and supersample.

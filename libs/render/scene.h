@@ -82,6 +82,12 @@ struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;
   std::vector<Mat4> instances;  // world matrices; the mesh is drawn once per entry
+  // Optional name of the geometry, for renderers that keep it uploaded between calls (a forest's
+  // species levels, drawn by every view). Two meshes name the same geometry when their pointers
+  // hold the same address and share ownership; while its owner lives, every mesh naming it has
+  // the same primitives' vertex arrays and indices (materials and instances may differ). Null:
+  // the primitives are uploaded for each call.
+  std::shared_ptr<const void> shared_geometry;
 };
 
 // Where a (hemi-)octahedral impostor's frames are and what they span: the reference shader's

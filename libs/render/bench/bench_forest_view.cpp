@@ -3,9 +3,12 @@
 // and of the calling thread, with the trees and primitives drawn per species and level.
 //   bench_forest_view out/forest_celba/forest/instances.json [--view NAME]... [--msaa N]
 //     [--supersample K] [--width W --height H] [--exact-impostors 1] [--judge-parallax 1] [--out DIR]
+//     [--repeat N]
 // --exact-impostors 1 draws every impostor with the reference shader's 16 parallax steps (the
 // exact view the parallax table is judged against); --judge-parallax 1 also renders that exact
-// view and judges the parallax table's view against it (forest lodcheck's judgement).
+// view and judges the parallax table's view against it (forest lodcheck's judgement). --repeat N
+// renders each view N times in a row ("render again"): a frame of a walk or flight after the
+// first, when the renderer still holds the levels' buffers, the impostor maps and the target.
 #include <sys/resource.h>
 
 #include <chrono>
@@ -48,13 +51,13 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: %s instances.json [--view NAME]... [--msaa N] [--supersample K] [--width W --height H]\n"
-        "  [--exact-impostors 1] [--judge-parallax 1] [--out DIR]\n",
+        "  [--exact-impostors 1] [--judge-parallax 1] [--out DIR] [--repeat N]\n",
         argv[0]);
     return 2;
   }
   const std::filesystem::path file = argv[1];
   std::vector<std::string> views;
-  int msaa = -1, width = -1, height = -1, supersample = -1;
+  int msaa = -1, width = -1, height = -1, supersample = -1, repeat = 1;
   bool exact = false;  // every impostor with the reference shader's 16 steps, not the parallax table
   bool judge = false;  // judge the parallax table's view against the exact one
   std::string out;
@@ -67,6 +70,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--exact-impostors")) exact = std::string(argv[i + 1]) == "1";
     if (!std::strcmp(argv[i], "--judge-parallax")) judge = std::string(argv[i + 1]) == "1";
     if (!std::strcmp(argv[i], "--height")) height = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
   }
   Lap lap;
   render::ForestView fv = render::ForestView::load(file);
@@ -92,6 +96,10 @@ int main(int argc, char** argv) {
     lap.print("scene");
     const image::Image img = renderer->render(scene, c, options);
     lap.print("render");
+    for (int r = 1; r < repeat; ++r) {
+      (void)renderer->render(scene, c, options);
+      lap.print("render again");
+    }
     if (!out.empty()) {
       image::write_png(img, std::filesystem::path(out) / (c.name + ".png"));
       lap.print("png");

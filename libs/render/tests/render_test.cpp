@@ -571,6 +571,70 @@ TEST_F(RenderTest, CameraSetRendersEveryView) {
   EXPECT_EQ(views[1].camera.name, "right");
 }
 
+// One opaque unlit quad of `rgb`, 0.8 m wide, centred at (x, 0, 0), facing +z.
+Scene quad_scene(float x, const Vec4& rgb) {
+  Scene s;
+  Material m;
+  m.base_color = rgb;
+  m.unlit = true;
+  s.materials.push_back(m);
+  Primitive p;
+  p.positions = {Vec3(x - 0.4f, -0.4f, 0), Vec3(x + 0.4f, -0.4f, 0), Vec3(x + 0.4f, 0.4f, 0),
+                 Vec3(x - 0.4f, 0.4f, 0)};
+  p.indices = {0, 1, 2, 0, 2, 3};
+  p.material = 0;
+  Mesh mesh;
+  mesh.name = "quad";
+  mesh.primitives.push_back(std::move(p));
+  mesh.instances.push_back(Mat4::Identity());
+  s.meshes.push_back(std::move(mesh));
+  return s;
+}
+
+// A mesh naming shared geometry is drawn as its primitives, the first time and from the kept
+// buffers later; they are kept while the name lives and dropped once it is dead. A name is an
+// address and an owner: another owner aliasing the same address names other geometry (here the
+// quad moved to the right, which buffers kept by address alone would draw on the left).
+TEST_F(RenderTest, SharedGeometryIsKeptWhileItsNameLives) {
+  static const int kAddress = 0;  // the address both names point at
+  const Camera cam = look(Vec3(0, 0, 3));
+  const RenderOptions o = unlit_options(64, 1);
+  Scene left = quad_scene(-0.5f, Vec4(1, 0, 0, 1)), right = quad_scene(0.5f, Vec4(1, 0, 0, 1));
+  const Image want_left = render(left, cam, o), want_right = render(right, cam, o);
+  ASSERT_NE(want_left, want_right);
+  EXPECT_EQ(renderer_->kept_geometry(), 0u);  // nothing named: nothing kept
+
+  auto first = std::make_shared<int>(1);
+  left.meshes[0].shared_geometry = std::shared_ptr<const void>(first, &kAddress);
+  EXPECT_EQ(render(left, cam, o), want_left);
+  EXPECT_EQ(renderer_->kept_geometry(), 1u);
+  // Another scene naming the same geometry, with another material and instance: drawn from the
+  // kept buffers, as a fresh upload draws it.
+  Scene green = quad_scene(-0.5f, Vec4(0, 1, 0, 1));
+  green.meshes[0].instances[0] = Eigen::Affine3f(Eigen::Translation3f(0, 0.3f, 0)).matrix();
+  const Image want_green = render(green, cam, o);
+  green.meshes[0].shared_geometry = left.meshes[0].shared_geometry;
+  EXPECT_EQ(render(green, cam, o), want_green);
+  EXPECT_EQ(renderer_->kept_geometry(), 1u);
+
+  auto second = std::make_shared<int>(2);
+  right.meshes[0].shared_geometry = std::shared_ptr<const void>(second, &kAddress);
+  EXPECT_EQ(render(right, cam, o), want_right);
+  EXPECT_EQ(renderer_->kept_geometry(), 2u);
+  EXPECT_EQ(render(left, cam, o), want_left);  // both kept, each drawn with its own buffers
+  EXPECT_EQ(renderer_->kept_geometry(), 2u);
+
+  left.meshes[0].shared_geometry.reset();
+  green.meshes[0].shared_geometry.reset();
+  first.reset();  // the first name is dead: dropped at the next call
+  EXPECT_EQ(render(right, cam, o), want_right);
+  EXPECT_EQ(renderer_->kept_geometry(), 1u);
+  right.meshes[0].shared_geometry.reset();
+  second.reset();
+  EXPECT_EQ(render(Scene{}, cam, o), render(Scene{}, cam, o));
+  EXPECT_EQ(renderer_->kept_geometry(), 0u);
+}
+
 // Supersampled by 2, the image is the mean of each 2 x 2 block of the same scene drawn at twice
 // the size (one sample per pixel there), lines twice as wide: edges of a lit wavy sheet, a
 // slanted diagonal line and blended lines, to 8-bit rounding.
