@@ -3,7 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <map>
+#include <set>
 #include <string>
 #include <string_view>
 
@@ -161,12 +161,11 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
   const Mat4 proj = cam.projection_matrix(aspect);
   const Vec3 l =
       lighting.direction_to_light.norm() > 0 ? lighting.direction_to_light.normalized() : Vec3::UnitY();
-  std::map<int, bool> viewed;
+  std::set<GLuint> viewed;  // programs holding this view's uniforms
   auto use = [&](int steps) {
     const GLuint id = program(steps);
     glUseProgram(id);
-    if (viewed[std::clamp(steps, 0, 64)]) return id;
-    viewed[std::clamp(steps, 0, 64)] = true;
+    if (!viewed.insert(id).second) return id;
     auto u = [&](const char* n) { return glGetUniformLocation(id, n); };
     glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, view.data());
     glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, proj.data());
