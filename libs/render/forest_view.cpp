@@ -16,6 +16,7 @@
 #include "libs/impostor/impostor_json.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_atlas.h"
+#include "libs/render/line_merge.h"
 
 namespace sylva::render {
 
@@ -157,11 +158,15 @@ ForestView::ForestView(forest::Forest forest, std::vector<std::vector<Scene>> le
   for (const forest::Tile& t : forest_.tiles) tile_bounds_.push_back(to_bounds(t.bounds));
   for (std::vector<Scene>& species : levels) {
     levels_.emplace_back();
-    for (Scene& level : species) levels_.back().push_back(std::make_shared<const Scene>(std::move(level)));
+    for (Scene& level : species) {
+      merge_line_copies(level);
+      levels_.back().push_back(std::make_shared<const Scene>(std::move(level)));
+    }
   }
 }
 
 void ForestView::set_full_detail(std::size_t species, Scene scene) {
+  merge_line_copies(scene);
   full_.at(species) = std::make_shared<const Scene>(std::move(scene));
 }
 

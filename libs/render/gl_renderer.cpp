@@ -44,6 +44,7 @@ layout(location = 3) in vec4 a_color;
 layout(location = 4) in float a_size;
 layout(location = 5) in mat4 a_model;
 layout(location = 9) in mat3 a_normal_matrix;
+layout(location = 12) in float a_copies;  // LINES: coincident copies the line stands for (Primitive::copies)
 
 uniform mat4 u_view;
 uniform mat4 u_proj;
@@ -56,6 +57,7 @@ out vec3 v_normal;
 out vec2 v_texcoord;
 out vec4 v_color;
 flat out float v_mirrored;  // 1 when the instance matrix mirrors (det < 0): CW is then the front
+out float v_copies;
 
 void main() {
   v_mirrored = determinant(mat3(a_model)) < 0.0 ? 1.0 : 0.0;
@@ -64,6 +66,7 @@ void main() {
   v_normal = a_normal_matrix * a_normal;
   v_texcoord = a_texcoord;
   v_color = a_color;
+  v_copies = a_copies;
   gl_Position = u_proj * u_view * world;
   // Points: _SIZE is a diameter in local metres; scale it like the instance does and project
   // it (pixels = size * focal length in pixels / distance).
@@ -88,6 +91,7 @@ const bool u_has_normals = %s;
 const bool u_two_sided = %s;     // glTF doubleSided triangles: a back face uses the reversed normal
 const bool u_cull_in_shader = %s;  // single-sided triangles of a mirrored instance: discard back faces
 const bool u_round_points = %s;
+const bool u_line_copies = %s;    // LINES standing for coincident copies: alpha 1 - (1 - a)^copies
 )";
 
 constexpr const char* kFragmentShader = R"(
@@ -96,6 +100,7 @@ in vec3 v_normal;
 in vec2 v_texcoord;
 in vec4 v_color;
 flat in float v_mirrored;
+in float v_copies;
 
 uniform vec4 u_base_color;
 uniform sampler2D u_texture;
@@ -123,6 +128,8 @@ void main() {
   }
   vec4 base = u_base_color * v_color;
   if (u_has_texture) base *= texture(u_texture, v_texcoord);
+  // What k copies of this line drawn one over the other cover, drawn once (line_merge.h).
+  if (u_line_copies) base.a = 1.0 - pow(1.0 - base.a, v_copies);
   if (u_alpha_mode == 1) {
     if (base.a < u_alpha_cutoff) discard;
     base.a = 1.0;
@@ -203,7 +210,8 @@ enum : GLuint {
   kColor = 3,
   kSize = 4,
   kModel = 5,
-  kNormalMatrix = 9
+  kNormalMatrix = 9,
+  kCopies = 12
 };
 constexpr int kInstanceFloats = 16 + 9;
 
@@ -235,7 +243,7 @@ struct GpuMesh {
 
 // Binds the vertex arrays of `p` (the buffers already exist) into the bound VAO.
 struct VertexBuffers {
-  GLuint position = 0, normal = 0, texcoord = 0, color = 0, size = 0;
+  GLuint position = 0, normal = 0, texcoord = 0, color = 0, size = 0, copies = 0;
 };
 
 void attach_vertex_buffers(const VertexBuffers& vb) {
@@ -250,6 +258,7 @@ void attach_vertex_buffers(const VertexBuffers& vb) {
   attach(kTexcoord, vb.texcoord, 2);
   attach(kColor, vb.color, 4);
   attach(kSize, vb.size, 1);
+  attach(kCopies, vb.copies, 1);
 }
 
 void fill_instance(const Mat4& m, float* out) {
@@ -512,6 +521,7 @@ class GlRenderer final : public Renderer {
     if (!p.texcoords.empty()) b.vb.texcoord = array(GL_ARRAY_BUFFER, p.texcoords);
     if (!p.colors.empty()) b.vb.color = array(GL_ARRAY_BUFFER, p.colors);
     if (!p.sizes.empty() && p.topology == Topology::kPoints) b.vb.size = array(GL_ARRAY_BUFFER, p.sizes);
+    if (!p.copies.empty() && p.topology == Topology::kLines) b.vb.copies = array(GL_ARRAY_BUFFER, p.copies);
     if (!blend) b.elements = array(GL_ELEMENT_ARRAY_BUFFER, p.indices);
     return b;
   }
@@ -635,7 +645,8 @@ class GlRenderer final : public Renderer {
       throw RenderError("invalid primitive in scene '" + scene.source + "': " + what);
     };
     if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
-        (!p.colors.empty() && p.colors.size() != n) || (!p.sizes.empty() && p.sizes.size() != n))
+        (!p.colors.empty() && p.colors.size() != n) || (!p.sizes.empty() && p.sizes.size() != n) ||
+        (!p.copies.empty() && p.copies.size() != n))
       bad("attribute arrays differ in length from positions");
     for (std::uint32_t i : p.indices)
       if (i >= n) bad("index " + std::to_string(i) + " out of range");
@@ -663,9 +674,10 @@ class GlRenderer final : public Renderer {
     bool textured = false;
     int alpha_mode = 0;  // 0 opaque, 1 mask, 2 blend
     bool lit = false, has_normals = false, two_sided = false, cull_in_shader = false, round_points = false;
+    bool line_copies = false;
     int key() const {
       return int(textured) | alpha_mode << 1 | int(lit) << 3 | int(has_normals) << 4 | int(two_sided) << 5 |
-             int(cull_in_shader) << 6 | int(round_points) << 7;
+             int(cull_in_shader) << 6 | int(round_points) << 7 | int(line_copies) << 8;
     }
   };
 
@@ -690,7 +702,8 @@ class GlRenderer final : public Renderer {
       auto b = [](bool v) { return v ? "true" : "false"; };
       char head[640];
       std::snprintf(head, sizeof head, kFragmentStateFormat, b(st.textured), st.alpha_mode, b(st.lit),
-                    b(st.has_normals), b(st.two_sided), b(st.cull_in_shader), b(st.round_points));
+                    b(st.has_normals), b(st.two_sided), b(st.cull_in_shader), b(st.round_points),
+                    b(st.line_copies));
       Program p;
       p.id = detail::link_program(kVertexShader, (std::string(head) + kFragmentShader).c_str(), "scene");
       p.u = uniforms(p.id);
@@ -733,6 +746,7 @@ class GlRenderer final : public Renderer {
     const bool triangles = p.topology == Topology::kTriangles;
     st.two_sided = triangles && m.double_sided;
     st.round_points = p.topology == Topology::kPoints;
+    st.line_copies = p.topology == Topology::kLines && !p.copies.empty();
     // Back faces of single-sided triangles are culled; GL's cull state is per draw, so a mesh
     // with a mirrored instance culls in the shader instead (front = CW there).
     const bool cull = triangles && !m.double_sided;
@@ -754,6 +768,7 @@ class GlRenderer final : public Renderer {
     if (p.texcoords.empty()) glVertexAttrib2f(kTexcoord, 0, 0);
     if (p.colors.empty()) glVertexAttrib4f(kColor, 1, 1, 1, 1);
     if (p.sizes.empty() || p.topology != Topology::kPoints) glVertexAttrib1f(kSize, -1.f);
+    if (!st.line_copies) glVertexAttrib1f(kCopies, 1.f);
   }
 
   void draw(const Scene& scene, const Uploaded& up, const detail::ImpostorDrawer::Uploaded& imp,

@@ -49,4 +49,26 @@ MergedLines merge_coincident_lines(const Primitive& p) {
   return out;
 }
 
+void merge_line_copies(Scene& scene) {
+  for (Mesh& mesh : scene.meshes)
+    for (Primitive& p : mesh.primitives) {
+      if (p.topology != Topology::kLines || !p.copies.empty() || p.material < 0 ||
+          std::size_t(p.material) >= scene.materials.size() ||
+          scene.materials[std::size_t(p.material)].alpha_mode != AlphaMode::kBlend)
+        continue;
+      MergedLines merged = merge_coincident_lines(p);
+      if (merged.positions.size() == p.indices.size()) continue;  // nothing coincident
+      Primitive q;
+      q.topology = Topology::kLines;
+      q.material = p.material;
+      q.positions = std::move(merged.positions);
+      q.texcoords = std::move(merged.texcoords);
+      q.colors = std::move(merged.colors);
+      q.copies = std::move(merged.copies);
+      q.indices.resize(q.positions.size());
+      for (std::size_t i = 0; i < q.indices.size(); ++i) q.indices[i] = std::uint32_t(i);
+      p = std::move(q);
+    }
+}
+
 }  // namespace sylva::render

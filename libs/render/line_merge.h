@@ -40,4 +40,14 @@ struct MergedLines {
 // an odd index count; indices must be in range (the caller checks them).
 MergedLines merge_coincident_lines(const Primitive& p);
 
+// The scene renderer draws LINES unlit (gl_renderer.cpp), so a LOD level's three coincident
+// lines per internode differ only in normals it does not use: k copies of colour c and alpha a
+// "over" what is behind them as one line of alpha 1 - (1 - a)^k. For every LINES primitive of
+// `scene` with a BLEND material, each run of coincident copies becomes that one line
+// (Primitive::copies = k; no normals; indices 0, 1, 2, ...; the renderer raises the alpha per
+// fragment). Exact in real arithmetic; the framebuffer rounds once instead of k times, so a pixel
+// may differ by a level of 255 or two. Forest views draw their levels so (forest_view.h): a third
+// of the lines.
+void merge_line_copies(Scene& scene);
+
 }  // namespace sylva::render

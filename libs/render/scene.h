@@ -73,6 +73,10 @@ struct Primitive {
                                        // metres in the mesh's local space (glTF attribute _SIZE)
   std::vector<std::uint32_t> indices;  // 3 per triangle, 2 per line, 1 per point; all < size
   int material = -1;                   // index into Scene::materials, -1 = default material
+  // LINES only: empty, or one per position: the line stands for that many (1..3) coincident
+  // copies drawn one over the other; its alpha a is drawn as 1 - (1 - a)^copies, what the copies'
+  // "over"s composite to (merge_line_copies, line_merge.h).
+  std::vector<float> copies;
 
   Bounds bounds() const;              // of positions, local space
   std::size_t element_count() const;  // triangles, lines or points

@@ -4,7 +4,7 @@ namespace sylva {
 
 namespace {
 // Bump whenever the bytes of any output can change (report formats, file naming, verdicts).
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;
 }  // namespace
 
 StageInfo verify_stage_info() {

@@ -79,5 +79,46 @@ TEST(LineMerge, RefusesWhatIsNotLines) {
   EXPECT_THROW(merge_coincident_lines(q), std::invalid_argument);
 }
 
+// A scene of one mesh whose LINES primitive is `p` with a material of `mode`.
+Scene scene_with(Primitive p, AlphaMode mode) {
+  Scene s;
+  Material m;
+  m.alpha_mode = mode;
+  s.materials.push_back(m);
+  p.material = 0;
+  Mesh mesh;
+  mesh.primitives.push_back(std::move(p));
+  mesh.instances.push_back(Mat4::Identity());
+  s.meshes.push_back(std::move(mesh));
+  return s;
+}
+
+TEST(LineMerge, BlendedLineCopiesBecomeOneLineThatCountsThem) {
+  Scene s = scene_with(tripled(4), AlphaMode::kBlend);
+  merge_line_copies(s);
+  const Primitive& p = s.meshes[0].primitives[0];
+  EXPECT_EQ(p.topology, Topology::kLines);
+  EXPECT_EQ(p.material, 0);
+  EXPECT_EQ(p.element_count(), 2u);
+  EXPECT_EQ(p.indices, (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(p.copies, (std::vector<float>{3, 3, 1, 1}));
+  EXPECT_EQ(p.colors, (std::vector<Vec4>(4, Vec4(1, 1, 1, 0.25f))));  // the renderer raises the alpha
+  EXPECT_TRUE(p.normals.empty());                                     // LINES are drawn unlit
+  EXPECT_EQ(p.positions[3], Vec3(1, 0, 0));
+}
+
+TEST(LineMerge, OpaqueMaskedAndLoneLinesStayAsTheyAre) {
+  for (AlphaMode mode : {AlphaMode::kOpaque, AlphaMode::kMask}) {
+    Scene s = scene_with(tripled(3), mode);
+    merge_line_copies(s);
+    EXPECT_EQ(s.meshes[0].primitives[0].element_count(), 3u);
+    EXPECT_TRUE(s.meshes[0].primitives[0].copies.empty());
+  }
+  Scene lone = scene_with(tripled(1), AlphaMode::kBlend);
+  merge_line_copies(lone);
+  EXPECT_EQ(lone.meshes[0].primitives[0].normals.size(), 2u);  // untouched
+  EXPECT_TRUE(lone.meshes[0].primitives[0].copies.empty());
+}
+
 }  // namespace
 }  // namespace sylva::render

@@ -635,6 +635,63 @@ TEST_F(RenderTest, SharedGeometryIsKeptWhileItsNameLives) {
   EXPECT_EQ(renderer_->kept_geometry(), 0u);
 }
 
+// Lines standing for coincident copies (Primitive::copies, line_merge.h) draw what the copies
+// drawn one over the other draw, to a level of 255 per blend: 12 horizontal lines of alpha 0.3
+// over a grey quad, each drawn three times, then merged; one copy each is far lighter.
+TEST_F(RenderTest, MergedLineCopiesDrawWhatTheCopiesDraw) {
+  Scene s = quad_scene(0.f, Vec4(0.5f, 0.5f, 0.5f, 1));
+  s.meshes[0].primitives[0].positions = {Vec3(-0.9f, -0.9f, -0.1f), Vec3(0.9f, -0.9f, -0.1f),
+                                         Vec3(0.9f, 0.9f, -0.1f), Vec3(-0.9f, 0.9f, -0.1f)};
+  Material red;
+  red.base_color = Vec4(1, 0.1f, 0.1f, 1);
+  red.alpha_mode = AlphaMode::kBlend;
+  s.materials.push_back(red);
+  Primitive lines;
+  lines.topology = Topology::kLines;
+  lines.material = 1;
+  for (int row = 0; row < 12; ++row)
+    for (int copy = 0; copy < 3; ++copy) {
+      const auto base = std::uint32_t(lines.positions.size());
+      const float y = -0.55f + 0.1f * float(row), a = 0.3f;
+      lines.positions.insert(lines.positions.end(), {Vec3(-0.8f, y, 0), Vec3(0.8f, y + 0.05f, 0)});
+      lines.normals.insert(lines.normals.end(), 2, Vec3(0, float(copy) - 1, 1).normalized());
+      lines.colors.insert(lines.colors.end(), 2, Vec4(1, 1, 1, a));
+      lines.indices.insert(lines.indices.end(), {base, base + 1});
+    }
+  Mesh mesh;
+  mesh.primitives.push_back(lines);
+  mesh.instances.push_back(Mat4::Identity());
+  s.meshes.push_back(mesh);
+  const Camera cam = look(Vec3(0, 0, 3));
+  RenderOptions o = unlit_options(96, 1);
+  o.supersample = 2;
+  const Image copies = render(s, cam, o);
+
+  Scene merged = s;
+  Primitive& m = merged.meshes[1].primitives[0];
+  m.positions.clear();
+  m.colors.clear();
+  m.normals.clear();
+  m.indices.clear();
+  for (std::size_t i = 0; i < lines.positions.size(); i += 6) {
+    m.positions.insert(m.positions.end(), {lines.positions[i], lines.positions[i + 1]});
+    m.colors.insert(m.colors.end(), 2, Vec4(1, 1, 1, 0.3f));
+  }
+  for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(i);
+  m.copies.assign(m.positions.size(), 3.f);
+  const Image got = render(merged, cam, o);
+  m.copies.clear();
+  const Image once = render(merged, cam, o);
+
+  int worst = 0, worst_once = 0;
+  for (std::size_t i = 0; i < got.bytes().size(); ++i) {
+    worst = std::max(worst, std::abs(int(got.bytes()[i]) - int(copies.bytes()[i])));
+    worst_once = std::max(worst_once, std::abs(int(once.bytes()[i]) - int(copies.bytes()[i])));
+  }
+  EXPECT_LE(worst, 2);
+  EXPECT_GE(worst_once, 30);  // 0.3 against 1 - 0.7^3 = 0.657 of red over grey
+}
+
 // Supersampled by 2, the image is the mean of each 2 x 2 block of the same scene drawn at twice
 // the size (one sample per pixel there), lines twice as wide: edges of a lit wavy sheet, a
 // slanted diagonal line and blended lines, to 8-bit rounding.
