@@ -58,8 +58,8 @@ class ForestView {
   // impostor::ImpostorFormatError, image::ImageError or RenderError (one line, naming the file).
   static ForestView load(const std::filesystem::path& instances_json);
   // The levels' (and set_full_detail's) coincident blended lines are drawn merged
-  // (merge_line_copies, line_merge.h): a third of a LOD level's lines, a pixel at most a level of
-  // 255 from drawing every copy.
+  // (merge_line_copies, line_merge.h): a third of a LOD level's lines; a pixel differs from
+  // drawing every copy by a level or two of 255 per line over it (docs/renderer.md).
   ForestView(forest::Forest forest, std::vector<std::vector<Scene>> levels);
 
   const forest::Forest& forest() const { return forest_; }

@@ -46,8 +46,8 @@ MergedLines merge_coincident_lines(const Primitive& p);
 // `scene` with a BLEND material, each run of coincident copies becomes that one line
 // (Primitive::copies = k; no normals; indices 0, 1, 2, ...; the renderer raises the alpha per
 // fragment). Exact in real arithmetic; the framebuffer rounds once instead of k times, so a pixel
-// may differ by a level of 255 or two. Forest views draw their levels so (forest_view.h): a third
-// of the lines.
+// may differ by a level or two of 255 per line drawn over it. Forest views draw their levels so
+// (forest_view.h): a third of the lines.
 void merge_line_copies(Scene& scene);
 
 }  // namespace sylva::render
