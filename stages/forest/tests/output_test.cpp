@@ -61,8 +61,11 @@ class FakeContext final : public StageContext {
   fs::path out_;
 };
 
-// A box tree of half width w and height h, two levels (the second a coarser "level": a flat card).
-InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::string& node) {
+// A box tree of half width w and height h, two levels (the second a coarser "level": a flat card;
+// with `twig_lines`, also one blended twig drawn as three coincident lines, as the lod stage
+// draws a sub-pixel internode).
+InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::string& node,
+                       bool twig_lines = false) {
   fs::create_directories(dir);
   nlohmann::json lod;
   lod["tree"] = node + " tree";
@@ -90,6 +93,25 @@ InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::strin
     gltf::Mesh mesh;
     mesh.name = "lod" + std::to_string(l);
     mesh.primitives.push_back(p);
+    if (twig_lines && l == 1) {
+      gltf::Material twigs;
+      twigs.name = "twigs";
+      twigs.base_color = {0.4f, 0.3f, 0.2f, 1};
+      twigs.alpha_mode = gltf::AlphaMode::kBlend;
+      s.materials.push_back(twigs);
+      gltf::Primitive lines;
+      lines.mode = gltf::PrimitiveMode::kLines;
+      for (int copy = 0; copy < 3; ++copy) {
+        lines.positions.insert(lines.positions.end(), {0, fh, 0, fw, fh + 1, 0});
+        const float n[3] = {copy == 0 ? 1.f : 0.f, copy == 1 ? 1.f : 0.f, copy == 2 ? 1.f : 0.f};
+        lines.normals.insert(lines.normals.end(), {n[0], n[1], n[2], n[0], n[1], n[2]});
+        lines.colors.insert(lines.colors.end(), {1, 1, 1, 0.3f, 1, 1, 1, 0.3f});
+        const auto b = std::uint32_t(2 * copy);
+        lines.indices.insert(lines.indices.end(), {b, b + 1});
+      }
+      lines.material = 1;
+      mesh.primitives.push_back(lines);
+    }
     s.meshes.push_back(mesh);
     gltf::Node n;
     n.name = mesh.name;
@@ -545,6 +567,31 @@ TEST_F(ForestOutput, ViewStatsCountTreesAndPrimitivesPerSpeciesAndLevel) {
   EXPECT_EQ(st.primitives, total);
   EXPECT_EQ(st.trees_drawn, f.instances.size());
   EXPECT_TRUE(st.impostor_steps.empty());
+}
+
+// Forest views draw a level's coincident blended lines as one line that counts its copies
+// (render::merge_line_copies): the twig's three lines are one, standing for 3.
+TEST_F(ForestOutput, ViewsDrawCoincidentLineCopiesAsOneLine) {
+  inputs_ = {fake_lod(dir_ / "lod_t", 2, 8, "lod_a", true)};
+  const Value::Object params = {{"size_m", Value(Value::List{40.0, 40.0})},
+                                {"tile_size_m", Value(40.0)},
+                                {"species", Value(Value::List{Value(species("a", 20))})}};
+  const fs::path out = dir_ / "twigs";
+  run(out, params);
+  const render::ForestView view = render::ForestView::load(out / "instances.json");
+  render::ForestViewOptions all;
+  all.cull = false;
+  render::ForestViewStats st;
+  const render::Scene scene = view.view_scene(camera_on_z_axis(600, 2000), 1.f, all, st);
+  std::size_t line_primitives = 0;
+  for (const render::Mesh& m : scene.meshes)
+    for (const render::Primitive& p : m.primitives) {
+      if (p.topology != render::Topology::kLines) continue;
+      ++line_primitives;
+      EXPECT_EQ(p.element_count(), 1u);
+      EXPECT_EQ(p.copies, (std::vector<float>{3, 3}));
+    }
+  EXPECT_EQ(line_primitives, 1u);
 }
 
 // species[i].impostor_parallax: from each proven distance on, the octahedral impostor is drawn
