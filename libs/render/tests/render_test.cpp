@@ -11,6 +11,7 @@
 #include "libs/image/compare.h"
 #include "libs/image/image_io.h"
 #include "libs/render/gltf_scene.h"
+#include "libs/render/line_merge.h"
 #include "libs/render/renderer.h"
 #include "libs/render/testing/gltf_builder.h"
 #include "tests/support/test_support.h"
@@ -635,9 +636,9 @@ TEST_F(RenderTest, SharedGeometryIsKeptWhileItsNameLives) {
   EXPECT_EQ(renderer_->kept_geometry(), 0u);
 }
 
-// Lines standing for coincident copies (Primitive::copies, line_merge.h) draw what the copies
-// drawn one over the other draw, to a level of 255 per blend: 12 horizontal lines of alpha 0.3
-// over a grey quad, each drawn three times, then merged; one copy each is far lighter.
+// Lines standing for coincident copies (Primitive::copies, merge_line_copies) draw what the
+// copies drawn one over the other draw, to a level of 255 per blend: 12 horizontal lines of alpha
+// 0.3 over a grey quad, each drawn three times, then merged; one copy each is far lighter.
 TEST_F(RenderTest, MergedLineCopiesDrawWhatTheCopiesDraw) {
   Scene s = quad_scene(0.f, Vec4(0.5f, 0.5f, 0.5f, 1));
   s.meshes[0].primitives[0].positions = {Vec3(-0.9f, -0.9f, -0.1f), Vec3(0.9f, -0.9f, -0.1f),
@@ -668,17 +669,10 @@ TEST_F(RenderTest, MergedLineCopiesDrawWhatTheCopiesDraw) {
   const Image copies = render(s, cam, o);
 
   Scene merged = s;
+  merge_line_copies(merged);
   Primitive& m = merged.meshes[1].primitives[0];
-  m.positions.clear();
-  m.colors.clear();
-  m.normals.clear();
-  m.indices.clear();
-  for (std::size_t i = 0; i < lines.positions.size(); i += 6) {
-    m.positions.insert(m.positions.end(), {lines.positions[i], lines.positions[i + 1]});
-    m.colors.insert(m.colors.end(), 2, Vec4(1, 1, 1, 0.3f));
-  }
-  for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(i);
-  m.copies.assign(m.positions.size(), 3.f);
+  ASSERT_EQ(m.element_count(), 12u);
+  ASSERT_EQ(m.copies, std::vector<float>(24, 3.f));
   const Image got = render(merged, cam, o);
   m.copies.clear();
   const Image once = render(merged, cam, o);
