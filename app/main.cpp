@@ -9,6 +9,7 @@
 #include "app/gfx_loader.h"
 #include "app/inspect_command.h"
 #include "app/pack_command.h"
+#include "libs/render/rasteriser_threads.h"
 #include "stages/register_stages.h"
 
 namespace {
@@ -24,6 +25,8 @@ extern "C" void on_signal(int sig) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before any thread exists and before the graphics module creates a renderer.
+  sylva::render::set_default_rasteriser_threads();
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   // Heavy stages and commands live in libsylva_gfx.so, geometry stages in libsylva_geometry.so,

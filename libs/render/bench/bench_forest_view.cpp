@@ -22,6 +22,7 @@
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
+#include "libs/render/rasteriser_threads.h"
 
 namespace {
 
@@ -47,6 +48,7 @@ struct Lap {
 
 int main(int argc, char** argv) {
   using namespace sylva;
+  render::set_default_rasteriser_threads();  // as sylva does (docs/renderer.md "Rasteriser threads")
   if (argc < 2) {
     std::fprintf(
         stderr,

@@ -1,0 +1,36 @@
+// How many rasteriser threads sylva asks Mesa's llvmpipe for (docs/renderer.md "Rasteriser
+// threads"). llvmpipe bins every draw on the calling thread and shades the bins on its own thread
+// pool, one thread per hardware thread unless LP_NUM_THREADS says otherwise; it reads the variable
+// once, when the first context's screen is created. With one thread per hardware thread the pool
+// waits for the binning thread at every scene it flushes; one thread more keeps the cores busy
+// (forest views: `walk_0` of configs/forest_celba.yaml, 2 cores, median 4.55 -> 4.28 s, the same
+// pixels: llvmpipe gives each tile to one thread, in bin order, whatever the count).
+//
+// Header-only, so that a program's main() sets it before anything links or starts the renderer.
+#pragma once
+
+#include <cstdlib>
+#include <string>
+#include <thread>
+
+namespace sylva::render {
+
+// The rasteriser threads for a machine with `hardware_threads` (std::thread::hardware_concurrency):
+// one more; 0 (leave llvmpipe's default) when the count is unknown (0) or 1 (llvmpipe then
+// rasterises on the calling thread).
+inline unsigned rasteriser_threads(unsigned hardware_threads) {
+  return hardware_threads < 2 ? 0 : hardware_threads + 1;
+}
+
+// Sets LP_NUM_THREADS to rasteriser_threads(hardware threads) unless the environment already sets
+// it (a user's or CI's choice wins) or the rule leaves the default. Call first in main(), before
+// any other thread exists (setenv is not safe against a concurrent getenv) and before any renderer
+// is created. Returns whether it set the variable.
+inline bool set_default_rasteriser_threads() {
+  if (std::getenv("LP_NUM_THREADS") != nullptr) return false;
+  const unsigned n = rasteriser_threads(std::thread::hardware_concurrency());
+  if (n == 0) return false;
+  return setenv("LP_NUM_THREADS", std::to_string(n).c_str(), 0) == 0;
+}
+
+}  // namespace sylva::render
