@@ -1,8 +1,9 @@
 #!/bin/sh
 # ctest lodcheck_forest_celba: `sylva lodcheck` of configs/forest_celba.yaml's own LOD chains
-# (forest_lod_oak, forest_lod_scots_pine: every level at its switch distance against the full-detail tree, the judgement of
-# docs/stages/lod.md "lodcheck"), in the verify gate's output directory (the trees are in its
-# cache), then the Khronos glTF-Validator on every glTF file those nodes wrote.
+# (forest_lod_oak, forest_lod_scots_pine: every level at its switch distance against the
+# full-detail tree, the judgement of docs/stages/lod.md "lodcheck"), in the verify gate's output
+# directory (the trees are in its cache), then the Khronos glTF-Validator on every glTF file
+# those nodes wrote.
 # usage: run_celba_lodcheck.sh SYLVA OUT_DIR
 set -u
 sylva=$1 out=$2
