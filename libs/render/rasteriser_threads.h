@@ -1,10 +1,10 @@
 // How many rasteriser threads sylva asks Mesa's llvmpipe for (docs/renderer.md "Rasteriser
 // threads"). llvmpipe bins every draw on the calling thread and shades the bins on its own thread
 // pool, one thread per hardware thread unless LP_NUM_THREADS says otherwise; it reads the variable
-// once, when the first context's screen is created. With one thread per hardware thread the pool
-// waits for the binning thread at every scene it flushes; one thread more keeps the cores busy
-// (forest views: `walk_0` of configs/forest_celba.yaml, 2 cores, median 4.55 -> 4.28 s, the same
-// pixels: llvmpipe gives each tile to one thread, in bin order, whatever the count).
+// once, when the first context's screen is created. The binning thread shares the cores with the
+// pool; one pool thread more than the hardware threads was measured faster (forest views: `walk_0`
+// of configs/forest_celba.yaml, 2 cores, median 4.55 -> 4.28 s) with the same pixels (llvmpipe
+// gives each tile to one thread, in bin order, whatever the count).
 //
 // Header-only, so that a program's main() sets it before anything links or starts the renderer.
 #pragma once
