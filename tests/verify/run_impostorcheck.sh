@@ -13,13 +13,15 @@ if [ $# -ge 4 ] && [ ! -e "$4" ]; then
   exit 77
 fi
 # Build the recipe (its impostor and billboards nodes), then check the nodes named impostor_*
-# and billboards_*.
+# and billboards_* of its output directory (OUT_DIR/<recipe name>: other recipes may share OUT_DIR).
 "$sylva" --out "$out" build "$recipe" -j 2 >/dev/null || exit 1
+name=$(sed -n 's/^name:[[:space:]]*//p' "$recipe" | head -n 1)
+[ -n "$name" ] || { echo "$recipe has no 'name:' line" >&2; exit 1; }
 args=""
 for kind in impostor billboards; do
   n=0
-  for d in "$out"/*/"$kind"_*; do [ -d "$d" ] && args="$args --node $(basename "$d")" && n=$((n + 1)); done
-  [ $n -gt 0 ] || { echo "no ${kind}_* node built under $out" >&2; exit 1; }
+  for d in "$out/$name"/"$kind"_*; do [ -d "$d" ] && args="$args --node $(basename "$d")" && n=$((n + 1)); done
+  [ $n -gt 0 ] || { echo "no ${kind}_* node built under $out/$name" >&2; exit 1; }
 done
 report=$("$sylva" --out "$out" impostorcheck "$recipe" --no-images $args)
 rc=$?
@@ -45,6 +47,6 @@ if [ "$headers" -ne "$checked" ]; then
   echo "$recipe: $checked nodes checked but $headers report headers (impostorcheck <node>: ...)" >&2
   exit 1
 fi
-glbs=$(find "$out" -mindepth 3 -maxdepth 3 -name 'impostor.glb' -not -path '*/cache/*' | sort)
-[ -n "$glbs" ] || { echo "no impostor.glb under $out" >&2; exit 1; }
+glbs=$(find "$out/$name" -mindepth 2 -maxdepth 2 -name 'impostor.glb' | sort)
+[ -n "$glbs" ] || { echo "no impostor.glb under $out/$name" >&2; exit 1; }
 exec sh tests/validate_gltf.sh "the impostor GLBs of $recipe" $glbs
