@@ -23,6 +23,14 @@ ImpostorGeometry impostor_geometry(const impostor::ImpostorInfo& info);
 // by impostor_renderer.cpp.
 void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std::uint8_t>& normal_depth);
 
+// The reference shader's optional SYLVA_EMPTY_DISTANCE cull map of `atlas`: per cell of
+// cell_px x cell_px texels ((atlas_px / cell_px)^2 cells, top row first; cell_px must divide
+// frame_px), a lower bound, in texels (at most 255), of the Chebyshev distance from any point of
+// the cell to any texel of the same frame with a non-zero byte in either map: 0 for a cell that
+// holds such a texel or touches one that does, else cell_px times the number of cells between
+// (chessboard); 255 in an empty frame and where that exceeds 255.
+std::vector<std::uint8_t> impostor_empty_distance(const ImpostorAtlas& atlas, int cell_px);
+
 // color: sRGB RGB with straight alpha = coverage; normal_depth: rgb = normal * 0.5 + 0.5, a =
 // depth (docs/stages/impostor.md "Maps"). Premultiplied: colour rgb = sRGB(linear(rgb) * a),
 // normal rgb = round(rgb * a / 255), alpha and depth unchanged. Throws RenderError (one line,

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "libs/render/impostor_atlas.h"
 #include "libs/render/impostor_renderer.h"
 
 namespace sylva::render::detail {
@@ -31,6 +32,51 @@ GLuint upload_map(const std::vector<std::uint8_t>& rgba, int px, bool srgb, int 
   return id;
 }
 
+// The march's depth and coverage, texel for texel (the shader's SYLVA_DEPTH_COVERAGE).
+GLuint upload_depth_coverage(const ImpostorAtlas& a) {
+  std::vector<std::uint8_t> rg(std::size_t(a.atlas_px) * std::size_t(a.atlas_px) * 2);
+  for (std::size_t i = 0, n = rg.size() / 2; i < n; ++i) {
+    rg[2 * i] = a.normal_depth[4 * i + 3];
+    rg[2 * i + 1] = a.color[4 * i + 3];
+  }
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RG8, a.atlas_px, a.atlas_px, 0, GL_RG, GL_UNSIGNED_BYTE, rg.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  return id;
+}
+
+// The cull's cells: 4 x 4 texels where they tile a frame (one byte per 16 texels).
+int empty_cell_px(const ImpostorGeometry& g) { return g.frame_px % 4 == 0 ? 4 : g.frame_px % 2 == 0 ? 2 : 1; }
+
+// The cull's distances (the shader's SYLVA_EMPTY_DISTANCE), one R8 texel per cell. Its proof
+// needs every read to stay in its frame, which a padding of 2^mip_levels texels guarantees (the
+// impostor stage writes exactly that); with less, every distance is 0 and nothing is culled.
+GLuint upload_empty_distance(const ImpostorAtlas& a) {
+  const ImpostorGeometry& g = a.geometry;
+  const int cell_px = empty_cell_px(g), side = a.atlas_px / cell_px;
+  std::vector<std::uint8_t> d(std::size_t(side) * std::size_t(side), 0);
+  if (g.mip_levels < 30 && g.padding_px >= (1 << g.mip_levels)) d = impostor_empty_distance(a, cell_px);
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, side, side, 0, GL_RED, GL_UNSIGNED_BYTE, d.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  return id;
+}
+
+void delete_kept_textures(GLuint color, GLuint normal_depth, GLuint empty_distance, GLuint depth_coverage) {
+  const GLuint t[4] = {color, normal_depth, empty_distance, depth_coverage};
+  glDeleteTextures(4, t);
+}
+
 }  // namespace
 
 void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parallax_steps) {
@@ -42,6 +88,8 @@ void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parall
   glUniform1f(u("u_half_extent"), g.half_extent);
   glUniform1f(u("u_padding"), float(g.padding_px) / float(g.frame_px));
   glUniform1i(u("u_parallax_steps"), std::clamp(parallax_steps, 0, 64));
+  glUniform1i(u("u_mip_levels"), g.mip_levels);
+  glUniform1i(u("u_empty_cell_px"), empty_cell_px(g));
   glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
 }
 
@@ -54,6 +102,12 @@ GLuint ImpostorDrawer::program(int steps) {
   if (at == std::string::npos)
     throw RenderError("the impostor fragment shader declares no 'uniform int u_parallax_steps;'");
   fragment.replace(at, kUniform.size(), "const int u_parallax_steps = " + std::to_string(steps) + ";");
+  // Both of the shader's exact options: one fetch per march step, the cull of fragments that
+  // would read nothing stored.
+  const std::size_t line = fragment.find('\n');
+  if (line == std::string::npos || fragment.compare(0, 9, "#version ") != 0)
+    throw RenderError("the impostor fragment shader does not start with a #version line");
+  fragment.insert(line + 1, "#define SYLVA_DEPTH_COVERAGE\n#define SYLVA_EMPTY_DISTANCE\n");
   const GLuint id =
       link_program(octahedral_impostor_vertex_shader(), fragment.c_str(), "octahedral impostor");
   programs_.emplace(steps, id);
@@ -63,10 +117,8 @@ GLuint ImpostorDrawer::program(int steps) {
 void ImpostorDrawer::destroy() {
   for (const auto& [steps, id] : programs_) glDeleteProgram(id);
   programs_.clear();
-  for (const Kept& k : kept_) {
-    const GLuint t[2] = {k.color, k.normal_depth};
-    glDeleteTextures(2, t);
-  }
+  for (const Kept& k : kept_)
+    delete_kept_textures(k.color, k.normal_depth, k.empty_distance, k.depth_coverage);
   kept_.clear();
 }
 
@@ -76,8 +128,7 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
   // Maps of atlases that no longer exist are deleted first (whatever this call draws).
   std::erase_if(kept_, [](const Kept& k) {
     if (!k.atlas.expired()) return false;
-    const GLuint t[2] = {k.color, k.normal_depth};
-    glDeleteTextures(2, t);
+    delete_kept_textures(k.color, k.normal_depth, k.empty_distance, k.depth_coverage);
     return true;
   });
   if (sets.empty()) return up;
@@ -100,11 +151,11 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
         std::find_if(kept_.begin(), kept_.end(), [&](const Kept& e) { return e.atlas.lock() == s.atlas; });
     if (k == kept_.end()) {
       const Kept fresh{s.atlas, upload_map(a.color, a.atlas_px, true, g.mip_levels),
-                       upload_map(a.normal_depth, a.atlas_px, false, g.mip_levels)};
+                       upload_map(a.normal_depth, a.atlas_px, false, g.mip_levels), upload_empty_distance(a),
+                       upload_depth_coverage(a)};
       // A map that did not upload (out of memory) is not kept: the next call tries again.
       if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
-        const GLuint t[2] = {fresh.color, fresh.normal_depth};
-        glDeleteTextures(2, t);
+        delete_kept_textures(fresh.color, fresh.normal_depth, fresh.empty_distance, fresh.depth_coverage);
         throw RenderError("impostor '" + a.name + "': its maps could not be uploaded (GL error " +
                           std::to_string(e) + ")");
       }
@@ -113,6 +164,8 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
     }
     up.color.push_back(k->color);
     up.normal_depth.push_back(k->normal_depth);
+    up.empty_distance.push_back(k->empty_distance);
+    up.depth_coverage.push_back(k->depth_coverage);
   }
   const std::vector<float> corners = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
   up.vao = gl.vertex_array();
@@ -175,6 +228,8 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     glUniform3fv(u("u_light_dir"), 1, l.data());
     glUniform1i(u("u_color"), 0);
     glUniform1i(u("u_normal_depth"), 1);
+    glUniform1i(u("u_empty_distance"), 2);
+    glUniform1i(u("u_depth_coverage"), 3);
     return id;
   };
   glEnable(GL_DEPTH_TEST);
@@ -195,6 +250,10 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
       glBindTexture(GL_TEXTURE_2D, up.color[s]);
       glActiveTexture(GL_TEXTURE1);
       glBindTexture(GL_TEXTURE_2D, up.normal_depth[s]);
+      glActiveTexture(GL_TEXTURE2);
+      glBindTexture(GL_TEXTURE_2D, up.empty_distance[s]);
+      glActiveTexture(GL_TEXTURE3);
+      glBindTexture(GL_TEXTURE_2D, up.depth_coverage[s]);
     }
     // The run's matrices start at instance `begin` of the sorted buffer.
     for (GLuint c = 0; c < 4; ++c)

@@ -16,6 +16,13 @@
 // One program per parallax step count, the count a compile-time constant of it (the shader's
 // `uniform int u_parallax_steps` declared `const`): llvmpipe's JIT code then has no loop for flat
 // frames and a fixed trip count otherwise. The pixels are the uniform's.
+//
+// The programs turn on the reference shader's two exact options (its pixels, byte for byte;
+// docs/renderer.md "Impostor march"): SYLVA_DEPTH_COVERAGE, the march's depth and coverage from
+// one RG8 texture (a third map per atlas, level 0 only: 2 bytes a texel), and
+// SYLVA_EMPTY_DISTANCE, the discard before the march of fragments that would read nothing stored
+// (impostor_empty_distance, impostor_atlas.h: one byte per 4 x 4 texels). Both are uploaded and
+// kept with the atlas's maps.
 #pragma once
 
 #include <map>
@@ -36,7 +43,7 @@ void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parall
 class ImpostorDrawer {
  public:
   struct Uploaded {
-    std::vector<GLuint> color, normal_depth;  // per set
+    std::vector<GLuint> color, normal_depth, empty_distance, depth_coverage;  // per set
     GLuint vao = 0, instances = 0;
   };
 
@@ -62,7 +69,7 @@ class ImpostorDrawer {
  private:
   struct Kept {
     std::weak_ptr<const ImpostorAtlas> atlas;
-    GLuint color = 0, normal_depth = 0;
+    GLuint color = 0, normal_depth = 0, empty_distance = 0, depth_coverage = 0;
   };
   // The program for `steps` (clamped to 0..64), linked on first use.
   GLuint program(int steps);

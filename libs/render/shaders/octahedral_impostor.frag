@@ -35,10 +35,13 @@ out vec4 o_color;
 
 // Frame uv (0,0 top-left .. 1,1) of an object-space point, then atlas uv, kept inside the frame's
 // padding so no mip level up to atlas.mip_levels reads a neighbouring frame.
-vec2 atlas_uv(vec3 x, int k) {
+vec2 frame_uv(vec3 x, int k) {
   vec3 a = x - u_center;
-  vec2 fuv = vec2(0.5 + dot(a, v_right[k]) / (2.0 * u_half_extent), 0.5 - dot(a, v_up[k]) / (2.0 * u_half_extent));
-  fuv = clamp(fuv, vec2(u_padding), vec2(1.0 - u_padding));
+  return vec2(0.5 + dot(a, v_right[k]) / (2.0 * u_half_extent), 0.5 - dot(a, v_up[k]) / (2.0 * u_half_extent));
+}
+
+vec2 atlas_uv(vec3 x, int k) {
+  vec2 fuv = clamp(frame_uv(x, k), vec2(u_padding), vec2(1.0 - u_padding));
   return (v_cell[k] + fuv) / float(u_frames);
 }
 
@@ -47,17 +50,83 @@ float to_srgb(float c) {
   return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }
 
+#ifdef SYLVA_DEPTH_COVERAGE
+// Optional, exact: the march's two unfiltered reads per step, the depth (u_normal_depth's alpha)
+// and the coverage (u_color's alpha) of one texel, from one texture that holds both, texel for
+// texel (RG8, level 0: r = depth, g = coverage). The same bytes, one fetch instead of two.
+uniform sampler2D u_depth_coverage;
+#endif
+
+#ifdef SYLVA_EMPTY_DISTANCE
+// Optional, exact: a fragment whose ray, in each of its three frames, reads only texels that
+// store nothing (every byte 0) ends with albedo 0 and is discarded below; this finds most such
+// fragments before the march. u_empty_distance (atlas_px / u_empty_cell_px square, R8, texelFetch)
+// holds per cell of u_empty_cell_px x u_empty_cell_px texels a lower bound, in texels / 255, of
+// the Chebyshev distance from any point of the cell to any texel of its frame that stores
+// something. Every texel this shader reads for frame k lies at a frame point of the ray between
+// the sphere's front and back (h = R .. -R: the march's samples, its crossings, the flat frame's
+// plane point), clamped into the padding; a read at point x reaches texels within 1.5 texels of
+// its upper mip level of x (GL: rho <= m_u + m_v, levels floor(log2 rho) and one above, at most
+// mip_levels; the maps' mip levels are 2 x 2 boxes of the one below) and never another frame
+// (the padding). Clamping moves no two points apart, so stepping along the ray's frame segment
+// by (distance - reach) in the Chebyshev norm skips only points whose reads meet nothing.
+uniform sampler2D u_empty_distance;
+uniform int u_empty_cell_px;
+uniform int u_mip_levels;  // atlas.mip_levels
+
+bool meets_stored_texels(vec3 ray, float rds[3], float h0s[3], vec2 dus[3], vec2 dvs[3]) {
+  float frame_px = u_atlas_px / float(u_frames);
+  float cells = frame_px / float(u_empty_cell_px);
+  for (int k = 0; k < 3; ++k) {
+    if (v_weight[k] <= 0.0) continue;  // adds 0 x its (finite) colour
+    vec2 front = frame_uv(v_eye_obj + ray * ((u_radius - h0s[k]) / rds[k]), k) * frame_px;
+    vec2 back = frame_uv(v_eye_obj + ray * ((-u_radius - h0s[k]) / rds[k]), k) * frame_px;
+    vec2 seg = back - front;
+    float seg_len = max(abs(seg.x), abs(seg.y));  // Chebyshev, texels
+    float rho = (max(abs(dus[k].x), abs(dvs[k].x)) + max(abs(dus[k].y), abs(dvs[k].y))) * u_atlas_px * 1.05;
+    float level = clamp(floor(log2(max(rho, 1.0))) + 1.0, 0.0, float(u_mip_levels));
+    float reach = 1.5 * exp2(level) + 1.0;  // texels
+    float s = 0.0;  // along the segment, 0 .. 1
+    bool meets = true;
+    for (int i = 0; i < 6; ++i) {
+      vec2 q = clamp(front + seg * s, vec2(u_padding * frame_px), vec2((1.0 - u_padding) * frame_px));
+      ivec2 cell = ivec2(clamp(floor(q / float(u_empty_cell_px)), vec2(0.0), vec2(cells - 1.0)));
+      float free = texelFetch(u_empty_distance, ivec2(v_cell[k] * cells) + cell, 0).r * 255.0 - reach;
+      if (free <= 0.0) break;
+      if (seg_len * (1.0 - s) <= free) {
+        meets = false;
+        break;
+      }
+      s += free / seg_len;
+    }
+    if (meets) return true;
+  }
+  return false;
+}
+#endif
+
 void main() {
   vec3 ray = normalize(v_obj - v_eye_obj);
+  // Per frame: heights along the frame's direction, h(t) = h0 + t rd on the ray eye + t ray, and
+  // the mip level's derivatives, from the point where the ray crosses the frame's plane (not
+  // from the march's steps below).
+  float rds[3], h0s[3];
+  vec2 uv0s[3], dus[3], dvs[3];
+  for (int k = 0; k < 3; ++k) {
+    rds[k] = min(dot(ray, v_dir[k]), -1e-4);  // the ray runs against the frame's direction
+    h0s[k] = dot(v_eye_obj - u_center, v_dir[k]);
+    uv0s[k] = atlas_uv(v_eye_obj + ray * (-h0s[k] / rds[k]), k);
+    dus[k] = dFdx(uv0s[k]);
+    dvs[k] = dFdy(uv0s[k]);
+  }
+#ifdef SYLVA_EMPTY_DISTANCE
+  if (!meets_stored_texels(ray, rds, h0s, dus, dvs)) discard;
+#endif
   vec4 albedo = vec4(0.0);  // premultiplied, linear
   vec3 normal = vec3(0.0);
   for (int k = 0; k < 3; ++k) {
-    // Heights along the frame's direction: h(t) = h0 + t rd on the ray eye + t ray.
-    float rd = min(dot(ray, v_dir[k]), -1e-4);  // the ray runs against the frame's direction
-    float h0 = dot(v_eye_obj - u_center, v_dir[k]);
-    vec3 x = v_eye_obj + ray * (-h0 / rd);       // where the ray crosses the frame's plane
-    vec2 uv0 = atlas_uv(x, k);
-    vec2 du = dFdx(uv0), dv = dFdy(uv0);  // mip level from the plane, not from the steps below
+    float rd = rds[k], h0 = h0s[k];
+    vec2 uv0 = uv0s[k], du = dus[k], dv = dvs[k];
     // March the ray from the front of the sphere (h = R) to its back (h = -R) and stop at the
     // first sample that lies below the height the frame stored there (relief / parallax
     // occlusion mapping on the depth map); uncovered texels store the back, so the ray passes them.
@@ -69,7 +138,7 @@ void main() {
     float hit = 1.0;  // 0 when the ray leaves the sphere without meeting a stored surface
     if (u_parallax_steps > 0) {
       hit = 0.0;
-      vec2 thin_uv = uv0;
+      float t_read = 0.0, t_thin = 0.0;  // where the read lies on the ray: the hit, the first thin texel
       bool thin = false;
       float t_front = (u_radius - h0) / rd, t_back = (-u_radius - h0) / rd;
       float dt = (t_back - t_front) / float(u_parallax_steps);
@@ -81,29 +150,39 @@ void main() {
         // The stored height of the texel itself, unfiltered: filtering would blend a thin
         // branch's height with the empty back behind it and the ray would stop short of both.
         ivec2 texel = ivec2(uvs * u_atlas_px);
+#ifdef SYLVA_DEPTH_COVERAGE
+        vec2 depth_coverage = texelFetch(u_depth_coverage, texel, 0).rg;
+        float stored = (depth_coverage.r * 2.0 - 1.0) * u_radius;
+#else
         float stored = (texelFetch(u_normal_depth, texel, 0).a * 2.0 - 1.0) * u_radius;
+#endif
         float gap = (h0 + t * rd) - stored;  // > 0 while the ray is above the stored surface
         // A frame stores the first surface only; behind it may be empty (a twig is not a wall),
         // so a ray more than `slab` below the stored height has passed behind it: keep going.
         if (gap <= 0.0 && gap >= -slab) {
           // Between the last sample above and this one below: where the gap crosses zero.
           float f = s == 0 ? 1.0 : prev_gap / (prev_gap - gap);
-          vec2 at = atlas_uv(v_eye_obj + ray * mix(t_prev, t, f), k);
+          float t_cross = mix(t_prev, t, f);
+#ifdef SYLVA_DEPTH_COVERAGE
+          if (depth_coverage.g >= 0.5) {
+#else
           if (texelFetch(u_color, texel, 0).a >= 0.5) {
-            uv = at;
+#endif
+            t_read = t_cross;
             hit = 1.0;
             break;
           }
-          if (!thin) thin_uv = at;
+          if (!thin) t_thin = t_cross;
           thin = true;
         }
         prev_gap = max(gap, 0.0);
         t_prev = t;
       }
       if (hit == 0.0 && thin) {
-        uv = thin_uv;
+        t_read = t_thin;
         hit = 1.0;
       }
+      if (hit > 0.0) uv = atlas_uv(v_eye_obj + ray * t_read, k);
     }
     vec4 c = textureGrad(u_color, uv, du, dv);                    // premultiplied
     vec3 n = textureGrad(u_normal_depth, uv, du, dv).rgb * 2.0 - c.a;  // normal * coverage

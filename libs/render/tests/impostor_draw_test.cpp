@@ -163,6 +163,86 @@ TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawer) {
   EXPECT_EQ(corner.b, kBackground.b);
 }
 
+// 6 x 6 frames of 64 px, padding 8 (3 mip levels), R = 1 m: per frame (seeded) four blobs of
+// texels with their own depth, normal and colour, coverage full, half or thin (< 0.5), and a few
+// texels with only a depth stored; everything else empty. The frames differ, so frame blending,
+// the march's thin and full texels and every mip level's reach show in the pixels.
+Maps varied_maps() {
+  Maps m;
+  ImpostorGeometry& g = m.geometry;
+  g.frames_per_side = 6;
+  g.frame_px = 64;
+  g.padding_px = 8;
+  g.mip_levels = 3;
+  g.radius = 1;
+  g.half_extent = 64.f / 48.f;
+  const int px = g.frames_per_side * g.frame_px;
+  m.color = Image(px, px, {0, 0, 0, 0});
+  m.normal_depth = Image(px, px, {0, 0, 0, 0});
+  std::uint32_t state = 12345;
+  auto next = [&](int n) {
+    state = state * 1664525u + 1013904223u;
+    return int((state >> 8) % std::uint32_t(n));
+  };
+  for (int f = 0; f < g.frames_per_side * g.frames_per_side; ++f) {
+    const int fx = (f % g.frames_per_side) * g.frame_px, fy = (f / g.frames_per_side) * g.frame_px;
+    for (int b = 0; b < 4; ++b) {
+      const int cx = 18 + next(28), cy = 14 + next(36), r = 3 + next(8);
+      const std::uint8_t cover[3] = {255, 128, 60};
+      const Rgba8 c{std::uint8_t(40 + next(200)), std::uint8_t(40 + next(200)), std::uint8_t(40 + next(200)),
+                    cover[next(3)]};
+      const Rgba8 nd{std::uint8_t(60 + next(136)), std::uint8_t(60 + next(136)),
+                     std::uint8_t(150 + next(100)), std::uint8_t(40 + next(176))};
+      for (int y = cy - r; y <= cy + r; ++y)
+        for (int x = cx - r; x <= cx + r; ++x)
+          if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= r * r) {
+            m.color.set(fx + x, fy + y, c);
+            m.normal_depth.set(fx + x, fy + y, nd);
+          }
+    }
+    for (int k = 0; k < 3; ++k)
+      m.normal_depth.set(fx + 12 + next(40), fy + 12 + next(40), {0, 0, 0, std::uint8_t(1 + next(254))});
+  }
+  return m;
+}
+
+// The scene renderer's impostor program (one texture for the march's depth and coverage, the
+// empty-distance cull: impostor_draw.h) draws the reference drawer's pixels, byte for byte, with
+// every parallax step count, near (mip level 0) and far (the last level), from the side, from
+// above and from below the hemisphere, and along a frame's own direction (cameras 5 and 6: one
+// frame of weight 1, its rays' segments short, so the cull turns on the filtered reads' reach).
+TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawerOnVariedMaps) {
+  const Maps m = varied_maps();
+  std::vector<Mat4> instances;
+  for (int i = 0; i < 9; ++i)
+    instances.push_back(translation(Vec3(float(i % 3) * 1.7f - 1.7f, 0, float(i / 3) * -1.9f)));
+  const std::vector<Camera> cams = {
+      look(Vec3(0.3f, 0.4f, 4)), look(Vec3(-3, 2.5f, 2)), look(Vec3(0.5f, 6, 0.8f)), look(Vec3(2, -1.2f, 3)),
+      look(Vec3(1, 1.5f, 40)),   look(Vec3(-40, 0, 0)),   look(Vec3(-14, 0, 0))};
+  OctahedralImpostor ref;
+  ref.color = m.color;
+  ref.normal_depth = m.normal_depth;
+  ref.geometry = m.geometry;
+  ref.instances = instances;
+  for (const int steps : {0, 8, 16}) {
+    const std::vector<Image> want =
+        impostors_->render_octahedral(ref, cams, options(), {.parallax_steps = steps});
+    Scene s = impostor_scene(m, instances);
+    s.impostors.front().parallax_steps = steps;
+    const std::vector<Image> got = renderer_->render_views(s, cams, options());
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t c = 0; c < cams.size(); ++c) {
+      std::size_t differ = 0, drawn = 0;
+      for (std::size_t i = 0; i < got[c].bytes().size(); i += 4) {
+        differ += std::memcmp(&got[c].bytes()[i], &want[c].bytes()[i], 4) != 0;
+        drawn += std::memcmp(&got[c].bytes()[i], &kBackground, 3) != 0;
+      }
+      EXPECT_EQ(differ, 0u) << "steps " << steps << ", camera " << c;
+      EXPECT_GT(drawn, c == 4 || c == 5 ? 20u : 300u) << "steps " << steps << ", camera " << c;
+    }
+  }
+}
+
 // One depth buffer: an opaque quad in front of the impostor hides it, one behind is hidden by it.
 TEST_F(ImpostorDrawTest, MeshesInFrontHideImpostorsAndImpostorsHideMeshesBehind) {
   const Maps m = disc_maps();
@@ -312,6 +392,31 @@ TEST(ImpostorAtlas, PremultipliesByCoverage) {
   EXPECT_EQ(a.normal_depth[7], 77);  // depth unchanged
   EXPECT_EQ(a.color[8], 0);          // uncovered
   EXPECT_EQ(a.normal_depth[8], 0);
+}
+
+// The cull's distances: per cell, the gap in texels between its box and the nearest cell of the
+// same frame holding a texel with any byte set (depth alone counts); an empty frame is 255.
+TEST(ImpostorAtlas, EmptyDistanceIsTheGapToTheNearestStoredTexelOfItsFrame) {
+  ImpostorGeometry g;
+  g.frames_per_side = 2;
+  g.frame_px = 16;
+  g.padding_px = 2;
+  Image color(32, 32, {0, 0, 0, 0}), nd(32, 32, {0, 0, 0, 0});
+  color.set(5, 5, {10, 20, 30, 255});     // frame (0, 0), cell (2, 2) of 2 px
+  nd.set(16 + 15, 16 + 0, {0, 0, 0, 9});  // frame (1, 1): a depth only, cell (7, 0)
+  const std::vector<std::uint8_t> d = impostor_empty_distance(make_impostor_atlas("t", color, nd, g), 2);
+  ASSERT_EQ(d.size(), 16u * 16u);
+  auto at = [&](int x, int y) { return int(d[std::size_t(y) * 16 + std::size_t(x)]); };
+  EXPECT_EQ(at(2, 2), 0);
+  EXPECT_EQ(at(3, 3), 0);  // touching
+  EXPECT_EQ(at(4, 2), 2);  // one cell between
+  EXPECT_EQ(at(6, 0), 6);
+  EXPECT_EQ(at(0, 7), 8);  // chessboard: max(2, 5) cells away
+  EXPECT_EQ(at(7, 7), 8);
+  EXPECT_EQ(at(8 + 3, 2), 255);  // frame (1, 0): empty, and frame (0, 0)'s texel does not count
+  EXPECT_EQ(at(8 + 7, 8 + 0), 0);
+  EXPECT_EQ(at(8 + 0, 8 + 7), 12);
+  EXPECT_EQ(at(8 + 7, 8 + 1), 0);
 }
 
 }  // namespace
