@@ -74,6 +74,13 @@ uniform sampler2D u_empty_distance;
 uniform int u_empty_cell_px;
 uniform int u_mip_levels;  // atlas.mip_levels
 
+// The empty distance (texels) at frame point p (texels) of frame k, p clamped as atlas_uv does.
+float empty_distance(vec2 p, int k, float frame_px, float cells) {
+  vec2 q = clamp(p, vec2(u_padding * frame_px), vec2((1.0 - u_padding) * frame_px));
+  ivec2 cell = ivec2(clamp(floor(q / float(u_empty_cell_px)), vec2(0.0), vec2(cells - 1.0)));
+  return texelFetch(u_empty_distance, ivec2(v_cell[k] * cells) + cell, 0).r * 255.0;
+}
+
 bool meets_stored_texels(vec3 ray, float rds[3], float h0s[3], vec2 dus[3], vec2 dvs[3]) {
   float frame_px = u_atlas_px / float(u_frames);
   float cells = frame_px / float(u_empty_cell_px);
@@ -86,12 +93,15 @@ bool meets_stored_texels(vec3 ray, float rds[3], float h0s[3], vec2 dus[3], vec2
     float rho = (max(abs(dus[k].x), abs(dvs[k].x)) + max(abs(dus[k].y), abs(dvs[k].y))) * u_atlas_px * 1.05;
     float level = clamp(floor(log2(max(rho, 1.0))) + 1.0, 0.0, float(u_mip_levels));
     float reach = 1.5 * exp2(level) + 1.0;  // texels
+    // First the middle, whose free distance covers the whole segment when it is at least half its
+    // length; then, if it is free at all, steps from the front.
+    float free = empty_distance(front + seg * 0.5, k, frame_px, cells) - reach;
+    if (free >= 0.5 * seg_len) continue;
+    if (free <= 0.0) return true;
     float s = 0.0;  // along the segment, 0 .. 1
     bool meets = true;
-    for (int i = 0; i < 6; ++i) {
-      vec2 q = clamp(front + seg * s, vec2(u_padding * frame_px), vec2((1.0 - u_padding) * frame_px));
-      ivec2 cell = ivec2(clamp(floor(q / float(u_empty_cell_px)), vec2(0.0), vec2(cells - 1.0)));
-      float free = texelFetch(u_empty_distance, ivec2(v_cell[k] * cells) + cell, 0).r * 255.0 - reach;
+    for (int i = 0; i < 4; ++i) {
+      free = empty_distance(front + seg * s, k, frame_px, cells) - reach;
       if (free <= 0.0) break;
       if (seg_len * (1.0 - s) <= free) {
         meets = false;
