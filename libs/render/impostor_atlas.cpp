@@ -1,6 +1,8 @@
 // Premultiplying an impostor's maps for the reference shader (impostor_atlas.h).
 #include "libs/render/impostor_atlas.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -58,56 +60,60 @@ ImpostorGeometry impostor_geometry(const impostor::ImpostorInfo& info) {
 
 std::vector<std::uint8_t> impostor_empty_distance(const ImpostorAtlas& a, int cell_px) {
   const int fp = a.geometry.frame_px, cells = fp / cell_px, side = a.atlas_px / cell_px;
-  // Cells holding a stored texel.
+  // Cells holding a stored texel (each row of cells on its own: rows of the result apart).
   std::vector<std::uint8_t> held(std::size_t(side) * std::size_t(side), 0);
-  for (int y = 0; y < a.atlas_px; ++y)
-    for (int x = 0; x < a.atlas_px; ++x) {
-      const std::size_t at = (std::size_t(y) * std::size_t(a.atlas_px) + std::size_t(x)) * 4;
-      std::uint32_t c = 0, d = 0;
-      std::memcpy(&c, &a.color[at], 4);
-      std::memcpy(&d, &a.normal_depth[at], 4);
-      if ((c | d) != 0) held[std::size_t(y / cell_px) * std::size_t(side) + std::size_t(x / cell_px)] = 1;
-    }
-  // Per frame, the chessboard distance in cells to the nearest held cell (two chamfer passes with
-  // all eight neighbours at 1 are exact for it), then the gap between the cells' boxes in texels.
+  tbb::parallel_for(0, side, [&](int cy) {
+    for (int y = cy * cell_px; y < (cy + 1) * cell_px; ++y)
+      for (int x = 0; x < a.atlas_px; ++x) {
+        const std::size_t at = (std::size_t(y) * std::size_t(a.atlas_px) + std::size_t(x)) * 4;
+        std::uint32_t c = 0, d = 0;
+        std::memcpy(&c, &a.color[at], 4);
+        std::memcpy(&d, &a.normal_depth[at], 4);
+        if ((c | d) != 0) held[std::size_t(cy) * std::size_t(side) + std::size_t(x / cell_px)] = 1;
+      }
+  });
+  // Per frame (each on its own), the chessboard distance in cells to the nearest held cell (two
+  // chamfer passes with all eight neighbours at 1 are exact for it), then the gap between the
+  // cells' boxes in texels.
   constexpr int kFar = 1 << 20;
   std::vector<std::uint8_t> out(held.size());
-  std::vector<int> dist(std::size_t(cells) * std::size_t(cells));
-  for (int fy = 0; fy < side; fy += cells)
-    for (int fx = 0; fx < side; fx += cells) {
-      auto at = [&](int x, int y) -> int& {
-        return dist[std::size_t(y) * std::size_t(cells) + std::size_t(x)];
-      };
-      for (int y = 0; y < cells; ++y)
-        for (int x = 0; x < cells; ++x)
-          at(x, y) = held[std::size_t(fy + y) * std::size_t(side) + std::size_t(fx + x)] ? 0 : kFar;
-      for (int y = 0; y < cells; ++y)
-        for (int x = 0; x < cells; ++x) {
-          int& d = at(x, y);
-          if (x > 0) d = std::min(d, at(x - 1, y) + 1);
-          if (y > 0) {
-            d = std::min(d, at(x, y - 1) + 1);
-            if (x > 0) d = std::min(d, at(x - 1, y - 1) + 1);
-            if (x + 1 < cells) d = std::min(d, at(x + 1, y - 1) + 1);
-          }
+  const int frames = side / cells;
+  tbb::parallel_for(0, frames * frames, [&](int f) {
+    const int fx = (f % frames) * cells, fy = (f / frames) * cells;
+    std::vector<int> dist(std::size_t(cells) * std::size_t(cells));
+    auto at = [&](int x, int y) -> int& {
+      return dist[std::size_t(y) * std::size_t(cells) + std::size_t(x)];
+    };
+    for (int y = 0; y < cells; ++y)
+      for (int x = 0; x < cells; ++x)
+        at(x, y) = held[std::size_t(fy + y) * std::size_t(side) + std::size_t(fx + x)] ? 0 : kFar;
+    for (int y = 0; y < cells; ++y)
+      for (int x = 0; x < cells; ++x) {
+        int& d = at(x, y);
+        if (x > 0) d = std::min(d, at(x - 1, y) + 1);
+        if (y > 0) {
+          d = std::min(d, at(x, y - 1) + 1);
+          if (x > 0) d = std::min(d, at(x - 1, y - 1) + 1);
+          if (x + 1 < cells) d = std::min(d, at(x + 1, y - 1) + 1);
         }
-      for (int y = cells - 1; y >= 0; --y)
-        for (int x = cells - 1; x >= 0; --x) {
-          int& d = at(x, y);
-          if (x + 1 < cells) d = std::min(d, at(x + 1, y) + 1);
-          if (y + 1 < cells) {
-            d = std::min(d, at(x, y + 1) + 1);
-            if (x + 1 < cells) d = std::min(d, at(x + 1, y + 1) + 1);
-            if (x > 0) d = std::min(d, at(x - 1, y + 1) + 1);
-          }
+      }
+    for (int y = cells - 1; y >= 0; --y)
+      for (int x = cells - 1; x >= 0; --x) {
+        int& d = at(x, y);
+        if (x + 1 < cells) d = std::min(d, at(x + 1, y) + 1);
+        if (y + 1 < cells) {
+          d = std::min(d, at(x, y + 1) + 1);
+          if (x + 1 < cells) d = std::min(d, at(x + 1, y + 1) + 1);
+          if (x > 0) d = std::min(d, at(x - 1, y + 1) + 1);
         }
-      for (int y = 0; y < cells; ++y)
-        for (int x = 0; x < cells; ++x) {
-          const int d = at(x, y);
-          out[std::size_t(fy + y) * std::size_t(side) + std::size_t(fx + x)] =
-              std::uint8_t(d >= kFar ? 255 : std::min(255, std::max(0, d - 1) * cell_px));
-        }
-    }
+      }
+    for (int y = 0; y < cells; ++y)
+      for (int x = 0; x < cells; ++x) {
+        const int d = at(x, y);
+        out[std::size_t(fy + y) * std::size_t(side) + std::size_t(fx + x)] =
+            std::uint8_t(d >= kFar ? 255 : std::min(255, std::max(0, d - 1) * cell_px));
+      }
+  });
   return out;
 }
 

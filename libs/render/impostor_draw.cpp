@@ -1,6 +1,8 @@
 // Impostors inside the scene renderer (impostor_draw.h).
 #include "libs/render/impostor_draw.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <set>
@@ -34,11 +36,14 @@ GLuint upload_map(const std::vector<std::uint8_t>& rgba, int px, bool srgb, int 
 
 // The march's depth and coverage, texel for texel (the shader's SYLVA_DEPTH_COVERAGE).
 GLuint upload_depth_coverage(const ImpostorAtlas& a) {
-  std::vector<std::uint8_t> rg(std::size_t(a.atlas_px) * std::size_t(a.atlas_px) * 2);
-  for (std::size_t i = 0, n = rg.size() / 2; i < n; ++i) {
-    rg[2 * i] = a.normal_depth[4 * i + 3];
-    rg[2 * i + 1] = a.color[4 * i + 3];
-  }
+  const std::size_t px = std::size_t(a.atlas_px);
+  std::vector<std::uint8_t> rg(px * px * 2);
+  tbb::parallel_for(std::size_t(0), px, [&](std::size_t y) {
+    for (std::size_t i = y * px; i < (y + 1) * px; ++i) {
+      rg[2 * i] = a.normal_depth[4 * i + 3];
+      rg[2 * i + 1] = a.color[4 * i + 3];
+    }
+  });
   GLuint id = 0;
   glGenTextures(1, &id);
   glBindTexture(GL_TEXTURE_2D, id);
