@@ -8,8 +8,9 @@
 // depth write off, blended with alpha = coverage (GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA), as
 // ImpostorRenderer::render_octahedral draws them. Every function expects the context current.
 //
-// The maps (two 4096-px RGBA8 textures with mip levels per tree species: ~1.8 s of llvmpipe CPU
-// for three species) stay uploaded between calls while their atlas lives: a drawer keeps each
+// The maps (two RGBA8 textures with mip levels per species, 4096 or 6144 px, and the two below:
+// ~2 s of CPU for forest_celba's three species, docs/performance.md "The impostor march") stay
+// uploaded between calls while their atlas lives: a drawer keeps each
 // atlas's textures with a weak reference to it and deletes them once the atlas is gone (checked
 // at every upload) or when the drawer is destroyed.
 //

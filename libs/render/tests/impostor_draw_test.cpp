@@ -33,20 +33,28 @@ struct Maps {
   ImpostorGeometry geometry;
 };
 
-// 4 x 4 frames of 32 px, padding 4 (2 mip levels): a disc of radius 12 px = the sphere (R = 1 m,
-// W = R F / (F - 2 padding)), normal +Z (object space), depth 0.5 = the sphere's centre plane.
-Maps disc_maps() {
+// Empty maps of n x n frames of frame_px texels, the sphere (R = 1 m) filling each frame inside
+// its padding (W = R F / (F - 2 padding)).
+Maps empty_maps(int n, int frame_px, int padding_px, int mip_levels) {
   Maps m;
   ImpostorGeometry& g = m.geometry;
-  g.frames_per_side = 4;
-  g.frame_px = 32;
-  g.padding_px = 4;
-  g.mip_levels = 2;
+  g.frames_per_side = n;
+  g.frame_px = frame_px;
+  g.padding_px = padding_px;
+  g.mip_levels = mip_levels;
   g.radius = 1;
-  g.half_extent = 32.f / 24.f;
+  g.half_extent = float(frame_px) / float(frame_px - 2 * padding_px);
+  m.color = Image(n * frame_px, n * frame_px, {0, 0, 0, 0});
+  m.normal_depth = Image(n * frame_px, n * frame_px, {0, 0, 0, 0});
+  return m;
+}
+
+// 4 x 4 frames of 32 px, padding 4 (2 mip levels): a disc of radius 12 px = the sphere, normal +Z
+// (object space), depth 0.5 = the sphere's centre plane.
+Maps disc_maps() {
+  Maps m = empty_maps(4, 32, 4, 2);
+  const ImpostorGeometry& g = m.geometry;
   const int px = g.frames_per_side * g.frame_px;
-  m.color = Image(px, px, {0, 0, 0, 0});
-  m.normal_depth = Image(px, px, {0, 0, 0, 0});
   for (int y = 0; y < px; ++y)
     for (int x = 0; x < px; ++x) {
       const double fx = (x % g.frame_px) + 0.5 - 16, fy = (y % g.frame_px) + 0.5 - 16;
@@ -168,17 +176,8 @@ TEST_F(ImpostorDrawTest, SceneImpostorsMatchTheReferenceDrawer) {
 // texels with only a depth stored; everything else empty. The frames differ, so frame blending,
 // the march's thin and full texels and every mip level's reach show in the pixels.
 Maps varied_maps() {
-  Maps m;
-  ImpostorGeometry& g = m.geometry;
-  g.frames_per_side = 6;
-  g.frame_px = 64;
-  g.padding_px = 8;
-  g.mip_levels = 3;
-  g.radius = 1;
-  g.half_extent = 64.f / 48.f;
-  const int px = g.frames_per_side * g.frame_px;
-  m.color = Image(px, px, {0, 0, 0, 0});
-  m.normal_depth = Image(px, px, {0, 0, 0, 0});
+  Maps m = empty_maps(6, 64, 8, 3);
+  const ImpostorGeometry& g = m.geometry;
   std::uint32_t state = 12345;
   auto next = [&](int n) {
     state = state * 1664525u + 1013904223u;
@@ -397,14 +396,11 @@ TEST(ImpostorAtlas, PremultipliesByCoverage) {
 // The cull's distances: per cell, the gap in texels between its box and the nearest cell of the
 // same frame holding a texel with any byte set (depth alone counts); an empty frame is 255.
 TEST(ImpostorAtlas, EmptyDistanceIsTheGapToTheNearestStoredTexelOfItsFrame) {
-  ImpostorGeometry g;
-  g.frames_per_side = 2;
-  g.frame_px = 16;
-  g.padding_px = 2;
-  Image color(32, 32, {0, 0, 0, 0}), nd(32, 32, {0, 0, 0, 0});
-  color.set(5, 5, {10, 20, 30, 255});     // frame (0, 0), cell (2, 2) of 2 px
-  nd.set(16 + 15, 16 + 0, {0, 0, 0, 9});  // frame (1, 1): a depth only, cell (7, 0)
-  const std::vector<std::uint8_t> d = impostor_empty_distance(make_impostor_atlas("t", color, nd, g), 2);
+  Maps m = empty_maps(2, 16, 2, 1);
+  m.color.set(5, 5, {10, 20, 30, 255});               // frame (0, 0), cell (2, 2) of 2 px
+  m.normal_depth.set(16 + 15, 16 + 0, {0, 0, 0, 9});  // frame (1, 1): a depth only, cell (7, 0)
+  const std::vector<std::uint8_t> d =
+      impostor_empty_distance(make_impostor_atlas("t", m.color, m.normal_depth, m.geometry), 2);
   ASSERT_EQ(d.size(), 16u * 16u);
   auto at = [&](int x, int y) { return int(d[std::size_t(y) * 16 + std::size_t(x)]); };
   EXPECT_EQ(at(2, 2), 0);
