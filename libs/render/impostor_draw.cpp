@@ -34,6 +34,19 @@ GLuint upload_map(const std::vector<std::uint8_t>& rgba, int px, bool srgb, int 
   return id;
 }
 
+// A drawer-owned px x px 8-bit texture of one level, read with texelFetch only.
+GLuint upload_fetched(GLint internal_format, GLenum format, int px, const std::uint8_t* texels) {
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, internal_format, px, px, 0, format, GL_UNSIGNED_BYTE, texels);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  return id;
+}
+
 // The march's depth and coverage, texel for texel (the shader's SYLVA_DEPTH_COVERAGE).
 GLuint upload_depth_coverage(const ImpostorAtlas& a) {
   const std::size_t px = std::size_t(a.atlas_px);
@@ -44,15 +57,7 @@ GLuint upload_depth_coverage(const ImpostorAtlas& a) {
       rg[2 * i + 1] = a.color[4 * i + 3];
     }
   });
-  GLuint id = 0;
-  glGenTextures(1, &id);
-  glBindTexture(GL_TEXTURE_2D, id);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RG8, a.atlas_px, a.atlas_px, 0, GL_RG, GL_UNSIGNED_BYTE, rg.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-  return id;
+  return upload_fetched(GL_RG8, GL_RG, a.atlas_px, rg.data());
 }
 
 // The cull's cells: 4 x 4 texels where they tile a frame (one byte per 16 texels).
@@ -66,15 +71,7 @@ GLuint upload_empty_distance(const ImpostorAtlas& a) {
   const int cell_px = empty_cell_px(g), side = a.atlas_px / cell_px;
   std::vector<std::uint8_t> d(std::size_t(side) * std::size_t(side), 0);
   if (g.mip_levels < 30 && g.padding_px >= (1 << g.mip_levels)) d = impostor_empty_distance(a, cell_px);
-  GLuint id = 0;
-  glGenTextures(1, &id);
-  glBindTexture(GL_TEXTURE_2D, id);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, side, side, 0, GL_RED, GL_UNSIGNED_BYTE, d.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-  return id;
+  return upload_fetched(GL_R8, GL_RED, side, d.data());
 }
 
 void delete_kept_textures(GLuint color, GLuint normal_depth, GLuint empty_distance, GLuint depth_coverage) {

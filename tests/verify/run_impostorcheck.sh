@@ -15,8 +15,7 @@ fi
 # Build the recipe (its impostor and billboards nodes), then check the nodes named impostor_*
 # and billboards_* of its output directory (OUT_DIR/<recipe name>: other recipes may share OUT_DIR).
 "$sylva" --out "$out" build "$recipe" -j 2 >/dev/null || exit 1
-name=$(sed -n 's/^name:[[:space:]]*//p' "$recipe" | head -n 1)
-[ -n "$name" ] || { echo "$recipe has no 'name:' line" >&2; exit 1; }
+name=$(sh tests/recipe_name.sh "$recipe") || exit 1
 args=""
 for kind in impostor billboards; do
   n=0

@@ -20,8 +20,7 @@ if [ $rc -ne 0 ]; then
 fi
 # Every glTF file of the recipe's outputs (OUT_DIR/<recipe name>/<node>/; other recipes sharing
 # OUT_DIR are not this check's), with zero errors.
-name=$(sed -n 's/^name:[[:space:]]*//p' "$recipe" | head -n 1)
-[ -n "$name" ] || { echo "$recipe has no 'name:' line" >&2; exit 1; }
+name=$(sh tests/recipe_name.sh "$recipe") || exit 1
 glbs=$(find "$out/$name" -mindepth 2 -maxdepth 2 -type f \( -name '*.glb' -o -name '*.gltf' \) -not -path '*/lodcheck/*' | sort)
 [ -n "$glbs" ] || { echo "no glTF file under $out/$name" >&2; exit 1; }
 exec sh tests/validate_gltf.sh "the glTF files of $recipe" $glbs
