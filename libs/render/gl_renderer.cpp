@@ -7,7 +7,9 @@
 // so the opaque pass is one instanced draw per primitive. The blend pass draws each
 // (primitive, instance) separately, far to near, with the matrices as constant attributes and a
 // per-draw index buffer holding the elements sorted far to near. Scene::impostors are drawn
-// between the two passes by impostor_draw.h (the reference impostor shader, same depth buffer).
+// between the two passes by impostor_draw.h (the reference impostor shader, same depth buffer;
+// with hybrid antialiasing also given per pixel the farthest depth of its sub-pixels, so that the
+// impostor fragments the meshes hide in every sample are not marched).
 //
 // Determinism: nothing depends on timing or on hash-table order; every sort is a stable sort
 // with an index tie-break; llvmpipe rasterises deterministically.
@@ -188,6 +190,21 @@ void main() {
 }
 )";
 
+// ... and per pixel the greatest depth of its samples (R32F, output size), for the impostor
+// shader's SYLVA_SCENE_DEPTH.
+constexpr const char* kFarthestDepthFragmentShader = R"(#version 330 core
+uniform sampler2D u_depth;
+uniform int u_k;
+out float o_depth;
+void main() {
+  ivec2 base = ivec2(gl_FragCoord.xy) * u_k;
+  float farthest = 0.0;
+  for (int y = 0; y < u_k; ++y)
+    for (int x = 0; x < u_k; ++x) farthest = max(farthest, texelFetch(u_depth, base + ivec2(x, y), 0).r);
+  o_depth = farthest;
+}
+)";
+
 // Back to the supersampled target: colour only (the depth there is still right: impostors,
 // the only pass drawn multisampled, do not write depth).
 constexpr const char* kFromSamplesFragmentShader = R"(#version 330 core
@@ -277,6 +294,8 @@ class GlRenderer final : public Renderer {
     CurrentContext current(*ctx_);
     downsample_ = detail::link_program(kDownsampleVertexShader, kDownsampleFragmentShader, "downsample");
     to_samples_ = detail::link_program(kDownsampleVertexShader, kToSamplesFragmentShader, "to samples");
+    farthest_depth_ =
+        detail::link_program(kDownsampleVertexShader, kFarthestDepthFragmentShader, "farthest depth");
     from_samples_ = detail::link_program(kDownsampleVertexShader, kFromSamplesFragmentShader, "from samples");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
@@ -294,6 +313,7 @@ class GlRenderer final : public Renderer {
       kept_target_.gl.reset();
       glDeleteProgram(downsample_);
       glDeleteProgram(to_samples_);
+      glDeleteProgram(farthest_depth_);
       glDeleteProgram(from_samples_);
       impostors_.destroy();
     } catch (...) {
@@ -314,7 +334,8 @@ class GlRenderer final : public Renderer {
     glGetError();  // start from a clean error state
     const Target& target = target_for(options);
     const Uploaded up = upload(gl, scene);
-    const detail::ImpostorDrawer::Uploaded imp = impostors_.upload(gl, scene.impostors, max_texture_size_);
+    const detail::ImpostorDrawer::Uploaded imp = impostors_.upload(
+        gl, scene.impostors, max_texture_size_, hybrid(options) && options.impostor_hidden_discard);
     check_gl("upload");
     std::vector<image::Image> images;
     images.reserve(cameras.size());
@@ -334,16 +355,18 @@ class GlRenderer final : public Renderer {
   // into output_fbo; with msaa = k^2 as well ("hybrid"), impostors are drawn into samples_fbo,
   // whose k^2 samples per pixel are the k x k sub-pixels of draw_fbo (sample_of).
   struct Target {
-    int width = 0, height = 0;   // of draw_fbo: k x the output's
-    GLuint draw_fbo = 0;         // multisampled when msaa > 1 and not supersampled
-    GLuint resolve_fbo = 0;      // single-sampled; == draw_fbo when msaa == 1 or supersampled
-    GLuint color_texture = 0;    // draw_fbo's colour when supersampled
-    GLuint depth_texture = 0;    // draw_fbo's depth when hybrid
-    GLuint output_fbo = 0;       // the output size; == resolve_fbo when not supersampled
-    GLuint samples_fbo = 0;      // hybrid: output size, k^2 samples
-    GLuint samples_texture = 0;  // its colour
-    std::vector<int> sample_of;  // hybrid: sample index of sub-pixel x + k y
-    GLuint empty_vao = 0;        // for the full-screen passes
+    int width = 0, height = 0;    // of draw_fbo: k x the output's
+    GLuint draw_fbo = 0;          // multisampled when msaa > 1 and not supersampled
+    GLuint resolve_fbo = 0;       // single-sampled; == draw_fbo when msaa == 1 or supersampled
+    GLuint color_texture = 0;     // draw_fbo's colour when supersampled
+    GLuint depth_texture = 0;     // draw_fbo's depth when hybrid
+    GLuint output_fbo = 0;        // the output size; == resolve_fbo when not supersampled
+    GLuint samples_fbo = 0;       // hybrid: output size, k^2 samples
+    GLuint samples_texture = 0;   // its colour
+    GLuint farthest_fbo = 0;      // hybrid: output size, R32F colour farthest_texture:
+    GLuint farthest_texture = 0;  // per pixel the greatest depth of its sub-pixels
+    std::vector<int> sample_of;   // hybrid: sample index of sub-pixel x + k y
+    GLuint empty_vao = 0;         // for the full-screen passes
   };
 
   struct Uploaded {
@@ -480,6 +503,16 @@ class GlRenderer final : public Renderer {
       }
       if (!bijective)
         for (int s = 0; s < o.msaa; ++s) t.sample_of[std::size_t(s)] = s;
+      t.farthest_fbo = gl.framebuffer();
+      t.farthest_texture = gl.texture();
+      glBindTexture(GL_TEXTURE_2D, t.farthest_texture);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, o.width, o.height, 0, GL_RED, GL_FLOAT, nullptr);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+      glBindFramebuffer(GL_FRAMEBUFFER, t.farthest_fbo);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.farthest_texture, 0);
+      complete("the farthest-depth framebuffer");
     }
     return t;
   }
@@ -844,8 +877,10 @@ class GlRenderer final : public Renderer {
     // Impostors: behind what pass 1 drew where it is nearer, blended over it elsewhere.
     if (!scene.impostors.empty()) {
       if (hybrid(o)) {
+        if (o.impostor_hidden_discard) farthest_depth(t, o);
         to_samples(t, o);
-        impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
+        impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting,
+                        o.impostor_hidden_discard ? t.farthest_texture : 0);
         from_samples(t, o);
       } else {
         impostors_.draw(scene.impostors, imp, cam, aspect, o.lighting);
@@ -895,6 +930,25 @@ class GlRenderer final : public Renderer {
       glDepthMask(GL_TRUE);
       glDisable(GL_BLEND);
     }
+    glBindVertexArray(0);
+  }
+
+  // Hybrid antialiasing: per output pixel the greatest depth of its sub-pixels, into
+  // farthest_texture (the impostor shader's SYLVA_SCENE_DEPTH).
+  void farthest_depth(const Target& t, const RenderOptions& o) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, t.farthest_fbo);
+    glViewport(0, 0, o.width, o.height);
+    glDisable(GL_MULTISAMPLE);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(farthest_depth_);
+    glUniform1i(glGetUniformLocation(farthest_depth_, "u_depth"), 0);
+    glUniform1i(glGetUniformLocation(farthest_depth_, "u_k"), o.supersample);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, t.depth_texture);
+    glBindVertexArray(t.empty_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
   }
 
@@ -1031,7 +1085,7 @@ class GlRenderer final : public Renderer {
   GLuint current_program_ = 0;       // within draw(): the program in use, 0 = unknown
   ViewUniforms view_uniforms_;
   std::uint64_t view_serial_ = 0;  // draw() calls so far: a program whose `view` differs needs view_uniforms_
-  GLuint downsample_ = 0, to_samples_ = 0, from_samples_ = 0;
+  GLuint downsample_ = 0, to_samples_ = 0, from_samples_ = 0, farthest_depth_ = 0;
   detail::ImpostorDrawer impostors_;
   GLint max_samples_ = 1;
   GLint max_size_ = 4096;

@@ -95,9 +95,9 @@ void set_impostor_uniforms(GLuint program, const ImpostorGeometry& g, int parall
   glUniform1f(u("u_atlas_px"), float(g.frames_per_side * g.frame_px));
 }
 
-GLuint ImpostorDrawer::program(int steps) {
+GLuint ImpostorDrawer::program(int steps, bool scene_depth) {
   steps = std::clamp(steps, 0, 64);
-  if (const auto it = programs_.find(steps); it != programs_.end()) return it->second;
+  if (const auto it = programs_.find({steps, scene_depth}); it != programs_.end()) return it->second;
   static constexpr std::string_view kUniform = "uniform int u_parallax_steps;";
   std::string fragment = octahedral_impostor_fragment_shader();
   const std::size_t at = fragment.find(kUniform);
@@ -109,10 +109,11 @@ GLuint ImpostorDrawer::program(int steps) {
   const std::size_t line = fragment.find('\n');
   if (line == std::string::npos || fragment.compare(0, 9, "#version ") != 0)
     throw RenderError("the impostor fragment shader does not start with a #version line");
-  fragment.insert(line + 1, "#define SYLVA_DEPTH_COVERAGE\n#define SYLVA_EMPTY_DISTANCE\n");
+  fragment.insert(line + 1, std::string("#define SYLVA_DEPTH_COVERAGE\n#define SYLVA_EMPTY_DISTANCE\n") +
+                                (scene_depth ? "#define SYLVA_SCENE_DEPTH\n" : ""));
   const GLuint id =
       link_program(octahedral_impostor_vertex_shader(), fragment.c_str(), "octahedral impostor");
-  programs_.emplace(steps, id);
+  programs_.emplace(std::pair{steps, scene_depth}, id);
   return id;
 }
 
@@ -125,7 +126,7 @@ void ImpostorDrawer::destroy() {
 }
 
 ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector<ImpostorSet>& sets,
-                                                GLint max_texture_px) {
+                                                GLint max_texture_px, bool scene_depth) {
   Uploaded up;
   // Maps of atlases that no longer exist are deleted first (whatever this call draws).
   std::erase_if(kept_, [](const Kept& k) {
@@ -134,7 +135,7 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
     return true;
   });
   if (sets.empty()) return up;
-  for (const ImpostorSet& s : sets) program(s.parallax_steps);
+  for (const ImpostorSet& s : sets) program(s.parallax_steps, scene_depth);
   for (const ImpostorSet& s : sets) {
     if (!s.atlas) throw RenderError("an impostor set has no atlas");
     const ImpostorAtlas& a = *s.atlas;
@@ -186,7 +187,7 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
 }
 
 void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& up, const Camera& cam,
-                          float aspect, const Lighting& lighting) {
+                          float aspect, const Lighting& lighting, GLuint scene_depth) {
   if (sets.empty()) return;
   // Far to near over all sets (more negative view z = farther).
   struct Key {
@@ -218,7 +219,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
       lighting.direction_to_light.norm() > 0 ? lighting.direction_to_light.normalized() : Vec3::UnitY();
   std::set<GLuint> viewed;  // programs holding this view's uniforms
   auto use = [&](int steps) {
-    const GLuint id = program(steps);
+    const GLuint id = program(steps, scene_depth != 0);
     glUseProgram(id);
     if (!viewed.insert(id).second) return id;
     auto u = [&](const char* n) { return glGetUniformLocation(id, n); };
@@ -232,6 +233,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     glUniform1i(u("u_normal_depth"), 1);
     glUniform1i(u("u_empty_distance"), 2);
     glUniform1i(u("u_depth_coverage"), 3);
+    if (scene_depth) glUniform1i(u("u_scene_depth"), 4);
     return id;
   };
   glEnable(GL_DEPTH_TEST);
@@ -240,6 +242,10 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
   glDisable(GL_CULL_FACE);
   glEnable(GL_BLEND);
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  if (scene_depth) {
+    glActiveTexture(GL_TEXTURE4);
+    glBindTexture(GL_TEXTURE_2D, scene_depth);
+  }
   std::size_t current = sets.size();
   for (std::size_t begin = 0; begin < keys.size();) {
     std::size_t end = begin + 1;
@@ -264,6 +270,10 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
           reinterpret_cast<const void*>(std::uintptr_t((begin * 16 + c * 4) * sizeof(float))));
     glDrawArraysInstanced(GL_TRIANGLES, 0, 6, GLsizei(end - begin));
     begin = end;
+  }
+  if (scene_depth) {
+    glActiveTexture(GL_TEXTURE4);
+    glBindTexture(GL_TEXTURE_2D, 0);
   }
   glActiveTexture(GL_TEXTURE0);
   glDepthMask(GL_TRUE);

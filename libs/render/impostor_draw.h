@@ -22,12 +22,15 @@
 // docs/renderer.md "Impostor march"): SYLVA_DEPTH_COVERAGE, the march's depth and coverage from
 // one RG8 texture (a third map per atlas, level 0 only: 2 bytes a texel), and
 // SYLVA_EMPTY_DISTANCE, the discard before the march of fragments that would read nothing stored
-// (impostor_empty_distance, impostor_atlas.h: one byte per 4 x 4 texels). Both are uploaded and
-// kept with the atlas's maps.
+// (impostor_empty_distance, impostor_atlas.h: one byte per 4 x 4 texels). Both maps are uploaded
+// and kept with the atlas's maps. A third exact option, SYLVA_SCENE_DEPTH, is on when draw() is
+// given the scene's per-pixel farthest depth (the renderer's hybrid antialiasing): the discard
+// before the march of fragments every sample of which the meshes hide.
 #pragma once
 
 #include <map>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "libs/render/camera.h"
@@ -58,24 +61,30 @@ class ImpostorDrawer {
   // Checks every set's atlas and uploads its maps (mip levels as the atlas says) unless they are
   // still uploaded from an earlier call. Throws RenderError for an atlas without maps, of
   // inconsistent geometry or beyond max_texture_px.
-  Uploaded upload(GlObjects& gl, const std::vector<ImpostorSet>& sets, GLint max_texture_px);
+  // The programs draw() will use are linked here (with SYLVA_SCENE_DEPTH when `scene_depth`).
+  Uploaded upload(GlObjects& gl, const std::vector<ImpostorSet>& sets, GLint max_texture_px,
+                  bool scene_depth = false);
 
   // Atlases whose maps are uploaded (for tests).
   std::size_t kept() const { return kept_.size(); }
 
   // Draws every instance (state as above; restores depth write on, blending off, texture unit 0).
+  // With `scene_depth` != 0, the programs also turn on the shader's SYLVA_SCENE_DEPTH: that
+  // texture (target size, R32F, complete for texelFetch) holds per pixel the greatest depth of the
+  // target's samples there, and fragments every sample of which is hidden are not marched.
   void draw(const std::vector<ImpostorSet>& sets, const Uploaded& up, const Camera& camera, float aspect,
-            const Lighting& lighting);
+            const Lighting& lighting, GLuint scene_depth = 0);
 
  private:
   struct Kept {
     std::weak_ptr<const ImpostorAtlas> atlas;
     GLuint color = 0, normal_depth = 0, empty_distance = 0, depth_coverage = 0;
   };
-  // The program for `steps` (clamped to 0..64), linked on first use.
-  GLuint program(int steps);
+  // The program for `steps` (clamped to 0..64), with or without SYLVA_SCENE_DEPTH, linked on
+  // first use.
+  GLuint program(int steps, bool scene_depth);
 
-  std::map<int, GLuint> programs_;  // by parallax steps
+  std::map<std::pair<int, bool>, GLuint> programs_;  // by (parallax steps, scene depth)
   std::vector<Kept> kept_;
 };
 

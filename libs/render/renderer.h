@@ -66,6 +66,11 @@ struct RenderOptions {
   float default_point_size_px = 2.f;  // POINTS without _SIZE
   float min_point_size_px = 1.f;      // sized points are never drawn smaller than this
   float line_width_px = 1.f;          // width of LINES in pixels
+  // Hybrid antialiasing only (supersample k, msaa k^2): impostor fragments all of whose samples
+  // the meshes hide are discarded before the impostor shader's march (its SYLVA_SCENE_DEPTH,
+  // docs/renderer.md "Impostor march"); llvmpipe would march them and then drop every sample.
+  // The pixels are the same either way; false is for comparisons (tests, bench_forest_view).
+  bool impostor_hidden_discard = true;
 };
 
 class Renderer {

@@ -115,6 +115,21 @@ bool meets_stored_texels(vec3 ray, float rds[3], float h0s[3], vec2 dus[3], vec2
 }
 #endif
 
+#ifdef SYLVA_SCENE_DEPTH
+// Optional, exact, for a multisampled target: a fragment all of whose samples fail the depth
+// test (GL_LESS) adds nothing, so it is discarded before the march (llvmpipe runs a multisampled
+// fragment's shader even when every sample failed its early depth test). u_scene_depth (target
+// size, R32F, texelFetch) holds per pixel the greatest depth its samples hold. The samples lie
+// within half a pixel of the centre in x and in y, so on the quad's plane their depths are
+// >= the centre's less half its slope in x and in y; 2e-6 (~30 float steps of depth near 1)
+// covers the rasteriser's own rounding of that plane.
+uniform sampler2D u_scene_depth;
+
+bool hidden_by_scene(float slope) {
+  return texelFetch(u_scene_depth, ivec2(gl_FragCoord.xy), 0).r < gl_FragCoord.z - slope - 2e-6;
+}
+#endif
+
 void main() {
   vec3 ray = normalize(v_obj - v_eye_obj);
   // Per frame: heights along the frame's direction, h(t) = h0 + t rd on the ray eye + t ray, and
@@ -129,6 +144,9 @@ void main() {
     dus[k] = dFdx(uv0s[k]);
     dvs[k] = dFdy(uv0s[k]);
   }
+#ifdef SYLVA_SCENE_DEPTH
+  if (hidden_by_scene(0.5 * (abs(dFdx(gl_FragCoord.z)) + abs(dFdy(gl_FragCoord.z))))) discard;
+#endif
 #ifdef SYLVA_EMPTY_DISTANCE
   if (!meets_stored_texels(ray, rds, h0s, dus, dvs)) discard;
 #endif

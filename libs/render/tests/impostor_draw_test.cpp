@@ -301,6 +301,107 @@ TEST_F(ImpostorDrawTest, HybridDrawsImpostorsMultisampledOverSupersampledMeshes)
   EXPECT_FALSE(image::compare_images(want, img).passed) << "the supersampled impostor's outline differs";
 }
 
+// SYLVA_SCENE_DEPTH (the drawer with a scene-depth texture): a fragment is discarded before the
+// march where that texture's depth is below the fragment's, whatever the target's own depth says.
+// The drawer alone into a 96 x 96 target whose depth is clear: without the texture the whole
+// disc; with one holding 0 on the left half and 1 on the right, the right half only, the same
+// pixels there.
+TEST_F(ImpostorDrawTest, SceneDepthDiscardsFragmentsTheSceneHides) {
+  const Maps m = disc_maps();
+  const Scene s = impostor_scene(m, {Mat4::Identity()});
+  const Camera cam = look(Vec3(0, 0, 5));
+  constexpr int kSize = 96;
+  const std::unique_ptr<detail::GlContext> ctx = detail::create_egl_context();
+  detail::CurrentContext current(*ctx);
+  detail::ImpostorDrawer drawer;
+  {
+    detail::GlObjects gl;
+    const GLuint fbo = gl.framebuffer(), color = gl.renderbuffer(), depth = gl.renderbuffer();
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glBindRenderbuffer(GL_RENDERBUFFER, color);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, kSize, kSize);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, kSize, kSize);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    std::vector<float> half(kSize * kSize);
+    for (int i = 0; i < kSize * kSize; ++i) half[std::size_t(i)] = i % kSize < kSize / 2 ? 0.f : 1.f;
+    const GLuint scene_depth = gl.texture();
+    glBindTexture(GL_TEXTURE_2D, scene_depth);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, kSize, kSize, 0, GL_RED, GL_FLOAT, half.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    auto draw = [&](GLuint with) {
+      const detail::ImpostorDrawer::Uploaded up = drawer.upload(gl, s.impostors, 4096, with != 0);
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+      glViewport(0, 0, kSize, kSize);
+      glClearColor(0, 0, 0, 0);
+      glClearDepth(1.0);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      drawer.draw(s.impostors, up, cam, 1.f, Lighting{}, with);
+      std::vector<std::uint8_t> px(kSize * kSize * 4);
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+      return px;
+    };
+    const std::vector<std::uint8_t> whole = draw(0), right = draw(scene_depth);
+    ASSERT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+    std::size_t left_drawn = 0, right_drawn = 0, left_kept = 0, right_same = 0;
+    for (int i = 0; i < kSize * kSize; ++i) {
+      const bool left = i % kSize < kSize / 2;
+      const bool drawn = whole[std::size_t(i) * 4 + 3] > 0, kept = right[std::size_t(i) * 4 + 3] > 0;
+      (left ? left_drawn : right_drawn) += drawn;
+      if (left) left_kept += kept;
+      if (!left)
+        right_same += std::equal(&whole[std::size_t(i) * 4], &whole[std::size_t(i) * 4 + 4],
+                                 &right[std::size_t(i) * 4]);
+    }
+    EXPECT_GT(left_drawn, 500u);
+    EXPECT_GT(right_drawn, 500u);
+    EXPECT_EQ(left_kept, 0u);
+    EXPECT_EQ(right_same, std::size_t(kSize * kSize / 2));
+  }
+  drawer.destroy();
+}
+
+// Hybrid antialiasing discards the impostor fragments the meshes hide in every sample
+// (RenderOptions::impostor_hidden_discard) with the same pixels: disc impostors at three depths
+// and a quad turned 60 degrees about the vertical through them (in front of part of each, behind
+// part), its edge and its crossing with each impostor's quad inside pixels.
+TEST_F(ImpostorDrawTest, HybridDiscardOfHiddenImpostorFragmentsKeepsThePixels) {
+  const Maps m = disc_maps();
+  testing::GltfBuilder b;
+  const int blue = b.add_material({.base_color = Vec4(0, 0, 1, 1)});
+  const int quad = b.add_mesh({testing::quad(1.f, blue)});
+  b.add_root(b.add_node({.mesh = quad,
+                         .translation = Vec3(0.3f, 0.1f, 0),
+                         .rotation = Eigen::Quaternionf(Eigen::AngleAxisf(1.05f, Vec3::UnitY())),
+                         .scale = Vec3(3.f, 1.7f, 1)}));
+  b.write_glb(dir_.path() / "tilted.glb");
+  Scene s = load_gltf_scene(dir_.path() / "tilted.glb");
+  s.impostors = impostor_scene(m, {translation(Vec3(-0.6f, 0.2f, -0.4f)), Mat4::Identity(),
+                                   translation(Vec3(0.7f, -0.3f, 0.5f))})
+                    .impostors;
+  const Camera cam = look(Vec3(0.4f, 0.3f, 5));
+  RenderOptions on = options(), off = options();
+  on.supersample = off.supersample = 2;
+  off.impostor_hidden_discard = false;
+  const Image with = renderer_->render(s, cam, on), without = renderer_->render(s, cam, off);
+  image::write_png(with, dir_ / "hidden_discard.png");
+  EXPECT_EQ(with.bytes(), without.bytes());
+  std::size_t red = 0, blue_px = 0;
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) {
+      const Rgba8 p = with.at(x, y);
+      red += p.r > 100 && p.b < 60;
+      blue_px += p.b > 100 && p.r < 30;
+    }
+  EXPECT_GT(red, 300u);
+  EXPECT_GT(blue_px, 300u);
+}
+
 // The maps stay uploaded between calls while their atlas lives (a second call with the same atlas
 // uploads nothing) and are deleted once it is gone; a new atlas is drawn with its own maps.
 TEST_F(ImpostorDrawTest, MapsStayUploadedWhileTheirAtlasLives) {
