@@ -161,17 +161,26 @@ void main() {
 }
 )";
 
-constexpr const char* kDownsampleFragmentShader = R"(#version 330 core
+// One output pixel from the k x k texels of its block: kBlockFragmentShader after the #version
+// line and the definitions of START, COMBINE(a, b) and FINISH(a).
+constexpr const char* kBlockFragmentShader = R"(
 uniform sampler2D u_source;
 uniform int u_k;
 out vec4 o_color;
 void main() {
   ivec2 base = ivec2(gl_FragCoord.xy) * u_k;
-  vec4 sum = vec4(0.0);
+  vec4 a = START;
   for (int y = 0; y < u_k; ++y)
-    for (int x = 0; x < u_k; ++x) sum += texelFetch(u_source, base + ivec2(x, y), 0);
-  o_color = sum / float(u_k * u_k);
+    for (int x = 0; x < u_k; ++x) a = COMBINE(a, texelFetch(u_source, base + ivec2(x, y), 0));
+  o_color = FINISH(a);
 }
+)";
+
+// The mean of the block (colour).
+constexpr const char* kDownsampleDefines = R"(#version 330 core
+#define START vec4(0.0)
+#define COMBINE(a, b) ((a) + (b))
+#define FINISH(a) ((a) / float(u_k * u_k))
 )";
 
 // Hybrid antialiasing (supersample k with msaa = k^2): the sample s of a pixel of the
@@ -190,19 +199,12 @@ void main() {
 }
 )";
 
-// ... and per pixel the greatest depth of its samples (R32F, output size), for the impostor
-// shader's SYLVA_SCENE_DEPTH.
-constexpr const char* kFarthestDepthFragmentShader = R"(#version 330 core
-uniform sampler2D u_depth;
-uniform int u_k;
-out float o_depth;
-void main() {
-  ivec2 base = ivec2(gl_FragCoord.xy) * u_k;
-  float farthest = 0.0;
-  for (int y = 0; y < u_k; ++y)
-    for (int x = 0; x < u_k; ++x) farthest = max(farthest, texelFetch(u_depth, base + ivec2(x, y), 0).r);
-  o_depth = farthest;
-}
+// ... and per pixel the greatest depth of its sub-pixels (into R32F, output size), for the
+// impostor shader's SYLVA_SCENE_DEPTH: the block's maximum of a depth texture.
+constexpr const char* kFarthestDepthDefines = R"(#version 330 core
+#define START vec4(0.0)
+#define COMBINE(a, b) max(a, b)
+#define FINISH(a) (a)
 )";
 
 // Back to the supersampled target: colour only (the depth there is still right: impostors,
@@ -292,10 +294,13 @@ class GlRenderer final : public Renderer {
  public:
   explicit GlRenderer(std::unique_ptr<detail::GlContext> ctx) : ctx_(std::move(ctx)) {
     CurrentContext current(*ctx_);
-    downsample_ = detail::link_program(kDownsampleVertexShader, kDownsampleFragmentShader, "downsample");
+    downsample_ =
+        detail::link_program(kDownsampleVertexShader,
+                             (std::string(kDownsampleDefines) + kBlockFragmentShader).c_str(), "downsample");
     to_samples_ = detail::link_program(kDownsampleVertexShader, kToSamplesFragmentShader, "to samples");
-    farthest_depth_ =
-        detail::link_program(kDownsampleVertexShader, kFarthestDepthFragmentShader, "farthest depth");
+    farthest_depth_ = detail::link_program(
+        kDownsampleVertexShader, (std::string(kFarthestDepthDefines) + kBlockFragmentShader).c_str(),
+        "farthest depth");
     from_samples_ = detail::link_program(kDownsampleVertexShader, kFromSamplesFragmentShader, "from samples");
     glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size_);
@@ -933,23 +938,31 @@ class GlRenderer final : public Renderer {
     glBindVertexArray(0);
   }
 
-  // Hybrid antialiasing: per output pixel the greatest depth of its sub-pixels, into
-  // farthest_texture (the impostor shader's SYLVA_SCENE_DEPTH).
-  void farthest_depth(const Target& t, const RenderOptions& o) const {
-    glBindFramebuffer(GL_FRAMEBUFFER, t.farthest_fbo);
+  // One full-screen triangle at the output size into `fbo` with `program` (kBlockFragmentShader)
+  // reading `texture`: the downsample and the farthest-depth passes. Leaves depth test, blending,
+  // culling and multisampling off.
+  void output_pass(const Target& t, const RenderOptions& o, GLuint fbo, GLuint program,
+                   GLuint texture) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, o.width, o.height);
-    glDisable(GL_MULTISAMPLE);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
-    glUseProgram(farthest_depth_);
-    glUniform1i(glGetUniformLocation(farthest_depth_, "u_depth"), 0);
-    glUniform1i(glGetUniformLocation(farthest_depth_, "u_k"), o.supersample);
+    glDisable(GL_MULTISAMPLE);
+    glUseProgram(program);
+    glUniform1i(glGetUniformLocation(program, "u_source"), 0);
+    glUniform1i(glGetUniformLocation(program, "u_k"), o.supersample);
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, t.depth_texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
     glBindVertexArray(t.empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);
+  }
+
+  // Hybrid antialiasing: per output pixel the greatest depth of its sub-pixels, into
+  // farthest_texture (the impostor shader's SYLVA_SCENE_DEPTH).
+  void farthest_depth(const Target& t, const RenderOptions& o) const {
+    output_pass(t, o, t.farthest_fbo, farthest_depth_, t.depth_texture);
   }
 
   // Hybrid antialiasing: the supersampled colour and depth into the multisampled target (sample
@@ -1039,20 +1052,7 @@ class GlRenderer final : public Renderer {
       glBlitFramebuffer(0, 0, t.width, t.height, 0, 0, t.width, t.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     }
     if (t.output_fbo != t.resolve_fbo) {
-      glBindFramebuffer(GL_FRAMEBUFFER, t.output_fbo);
-      glViewport(0, 0, o.width, o.height);
-      glDisable(GL_DEPTH_TEST);
-      glDisable(GL_BLEND);
-      glDisable(GL_CULL_FACE);
-      glDisable(GL_MULTISAMPLE);
-      glUseProgram(downsample_);
-      glUniform1i(glGetUniformLocation(downsample_, "u_source"), 0);
-      glUniform1i(glGetUniformLocation(downsample_, "u_k"), o.supersample);
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, t.color_texture);
-      glBindVertexArray(t.empty_vao);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
-      glBindVertexArray(0);
+      output_pass(t, o, t.output_fbo, downsample_, t.color_texture);
       glEnable(GL_DEPTH_TEST);
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, t.output_fbo);
