@@ -9,10 +9,10 @@
 namespace sylva::render {
 namespace {
 
-TEST(RasteriserThreads, OneMoreThanTheHardwareThreads) {
-  EXPECT_EQ(rasteriser_threads(2), 3u);
-  EXPECT_EQ(rasteriser_threads(4), 5u);
-  EXPECT_EQ(rasteriser_threads(16), 17u);
+TEST(RasteriserThreads, TwoMoreThanTheHardwareThreads) {
+  EXPECT_EQ(rasteriser_threads(2), 4u);
+  EXPECT_EQ(rasteriser_threads(4), 6u);
+  EXPECT_EQ(rasteriser_threads(16), 18u);
 }
 
 TEST(RasteriserThreads, OneOrUnknownHardwareThreadsLeaveLlvmpipesDefault) {
