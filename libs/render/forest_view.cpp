@@ -290,11 +290,23 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
   return scene;
 }
 
+void ForestView::prepare(Renderer& renderer, std::span<const Camera> cameras, const RenderOptions& options,
+                         const ForestViewOptions& view) const {
+  // A view's scene names its levels' geometry and its atlases, which the renderer keeps: each
+  // call uploads what the views before it did not use.
+  const float aspect = float(options.width) / float(options.height);
+  for (const Camera& c : cameras) {
+    ForestViewStats unused;
+    renderer.prepare(view_scene(c, aspect, view, unused), options);
+  }
+}
+
 std::vector<image::Image> ForestView::render(Renderer& renderer, std::span<const Camera> cameras,
                                              const RenderOptions& options, const ForestViewOptions& view,
                                              std::vector<ForestViewStats>* stats) {
   std::vector<image::Image> out;
   if (stats) stats->clear();
+  prepare(renderer, cameras, options, view);
   const float aspect = float(options.width) / float(options.height);
   for (const Camera& c : cameras) {
     ForestViewStats st;

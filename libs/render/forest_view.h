@@ -77,7 +77,14 @@ class ForestView {
   // at most `distance`, else the reference shader's 16.
   int parallax_steps_for(std::size_t species, double distance, const ForestViewOptions& options) const;
 
-  // Renders each camera (its own LOD selection and culling), one image per camera.
+  // Uploads everything the cameras' views draw (the target, every (species, level) mesh one of
+  // them picks, its impostor maps) into `renderer` without drawing (Renderer::prepare): a
+  // forest's loading step, after which each view's time is its drawing. render() starts with it.
+  void prepare(Renderer& renderer, std::span<const Camera> cameras, const RenderOptions& options,
+               const ForestViewOptions& view = {}) const;
+
+  // Renders each camera (its own LOD selection and culling), one image per camera, after
+  // prepare() for all of them.
   std::vector<image::Image> render(Renderer& renderer, std::span<const Camera> cameras,
                                    const RenderOptions& options, const ForestViewOptions& view = {},
                                    std::vector<ForestViewStats>* stats = nullptr);

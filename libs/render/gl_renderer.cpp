@@ -329,6 +329,25 @@ class GlRenderer final : public Renderer {
   std::string device_description() const override { return ctx_->description(); }
 
   std::size_t kept_geometry() const override { return kept_geometry_.size(); }
+  std::size_t kept_impostor_atlases() const override { return impostors_.kept(); }
+
+  void prepare(const Scene& scene, const RenderOptions& options) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    CurrentContext current(*ctx_);
+    validate(options);
+    GlObjects gl;  // the impostor drawer's per-call objects; the kept ones outlive it
+    glGetError();
+    target_for(options);
+    drop_dead_geometry();
+    for (const Mesh& mesh : scene.meshes) {
+      if (!mesh.shared_geometry) continue;
+      for (const Primitive& p : mesh.primitives) check_primitive(scene, p);
+      kept_buffers(scene, mesh);
+    }
+    impostors_.upload(gl, scene.impostors, max_texture_size_,
+                      hybrid(options) && options.impostor_hidden_discard);
+    check_gl("upload");
+  }
 
   std::vector<image::Image> render_views(const Scene& scene, std::span<const Camera> cameras,
                                          const RenderOptions& options) override {
@@ -607,13 +626,17 @@ class GlRenderer final : public Renderer {
     return p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
   }
 
-  Uploaded upload(GlObjects& gl, const Scene& scene) {
-    // Kept geometry whose name no longer lives is deleted first (whatever this call draws).
+  // Kept geometry whose name no longer lives is deleted first at every call (whatever it draws).
+  void drop_dead_geometry() {
     std::erase_if(kept_geometry_, [](const KeptGeometry& k) {
       if (!k.owner.expired()) return false;
       glDeleteBuffers(GLsizei(k.buffers.size()), k.buffers.data());
       return true;
     });
+  }
+
+  Uploaded upload(GlObjects& gl, const Scene& scene) {
+    drop_dead_geometry();
     Uploaded up;
     for (const Texture& t : scene.textures) up.textures.push_back(upload_texture(gl, t));
     for (const Mesh& mesh : scene.meshes) {

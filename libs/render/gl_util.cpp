@@ -1,6 +1,8 @@
 // The GL plumbing shared by the scene renderer and the impostor renderer (gl_util.h).
 #include "libs/render/gl_util.h"
 
+#include <algorithm>
+
 #include "libs/render/renderer.h"
 
 namespace sylva::render::detail {
@@ -128,6 +130,23 @@ GLint gl_wrap(Wrap w) {
     default:
       return GL_REPEAT;
   }
+}
+
+void upload_mipmapped_rgba8(const std::uint8_t* rgba, int width, int height, bool srgb, int mip_levels) {
+  // Storage for every level at once: with glTexImage2D's level 0 alone, Mesa allocates the other
+  // levels when they are generated and moves level 0 into the new storage (the forest walk's
+  // first frame spent 0.4-1.2 s more uploading its impostor maps that way).
+  const int levels = std::max(0, mip_levels);
+  glTexStorage2D(GL_TEXTURE_2D, levels + 1, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, width, height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  if (levels > 0) glGenerateMipmap(GL_TEXTURE_2D);
 }
 
 GLuint upload_texture(GlObjects& gl, const Texture& t) {

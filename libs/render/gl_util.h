@@ -9,6 +9,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,13 @@ GLint gl_wrap(Wrap w);
 
 // The GL primitive mode of a topology (GL_LINES, GL_POINTS, else GL_TRIANGLES).
 GLenum gl_mode(Topology t);
+
+// Gives the bound GL_TEXTURE_2D, which must have no storage yet, immutable storage for levels
+// 0..mip_levels (glTexStorage2D) of a width x height RGBA8 image (GL_SRGB8_ALPHA8 when `srgb`),
+// fills level 0 from `rgba` (rows top first, 4 bytes a texel, no padding), generates the others
+// (glGenerateMipmap) and samples them trilinearly, clamped to the edge (bilinear when mip_levels is
+// 0). An impostor map: 64 or 151 MB at level 0 (docs/performance.md "Impostor map uploads").
+void upload_mipmapped_rgba8(const std::uint8_t* rgba, int width, int height, bool srgb, int mip_levels);
 
 // Uploads an 8-bit sRGB-encoded RGBA texture (sampling returns linear values) with its sampler
 // state; mipmaps are generated when the texture asks for them. Throws RenderError for

@@ -21,43 +21,45 @@ GLuint upload_map(const std::vector<std::uint8_t>& rgba, int px, bool srgb, int 
   GLuint id = 0;
   glGenTextures(1, &id);
   glBindTexture(GL_TEXTURE_2D, id);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, px, px, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-               rgba.data());
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, std::max(0, mip_levels));
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mip_levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-  if (mip_levels > 0) glGenerateMipmap(GL_TEXTURE_2D);
+  upload_mipmapped_rgba8(rgba.data(), px, px, srgb, mip_levels);
   return id;
 }
 
-// A drawer-owned px x px 8-bit texture of one level, read with texelFetch only.
-GLuint upload_fetched(GLint internal_format, GLenum format, int px, const std::uint8_t* texels) {
+// A drawer-owned px x px 8-bit texture of one level, read with texelFetch only, its texels
+// filled by the caller.
+GLuint fetched_texture(GLenum internal_format, int px) {
   GLuint id = 0;
   glGenTextures(1, &id);
   glBindTexture(GL_TEXTURE_2D, id);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, internal_format, px, px, 0, format, GL_UNSIGNED_BYTE, texels);
+  glTexStorage2D(GL_TEXTURE_2D, 1, internal_format, px, px);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   return id;
 }
 
-// The march's depth and coverage, texel for texel (the shader's SYLVA_DEPTH_COVERAGE).
+// The march's depth and coverage, texel for texel (the shader's SYLVA_DEPTH_COVERAGE), gathered
+// and uploaded a band of rows at a time: a whole-atlas copy (75 MB for a 6144-px atlas) would be
+// new memory, and on this kind of machine touching new memory is what an upload costs most.
 GLuint upload_depth_coverage(const ImpostorAtlas& a) {
-  const std::size_t px = std::size_t(a.atlas_px);
-  std::vector<std::uint8_t> rg(px * px * 2);
-  tbb::parallel_for(std::size_t(0), px, [&](std::size_t y) {
-    for (std::size_t i = y * px; i < (y + 1) * px; ++i) {
-      rg[2 * i] = a.normal_depth[4 * i + 3];
-      rg[2 * i + 1] = a.color[4 * i + 3];
-    }
-  });
-  return upload_fetched(GL_RG8, GL_RG, a.atlas_px, rg.data());
+  constexpr int kRows = 64;
+  const int px = a.atlas_px;
+  const GLuint id = fetched_texture(GL_RG8, px);
+  std::vector<std::uint8_t> band(std::size_t(px) * kRows * 2);
+  for (int y0 = 0; y0 < px; y0 += kRows) {
+    const int rows = std::min(kRows, px - y0);
+    tbb::parallel_for(0, rows, [&](int r) {
+      const std::size_t row = std::size_t(y0 + r) * std::size_t(px);
+      std::uint8_t* out = band.data() + std::size_t(r) * std::size_t(px) * 2;
+      for (std::size_t x = 0; x < std::size_t(px); ++x) {
+        out[2 * x] = a.normal_depth[4 * (row + x) + 3];
+        out[2 * x + 1] = a.color[4 * (row + x) + 3];
+      }
+    });
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, y0, px, rows, GL_RG, GL_UNSIGNED_BYTE, band.data());
+  }
+  return id;
 }
 
 // The cull's cells: 4 x 4 texels where they tile a frame (one byte per 16 texels).
@@ -71,7 +73,9 @@ GLuint upload_empty_distance(const ImpostorAtlas& a) {
   const int cell_px = empty_cell_px(g), side = a.atlas_px / cell_px;
   std::vector<std::uint8_t> d(std::size_t(side) * std::size_t(side), 0);
   if (g.mip_levels < 30 && g.padding_px >= (1 << g.mip_levels)) d = impostor_empty_distance(a, cell_px);
-  return upload_fetched(GL_R8, GL_RED, side, d.data());
+  const GLuint id = fetched_texture(GL_R8, side);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, side, side, GL_RED, GL_UNSIGNED_BYTE, d.data());
+  return id;
 }
 
 void delete_kept_textures(GLuint color, GLuint normal_depth, GLuint empty_distance, GLuint depth_coverage) {

@@ -993,17 +993,7 @@ class GlImpostorRenderer final : public ImpostorRenderer {
   static GLuint upload_atlas(GlObjects& gl, const image::Image& img, bool srgb, int mip_levels) {
     const GLuint id = gl.texture();
     glBindTexture(GL_TEXTURE_2D, id);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, img.width(), img.height(), 0, GL_RGBA,
-                 GL_UNSIGNED_BYTE, img.bytes().data());
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, std::max(0, mip_levels));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER,
-                    mip_levels > 0 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-    if (mip_levels > 0) glGenerateMipmap(GL_TEXTURE_2D);
+    detail::upload_mipmapped_rgba8(img.bytes().data(), img.width(), img.height(), srgb, mip_levels);
     return id;
   }
 

@@ -91,6 +91,15 @@ class Renderer {
   virtual std::vector<image::Image> render_views(const Scene& scene, std::span<const Camera> cameras,
                                                  const RenderOptions& options) = 0;
 
+  // Uploads what render_views keeps between calls for `scene` and `options` (the target, the
+  // buffers of meshes naming shared geometry, the impostor maps) without drawing, so that the
+  // views drawn next spend their time drawing: a forest's loading step (ForestView::prepare).
+  // Meshes' instances and textures are not looked at (textures are uploaded per call). Throws
+  // as render_views does. The default does nothing (fakes).
+  virtual void prepare(const Scene& scene, const RenderOptions& options) {
+    (void)scene;
+    (void)options;
+  }
   // One view.
   image::Image render(const Scene& scene, const Camera& camera, const RenderOptions& options) {
     return std::move(render_views(scene, std::span<const Camera>(&camera, 1), options).front());
@@ -102,6 +111,9 @@ class Renderer {
   // Meshes whose buffers are kept uploaded after the last call: the Mesh::shared_geometry names
   // drawn so far that still live (a name found dead at a call's start is dropped then). For tests.
   virtual std::size_t kept_geometry() const { return 0; }
+  // Impostor atlases whose maps are kept uploaded after the last call (they are dropped at the
+  // first call after their atlas is gone). For tests.
+  virtual std::size_t kept_impostor_atlases() const { return 0; }
 };
 
 // RenderOptions for a camera set: `base` with the set's width, height, msaa and supersample.

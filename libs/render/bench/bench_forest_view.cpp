@@ -3,16 +3,20 @@
 // and of the calling thread, with the trees and primitives drawn per species and level.
 //   bench_forest_view out/forest_celba/forest/instances.json [--view NAME]... [--msaa N]
 //     [--supersample K] [--width W --height H] [--exact-impostors 1] [--judge-parallax 1] [--out DIR]
-//     [--repeat N] [--hidden-discard 0|1]
+//     [--repeat N] [--hidden-discard 0|1] [--prepare 0|1]
 // --exact-impostors 1 draws every impostor with the reference shader's 16 parallax steps (the
 // exact view the parallax table is judged against); --judge-parallax 1 also renders that exact
 // view and judges the parallax table's view against it (forest lodcheck's judgement). --repeat N
 // renders each view N times in a row ("render again"): a frame of a walk or flight after the
 // first, when the renderer still holds the levels' buffers, the impostor maps and the target.
 // --hidden-discard 0 marches the impostor fragments the meshes hide (RenderOptions::
-// impostor_hidden_discard false: the same pixels, for comparisons).
+// impostor_hidden_discard false: the same pixels, for comparisons). The chosen views' levels and
+// impostor maps are uploaded first ("upload", ForestView::prepare, as `sylva render` and verify
+// do); --prepare 0 leaves each upload to the first view that draws it (its "render" then
+// includes it).
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -55,13 +59,15 @@ int main(int argc, char** argv) {
     std::fprintf(
         stderr,
         "usage: %s instances.json [--view NAME]... [--msaa N] [--supersample K] [--width W --height H]\n"
-        "  [--exact-impostors 1] [--judge-parallax 1] [--out DIR] [--repeat N] [--hidden-discard 0|1]\n",
+        "  [--exact-impostors 1] [--judge-parallax 1] [--out DIR] [--repeat N] [--hidden-discard 0|1]\n"
+        "  [--prepare 0|1]\n",
         argv[0]);
     return 2;
   }
   const std::filesystem::path file = argv[1];
   std::vector<std::string> views;
   int msaa = -1, width = -1, height = -1, supersample = -1, repeat = 1, hidden_discard = -1;
+  bool prepare = true;
   bool exact = false;  // every impostor with the reference shader's 16 steps, not the parallax table
   bool judge = false;  // judge the parallax table's view against the exact one
   std::string out;
@@ -76,6 +82,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--height")) height = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--hidden-discard")) hidden_discard = std::atoi(argv[i + 1]);
+    if (!std::strcmp(argv[i], "--prepare")) prepare = std::string(argv[i + 1]) != "0";
   }
   Lap lap;
   render::ForestView fv = render::ForestView::load(file);
@@ -89,9 +96,16 @@ int main(int argc, char** argv) {
   if (supersample > 0) options.supersample = supersample;
   if (height > 0) options.height = height;
   if (hidden_discard >= 0) options.impostor_hidden_discard = hidden_discard == 1;
-  const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
+  std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
+  if (!views.empty())
+    std::erase_if(cams, [&](const render::Camera& c) {
+      return std::find(views.begin(), views.end(), c.name) == views.end();
+    });
+  if (prepare) {
+    fv.prepare(*renderer, cams, options);
+    lap.print("upload");
+  }
   for (const render::Camera& c : cams) {
-    if (!views.empty() && std::find(views.begin(), views.end(), c.name) == views.end()) continue;
     std::printf("view %s (%dx%d, MSAA %d, supersample %d)\n", c.name.c_str(), options.width, options.height,
                 options.msaa, options.supersample);
     render::ForestViewStats st;

@@ -450,6 +450,27 @@ TEST_F(ImpostorDrawTest, MapsStayUploadedWhileTheirAtlasLives) {
   EXPECT_GT(px.b, 100);
 }
 
+// Renderer::prepare uploads what a view keeps (the meshes naming shared geometry, the impostor
+// maps) without drawing; the view drawn next uploads nothing more and has a fresh upload's pixels.
+TEST_F(ImpostorDrawTest, PrepareUploadsWhatTheViewKeepsWithoutDrawing) {
+  const Maps m = disc_maps();
+  Scene s = quads_around_impostor(m, dir_.path());
+  ASSERT_FALSE(s.meshes.empty());
+  const auto names = std::make_shared<int>(0);
+  for (Mesh& mesh : s.meshes) mesh.shared_geometry = std::shared_ptr<const void>(names, &mesh);
+  const Camera cam = look(Vec3(0, 0, 5));
+  RenderOptions o = options();
+  o.supersample = 2;  // hybrid: the impostors' programs with SYLVA_SCENE_DEPTH
+  const Image want = renderer_->render(s, cam, o);
+  const std::unique_ptr<Renderer> fresh = Renderer::create_headless();
+  fresh->prepare(s, o);
+  EXPECT_EQ(fresh->kept_geometry(), s.meshes.size());
+  EXPECT_EQ(fresh->kept_impostor_atlases(), 1u);
+  EXPECT_EQ(fresh->render(s, cam, o), want);
+  EXPECT_EQ(fresh->kept_geometry(), s.meshes.size());
+  EXPECT_EQ(fresh->kept_impostor_atlases(), 1u);
+}
+
 TEST_F(ImpostorDrawTest, BadAtlasesAreClearErrors) {
   Maps m = disc_maps();
   Scene s;

@@ -16,6 +16,7 @@
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
+#include "libs/render/renderer.h"
 #include "stages/forest/forest_stage.h"
 #include "stages/forest/tests/card_glb.h"
 #include "tests/support/gltf_validator.h"
@@ -567,6 +568,68 @@ TEST_F(ForestOutput, ViewStatsCountTreesAndPrimitivesPerSpeciesAndLevel) {
   EXPECT_EQ(st.primitives, total);
   EXPECT_EQ(st.trees_drawn, f.instances.size());
   EXPECT_TRUE(st.impostor_steps.empty());
+}
+
+// Records the geometry names and atlases each call is given, and draws nothing.
+class RecordingRenderer final : public render::Renderer {
+ public:
+  std::vector<image::Image> render_views(const render::Scene& scene, std::span<const render::Camera> cameras,
+                                         const render::RenderOptions& options) override {
+    std::set<const void*> names;
+    record(scene, names);
+    for (const void* n : names) not_prepared_when_drawn += prepared.count(n) == 0 ? 1 : 0;
+    drawn.insert(names.begin(), names.end());
+    return std::vector<image::Image>(cameras.size(), image::Image(options.width, options.height, {}));
+  }
+  void prepare(const render::Scene& scene, const render::RenderOptions&) override { record(scene, prepared); }
+  std::string device_description() const override { return "recording"; }
+
+  static void record(const render::Scene& scene, std::set<const void*>& into) {
+    for (const render::Mesh& m : scene.meshes)
+      if (m.shared_geometry) into.insert(m.shared_geometry.get());
+    for (const render::ImpostorSet& s : scene.impostors) into.insert(s.atlas.get());
+  }
+
+  std::set<const void*> prepared, drawn;
+  std::size_t not_prepared_when_drawn = 0;
+};
+
+// ForestView::prepare hands the renderer every (species, level) mesh and impostor atlas its
+// cameras' views draw, and render() prepares them all before it draws the first view.
+TEST_F(ForestOutput, PrepareHandsTheRendererEverythingTheViewsDraw) {
+  inputs_.push_back(fake_impostor(dir_ / "imp_a", 8, "imp_a", true));
+  inputs_.push_back(fake_impostor(dir_ / "imp_b", 5, "imp_b", true));
+  const Value::Object params = {
+      {"size_m", Value(Value::List{60.0, 60.0})},
+      {"tile_size_m", Value(30.0)},
+      {"species", Value(Value::List{Value(species("a", 40)), Value(species("b", 40))})}};
+  const fs::path out = dir_ / "prep";
+  run(out, params);
+  const render::ForestView view = render::ForestView::load(out / "instances.json");
+  // From 160 m every tree is an impostor (from 100 m on); from 40 m none is.
+  const std::vector<render::Camera> cams = {camera_on_z_axis(160, 400), camera_on_z_axis(40, 400)};
+  render::RenderOptions o;
+  o.width = o.height = 16;
+  std::set<const void*> want;
+  std::size_t atlases = 0;
+  for (const render::Camera& c : cams) {
+    render::ForestViewStats st;
+    const render::Scene s = view.view_scene(c, 1.f, {}, st);
+    atlases += s.impostors.empty() ? 0 : 1;
+    RecordingRenderer::record(s, want);
+  }
+  EXPECT_EQ(atlases, 1u) << "one camera sees impostors, the other meshes";
+  EXPECT_GE(want.size(), 4u);  // two atlases, levels of both species and the ground
+  RecordingRenderer prepared;
+  view.prepare(prepared, cams, o);
+  EXPECT_EQ(prepared.prepared, want);
+  EXPECT_TRUE(prepared.drawn.empty());
+  render::ForestView drawn = render::ForestView::load(out / "instances.json");
+  RecordingRenderer rendered;
+  EXPECT_EQ(drawn.render(rendered, cams, o).size(), 2u);
+  EXPECT_EQ(rendered.drawn.size(), want.size());
+  EXPECT_EQ(rendered.prepared.size(), want.size());
+  EXPECT_EQ(rendered.not_prepared_when_drawn, 0u);
 }
 
 // Forest views draw a level's coincident blended lines as one line that counts its copies
