@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,14 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--hidden-discard")) hidden_discard = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--prepare")) prepare = std::string(argv[i + 1]) != "0";
+  }
+  if (!out.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec) {
+      std::fprintf(stderr, "%s: error: cannot create the directory: %s\n", out.c_str(), ec.message().c_str());
+      return 1;
+    }
   }
   Lap lap;
   render::ForestView fv = render::ForestView::load(file);
