@@ -134,9 +134,12 @@ GLint gl_wrap(Wrap w) {
 
 void upload_mipmapped_rgba8(const std::uint8_t* rgba, int width, int height, bool srgb, int mip_levels) {
   // Storage for every level at once: with glTexImage2D's level 0 alone, Mesa allocates the other
-  // levels when they are generated and moves level 0 into the new storage (the forest walk's
-  // first frame spent 0.4-1.2 s more uploading its impostor maps that way).
-  const int levels = std::max(0, mip_levels);
+  // levels when they are generated and moves level 0 into the new storage (forest_celba's walk
+  // took 1.4-3.2 s to upload its impostor maps that way, 1.2-1.5 s this way). GL_TEXTURE_MAX_LEVEL
+  // beyond the 1 x 1 level meant the whole chain; immutable storage cannot hold more than that.
+  int full_chain = 0;
+  while ((std::max(width, height) >> (full_chain + 1)) > 0) ++full_chain;
+  const int levels = std::clamp(mip_levels, 0, full_chain);
   glTexStorage2D(GL_TEXTURE_2D, levels + 1, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, width, height);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
