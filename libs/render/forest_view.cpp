@@ -304,16 +304,19 @@ void ForestView::prepare(Renderer& renderer, std::span<const Camera> cameras, co
 std::vector<image::Image> ForestView::render(Renderer& renderer, std::span<const Camera> cameras,
                                              const RenderOptions& options, const ForestViewOptions& view,
                                              std::vector<ForestViewStats>* stats) {
-  std::vector<image::Image> out;
-  if (stats) stats->clear();
-  prepare(renderer, cameras, options, view);
+  // Each view's scene is built once: all are handed to the renderer to upload (what prepare()
+  // does) before the first is drawn.
   const float aspect = float(options.width) / float(options.height);
-  for (const Camera& c : cameras) {
-    ForestViewStats st;
-    const Scene scene = view_scene(c, aspect, view, st);
-    out.push_back(renderer.render(scene, c, options));
-    if (stats) stats->push_back(std::move(st));
+  std::vector<Scene> scenes;
+  std::vector<ForestViewStats> st(cameras.size());
+  for (std::size_t i = 0; i < cameras.size(); ++i) {
+    scenes.push_back(view_scene(cameras[i], aspect, view, st[i]));
+    renderer.prepare(scenes.back(), options);
   }
+  std::vector<image::Image> out;
+  for (std::size_t i = 0; i < cameras.size(); ++i)
+    out.push_back(renderer.render(scenes[i], cameras[i], options));
+  if (stats) *stats = std::move(st);
   return out;
 }
 
