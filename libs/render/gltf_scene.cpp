@@ -16,6 +16,7 @@
 #include <cctype>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -833,6 +834,24 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
   return load_gltf_scene_from_memory(std::move(bytes), file, path.parent_path());
 }
 
+namespace {
+
+// tinygltf's own file reader sizes its buffer from tellg(), which is -1 for a directory that an
+// external uri may name (an allocation of 2^63 bytes). This one reads regular files only.
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::error_code ec;
+  std::ifstream f;
+  if (std::filesystem::is_regular_file(path, ec)) f.open(path, std::ios::binary);
+  if (!f) {
+    if (err) *err += "cannot read '" + path + "' (not a readable regular file)\n";
+    return false;
+  }
+  out->assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  return !f.bad();
+}
+
+}  // namespace
+
 Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
                                   const std::filesystem::path& base_dir_path) {
   const std::string& file = name;
@@ -854,6 +873,8 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
 
   tinygltf::Model model;
   tinygltf::TinyGLTF reader;
+  reader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_regular_file,
+                         &tinygltf::WriteWholeFile, nullptr});
   std::string err, warn;
   const std::string base_dir = base_dir_path.string();
   bool ok = false;

@@ -150,6 +150,21 @@ TEST(GltfScene, MissingAndGarbageFiles) {
   EXPECT_EQ(load_error(dir.path()), dir.path().string() + ": error: not a regular file");
 }
 
+// A buffer uri naming a directory (a fuzzer's "../%./etc/passwd" resolved to one): a clear error,
+// not an allocation of the size tellg() gives a directory (-1).
+TEST(GltfScene, BufferUriNamingADirectoryIsAnError) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "sub");
+  test::write_file(dir / "b.gltf", R"({
+  "asset": {"version": "2.0"},
+  "buffers": [{"byteLength": 44, "uri": "sub"}]
+})");
+  const std::string e = load_error(dir / "b.gltf");
+  EXPECT_EQ(e.rfind((dir / "b.gltf").string() + ": error: invalid glTF: ", 0), 0u) << e;
+  EXPECT_NE(e.find("sub"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
 // A .gltf whose texture file does not exist.
 TEST(GltfScene, MissingTextureNamesTheImage) {
   test::TempDir dir;
