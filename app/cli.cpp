@@ -204,6 +204,9 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
   }
   if (a.json) std::fputs(summary_json(recipe->name, s).c_str(), io.out);
   for (const auto& e : s.errors) std::fprintf(io.err, "error: %s\n", e.c_str());
+  for (const auto& name : s.removed)
+    std::fprintf(io.err, "sylva: %s %s/%s/ (node '%s' is no longer in the recipe)\n",
+                 a.dry_run ? "would remove" : "removed", out_dir.c_str(), name.c_str(), name.c_str());
   if (s.evicted.actions_removed > 0)
     std::fprintf(io.err, "sylva: cache above its limit: evicted %llu least recently used results (%s)\n",
                  static_cast<unsigned long long>(s.evicted.actions_removed),

@@ -105,6 +105,7 @@ std::string summary_json(const std::string& recipe, const BuildSummary& s) {
   j["would_build"] = s.count(NodeStatus::kWouldBuild);
   j["up_to_date"] = s.count(NodeStatus::kUpToDate);
   j["seconds"] = s.seconds;
+  j["removed"] = s.removed;
   j["nodes"] = nlohmann::ordered_json::array();
   for (const auto& r : s.nodes) {
     nlohmann::ordered_json n;

@@ -4,6 +4,7 @@
 // is most of sylva's bookkeeping bytes per node). Paths are kept as given (the recipe loader
 // resolves them), so one file reached by two spellings is simply recorded twice.
 #include "pipeline/digest_cache.h"
+#include <set>
 
 #include <algorithm>
 #include <cstring>
@@ -401,6 +402,18 @@ void DigestCache::forget_published(const std::string& node) {
     nodes_[node] = std::nullopt;
     dirty_ = true;
   }
+}
+
+std::vector<std::string> DigestCache::published_nodes() {
+  std::lock_guard lock(mu_);
+  std::set<std::string> names;
+  for (const BaseNode& b : base_nodes_) {
+    std::string name(b.name);
+    if (!nodes_.contains(name)) names.insert(std::move(name));
+  }
+  for (const auto& [name, p] : nodes_)
+    if (p) names.insert(name);
+  return {names.begin(), names.end()};
 }
 
 std::optional<Digest> DigestCache::digest(const fs::path& p, std::string* error,

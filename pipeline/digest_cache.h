@@ -78,6 +78,8 @@ class DigestCache {
   std::optional<PublishedNode> published(const std::string& node);
   void set_published(const std::string& node, PublishedNode p);
   void forget_published(const std::string& node);
+  // The names of every node with a published record, sorted.
+  std::vector<std::string> published_nodes();
 
   // The racy-git rule for one timestamp.
   static bool settled(std::int64_t mtime_ns, std::int64_t known_at);

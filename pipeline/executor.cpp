@@ -654,6 +654,19 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
   BuildSummary summary;
   for (std::size_t i : graph.topo_order())
     if (wanted[i]) summary.nodes.push_back(std::move(reports[i]));
+  // Nodes this out dir holds outputs of that the recipe no longer declares (removed or renamed):
+  // their directories go as a failed node's do, so nothing under out/<recipe>/ outlives its
+  // node (ninja leaves such files until `ninja -t cleandead`; an asset pack must not ship them).
+  // Only what the records say this out dir published is touched.
+  std::set<std::string> declared;
+  for (const auto& nd : recipe.nodes) declared.insert(nd.name);
+  for (const std::string& name : digests.published_nodes()) {
+    if (declared.contains(name)) continue;
+    summary.removed.push_back(name);
+    if (options.dry_run) continue;
+    withdraw(env, digests, name, env.out_dir / name);
+    env.fs.remove(env.out_dir / ".sylva" / (name + ".json"));
+  }
   std::string why;
   if (!options.dry_run) digests.settle_links();
   if (!options.dry_run && !digests.save(&why))

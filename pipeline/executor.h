@@ -80,6 +80,9 @@ struct BuildSummary {
   std::vector<NodeReport> nodes;  // topological order; only nodes in the target closure
   double seconds = 0;
   GcResult evicted;  // what automatic eviction removed after the build (usually nothing)
+  // Nodes no longer in the recipe whose outputs this out dir held: their directories
+  // (out/<recipe>/<node>/) and explain records were removed; a dry run lists them, removing nothing.
+  std::vector<std::string> removed;
   // Bookkeeping that could not be written (an action result, an explain record, the digest
   // records), one message each: the build fails (exit 1) even if every node ran.
   std::vector<std::string> errors;

@@ -2,6 +2,7 @@
 // failures, determinism, cancellation, concurrency, explain.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -346,6 +347,46 @@ TEST_F(BuildTest, TargetsBuildOnlyTheirClosure) {
   std::string err;
   run_build(r, env, opt, &err);
   EXPECT_EQ(err, "unknown target 'abc'; did you mean 'ab'?");
+}
+
+// A node removed from (or renamed in) the recipe takes its published directory and explain
+// record with it; what sylva did not publish there stays, and a dry run only names them.
+TEST_F(BuildTest, NodesNoLongerInTheRecipeLoseTheirOutputs) {
+  ASSERT_TRUE(build(load(chain(1))).ok());
+  const fs::path o = dir_ / "out" / "r";
+  test::write_file(o / "notes.txt", "mine\n");
+  fs::create_directories(o / "by_hand");
+  const std::string renamed =
+      "version: 1\nname: r\nnodes:\n"
+      "  a:\n    stage: text\n    with: { text: A, count: 1 }\n"
+      "  b2:\n    stage: text\n    with: { text: B }\n"
+      "  ab:\n    stage: concat\n    needs: [a, b2]\n";
+  BuildOptions dry;
+  dry.dry_run = true;
+  auto d = build(load(renamed), dry);
+  EXPECT_EQ(d.removed, (std::vector<std::string>{"b", "top"}));
+  EXPECT_TRUE(fs::exists(o / "b" / "out.txt"));
+  EXPECT_TRUE(fs::exists(o / "top" / "out.txt"));
+  auto s = build(load(renamed));
+  ASSERT_TRUE(s.ok());
+  EXPECT_EQ(s.removed, (std::vector<std::string>{"b", "top"}));
+  EXPECT_FALSE(fs::exists(o / "b"));
+  EXPECT_FALSE(fs::exists(o / "top"));
+  EXPECT_FALSE(fs::exists(o / ".sylva" / "b.json"));
+  EXPECT_FALSE(fs::exists(o / ".sylva" / "top.json"));
+  EXPECT_TRUE(fs::exists(o / ".sylva" / "a.json"));
+  EXPECT_EQ(out("b2"), "B\n");
+  EXPECT_EQ(test::read_file(o / "notes.txt"), "mine\n");
+  EXPECT_TRUE(fs::exists(o / "by_hand"));
+  std::vector<std::string> entries;
+  for (const auto& e : fs::directory_iterator(o)) entries.push_back(e.path().filename().string());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{".sylva", "a", "ab", "b2", "by_hand", "notes.txt"}));
+  // The records forgot them: the next build removes nothing, and `top` comes back when declared.
+  EXPECT_TRUE(build(load(renamed)).removed.empty());
+  auto back = build(load(chain(1)));
+  EXPECT_EQ(back.removed, (std::vector<std::string>{"b2"}));
+  EXPECT_EQ(out("top"), out("a") + "B\n!");
 }
 
 TEST_F(BuildTest, DryRunRunsNothingAndPredicts) {

@@ -66,6 +66,20 @@ TEST_F(CliTest, BuildJsonSummaryCountsBuiltThenCached) {
   auto j2 = nlohmann::json::parse(run({"build", r, "--json"}).out);
   EXPECT_EQ(j2["built"], 0);
   EXPECT_EQ(j2["cached"], 2);
+  EXPECT_EQ(j2["removed"], nlohmann::json::array());
+  // Node b dropped from the recipe: its directory goes, and the build says so.
+  const auto r2 = recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n");
+  const std::string b_dir = (dir_ / "out" / "r" / "b").string() + "/";
+  auto dry = run({"build", r2, "--dry-run"});
+  EXPECT_NE(dry.err.find("sylva: would remove " + b_dir + " (node 'b' is no longer in the recipe)\n"),
+            std::string::npos)
+      << dry.err;
+  auto c3 = run({"build", r2, "--json"});
+  ASSERT_EQ(c3.code, 0) << c3.err;
+  EXPECT_EQ(nlohmann::json::parse(c3.out)["removed"], nlohmann::json::array({"b"}));
+  EXPECT_NE(c3.err.find("sylva: removed " + b_dir + " (node 'b' is no longer in the recipe)\n"), std::string::npos)
+      << c3.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "r" / "b"));
 }
 
 TEST_F(CliTest, RecipeErrorExitsTwoWithPositionAndCaret) {
