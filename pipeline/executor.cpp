@@ -661,7 +661,8 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
   std::set<std::string> declared;
   for (const auto& nd : recipe.nodes) declared.insert(nd.name);
   for (const std::string& name : digests.published_nodes()) {
-    if (declared.contains(name)) continue;
+    // A damaged records file must not name a path outside the node directories.
+    if (declared.contains(name) || !is_valid_name(name) || name.front() == '.') continue;
     summary.removed.push_back(name);
     if (options.dry_run) continue;
     withdraw(env, digests, name, env.out_dir / name);

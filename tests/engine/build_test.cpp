@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "pipeline/cache.h"
+#include "pipeline/digest_cache.h"
 #include "pipeline/executor.h"
 #include "pipeline/recipe_loader.h"
 #include "tests/engine/test_stages.h"
@@ -387,6 +388,19 @@ TEST_F(BuildTest, NodesNoLongerInTheRecipeLoseTheirOutputs) {
   auto back = build(load(chain(1)));
   EXPECT_EQ(back.removed, (std::vector<std::string>{"b2"}));
   EXPECT_EQ(out("top"), out("a") + "B\n!");
+  // Records naming no node directory (a damaged or forged records file) remove nothing.
+  {
+    DigestCache records(fs_, o / ".sylva" / "digests");
+    records.load();
+    const auto a = records.published("a");
+    ASSERT_TRUE(a);
+    for (const char* name : {"..", ".sylva", "../r", "a/b", ""}) records.set_published(name, *a);
+    ASSERT_TRUE(records.save());
+  }
+  auto forged = build(load(chain(1)));
+  EXPECT_TRUE(forged.removed.empty()) << ::testing::PrintToString(forged.removed);
+  EXPECT_TRUE(fs::exists(o / ".sylva" / "a.json"));
+  EXPECT_TRUE(fs::exists(o / "notes.txt"));
 }
 
 TEST_F(BuildTest, DryRunRunsNothingAndPredicts) {
