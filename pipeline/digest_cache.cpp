@@ -4,10 +4,10 @@
 // is most of sylva's bookkeeping bytes per node). Paths are kept as given (the recipe loader
 // resolves them), so one file reached by two spellings is simply recorded twice.
 #include "pipeline/digest_cache.h"
-#include <set>
 
 #include <algorithm>
 #include <cstring>
+#include <set>
 #include <vector>
 
 namespace sylva {

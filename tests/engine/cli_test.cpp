@@ -77,7 +77,8 @@ TEST_F(CliTest, BuildJsonSummaryCountsBuiltThenCached) {
   auto c3 = run({"build", r2, "--json"});
   ASSERT_EQ(c3.code, 0) << c3.err;
   EXPECT_EQ(nlohmann::json::parse(c3.out)["removed"], nlohmann::json::array({"b"}));
-  EXPECT_NE(c3.err.find("sylva: removed " + b_dir + " (node 'b' is no longer in the recipe)\n"), std::string::npos)
+  EXPECT_NE(c3.err.find("sylva: removed " + b_dir + " (node 'b' is no longer in the recipe)\n"),
+            std::string::npos)
       << c3.err;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "r" / "b"));
 }
