@@ -3,7 +3,7 @@
 // and of the calling thread, with the trees and primitives drawn per species and level.
 //   bench_forest_view out/forest_celba/forest/instances.json [--view NAME]... [--msaa N]
 //     [--supersample K] [--width W --height H] [--exact-impostors 1] [--judge-parallax 1] [--out DIR]
-//     [--repeat N] [--hidden-discard 0|1] [--prepare 0|1]
+//     [--repeat N] [--hidden-discard 0|1] [--prepare 0|1] [--full SPECIES=FULL.glb]...
 // --exact-impostors 1 draws every impostor with the reference shader's 16 parallax steps (the
 // exact view the parallax table is judged against); --judge-parallax 1 also renders that exact
 // view and judges the parallax table's view against it (forest lodcheck's judgement). --repeat N
@@ -13,7 +13,9 @@
 // impostor_hidden_discard false: the same pixels, for comparisons). The chosen views' levels and
 // impostor maps are uploaded first ("upload", ForestView::prepare, as `sylva render` and verify
 // do); --prepare 0 leaves each upload to the first view that draws it (its "render" then
-// includes it).
+// includes it). --full SPECIES=FILE (every species: each lod node's full.glb) also counts what
+// each view would draw with every tree at full detail (the same culling, no LOD; counted, not
+// drawn) and prints the LOD view's primitive reduction, the figure Zhang et al. report.
 #include <sys/resource.h>
 
 #include <algorithm>
@@ -29,6 +31,7 @@
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
+#include "libs/render/gltf_scene.h"
 #include "libs/render/rasteriser_threads.h"
 
 namespace {
@@ -61,7 +64,7 @@ int main(int argc, char** argv) {
         stderr,
         "usage: %s instances.json [--view NAME]... [--msaa N] [--supersample K] [--width W --height H]\n"
         "  [--exact-impostors 1] [--judge-parallax 1] [--out DIR] [--repeat N] [--hidden-discard 0|1]\n"
-        "  [--prepare 0|1]\n",
+        "  [--prepare 0|1] [--full SPECIES=FULL.glb]...\n",
         argv[0]);
     return 2;
   }
@@ -72,7 +75,9 @@ int main(int argc, char** argv) {
   bool exact = false;  // every impostor with the reference shader's 16 steps, not the parallax table
   bool judge = false;  // judge the parallax table's view against the exact one
   std::string out;
+  std::vector<std::string> full;  // SPECIES=FILE
   for (int i = 2; i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--full")) full.push_back(argv[i + 1]);
     if (!std::strcmp(argv[i], "--view")) views.push_back(argv[i + 1]);
     if (!std::strcmp(argv[i], "--msaa")) msaa = std::atoi(argv[i + 1]);
     if (!std::strcmp(argv[i], "--out")) out = argv[i + 1];
@@ -95,6 +100,19 @@ int main(int argc, char** argv) {
   }
   Lap lap;
   render::ForestView fv = render::ForestView::load(file);
+  for (const std::string& f : full) {
+    const std::size_t eq = f.find('=');
+    const auto& species = fv.forest().species;
+    const auto it = std::find_if(species.begin(), species.end(), [&](const auto& sp) {
+      return eq != std::string::npos && sp.name == f.substr(0, eq);
+    });
+    if (it == species.end()) {
+      std::fprintf(stderr, "--full %s: error: expected SPECIES=FILE with a species of the forest\n",
+                   f.c_str());
+      return 2;
+    }
+    fv.set_full_detail(std::size_t(it - species.begin()), render::load_gltf_scene(f.substr(eq + 1)));
+  }
   lap.print("load");
   render::CameraSet set = render::load_camera_set(file.parent_path() / "cameras.yaml");
   auto renderer = render::Renderer::create_headless();
@@ -155,6 +173,15 @@ int main(int argc, char** argv) {
     }
     std::printf("  trees %zu of %zu, impostors %zu, primitives %zu\n", st.trees_drawn, st.trees, st.impostors,
                 st.primitives);
+    if (!full.empty()) {
+      render::ForestViewOptions every_tree_full;
+      every_tree_full.full_detail = true;
+      render::ForestViewStats fs;
+      (void)fv.view_scene(c, float(options.width) / float(options.height), every_tree_full, fs);
+      const double drawn = 100.0 * double(st.primitives) / double(fs.primitives);
+      std::printf("  full detail: trees %zu, primitives %zu; the LOD view draws %.3g %% of them (-%.6g %%)\n",
+                  fs.trees_drawn, fs.primitives, drawn, 100.0 - drawn);
+    }
     std::printf("  impostors by parallax steps:");
     for (const auto& [steps, n] : st.impostor_steps) std::printf(" %d: %zu", steps, n);
     std::printf("\n");
