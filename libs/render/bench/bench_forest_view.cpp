@@ -111,7 +111,12 @@ int main(int argc, char** argv) {
                    f.c_str());
       return 2;
     }
-    fv.set_full_detail(std::size_t(it - species.begin()), render::load_gltf_scene(f.substr(eq + 1)));
+    try {
+      fv.set_full_detail(std::size_t(it - species.begin()), render::load_gltf_scene(f.substr(eq + 1)));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "--full %s: %s\n", f.c_str(), e.what());
+      return 1;
+    }
   }
   lap.print("load");
   render::CameraSet set = render::load_camera_set(file.parent_path() / "cameras.yaml");
