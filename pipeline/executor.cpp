@@ -261,6 +261,11 @@ std::optional<FileInfo> publish(const BuildEnv& env, DigestCache& digests, const
   return st;
 }
 
+// Where node `node`'s explain record (the action it was last built from) lives in the out dir.
+fs::path explain_record_path(const BuildEnv& env, const std::string& node) {
+  return env.out_dir / ".sylva" / (node + ".json");
+}
+
 // A node that could not be (re)built must not leave its old outputs under its name: they
 // belong to another action. Moved aside in one rename, then deleted.
 void withdraw(const BuildEnv& env, DigestCache& digests, const std::string& node, const fs::path& node_dir) {
@@ -494,7 +499,7 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
       auto prev = digests.published(node.name);
       PublishedNode p{tag, result, dir, prev ? prev->record_key : std::string()};
       if (p.record_key != r.key) {
-        const fs::path record = env.out_dir / ".sylva" / (node.name + ".json");
+        const fs::path record = explain_record_path(env, node.name);
         std::string werr;
         if (env.fs.write_atomic(record, action->to_json(), /*durable=*/false, &werr))
           p.record_key = r.key;
@@ -666,7 +671,7 @@ BuildSummary run_build(const Recipe& recipe, const BuildEnv& env, const BuildOpt
     summary.removed.push_back(name);
     if (options.dry_run) continue;
     withdraw(env, digests, name, env.out_dir / name);
-    env.fs.remove(env.out_dir / ".sylva" / (name + ".json"));
+    env.fs.remove(explain_record_path(env, name));
   }
   std::string why;
   if (!options.dry_run) digests.settle_links();
@@ -726,7 +731,7 @@ std::vector<std::string> explain_node(const Recipe& recipe, const BuildEnv& env,
       continue;
     }
     if (i != target) continue;
-    auto text = env.fs.read(env.out_dir / ".sylva" / (node + ".json"), nullptr, kMaxActionBytes);
+    auto text = env.fs.read(explain_record_path(env, node), nullptr, kMaxActionBytes);
     auto before = text ? ActionRecord::from_json(*text) : std::nullopt;
     if (!before) {
       lines.push_back("'" + node + "' will build: no earlier build of it is recorded and action " +

@@ -290,29 +290,33 @@ Scene ForestView::view_scene(const Camera& camera, float aspect, const ForestVie
   return scene;
 }
 
-void ForestView::prepare(Renderer& renderer, std::span<const Camera> cameras, const RenderOptions& options,
-                         const ForestViewOptions& view) const {
+std::vector<Scene> ForestView::prepare_scenes(Renderer& renderer, std::span<const Camera> cameras,
+                                              const RenderOptions& options, const ForestViewOptions& view,
+                                              std::vector<ForestViewStats>& stats) const {
   // A view's scene names its levels' geometry and its atlases, which the renderer keeps: each
   // call uploads what the views before it did not use.
   const float aspect = float(options.width) / float(options.height);
-  for (const Camera& c : cameras) {
-    ForestViewStats unused;
-    renderer.prepare(view_scene(c, aspect, view, unused), options);
+  std::vector<Scene> scenes;
+  stats.assign(cameras.size(), {});
+  for (std::size_t i = 0; i < cameras.size(); ++i) {
+    scenes.push_back(view_scene(cameras[i], aspect, view, stats[i]));
+    renderer.prepare(scenes.back(), options);
   }
+  return scenes;
+}
+
+void ForestView::prepare(Renderer& renderer, std::span<const Camera> cameras, const RenderOptions& options,
+                         const ForestViewOptions& view) const {
+  std::vector<ForestViewStats> unused;
+  prepare_scenes(renderer, cameras, options, view, unused);
 }
 
 std::vector<image::Image> ForestView::render(Renderer& renderer, std::span<const Camera> cameras,
                                              const RenderOptions& options, const ForestViewOptions& view,
                                              std::vector<ForestViewStats>* stats) {
-  // Each view's scene is built once: all are handed to the renderer to upload (what prepare()
-  // does) before the first is drawn.
-  const float aspect = float(options.width) / float(options.height);
-  std::vector<Scene> scenes;
-  std::vector<ForestViewStats> st(cameras.size());
-  for (std::size_t i = 0; i < cameras.size(); ++i) {
-    scenes.push_back(view_scene(cameras[i], aspect, view, st[i]));
-    renderer.prepare(scenes.back(), options);
-  }
+  // Each view's scene is built once, and all are uploaded before the first is drawn.
+  std::vector<ForestViewStats> st;
+  const std::vector<Scene> scenes = prepare_scenes(renderer, cameras, options, view, st);
   std::vector<image::Image> out;
   for (std::size_t i = 0; i < cameras.size(); ++i)
     out.push_back(renderer.render(scenes[i], cameras[i], options));

@@ -98,6 +98,11 @@ class ForestView {
                    ForestViewStats& stats) const;
 
  private:
+  // Each camera's scene (its stats in `stats`), handed to renderer.prepare() as it is built.
+  std::vector<Scene> prepare_scenes(Renderer& renderer, std::span<const Camera> cameras,
+                                    const RenderOptions& options, const ForestViewOptions& view,
+                                    std::vector<ForestViewStats>& stats) const;
+
   forest::Forest forest_;
   // The scenes are shared and never changed once stored (a setter stores a new one): every view's
   // meshes name them in Mesh::shared_geometry, so a renderer keeps their buffers uploaded.

@@ -16,7 +16,6 @@
 #include <cctype>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -813,6 +812,28 @@ void patch_glb(std::string& bytes) {
   bytes = std::move(out);
 }
 
+// The bytes of `path` if it is a regular file (a directory, FIFO or device has no size to read);
+// else nullopt and `why`: "no such file", "not a regular file" or "cannot open file".
+std::optional<std::string> regular_file_bytes(const std::filesystem::path& path, std::string* why) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    *why = "no such file";
+    return std::nullopt;
+  }
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    *why = "not a regular file";
+    return std::nullopt;
+  }
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    *why = "cannot open file";
+    return std::nullopt;
+  }
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
 }  // namespace
 
 Scene load_gltf_scene(const std::filesystem::path& path) {
@@ -820,34 +841,25 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
   auto fail = [&](const std::string& why) -> SceneLoadError {
     return SceneLoadError(file + ": error: " + why);
   };
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw fail("no such file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw fail("not a regular file");
-  std::string bytes;
-  {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw fail("cannot open file");
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    bytes = ss.str();
-  }
-  return load_gltf_scene_from_memory(std::move(bytes), file, path.parent_path());
+  std::string why;
+  auto bytes = regular_file_bytes(path, &why);
+  if (!bytes) throw fail(why);
+  return load_gltf_scene_from_memory(std::move(*bytes), file, path.parent_path());
 }
 
 namespace {
 
-// tinygltf's own file reader sizes its buffer from tellg(), which is -1 for a directory that an
-// external uri may name (an allocation of 2^63 bytes). This one reads regular files only.
+// tinygltf's file reader for external uris. Its own sizes its buffer from tellg(), which is -1
+// for a directory that a uri may name (an allocation of 2^63 bytes).
 bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  std::error_code ec;
-  std::ifstream f;
-  if (std::filesystem::is_regular_file(path, ec)) f.open(path, std::ios::binary);
-  if (!f) {
-    if (err) *err += "cannot read '" + path + "' (not a readable regular file)\n";
+  std::string why;
+  auto bytes = regular_file_bytes(path, &why);
+  if (!bytes) {
+    if (err) *err += "cannot read '" + path + "' (" + why + ")\n";
     return false;
   }
-  out->assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  return !f.bad();
+  out->assign(bytes->begin(), bytes->end());
+  return true;
 }
 
 }  // namespace
