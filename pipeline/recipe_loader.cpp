@@ -379,12 +379,13 @@ class ParamChecker {
   }
 
   static std::string items_text(const ParamSpec& s) {
+    auto items = [](std::size_t n) { return std::to_string(n) + (n == 1 ? " item" : " items"); };
     if (s.min_items && s.max_items) {
-      if (*s.min_items == *s.max_items) return "exactly " + std::to_string(*s.min_items) + " items";
-      return std::to_string(*s.min_items) + " to " + std::to_string(*s.max_items) + " items";
+      if (*s.min_items == *s.max_items) return "exactly " + items(*s.min_items);
+      return std::to_string(*s.min_items) + " to " + items(*s.max_items);
     }
-    if (s.min_items) return "at least " + std::to_string(*s.min_items) + " items";
-    return "at most " + std::to_string(*s.max_items) + " items";
+    if (s.min_items) return "at least " + items(*s.min_items);
+    return "at most " + items(*s.max_items);
   }
 
   bool in_range(const ParamSpec& spec, double v, const RawNode& raw, const std::string& what) {
@@ -973,7 +974,7 @@ class Loader {
                            : in.min == in.max ? std::to_string(in.min)
                                               : std::to_string(in.min) + " to " + std::to_string(in.max);
         err(where, "node '" + node.name + "' (stage '" + node.stage->info().name + "') needs " + want +
-                       " input" + (in.max == 1 && in.min == 1 ? "" : "s") + ", got " + std::to_string(count));
+                       " input" + ((in.max < 0 ? in.min : in.max) == 1 ? "" : "s") + ", got " + std::to_string(count));
       }
       for (const auto& up : node.needs) {
         const NodeDecl* u = recipe_.find(up);

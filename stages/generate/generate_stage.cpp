@@ -51,7 +51,7 @@ class GenerateStage : public Stage {
             .describe("longest segment between skeleton nodes (m); 0 = no extra nodes (Nystad 4.3.2)"),
         Param::real("leaf_density", 1.0)
             .range(0, 4)
-            .describe("multiplies the preset's Leaves (leaf or needle count)"),
+            .describe("multiplies the preset's Leaves (leaf or needle count) and its leaf-area-index target"),
         Param::integer("texture_size", 512)
             .range(16, 4096)
             .require_power_of_two()

@@ -70,6 +70,8 @@ StageInfo pack_stage_info() {
           .describe("choose each band's level by image error measured with lodcheck's renderer and views "
                     "against the lod input's full.glb (false: the error model's switch distances)"),
       Param::real_list("measure_azimuths_deg", Value::List{0.0, 90.0})
+          .range(-360, 360)
+          .items(1, std::nullopt)
           .describe("the views of the measurement: azimuths in degrees (lodcheck's default 0 and 90)"),
       Param::integer("measure_supersample", 2)
           .range(1, 4)

@@ -86,13 +86,8 @@ class PackStage : public Stage {
     check::ViewCheckOptions view_options;
     if (measure) {
       view_options.azimuths_deg.clear();
-      for (const Value& a : ctx.param("measure_azimuths_deg").as_list()) {
-        const double az = a.as_real();
-        if (!(az >= -360 && az <= 360))
-          throw StageError("`measure_azimuths_deg` entry " + std::to_string(az) + " is not in [-360, 360]");
-        view_options.azimuths_deg.push_back(az);
-      }
-      if (view_options.azimuths_deg.empty()) throw StageError("`measure_azimuths_deg` is empty");
+      // The schema holds the azimuths to [-360, 360] and at least one (pack_info.cpp).
+      for (const Value& a : ctx.param("measure_azimuths_deg").as_list()) view_options.azimuths_deg.push_back(a.as_real());
       view_options.supersample = static_cast<int>(ctx.integer("measure_supersample"));
       view_options.max_failing_fraction = ctx.real("measure_max_failing_fraction");
       view_options.max_coverage_error = ctx.real("measure_max_coverage_error");

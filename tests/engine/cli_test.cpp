@@ -83,6 +83,26 @@ TEST_F(CliTest, BuildJsonSummaryCountsBuiltThenCached) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "r" / "b"));
 }
 
+TEST_F(CliTest, TargetTakesOneNodeSoTheRecipeMayFollowIt) {
+  const auto r = recipe(
+      "version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: text\n    with: { text: b }\n"
+      "  c:\n    stage: concat\n"
+      "    needs: [a, b]\n");
+  auto c = run({"build", "--target", "a", r, "--json"});
+  ASSERT_EQ(c.code, 0) << c.err;
+  const auto j = nlohmann::json::parse(c.out);
+  EXPECT_EQ(j["built"], 1);
+  EXPECT_EQ(j["nodes"].size(), 1u);
+  EXPECT_EQ(j["nodes"][0]["name"], "a");
+  // Repeated, each --target adds its node.
+  auto c2 = run({"build", r, "--target", "a", "--target", "b", "--json"});
+  ASSERT_EQ(c2.code, 0) << c2.err;
+  const auto j2 = nlohmann::json::parse(c2.out);
+  EXPECT_EQ(j2["nodes"].size(), 2u);
+  EXPECT_EQ(j2["built"], 1);
+  EXPECT_EQ(j2["cached"], 1);
+}
+
 TEST_F(CliTest, RecipeErrorExitsTwoWithPositionAndCaret) {
   const auto r = recipe("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { count: x }\n");
   auto c = run({"build", r});

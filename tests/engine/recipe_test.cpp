@@ -95,7 +95,7 @@ TEST_F(RecipeTest, MissingInputNode) {
   EXPECT_EQ(errors(),
             "r.yaml:8:13: error: missing input: no node named 'bsae'; did you mean 'base'?\n"
             "r.yaml:8:19: error: missing input: no node matches 'lod_*'\n"
-            "r.yaml:8:12: error: node 'b' (stage 'concat') needs at least 1 inputs, got 0\n");
+            "r.yaml:8:12: error: node 'b' (stage 'concat') needs at least 1 input, got 0\n");
 }
 
 TEST_F(RecipeTest, MissingInputFile) {
