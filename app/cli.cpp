@@ -334,7 +334,8 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   b->add_option("recipe", build.recipe, "recipe file");
   b->add_option("-j,--jobs", build.jobs, "parallel nodes (default: all cores)")->check(CLI::Range(1, 1024));
   // One node per --target, so that `--target a recipe.yaml` keeps recipe.yaml the recipe.
-  b->add_option("--target", build.targets, "build only this node and what it needs (repeatable; globs allowed)")
+  b->add_option("--target", build.targets,
+                "build only this node and what it needs (repeatable; globs allowed)")
       ->allow_extra_args(false);
   b->add_flag("-k,--keep-going", build.keep_going, "build everything that does not depend on a failure");
   b->add_flag("-n,--dry-run", build.dry_run, "show what would build; run nothing");

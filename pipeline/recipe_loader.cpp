@@ -974,7 +974,8 @@ class Loader {
                            : in.min == in.max ? std::to_string(in.min)
                                               : std::to_string(in.min) + " to " + std::to_string(in.max);
         err(where, "node '" + node.name + "' (stage '" + node.stage->info().name + "') needs " + want +
-                       " input" + ((in.max < 0 ? in.min : in.max) == 1 ? "" : "s") + ", got " + std::to_string(count));
+                       " input" + ((in.max < 0 ? in.min : in.max) == 1 ? "" : "s") + ", got " +
+                       std::to_string(count));
       }
       for (const auto& up : node.needs) {
         const NodeDecl* u = recipe_.find(up);

@@ -53,7 +53,9 @@ StageInfo mesh_stage_info() {
       Param::integer("draco_position_bits", 14).range(8, 30).describe("Draco quantisation of positions"),
       Param::integer("draco_normal_bits", 10).range(4, 30).describe("Draco quantisation of normals"),
       Param::integer("draco_texcoord_bits", 12).range(4, 30).describe("Draco quantisation of uvs"),
-      Param::integer("draco_generic_bits", 12).range(4, 30).describe("Draco quantisation of generic attributes (none written today)"),
+      Param::integer("draco_generic_bits", 12)
+          .range(4, 30)
+          .describe("Draco quantisation of generic attributes (none written today)"),
       Param::integer("draco_level", 7)
           .range(0, 10)
           .describe("Draco compression level (0 fastest, 10 smallest)"),

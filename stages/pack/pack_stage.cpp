@@ -87,7 +87,8 @@ class PackStage : public Stage {
     if (measure) {
       view_options.azimuths_deg.clear();
       // The schema holds the azimuths to [-360, 360] and at least one (pack_info.cpp).
-      for (const Value& a : ctx.param("measure_azimuths_deg").as_list()) view_options.azimuths_deg.push_back(a.as_real());
+      for (const Value& a : ctx.param("measure_azimuths_deg").as_list())
+        view_options.azimuths_deg.push_back(a.as_real());
       view_options.supersample = static_cast<int>(ctx.integer("measure_supersample"));
       view_options.max_failing_fraction = ctx.real("measure_max_failing_fraction");
       view_options.max_coverage_error = ctx.real("measure_max_coverage_error");

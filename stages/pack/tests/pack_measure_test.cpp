@@ -22,9 +22,9 @@
 #include "pipeline/lazy_stage.h"
 #include "pipeline/recipe_loader.h"
 #include "pipeline/registry.h"
-#include "stages/pack/pack_info.h"
 #include "stages/pack/level_meter.h"
 #include "stages/pack/pack_core.h"
+#include "stages/pack/pack_info.h"
 #include "stages/pack/pack_stage.h"
 #include "tests/support/fake_stage_context.h"
 #include "tests/support/gltf_fixtures.h"
@@ -536,9 +536,10 @@ TEST(PackMeasureStage, AzimuthsOutOfRangeOrNoneAreRecipeErrors) {
   // The loader's messages for a pack node with these azimuths (the node has no inputs, which is
   // an error of its own every time).
   auto errors = [&](const std::string& azimuths) {
-    test::write_file(tmp.path() / "r.yaml", "version: 1\nname: r\nnodes:\n  p:\n    stage: pack\n"
-                                            "    with: { species: [a], measure_azimuths_deg: " +
-                                                azimuths + " }\n");
+    test::write_file(tmp.path() / "r.yaml",
+                     "version: 1\nname: r\nnodes:\n  p:\n    stage: pack\n"
+                     "    with: { species: [a], measure_azimuths_deg: " +
+                         azimuths + " }\n");
     Diagnostics diags;
     EXPECT_FALSE(load_recipe(tmp.path() / "r.yaml", registry, fs, diags).has_value());
     std::string s = diags.str();
@@ -549,13 +550,15 @@ TEST(PackMeasureStage, AzimuthsOutOfRangeOrNoneAreRecipeErrors) {
   const std::string no_inputs = "r.yaml:4:3: error: node 'p' (stage 'pack') needs at least 1 input, got 0\n";
   EXPECT_EQ(errors("[0, 90]").find("measure_azimuths_deg"), std::string::npos) << errors("[0, 90]");
   EXPECT_NE(errors("[0, 90]").find(no_inputs), std::string::npos) << errors("[0, 90]");
-  EXPECT_NE(errors("[0, 400]").find("r.yaml:6:53: error: value out of range: parameter 'measure_azimuths_deg'[1] "
-                                    "must be in [-360, 360], got 400\n"),
+  EXPECT_NE(errors("[0, 400]")
+                .find("r.yaml:6:53: error: value out of range: parameter 'measure_azimuths_deg'[1] "
+                      "must be in [-360, 360], got 400\n"),
             std::string::npos)
       << errors("[0, 400]");
-  EXPECT_NE(errors("[]").find("r.yaml:6:49: error: parameter 'measure_azimuths_deg' must have at least 1 item, "
-                              "got 0\n"),
-            std::string::npos)
+  EXPECT_NE(
+      errors("[]").find("r.yaml:6:49: error: parameter 'measure_azimuths_deg' must have at least 1 item, "
+                        "got 0\n"),
+      std::string::npos)
       << errors("[]");
 }
 
