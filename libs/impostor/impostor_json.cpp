@@ -184,7 +184,7 @@ std::string write_impostor_json(const ImpostorInfo& info) {
     if (!c.lower_cutout.empty()) card["lower_cutout_uv"] = polygon(c.lower_cutout);
     cards.push_back(std::move(card));
   }
-  j["glb"] = {{"file", "impostor.glb"}, {"triangles", info.glb_triangles}, {"cards", cards}};
+  j["glb"] = {{"file", info.glb_file}, {"triangles", info.glb_triangles}, {"cards", cards}};
   return j.dump(2) + "\n";
 }
 
@@ -245,6 +245,7 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
   info.source_file = r.string(src, "file", "source");
   info.source_level = r.integer(src, "level", "source", -1, 64);
   const Json& glb = r.at(j, "glb", "");
+  info.glb_file = r.string(glb, "file", "glb");
   const Json& tri = r.at(glb, "triangles", "glb");
   if (!tri.is_number_unsigned()) r.fail("'glb.triangles' must be a non-negative integer");
   info.glb_triangles = tri.get<std::size_t>();

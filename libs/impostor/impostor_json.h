@@ -77,7 +77,9 @@ struct ImpostorInfo {
   std::string source_type;  // "mesh" or "lod"
   std::string source_file;  // e.g. "lod3.glb"
   int source_level = -1;    // LOD level index, -1 for a mesh
-  // impostor.glb.
+  // The cards' glTF: its file name beside impostor.json (the impostor stage's impostor.glb; a
+  // forest renames it with the species), its triangles and its cards.
+  std::string glb_file = "impostor.glb";
   std::vector<Card> cards;
   std::size_t glb_triangles = 0;
   friend bool operator==(const ImpostorInfo&, const ImpostorInfo&) = default;

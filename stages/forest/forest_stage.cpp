@@ -424,8 +424,9 @@ class ForestStage final : public Stage {
         ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
         ctx.write_output(in.impostor.source.bin_name, in.impostor.bin);
         if (in.octahedral) {
-          ctx.write_output(f.species[s].levels.back().octahedral,
-                           impostor::write_impostor_json(in.impostor_info));
+          impostor::ImpostorInfo info = in.impostor_info;
+          info.glb_file = f.species[s].levels.back().file;  // its cards' glTF here
+          ctx.write_output(f.species[s].levels.back().octahedral, impostor::write_impostor_json(info));
           copy(ctx, in.color_map->path, in.impostor_info.color_map);
           copy(ctx, in.normal_depth_map->path, in.impostor_info.normal_depth_map);
         }

@@ -43,6 +43,7 @@ ImpostorInfo sample() {
   c.lower_cutout = {{0.45, 0.9}, {0.55, 0.9}, {0.55, 0.6}, {0.45, 0.6}};
   i.cards.push_back(c);
   i.glb_triangles = 2;
+  i.glb_file = "oak_impostor.gltf";  // not the default impostor.glb: the round trip must carry it
   return i;
 }
 
@@ -60,6 +61,7 @@ TEST(ImpostorJson, RoundTripsAndIsDeterministic) {
   EXPECT_EQ(j.at("depth_encoding").get<std::string>(), kDepthEncoding);
   EXPECT_DOUBLE_EQ(j.at("error").at("epsilon_m").get<double>(), 0.01 + 0.075 + 0.02);
   EXPECT_EQ(j.at("kind").get<std::string>(), "hemi_octahedral");
+  EXPECT_EQ(j.at("glb").at("file").get<std::string>(), "oak_impostor.gltf");
 }
 
 // Replaces the value at a JSON pointer (or removes it when `value` is discarded) and parses.

@@ -402,6 +402,8 @@ TEST_F(ForestOutput, OctahedralImpostorIsCopiedForTheShader) {
   const impostor::ImpostorInfo copy = impostor::read_impostor_json((out / "a_impostor.json").string());
   EXPECT_EQ(copy.color_map, "a_impostor_color.png");
   EXPECT_EQ(copy.normal_depth_map, "a_impostor_normal_depth.png");
+  EXPECT_EQ(copy.glb_file, "a_impostor.gltf");  // the cards' file in the forest, not impostor.glb
+  EXPECT_TRUE(fs::exists(out / copy.glb_file));
   EXPECT_EQ(sylva::test::read_file(out / copy.color_map),
             sylva::test::read_file(dir_ / "imp_a/impostor_color.png"));
   EXPECT_EQ(sylva::test::read_file(out / copy.normal_depth_map),
