@@ -1,5 +1,5 @@
-// What the commands that work on a recipe's built outputs (`sylva verify`, `sylva lodcheck`, `sylva impostorcheck`)
-// share: the global options they inherit from `sylva`, and building some targets of a recipe
+// What the commands that work on a recipe's built outputs (`sylva verify`, `sylva lodcheck`, `sylva
+// impostorcheck`) share: the global options they inherit from `sylva`, and building some targets of a recipe
 // with the real cache, a progress printer and Ctrl-C, as `sylva build` does.
 #pragma once
 
