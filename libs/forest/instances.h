@@ -14,9 +14,9 @@
 // Contract: write_instances(forest) gives deterministic bytes (fixed key order; reals in
 // shortest round-trip form); read_instances(write_instances(f)) == f, bit for bit, for inline
 // and binary tables alike. The binary table (instances.bin, when Forest::binary_table is set)
-// holds the instances as little-endian records of kRecordBytes (layout in docs/formats.md),
-// instances.json then carries everything else. parse_* check every field's presence, type and
-// range and throw FormatError("<source>: error: <what>") on the first problem; never crash.
+// holds the instances as little-endian records of kRecordBytes (layout in docs/stages/forest.md
+// "instances.json"), instances.json then carries everything else. parse_* check every field's presence, type
+// and range and throw FormatError("<source>: error: <what>") on the first problem; never crash.
 #pragma once
 
 #include <array>

@@ -1,4 +1,4 @@
-// <species>.lod.json (issue 14; docs/formats.md "Pack lod.json"): the engine-neutral description
+// <species>.lod.json (issue 14; docs/stages/pack.md "Layout"): the engine-neutral description
 // of a species' shipped LOD chain, for engines that do not read MSFT_lod. One writer, here.
 //
 //   {"format": "sylva-pack-lod", "version": 4, "species": "oak", "chain": "oak.glb",

@@ -1,4 +1,4 @@
-// pack/manifest.json (issue 14; docs/formats.md "Pack manifest"; docs/stages/pack.md): the one
+// pack/manifest.json (issue 14; docs/stages/pack.md "manifest.json"): the one
 // reader and writer of an asset pack's table of contents, used by stage `pack` and by
 // `sylva pack diff`.
 //

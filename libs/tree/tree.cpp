@@ -37,6 +37,11 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
       fail("materials: cell coverage " + std::to_string(i) + " must be in [0, 1]");
   if (static_cast<unsigned>(m.leaf_kind) > 2) fail("materials: unknown leaf kind");
   auto in01 = [](float v) { return v >= 0 && v <= 1; };
+  // Linear RGB factors (glTF baseColorFactor, which must lie in [0, 1]); NaN fails too.
+  if (!in01(m.bark_color.r) || !in01(m.bark_color.g) || !in01(m.bark_color.b))
+    fail("materials: bark colour components must be in [0, 1]");
+  if (!in01(m.leaf_color.r) || !in01(m.leaf_color.g) || !in01(m.leaf_color.b))
+    fail("materials: leaf colour components must be in [0, 1]");
   if (!in01(m.bark_tint.r) || !in01(m.bark_tint.g) || !in01(m.bark_tint.b))
     fail("materials: bark tint components must be in [0, 1]");
   if (!std::isfinite(m.bark_tint_from_m) || !std::isfinite(m.bark_tint_to_m) ||

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "libs/tree/tests/sample_tree.h"
 
 namespace sylva::tree {
@@ -36,6 +38,12 @@ TEST(Tree, ValidateMessages) {
   t = sample_tree();
   t.needles[0].branch = 7;
   EXPECT_EQ(first_error(t), "needle 0: branch 7 does not exist");
+  t = sample_tree();
+  t.materials.bark_color.g = 2;
+  EXPECT_EQ(first_error(t), "materials: bark colour components must be in [0, 1]");
+  t = sample_tree();
+  t.materials.leaf_color.b = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(first_error(t), "materials: leaf colour components must be in [0, 1]");
 }
 
 TEST(Tree, AttachmentPointAndClone) {
