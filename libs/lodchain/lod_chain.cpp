@@ -208,7 +208,7 @@ LodChain parse_lod_chain(const std::string& text, const std::string& source_name
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse_error, and out_of_range for a number like 1e999
     r.fail(std::string("invalid JSON: ") + e.what());
   }
   LodChain c;

@@ -130,6 +130,15 @@ TEST(LodChain, NotJsonOrNotAnObject) {
   } catch (const LodChainFormatError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("x/lod.json: error: invalid JSON: ", 0), 0u);
   }
+  // nlohmann::json throws out_of_range, not parse_error, for a number beyond double (fuzz_lodchain).
+  std::string text = write_lod_chain(sample_chain());
+  text.replace(text.find("12.25"), 5, "1e999");
+  try {
+    parse_lod_chain(text, "x/lod.json");
+    FAIL();
+  } catch (const LodChainFormatError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("x/lod.json: error: invalid JSON: ", 0), 0u) << e.what();
+  }
   EXPECT_EQ(error_after([](nlohmann::json& j) { j = nlohmann::json::array(); }),
             "x/lod.json: error: the top level must be an object");
   try {
