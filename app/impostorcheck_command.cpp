@@ -20,6 +20,7 @@
 #include "app/report_dir.h"
 #include "libs/image/image_io.h"
 #include "libs/impostor/error_model.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/impostor_renderer.h"
 #include "libs/render/renderer.h"
@@ -27,7 +28,6 @@
 #include "pipeline/filesystem.h"
 #include "stages/impostor/check/impostorcheck.h"
 #include "stages/impostor/check/subject.h"
-#include "stages/impostor/source.h"
 
 namespace sylva {
 namespace {
@@ -179,13 +179,12 @@ class ImpostorcheckCommand final : public CliCommand {
         const InputArtifact lod = input_artifact(recipe, built, source);
         const ArtifactFile* summary = lod.file("lod.json");
         if (!summary) return fail("input '" + source + "' has no lod.json");
-        const auto levels = impostor::parse_lod_levels(read_text(summary->path), summary->path.string());
-        const ArtifactFile* last = lod.file(levels.back().file);
-        if (!last)
-          return fail("input '" + source + "' lacks " + levels.back().file + ", which its lod.json lists");
+        const std::string coarsest = lodchain::read_lod_chain(summary->path.string()).levels.back().file;
+        const ArtifactFile* last = lod.file(coarsest);
+        if (!last) return fail("input '" + source + "' lacks " + coarsest + ", which its lod.json lists");
         baseline_scene = render::load_gltf_scene(last->path);
         baseline.scene = &baseline_scene;
-        baseline.label = levels.back().file;
+        baseline.label = coarsest;
       } else {
         const InputArtifact mesh = input_artifact(recipe, built, source);
         std::vector<const ArtifactFile*> files = mesh.files_with_suffix(".glb");

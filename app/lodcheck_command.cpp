@@ -8,10 +8,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,6 +19,7 @@
 #include "app/report_dir.h"
 #include "libs/image/coverage.h"
 #include "libs/image/image_io.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
@@ -39,14 +38,6 @@ namespace fs = std::filesystem;
 constexpr const char* kLodStage = "lod";
 constexpr const char* kForestStage = "forest";
 constexpr const char* kReportsDir = "lodcheck";
-
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw std::runtime_error(p.string() + ": cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // JSON has no infinity: identical images have PSNR +inf.
 nlohmann::json finite_or_null(double v) {
@@ -220,14 +211,14 @@ class LodcheckCommand final : public CliCommand {
     std::optional<StagedReportDir> staged;
     std::vector<lod::ViewCheck> results;
     lod::ChainOptions chain;
-    nlohmann::json summary;
+    lodchain::LodChain summary;  // lod.json (libs/lodchain)
     std::pair<std::size_t, std::size_t> full_counts;
     try {
       // The chain as written, and the full-detail model of the tree it was built from.
       const InputArtifact lod_out = input_artifact(recipe, built, node.name);
       const ArtifactFile* lod_json = lod_out.file("lod.json");
       if (!lod_json) return fail("the node wrote no lod.json");
-      summary = nlohmann::json::parse(read_bytes(lod_json->path));
+      summary = lodchain::read_lod_chain(lod_json->path.string());
       chain = chain_options_from_params(node.params);
       std::string full_glb;
       render::Scene full = full_detail_scene(recipe, built, node, branches_only_, &full_glb);
@@ -242,13 +233,11 @@ class LodcheckCommand final : public CliCommand {
       std::vector<lod::CheckSubject> subjects;
       const std::string cand_label =
           !candidate_label_.empty() ? candidate_label_ : fs::path(candidates_dir_).filename().string();
-      for (const auto& l : summary.at("levels")) {
+      for (const lodchain::Level& l : summary.levels) {
         const std::size_t i = subjects.empty() ? 0 : subjects.back().level + 1;
-        const std::string file = l.at("file").get<std::string>();
-        const ArtifactFile* f = lod_out.file(file);
-        if (!f) return fail("the node wrote no " + file + " though lod.json lists it");
-        lod::CheckSubject s{"sylva", i, l.at("epsilon_m").get<double>(),
-                            l.at("switch_distance_m").get<double>(), render::load_gltf_scene(f->path)};
+        const ArtifactFile* f = lod_out.file(l.file);
+        if (!f) return fail("the node wrote no " + l.file + " though lod.json lists it");
+        lod::CheckSubject s{"sylva", i, l.epsilon_m, l.switch_distance_m, render::load_gltf_scene(f->path)};
         if (branches_only_) s.scene = lod::branches_only(s.scene);
         subjects.push_back(std::move(s));
       }
@@ -441,12 +430,12 @@ class LodcheckCommand final : public CliCommand {
     return failed ? kExitBuildFailed : kExitOk;
   }
 
-  void write_json(const fs::path& file, const NodeDecl& node, const nlohmann::json& summary,
+  void write_json(const fs::path& file, const NodeDecl& node, const lodchain::LodChain& summary,
                   const lod::ChainOptions& chain, const render::Scene& full,
                   const std::vector<lod::ViewCheck>& results) const {
     nlohmann::json j;
     j["node"] = node.name;
-    j["tree"] = summary.value("tree", "");
+    j["tree"] = summary.tree;
     j["camera"] = {{"fov_y_deg", chain.camera.fov_y_rad * 180 / std::numbers::pi},
                    {"height_px", chain.camera.height_px}};
     j["pixel_error_px"] = chain.pixel_error;

@@ -1,8 +1,8 @@
-// The adapter of stage `forest`: reads the species' lod artifacts (lod.json, the level glTF
-// files: their bounding boxes and LOD metadata, never their code), the optional maps and CSV,
-// runs the layout core (layout.h), groups the trees (hierarchy.h), and writes instances.json (+
-// instances.bin), each species' level files, one glTF per tile and level, tileset.json and the
-// forest camera set. docs/stages/forest.md lists every parameter and file.
+// The adapter of stage `forest`: reads the species' lod artifacts (lod.json through libs/lodchain, the level
+// glTF files: their bounding boxes and LOD metadata, never their code), the optional maps and CSV, runs the
+// layout core (layout.h), groups the trees (hierarchy.h), and writes instances.json (+ instances.bin), each
+// species' level files, one glTF per tile and level, tileset.json and the forest camera set.
+// docs/stages/forest.md lists every parameter and file.
 #include "stages/forest/forest_stage.h"
 
 #include <algorithm>
@@ -15,6 +15,7 @@
 
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
+#include "libs/lodchain/lod_chain.h"
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
 #include "stages/forest/forest_info.h"
@@ -59,7 +60,7 @@ std::vector<Point2> points_of(const Value& v, const std::string& what) {
 // One species' lod artifact as the stage reads it.
 struct SpeciesInput {
   std::string node;
-  json lod_json;
+  lodchain::LodChain chain;  // lod.json
   std::vector<LevelSource> levels;
   std::vector<const ArtifactFile*> level_bins, images;
   Box3 bounds;
@@ -141,12 +142,13 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
   const ArtifactFile* lj = in.file("lod.json");
   if (!lj) throw StageError("input '" + in.node + "' has no lod.json");
   try {
-    s.lod_json = json::parse(read_file(lj->path));
-    const json& levels = s.lod_json.at("levels");
-    if (!levels.is_array() || levels.empty())
-      throw StageError("input '" + in.node + "': lod.json has no levels");
-    for (std::size_t i = 0; i < levels.size(); ++i) {
-      const std::string file = levels[i].at("file").get<std::string>();
+    s.chain = lodchain::read_lod_chain(lj->path.string());  // at least one level
+  } catch (const lodchain::LodChainFormatError& e) {
+    throw StageError("input '" + in.node + "': " + e.what());
+  }
+  try {
+    for (std::size_t i = 0; i < s.chain.levels.size(); ++i) {
+      const std::string& file = s.chain.levels[i].file;
       const ArtifactFile* f = in.file(file);
       if (!f) throw StageError("input '" + in.node + "' has no " + file + " though lod.json lists it");
       LevelSource src;
@@ -347,42 +349,37 @@ class ForestStage final : public Stage {
       const SpeciesInput& in = inputs[s];
       Species sp;
       sp.name = names[s];
-      sp.source = in.lod_json.value("tree", "");
+      sp.source = in.chain.tree;
       sp.bounds = in.bounds;
       sp.base_rotation_deg = lp.species[s].base_rotation_deg;
       sp.base_translation_y_m = lp.species[s].base_translation_y_m;
-      try {
-        sp.pixel_error_px = in.lod_json.at("pixel_error_px").get<double>();
-        sp.fov_y_deg = in.lod_json.at("camera").at("fov_y_deg").get<double>();
-        sp.height_px = in.lod_json.at("camera").at("height_px").get<int>();
-        const json& levels = in.lod_json.at("levels");
-        for (std::size_t l = 0; l < levels.size(); ++l)
-          sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
-                               levels[l].at("epsilon_m").get<double>(),
-                               levels[l].at("switch_distance_m").get<double>(),
-                               in.primitives[l],
-                               false,
-                               "",
-                               {}});
-        if (in.has_impostor) {
-          // Distances in impostor.json's terms (its delta and camera) move into the chain's.
-          auto chain_terms = [&](double d) {
-            return impostor_switch_distance_m(d, in.impostor_pixel_error_px, in.impostor_camera.fov_y_rad,
-                                              in.impostor_camera.height_px, sp.pixel_error_px, sp.fov_y_deg,
-                                              sp.height_px);
-          };
-          sp.levels.push_back({names[s] + "_impostor.gltf",
-                               in.impostor_epsilon_m,
-                               chain_terms(in.impostor_switch_distance_m),
-                               in.primitives.back(),
-                               true,
-                               in.octahedral ? names[s] + "_impostor.json" : "",
-                               {}});
-          for (const ParallaxStep& p : in.parallax)
-            sp.levels.back().parallax.push_back({chain_terms(p.from_m), p.steps});
-        }
-      } catch (const json::exception& e) {
-        throw StageError("input '" + in.node + "': lod.json: " + e.what());
+      sp.pixel_error_px = in.chain.pixel_error_px;
+      sp.fov_y_deg = in.chain.camera.fov_y_deg;
+      sp.height_px = in.chain.camera.height_px;
+      for (std::size_t l = 0; l < in.chain.levels.size(); ++l)
+        sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
+                             in.chain.levels[l].epsilon_m,
+                             in.chain.levels[l].switch_distance_m,
+                             in.primitives[l],
+                             false,
+                             "",
+                             {}});
+      if (in.has_impostor) {
+        // Distances in impostor.json's terms (its delta and camera) move into the chain's.
+        auto chain_terms = [&](double d) {
+          return impostor_switch_distance_m(d, in.impostor_pixel_error_px, in.impostor_camera.fov_y_rad,
+                                            in.impostor_camera.height_px, sp.pixel_error_px, sp.fov_y_deg,
+                                            sp.height_px);
+        };
+        sp.levels.push_back({names[s] + "_impostor.gltf",
+                             in.impostor_epsilon_m,
+                             chain_terms(in.impostor_switch_distance_m),
+                             in.primitives.back(),
+                             true,
+                             in.octahedral ? names[s] + "_impostor.json" : "",
+                             {}});
+        for (const ParallaxStep& p : in.parallax)
+          sp.levels.back().parallax.push_back({chain_terms(p.from_m), p.steps});
       }
       f.species.push_back(std::move(sp));
     }

@@ -74,10 +74,8 @@ const Source& source(const impostor::BakeParams& params) {
     const char* dir = std::getenv("SYLVA_BENCH_LOD");
     if (!dir)
       throw std::runtime_error("set SYLVA_BENCH_LOD to a built lod node's directory (out/default/lod_oak)");
-    std::ifstream in(fs::path(dir) / "lod.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const auto levels = impostor::parse_lod_levels(ss.str(), "lod.json");
+    const auto levels =
+        impostor::lod_level_refs(lodchain::read_lod_chain((fs::path(dir) / "lod.json").string()));
     Source out;
     out.desc = impostor::choose_source(levels, render::load_gltf_scene(fs::path(dir) / levels.back().file),
                                        params.layout);

@@ -4,9 +4,7 @@
 #include "stages/impostor/impostor_stage.h"
 
 #include <algorithm>
-#include <fstream>
 #include <numbers>
-#include <sstream>
 #include <thread>
 
 #include "libs/gltf/writer.h"
@@ -19,13 +17,6 @@
 namespace sylva {
 
 namespace {
-
-std::string read_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 render::Scene load(const ArtifactFile& f) {
   try {
@@ -71,8 +62,8 @@ class ImpostorStage final : public Stage {
       if (!summary) throw StageError("input '" + in.node + "' (lod) has no lod.json");
       std::vector<impostor::LodLevelRef> levels;
       try {
-        levels = impostor::parse_lod_levels(read_bytes(summary->path), summary->path.string());
-      } catch (const std::invalid_argument& e) {
+        levels = impostor::lod_level_refs(lodchain::read_lod_chain(summary->path.string()));
+      } catch (const lodchain::LodChainFormatError& e) {
         throw StageError(e.what());
       }
       auto level_file = [&](std::size_t i) -> const ArtifactFile& {

@@ -2,39 +2,14 @@
 #include "stages/impostor/source.h"
 
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 namespace sylva::impostor {
 
-std::vector<LodLevelRef> parse_lod_levels(const std::string& text, const std::string& source) {
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(source + ": invalid JSON: " + e.what());
-  }
-  if (!j.is_object() || !j.contains("levels") || !j["levels"].is_array() || j["levels"].empty())
-    throw std::invalid_argument(source + ": not a lod summary (no 'levels' list)");
+std::vector<LodLevelRef> lod_level_refs(const lodchain::LodChain& chain) {
   std::vector<LodLevelRef> out;
-  for (std::size_t i = 0; i < j["levels"].size(); ++i) {
-    const nlohmann::json& l = j["levels"][i];
-    const std::string where = source + ": levels[" + std::to_string(i) + "]";
-    if (!l.is_object() || !l.contains("file") || !l["file"].is_string())
-      throw std::invalid_argument(where + " has no 'file'");
-    if (!l.contains("epsilon_m") || !l["epsilon_m"].is_number() || !(l["epsilon_m"].get<double>() >= 0))
-      throw std::invalid_argument(where + " has no valid 'epsilon_m'");
-    LodLevelRef r;
-    r.file = l["file"].get<std::string>();
-    r.epsilon = l["epsilon_m"].get<double>();
-    r.pixel_error =
-        l.contains("pixel_error_px") && l["pixel_error_px"].is_number()   ? l["pixel_error_px"].get<double>()
-        : j.contains("pixel_error_px") && j["pixel_error_px"].is_number() ? j["pixel_error_px"].get<double>()
-                                                                          : 0.0;
-    if (l.contains("switch_distance_m") && l["switch_distance_m"].is_number())
-      r.switch_distance = l["switch_distance_m"].get<double>();
-    out.push_back(std::move(r));
-  }
+  for (const lodchain::Level& l : chain.levels)
+    out.push_back({l.file, l.epsilon_m, l.pixel_error_px, l.switch_distance_m});
   return out;
 }
 

@@ -2,14 +2,14 @@
 // artifact the stage bakes the coarsest level whose spatial error epsilon is at most one atlas
 // texel: that level is within a texel of the full detail everywhere, so the atlas cannot tell it
 // from finer levels, and it is the cheapest to draw 256 times (docs/stages/impostor.md, "Source").
-// The levels are read from lod.json (file, epsilon_m, pixel_error_px, switch_distance_m of each
-// level), as the lod
-// stage writes it (docs/stages/lod.md).
+// The levels are lod.json's (file, epsilon_m, pixel_error_px, switch_distance_m of each level),
+// read with libs/lodchain, the format's one reader (docs/stages/lod.md "Outputs").
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "libs/lodchain/lod_chain.h"
 #include "libs/render/scene.h"
 #include "stages/impostor/layout.h"
 
@@ -29,12 +29,11 @@ struct LodLevelRef {
   std::string file;            // e.g. "lod3.glb"
   double epsilon = 0;          // m
   double pixel_error = 0;      // delta the level was built for (px)
-  double switch_distance = 0;  // m (0 when lod.json does not say)
+  double switch_distance = 0;  // m
 };
 
-// The levels listed in lod.json's text, finest first. Throws std::invalid_argument("<source>:
-// ...") when the text is not a lod summary with at least one level.
-std::vector<LodLevelRef> parse_lod_levels(const std::string& lod_json, const std::string& source);
+// The levels of a chain (lodchain::read_lod_chain), finest first.
+std::vector<LodLevelRef> lod_level_refs(const lodchain::LodChain& chain);
 
 // Index of the coarsest level with epsilon <= texel_m; the finest (0) when none qualifies.
 std::size_t choose_level(const std::vector<LodLevelRef>& levels, double texel_m);
@@ -43,7 +42,7 @@ std::size_t choose_level(const std::vector<LodLevelRef>& levels, double texel_m)
 // from `coarsest` (the scene of levels.back(), which measures the tree: every level lies within
 // its epsilon of the others) widened by the coarsest level's epsilon, so that the estimate never
 // falls short of a finer level's extent; then choose_level(). type "lod", the level's file,
-// index, epsilon and line pixel (epsilon / pixel_error, 0 when lod.json gives no pixel error).
+// index, epsilon and line pixel (epsilon / pixel_error; 0 for a level without a pixel error).
 // Throws std::invalid_argument for an empty list or parameters that give no atlas.
 SourceDesc choose_source(const std::vector<LodLevelRef>& levels, const render::Scene& coarsest,
                          const LayoutParams& layout);

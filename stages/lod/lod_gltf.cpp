@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "libs/gltf/writer.h"
@@ -344,42 +345,54 @@ std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const 
   return out;
 }
 
-nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels, const ChainOptions& o,
-                             bool ribbons) {
-  nlohmann::json j;
-  j["tree"] = tree.name;
-  j["camera"] = {{"fov_y_deg", o.camera.fov_y_rad * 180 / std::numbers::pi},
-                 {"height_px", o.camera.height_px}};
-  j["pixel_error_px"] = o.pixel_error;
-  j["tree_height_m"] = tree_height(tree);
+lodchain::LodChain chain_summary(const tree::Tree& tree, const std::vector<Level>& levels,
+                                 const ChainOptions& o, bool ribbons) {
+  lodchain::LodChain c;
+  c.tree = tree.name;
+  c.camera = {o.camera.fov_y_rad * 180 / std::numbers::pi, o.camera.height_px};
+  c.pixel_error_px = o.pixel_error;
+  c.tree_height_m = tree_height(tree);
   const double radius = levels.empty() ? 0.0 : bounding_radius(levels[0]);
-  j["bounding_radius_m"] = radius;
-  j["source"] = {
-      {"branches", tree.branches.size()}, {"leaves", tree.leaves.size()}, {"needles", tree.needles.size()}};
-  j["chain_file"] = "lod.gltf";
+  c.bounding_radius_m = radius;
+  c.source = {tree.branches.size(), tree.leaves.size(), tree.needles.size()};
+  c.chain_file = "lod.gltf";
   const std::vector<double> coverage = screen_coverages(levels, o.camera, radius);
-  nlohmann::json ls = nlohmann::json::array();
   for (std::size_t i = 0; i < levels.size(); ++i) {
-    nlohmann::json l = level_extras(levels[i], i);
-    l["file"] = "lod" + std::to_string(i) + ".gltf";
-    if (ribbons && has_lines(levels[i])) l["ribbons_file"] = "lod" + std::to_string(i) + "_ribbons.gltf";
-    l["screen_coverage"] = coverage[i];
+    const Level& level = levels[i];
+    const LevelSpec& s = level.spec;
+    const LevelCounts& n = level.counts;
+    lodchain::Level l;  // the numbers of level_extras(), plus the files and the coverage
+    l.sylva_lod_level = i;
+    l.epsilon_m = s.epsilon;
+    l.pixel_error_px = s.delta;
+    l.switch_distance_m = s.switch_distance;
+    l.e1_m = s.e1;
+    l.e2_m = s.e2;
+    l.e3_m = s.e3;
+    l.e4_m = s.e4;
+    l.e5_m = s.e5;
+    l.line_alpha = level.line_alpha;
+    l.line_alpha_eq12 = level.line_alpha_eq12;
+    l.needle_line_alpha = level.needle_line_alpha;
+    l.needle_line_alpha_eq12 = level.needle_alpha_eq12;
+    l.max_polygon_error_m = level.branches.max_polygon_error;
+    l.counts = {n.quads,        n.triangles,    n.lines,      n.leaves,
+                n.needle_lines, n.needle_quads, n.internodes, n.branches};
+    l.file = "lod" + std::to_string(i) + ".gltf";
+    if (ribbons && has_lines(level)) l.ribbons_file = "lod" + std::to_string(i) + "_ribbons.gltf";
+    l.screen_coverage = coverage[i];
     // Where a loader that switches by MSFT_screencoverage leaves this level for the next one.
     const double d = coverage_distance(coverage[i], o.camera, radius);
-    l["coverage_switch_distance_m"] = std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(nullptr);
+    if (std::isfinite(d)) l.coverage_switch_distance_m = d;
     if (o.card_cluster_px > 0) {
       // How the level's cards were chosen (chain.h CardChoice; docs/stages/lod.md "Card clusters").
-      const CardChoice& c = levels[i].cards;
-      l["cards"] = {{"from", c.clustered ? "clusters" : "fsa"},
-                    {"cluster_cut", c.cut},
-                    {"clusters_split", c.split},
-                    {"coverage_drift", c.measured ? nlohmann::json(c.drift) : nlohmann::json(nullptr)},
-                    {"rejected", c.rejected}};
+      const CardChoice& k = level.cards;
+      l.cards = lodchain::CardChoice{k.clustered ? "clusters" : "fsa", k.cut, k.split,
+                                     k.measured ? std::optional<double>(k.drift) : std::nullopt, k.rejected};
     }
-    ls.push_back(l);
+    c.levels.push_back(std::move(l));
   }
-  j["levels"] = ls;
-  return j;
+  return c;
 }
 
 }  // namespace sylva::lod

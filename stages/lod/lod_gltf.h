@@ -25,6 +25,7 @@
 
 #include "libs/gltf/scene.h"
 #include "libs/gltf/writer.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/tree/tree.h"
 #include "stages/lod/chain.h"
 
@@ -87,9 +88,9 @@ std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const 
 std::string encode_full_detail(const tree::Tree& tree, Level full, const OutputTextures& tex,
                                bool branches_only = false);
 
-// Summary JSON of the chain (lod.json).
-nlohmann::json chain_summary(const tree::Tree& tree, const std::vector<Level>& levels,
-                             const ChainOptions& options, bool ribbons);
+// The chain's summary, lod.json (libs/lodchain writes it: lodchain::write_lod_chain).
+lodchain::LodChain chain_summary(const tree::Tree& tree, const std::vector<Level>& levels,
+                                 const ChainOptions& options, bool ribbons);
 
 // Height (y extent) of the tree's skeleton, m.
 double tree_height(const tree::Tree& tree);

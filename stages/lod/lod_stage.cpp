@@ -86,7 +86,7 @@ class LodStage : public Stage {
     } catch (const gltf::GltfError& e) {
       throw StageError(std::string("writing glTF: ") + e.what());
     }
-    ctx.write_output("lod.json", lod::chain_summary(tree, levels, o, ribbons).dump(2) + "\n");
+    ctx.write_output("lod.json", lodchain::write_lod_chain(lod::chain_summary(tree, levels, o, ribbons)));
     // The full-detail model the levels are judged against (the pack stage measures with it).
     try {
       ctx.write_output("full.glb", lod::encode_full_detail(tree, std::move(full), tex));

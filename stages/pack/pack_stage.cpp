@@ -22,6 +22,7 @@
 #include "libs/gltf/reader.h"
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/pack/manifest.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/shared_renderer.h"
@@ -169,18 +170,17 @@ class PackStage : public Stage {
                        "(a lod node of stage version 10 or later writes it; or set `measure: false`)");
     const ArtifactFile* summary = in.file("lod.json");
     if (!summary) throw StageError("input '" + in.node + "' has no lod.json (is it a lod node?)");
-    check::CheckCamera camera;
+    lodchain::LodChain chain;  // its camera in (0, 180) degrees and >= 1 px, its delta > 0
     try {
-      const nlohmann::json j = nlohmann::json::parse(read_file(summary->path));
-      camera.fov_y_rad = j.at("camera").at("fov_y_deg").get<double>() * std::numbers::pi / 180;
-      camera.height_px = j.at("camera").at("height_px").get<int>();
-      // An edge moved by delta pixels changes a pixel's coverage by at most delta (as lodcheck).
-      view_options.pixel_threshold = std::min(1.0, j.at("pixel_error_px").get<double>());
-    } catch (const nlohmann::json::exception& e) {
-      throw StageError("input '" + in.node + "': lod.json: " + e.what());
+      chain = lodchain::read_lod_chain(summary->path.string());
+    } catch (const lodchain::LodChainFormatError& e) {
+      throw StageError("input '" + in.node + "': " + e.what());
     }
-    if (!(camera.fov_y_rad > 0) || camera.height_px <= 0)
-      throw StageError("input '" + in.node + "': lod.json: camera has no positive fov_y_deg and height_px");
+    check::CheckCamera camera;
+    camera.fov_y_rad = chain.camera.fov_y_deg * std::numbers::pi / 180;
+    camera.height_px = chain.camera.height_px;
+    // An edge moved by delta pixels changes a pixel's coverage by at most delta (as lodcheck).
+    view_options.pixel_threshold = std::min(1.0, chain.pixel_error_px);
     render::Scene scene;
     try {
       scene = render::load_gltf_scene(full->path);

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "libs/image/image_io.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/pack/manifest.h"
 #include "libs/render/gltf_scene.h"
 #include "tests/clients/agreement.h"
@@ -105,15 +106,13 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
     if (fs::exists(n / "impostor.glb"))
       out.push_back({n / "impostor.glb", node + "/impostor.glb", Kind::kImpostor});
     if (fs::exists(n / "lod.json")) {
-      const nlohmann::json summary = nlohmann::json::parse(read_all(n / "lod.json"));
+      const lodchain::LodChain summary = lodchain::read_lod_chain((n / "lod.json").string());
       out.push_back({n / "lod.gltf", node + "/lod.gltf", Kind::kChain});
-      for (const auto& l : summary["levels"]) {
-        const std::string f = l["file"];
+      for (const lodchain::Level& l : summary.levels) {
+        const std::string& f = l.file;
         out.push_back({n / f, node + "/" + f, has_lines(gltf_json(n / f)) ? Kind::kLineLevel : Kind::kLevel});
-        if (l.contains("ribbons_file")) {
-          const std::string r = l["ribbons_file"];
-          out.push_back({n / r, node + "/" + r, Kind::kRibbons});
-        }
+        if (l.ribbons_file)
+          out.push_back({n / *l.ribbons_file, node + "/" + *l.ribbons_file, Kind::kRibbons});
       }
     }
     // An asset pack (stage pack): each species' coarsest mesh level file and its impostor level,
@@ -281,14 +280,14 @@ int main(int argc, char** argv) {
   // Level 2 of the chain with the most leaves there (mis-wound), and of the chain with the
   // least foliage there (black bark: bark is most of its picture).
   auto foliage_at_level2 = [&](const Subject& s) -> long {
-    const nlohmann::json j = nlohmann::json::parse(read_all(s.file.parent_path() / "lod.json"));
-    if (j["levels"].size() < 3) return -1;
-    const auto& c = j["levels"][2]["counts"];
-    return c["leaves"].get<long>() + c["needle_lines"].get<long>() + c["needle_quads"].get<long>();
+    const lodchain::LodChain j = lodchain::read_lod_chain((s.file.parent_path() / "lod.json").string());
+    if (j.levels.size() < 3) return -1;
+    const lodchain::LevelCounts& c = j.levels[2].counts;
+    return long(c.leaves + c.needle_lines + c.needle_quads);
   };
   auto leaves_at_level2 = [&](const Subject& s) -> long {
-    const nlohmann::json j = nlohmann::json::parse(read_all(s.file.parent_path() / "lod.json"));
-    return j["levels"].size() < 3 ? -1 : j["levels"][2]["counts"]["leaves"].get<long>();
+    const lodchain::LodChain j = lodchain::read_lod_chain((s.file.parent_path() / "lod.json").string());
+    return j.levels.size() < 3 ? -1 : long(j.levels[2].counts.leaves);
   };
   std::size_t most = rendered.size(), least = rendered.size();
   long most_n = -1, least_n = -1;
@@ -328,7 +327,7 @@ int main(int argc, char** argv) {
   // before and after each distance where the coverages make a loader switch.
   struct Chain {
     std::string node;
-    nlohmann::json summary;
+    lodchain::LodChain summary;
     std::vector<double> distances;
   };
   std::vector<Chain> chains;
@@ -336,17 +335,16 @@ int main(int argc, char** argv) {
   for (const Subject& s : files) {
     if (s.kind != Kind::kChain) continue;
     Chain c{s.label.substr(0, s.label.find('/')),
-            nlohmann::json::parse(read_all(s.file.parent_path() / "lod.json")),
+            lodchain::read_lod_chain((s.file.parent_path() / "lod.json").string()),
             {}};
-    for (const auto& l : c.summary["levels"]) {
-      c.distances.push_back(std::max(0.01, l["switch_distance_m"].get<double>()) * 1.001);
-      if (!l["coverage_switch_distance_m"].is_null()) {
-        c.distances.push_back(l["coverage_switch_distance_m"].get<double>() * 0.999);
-        c.distances.push_back(l["coverage_switch_distance_m"].get<double>() * 1.001);
+    for (const lodchain::Level& l : c.summary.levels) {
+      c.distances.push_back(std::max(0.01, l.switch_distance_m) * 1.001);
+      if (l.coverage_switch_distance_m) {
+        c.distances.push_back(*l.coverage_switch_distance_m * 0.999);
+        c.distances.push_back(*l.coverage_switch_distance_m * 1.001);
       }
     }
-    lod_checks.push_back({s.file, c.summary["camera"]["fov_y_deg"].get<double>(),
-                          c.summary["bounding_radius_m"].get<double>(), c.distances});
+    lod_checks.push_back({s.file, c.summary.camera.fov_y_deg, c.summary.bounding_radius_m, c.distances});
     chains.push_back(std::move(c));
   }
 
@@ -446,7 +444,7 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < chains.size(); ++k) {
     const Chain& c = chains[k];
     const nlohmann::json& got = cr.result["lod_checks"][k];
-    const auto& levels = c.summary["levels"];
+    const std::vector<lodchain::Level>& levels = c.summary.levels;
     std::printf("%s: %zu levels in the plugin\n", c.node.c_str(), got["levels"].get<std::size_t>());
     for (std::size_t t = 0; t < c.distances.size(); ++t) {
       const double d = c.distances[t];
@@ -454,13 +452,12 @@ int main(int argc, char** argv) {
       // Predicted by the coverages: the finest level whose coverage distance is beyond d.
       int predicted = 0;
       for (std::size_t i = 0; i + 1 < levels.size(); ++i)
-        if (!levels[i]["coverage_switch_distance_m"].is_null() &&
-            d >= levels[i]["coverage_switch_distance_m"].get<double>())
+        if (levels[i].coverage_switch_distance_m && d >= *levels[i].coverage_switch_distance_m)
           predicted = int(i) + 1;
       // The coarsest level lod.json allows at d.
       int allowed = 0;
       for (std::size_t i = 0; i < levels.size(); ++i)
-        if (levels[i]["switch_distance_m"].get<double>() <= d) allowed = int(i);
+        if (levels[i].switch_distance_m <= d) allowed = int(i);
       const bool ok = shown == predicted && shown <= allowed;
       std::printf("  d %9.3f m  shows level %d (coverages predict %d; lod.json allows up to %d)  %s\n", d,
                   shown, predicted, allowed, ok ? "ok" : "WRONG");
@@ -472,14 +469,14 @@ int main(int argc, char** argv) {
                           {"allowed", allowed}});
     }
     for (std::size_t i = 0; i < levels.size(); ++i) {
-      const double d = levels[i]["switch_distance_m"].get<double>();
+      const double d = levels[i].switch_distance_m;
       int shown = -1;
       for (std::size_t t = 0; t < c.distances.size(); ++t)
         if (std::abs(c.distances[t] - std::max(0.01, d) * 1.001) < 1e-12) shown = got["shown"][t];
-      const bool clamped = i > 0 && levels[i - 1]["screen_coverage"].get<double>() >= 1.0;
+      const bool clamped = i > 0 && levels[i - 1].screen_coverage >= 1.0;
       std::printf(
           "  level %zu: lod.json switch distance %.3f m, coverage %.5f: three.js shows level %d there%s\n", i,
-          d, levels[i]["screen_coverage"].get<double>(), shown,
+          d, levels[i].screen_coverage, shown,
           shown == int(i) ? ""
           : clamped       ? " (finer: the coverage before it is clamped at 1)"
                           : "  WRONG");

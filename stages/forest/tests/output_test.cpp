@@ -13,6 +13,7 @@
 #include "libs/gltf/writer.h"
 #include "libs/image/png.h"
 #include "libs/impostor/impostor_json.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/render/camera.h"
 #include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
@@ -68,11 +69,10 @@ class FakeContext final : public StageContext {
 InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::string& node,
                        bool twig_lines = false) {
   fs::create_directories(dir);
-  nlohmann::json lod;
-  lod["tree"] = node + " tree";
-  lod["pixel_error_px"] = 0.5;
-  lod["camera"] = {{"fov_y_deg", 45.0}, {"height_px", 1080}};
-  lod["levels"] = nlohmann::json::array();
+  lodchain::LodChain lod;  // lod.json as the lod stage writes it (libs/lodchain)
+  lod.tree = node + " tree";
+  lod.pixel_error_px = 0.5;
+  lod.camera = {45.0, 1080};
   for (int l = 0; l < 2; ++l) {
     gltf::Scene s;
     gltf::Material m;
@@ -123,11 +123,15 @@ InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::strin
     const gltf::EncodedFiles e = gltf::encode_external(s);
     sylva::test::write_file(dir / ("lod" + std::to_string(l) + ".gltf"), e.gltf);
     for (const auto& r : e.resources) sylva::test::write_file(dir / r.name, r.bytes);
-    lod["levels"].push_back({{"file", "lod" + std::to_string(l) + ".gltf"},
-                             {"epsilon_m", l == 0 ? 0.001 : 0.2},
-                             {"switch_distance_m", l == 0 ? 2.6 : 520.0}});
+    lodchain::Level level;
+    level.sylva_lod_level = std::uint64_t(l);
+    level.file = "lod" + std::to_string(l) + ".gltf";
+    level.epsilon_m = l == 0 ? 0.001 : 0.2;
+    level.pixel_error_px = 0.5;
+    level.switch_distance_m = l == 0 ? 2.6 : 520.0;
+    lod.levels.push_back(level);
   }
-  sylva::test::write_file(dir / "lod.json", lod.dump());
+  sylva::test::write_file(dir / "lod.json", lodchain::write_lod_chain(lod));
   InputArtifact in;
   in.node = node;
   in.type = "lod";

@@ -9,25 +9,36 @@
 namespace sylva::impostor {
 namespace {
 
-constexpr const char* kSummary = R"({"pixel_error_px": 0.5, "levels": [
-  {"file": "lod0.glb", "epsilon_m": 0.001, "switch_distance_m": 2.6},
-  {"file": "lod1.glb", "epsilon_m": 0.01, "pixel_error_px": 0.25},
-  {"file": "lod2.glb", "epsilon_m": 0.1}]})";
+// A chain of three levels as libs/lodchain reads lod.json.
+lodchain::LodChain summary() {
+  lodchain::LodChain c;
+  c.tree = "t";
+  const double eps[] = {0.001, 0.01, 0.1}, delta[] = {0.5, 0.25, 0.5}, dist[] = {2.6, 52, 260};
+  for (int i = 0; i < 3; ++i) {
+    lodchain::Level l;
+    l.sylva_lod_level = std::uint64_t(i);
+    l.file = "lod" + std::to_string(i) + ".glb";
+    l.epsilon_m = eps[i];
+    l.pixel_error_px = delta[i];
+    l.switch_distance_m = dist[i];
+    c.levels.push_back(l);
+  }
+  return c;
+}
 
-TEST(Source, ReadsTheLevelsOfLodJson) {
-  const auto levels = parse_lod_levels(kSummary, "lod.json");
+TEST(Source, TakesTheLevelsOfTheChain) {
+  const auto levels = lod_level_refs(summary());
   ASSERT_EQ(levels.size(), 3u);
   EXPECT_EQ(levels[1].file, "lod1.glb");
   EXPECT_DOUBLE_EQ(levels[1].epsilon, 0.01);
   EXPECT_DOUBLE_EQ(levels[1].pixel_error, 0.25);  // the level's own
-  EXPECT_DOUBLE_EQ(levels[2].pixel_error, 0.5);   // else the chain's
   EXPECT_DOUBLE_EQ(levels[0].switch_distance, 2.6);
-  EXPECT_DOUBLE_EQ(levels[2].switch_distance, 0);
+  EXPECT_DOUBLE_EQ(levels[2].switch_distance, 260);
 }
 
 // The coarsest level within one texel; the finest when none is.
 TEST(Source, ChoosesTheCoarsestLevelWithinATexel) {
-  const auto levels = parse_lod_levels(kSummary, "lod.json");
+  const auto levels = lod_level_refs(summary());
   EXPECT_EQ(choose_level(levels, 0.05), 1u);
   EXPECT_EQ(choose_level(levels, 0.1), 2u);
   EXPECT_EQ(choose_level(levels, 1e-4), 0u);
@@ -57,29 +68,13 @@ TEST(Source, ChoosesFromTheCoarsestLevelWidenedByItsEpsilon) {
   EXPECT_DOUBLE_EQ(d.epsilon, 0.018);
   EXPECT_DOUBLE_EQ(d.line_pixel_m, 0.036);                    // epsilon / pixel error
   EXPECT_EQ(choose_level(levels, std::sqrt(3.0) / 112), 0u);  // unwidened: too small a texel
-  // No pixel error in lod.json: no line alphas to widen.
+  // No pixel error: no line alphas to widen.
   levels[1].pixel_error = 0;
   EXPECT_DOUBLE_EQ(choose_source(levels, cube, LayoutParams{}).line_pixel_m, 0);
   // Coarser epsilons than any texel: the finest level.
   levels[1].epsilon = 0.03;
   EXPECT_EQ(choose_source(levels, cube, LayoutParams{}).level, 0);
   EXPECT_THROW(choose_source({}, cube, LayoutParams{}), std::invalid_argument);
-}
-
-TEST(Source, BadSummariesAreOneLineErrors) {
-  auto error = [](const char* text) {
-    try {
-      parse_lod_levels(text, "x/lod.json");
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("(no error)");
-  };
-  EXPECT_EQ(error(R"({"levels": []})"), "x/lod.json: not a lod summary (no 'levels' list)");
-  EXPECT_EQ(error(R"({"levels": [{"epsilon_m": 1}]})"), "x/lod.json: levels[0] has no 'file'");
-  EXPECT_EQ(error(R"({"levels": [{"file": "a", "epsilon_m": -1}]})"),
-            "x/lod.json: levels[0] has no valid 'epsilon_m'");
-  EXPECT_EQ(error("{").rfind("x/lod.json: invalid JSON: ", 0), 0u);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
 #include "libs/impostor/impostor_json.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/impostor/impostor_stage.h"
 #include "stages/lod/lod_stage.h"
@@ -125,7 +126,17 @@ TEST(ImpostorStage, BakesAMeshAndRefusesBadInputs) {
   EXPECT_EQ(error(tmp / "empty", "lod"), "input 'input' (lod) has no lod.json");
   EXPECT_EQ(error(tmp / "empty", "mesh"),
             "input 'input' (mesh) must hold exactly one .glb or .gltf file, has 0");
+  // lod.json is read with libs/lodchain: a bad one is its one-line error.
   test::write_file(tmp / "empty" / "lod.json", R"({"levels": [{"file": "lod0.glb", "epsilon_m": 0.01}]})");
+  EXPECT_EQ(error(tmp / "empty", "lod"), (tmp / "empty" / "lod.json").string() + ": error: missing 'tree'");
+  lodchain::LodChain chain;
+  chain.tree = "t";
+  lodchain::Level level;
+  level.epsilon_m = 0.01;
+  level.pixel_error_px = 0.5;
+  level.file = "lod0.glb";
+  chain.levels = {level};
+  test::write_file(tmp / "empty" / "lod.json", lodchain::write_lod_chain(chain));
   EXPECT_EQ(error(tmp / "empty", "lod"), "input 'input': lod.json lists lod0.glb, which the artifact lacks");
   EXPECT_EQ(error(tmp / "mesh", "mesh", {{"mip_levels", Value(std::int64_t(7))}}),
             "mip_levels 7 needs a padding of 128 texels, more than a quarter of frame_px 256");

@@ -10,6 +10,7 @@
 
 #include "libs/gltf/reader.h"
 #include "libs/gltf/writer.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/tree/default_colors.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/lod/lod_gltf.h"
@@ -178,6 +179,16 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
       EXPECT_GT(ex["switch_distance_m"].get<double>(), 0);
       EXPECT_TRUE(ex["counts"].contains("lines"));
     }
+    // lod.json reads back through libs/lodchain (its one reader), and each level's node extras
+    // (level_extras(), written beside it) carry the numbers of its lod.json entry.
+    const lodchain::LodChain chain = lodchain::read_lod_chain((out / "lod.json").string());
+    EXPECT_EQ(chain.levels.size(), 4u);
+    for (int i = 0; i < 4; ++i)
+      for (const auto& [key, value] : j["nodes"][i]["extras"].items()) {
+        if (key != "MSFT_screencoverage") {
+          EXPECT_EQ(summary["levels"][i][key], value) << i << " " << key;
+        }
+      }
     // Line primitives use a BLEND material whose alpha is the level's; no tangents anywhere;
     // every material is used.
     bool saw_lines = false;

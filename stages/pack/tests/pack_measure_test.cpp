@@ -17,6 +17,7 @@
 #include <numbers>
 
 #include "libs/gltf/writer.h"
+#include "libs/lodchain/lod_chain.h"
 #include "libs/render/gltf_scene.h"
 #include "pipeline/filesystem.h"
 #include "pipeline/lazy_stage.h"
@@ -472,8 +473,19 @@ void write_lod_dir(const std::filesystem::path& dir, const std::vector<Level>& l
     l.buffer_uris = {"lod" + std::to_string(i) + ".bin"};
     test::write_file(dir / ("lod" + std::to_string(i) + ".gltf"), gltf::encode_external(l).gltf);
   }
-  test::write_file(dir / "lod.json",
-                   R"({"camera": {"fov_y_deg": 45.0, "height_px": 200}, "pixel_error_px": 0.5})");
+  lodchain::LodChain summary;  // lod.json (libs/lodchain): the stage reads its camera and delta
+  summary.tree = "box";
+  summary.camera = {45.0, 200};
+  summary.pixel_error_px = 0.5;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    lodchain::Level l;
+    l.sylva_lod_level = i;
+    l.file = "lod" + std::to_string(i) + ".gltf";
+    l.epsilon_m = levels[i].eps;
+    l.pixel_error_px = 0.5;
+    summary.levels.push_back(l);
+  }
+  test::write_file(dir / "lod.json", lodchain::write_lod_chain(summary));
   if (full) test::write_file(dir / "full.glb", gltf::encode(one_mesh_scene(box(10, 0), {})));
 }
 
@@ -519,6 +531,27 @@ TEST(PackMeasureStage, ALodInputWithoutFullDetailIsAnError) {
     EXPECT_STREQ(e.what(),
                  "input 'lod_box' has no full.glb, the full-detail model the measured level choice judges "
                  "against (a lod node of stage version 10 or later writes it; or set `measure: false`)");
+  }
+  EXPECT_EQ(renderer.calls, 0);
+}
+
+// lod.json is read with libs/lodchain: a summary that lacks what the lod stage writes (here the
+// old fixture's camera and delta alone) is its one-line error, before anything is rendered.
+TEST(PackMeasureStage, AnIncompleteLodJsonIsTheReadersError) {
+  test::TempDir tmp;
+  write_lod_dir(tmp.path() / "lod", honest(), true);
+  test::write_file(tmp.path() / "lod" / "lod.json",
+                   R"({"camera": {"fov_y_deg": 45.0, "height_px": 200}, "pixel_error_px": 0.5})");
+  BoxRenderer renderer;
+  const auto stage = make_pack_stage([&]() -> render::Renderer& { return renderer; });
+  test::FakeStageContext ctx(*stage, {{"lod_box", "lod", tmp.path() / "lod"}}, tmp.path(),
+                             {{"species", Value::List{Value("box")}}});
+  try {
+    stage->run(ctx);
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "input 'lod_box': " + (tmp.path() / "lod" / "lod.json").string() + ": error: missing 'tree'");
   }
   EXPECT_EQ(renderer.calls, 0);
 }
