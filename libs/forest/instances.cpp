@@ -199,7 +199,7 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number beyond a double (1e999)
     r.fail(std::string("not JSON: ") + e.what());
   }
   if (r.string(j, "format", "the file") != kFormat) r.fail("format is not '" + std::string(kFormat) + "'");

@@ -143,7 +143,7 @@ GltfFileSet meshopt_compress_files(const GltfFileSet& in, MeshoptFilesStats* sta
   for (const auto& [name, text] : in.gltf) {
     try {
       parsed.emplace(name, json::parse(text));
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // a syntax error, or a number beyond a double (1e999)
       throw GltfError(name + ": not valid JSON (" + e.what() + ")");
     }
     if (!parsed[name].is_object()) throw GltfError(name + ": not a glTF object");

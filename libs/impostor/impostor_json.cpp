@@ -193,7 +193,7 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
   Json j;
   try {
     j = Json::parse(text);
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // a syntax error, or a number beyond a double (1e999)
     r.fail(std::string("invalid JSON: ") + e.what());
   }
   if (!j.is_object()) r.fail("the top level must be an object");

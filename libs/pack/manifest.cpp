@@ -253,6 +253,8 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
       }
     }
     throw ManifestError(source + ":" + std::to_string(line) + ":" + std::to_string(col) + ": not valid JSON");
+  } catch (const json::exception&) {  // a number beyond a double (1e999)
+    throw ManifestError(source + ": not valid JSON (a number out of range)");
   }
   if (!j.is_object()) r.fail("(root)", "expected an object");
   if (r.string(j, "(root)", "format") != "sylva-pack-manifest")

@@ -86,6 +86,12 @@ TEST(Instances, BadInputNamesTheProblem) {
         "i.json: error: species[0].levels[1].parallax[1].from_m must be greater than the row before's");
   }
   EXPECT_THROW(parse_instances("{", "", "i.json"), FormatError);
+  try {  // a number no double holds: the format's error, not nlohmann's out_of_range escaping
+    parse_instances("{\"format\": 1e999}", "", "i.json");
+    FAIL();
+  } catch (const FormatError& err) {
+    EXPECT_EQ(std::string(err.what()).rfind("i.json: error: not JSON: ", 0), 0u) << err.what();
+  }
   EXPECT_THROW(parse_instances("[]", "", "i.json"), FormatError);
 }
 

@@ -259,6 +259,15 @@ TEST(GltfMeshoptFiles, ErrorsNameTheFile) {
     EXPECT_EQ(std::string(e.what()),
               "tile.gltf: bufferViews[" + std::to_string(last) + "] lies outside 'tile.bin'");
   }
+  // A number no double holds is the file's error too, not nlohmann's out_of_range escaping.
+  in = sample_set();
+  in.gltf["tile.gltf"] = "{\"asset\": {\"version\": 1e999}}";
+  try {
+    meshopt_compress_files(in);
+    FAIL();
+  } catch (const GltfError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("tile.gltf: not valid JSON (", 0), 0u) << e.what();
+  }
 }
 
 }  // namespace

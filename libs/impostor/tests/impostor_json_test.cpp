@@ -108,6 +108,12 @@ TEST(ImpostorJson, BadFilesGiveOneLineErrors) {
   } catch (const ImpostorFormatError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("y.json: error: invalid JSON: ", 0), 0u) << e.what();
   }
+  try {  // a number no double holds: the format's error, not nlohmann's out_of_range escaping
+    parse_impostor_json("{\"format\": 1e999}", "y.json");
+    FAIL();
+  } catch (const ImpostorFormatError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("y.json: error: invalid JSON: ", 0), 0u) << e.what();
+  }
   EXPECT_THROW(read_impostor_json("/nonexistent/impostor.json"), ImpostorFormatError);
 }
 

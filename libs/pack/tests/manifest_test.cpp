@@ -103,6 +103,7 @@ std::string error_of(const std::string& text) {
 TEST(PackManifest, ReadErrorsNameTheElement) {
   const std::string good = write_manifest(sample());
   EXPECT_EQ(error_of("{\n  \"format\": 1,\n  x"), "m.json:3:3: not valid JSON");
+  EXPECT_EQ(error_of("{\"format\": 1e999}"), "m.json: not valid JSON (a number out of range)");
   EXPECT_EQ(error_of("[]"), "m.json: (root): expected an object");
   auto replaced = [&](const std::string& from, const std::string& to) {
     std::string t = good;
