@@ -730,6 +730,7 @@ class Loader {
   }
 
   // glTF URIs are percent-encoded ("my%20bark.png").
+ public:
   static std::string decode_uri(const std::string& uri) {
     std::string out;
     for (std::size_t i = 0; i < uri.size(); ++i) {
@@ -744,6 +745,7 @@ class Loader {
     return out;
   }
 
+ private:
   const tinygltf::Model& m_;
   std::string file_;
   std::filesystem::path base_dir_;
@@ -870,7 +872,24 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
   auto fail = [&](const std::string& why) -> SceneLoadError {
     return SceneLoadError(file + ": error: " + why);
   };
-  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (!binary) {
+    // EXT_meshopt_compression over external buffers: read as the GLB of the same asset.
+    const auto read_uri = [&](const std::string& uri) {
+      std::string why;
+      auto b = regular_file_bytes(base_dir_path / Loader::decode_uri(uri), &why);
+      if (!b) throw std::runtime_error("cannot read buffer '" + uri + "' (" + why + ")");
+      return std::move(*b);
+    };
+    try {
+      if (auto glb = meshopt_gltf_as_glb(bytes, read_uri)) {
+        bytes = std::move(*glb);
+        binary = true;
+      }
+    } catch (const std::runtime_error& e) {
+      throw fail(e.what());
+    }
+  }
   if (binary) {
     try {
       decode_meshopt_glb(bytes);

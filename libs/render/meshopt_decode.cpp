@@ -24,7 +24,83 @@ void put_u32(std::string& s, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xFF));
 }
 
+bool uses_meshopt(const nlohmann::json& j) {
+  if (!j.contains("extensionsUsed") || !j["extensionsUsed"].is_array()) return false;
+  for (const auto& e : j["extensionsUsed"])
+    if (e == kExt) return true;
+  return false;
+}
+
+std::string glb_of(const std::string& json_text, const std::string& bin) {
+  std::string text = json_text;
+  while (text.size() % 4) text.push_back(' ');
+  std::string glb = "glTF";
+  put_u32(glb, 2);
+  put_u32(glb, static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+  put_u32(glb, static_cast<std::uint32_t>(text.size()));
+  glb += "JSON";
+  glb += text;
+  put_u32(glb, static_cast<std::uint32_t>(bin.size()));
+  glb += std::string("BIN\0", 4);
+  glb += bin;
+  return glb;
+}
+
 }  // namespace
+
+std::optional<std::string> meshopt_gltf_as_glb(
+    const std::string& json_text, const std::function<std::string(const std::string&)>& read_uri) {
+  if (json_text.find(kExt) == std::string::npos) return std::nullopt;
+  nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !uses_meshopt(j) || !j.contains("buffers") ||
+      !j["buffers"].is_array())
+    return std::nullopt;
+  // Buffers with a file uri go into the binary chunk (new buffer 0) at `shift`; the others
+  // (fallbacks, data: uris) keep their order after it.
+  nlohmann::json& buffers = j["buffers"];
+  std::string bin;
+  struct Move {
+    std::size_t buffer, shift;
+  };
+  std::vector<Move> moves(buffers.size());
+  nlohmann::json kept = nlohmann::json::array({nlohmann::json::object()});
+  for (std::size_t b = 0; b < buffers.size(); ++b) {
+    const nlohmann::json& buf = buffers[b];
+    const std::string uri = buf.is_object() ? buf.value("uri", std::string()) : std::string();
+    if (uri.empty() || uri.rfind("data:", 0) == 0) {
+      moves[b] = {kept.size(), 0};
+      kept.push_back(buf);
+      continue;
+    }
+    const std::size_t length = buf.value("byteLength", std::size_t(0));
+    std::string bytes = read_uri(uri);
+    if (bytes.size() < length)
+      throw std::runtime_error("buffer " + std::to_string(b) + " ('" + uri.substr(0, 64) + "') has " +
+                               std::to_string(bytes.size()) + " bytes, byteLength says " +
+                               std::to_string(length));
+    while (bin.size() % 4) bin.push_back('\0');
+    moves[b] = {0, bin.size()};
+    bin.append(bytes, 0, length);
+  }
+  while (bin.size() % 4) bin.push_back('\0');
+  kept[0]["byteLength"] = bin.size();
+  auto move = [&](nlohmann::json& ref) {
+    const std::size_t b = ref.value("buffer", std::size_t(0));
+    if (b >= moves.size()) return;  // tinygltf reports the bad index
+    ref["buffer"] = moves[b].buffer;
+    if (moves[b].shift) ref["byteOffset"] = ref.value("byteOffset", std::size_t(0)) + moves[b].shift;
+  };
+  if (j.contains("bufferViews") && j["bufferViews"].is_array())
+    for (auto& view : j["bufferViews"]) {
+      if (!view.is_object()) continue;
+      move(view);
+      if (view.contains("extensions") && view["extensions"].is_object() &&
+          view["extensions"].contains(kExt) && view["extensions"][kExt].is_object())
+        move(view["extensions"][kExt]);
+    }
+  j["buffers"] = kept;
+  return glb_of(j.dump(), bin);
+}
 
 bool decode_meshopt_glb(std::string& bytes) {
   if (bytes.size() < 20 || le32(bytes, 16) != 0x4E4F534Au) return false;
@@ -131,18 +207,7 @@ bool decode_meshopt_glb(std::string& bytes) {
       j[list] = names;
       if (names.empty()) j.erase(list);
     }
-  std::string text = j.dump();
-  while (text.size() % 4) text.push_back(' ');
-  std::string glb = "glTF";
-  put_u32(glb, 2);
-  put_u32(glb, static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
-  put_u32(glb, static_cast<std::uint32_t>(text.size()));
-  glb += "JSON";
-  glb += text;
-  put_u32(glb, static_cast<std::uint32_t>(bin.size()));
-  glb += std::string("BIN\0", 4);
-  glb += bin;
-  bytes = std::move(glb);
+  bytes = glb_of(j.dump(), bin);
   return true;
 }
 

@@ -13,6 +13,7 @@
 #include <bit>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 
 namespace sylva::forest {
@@ -105,6 +106,12 @@ Trs instance_trs(const Species& sp, const Instance& in) {
 
 json offset_index(const json& v, std::size_t off) { return json(v.get<std::size_t>() + off); }
 
+// TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (glTF's default mode is TRIANGLES).
+bool triangle_mode(const json& primitive) {
+  const int mode = primitive.value("mode", 4);
+  return mode == 4 || mode == 5 || mode == 6;
+}
+
 }  // namespace
 
 Vec3d tile_origin(const Forest& f, const Tile& t) {
@@ -131,8 +138,9 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
   out["asset"] = {{"version", "2.0"}, {"generator", "sylva"}};
   json buffers = json::array(), views = json::array(), accessors = json::array(), materials = json::array(),
        textures = json::array(), samplers = json::array(), images = json::array(), meshes = json::array(),
-       nodes = json::array();
-  std::vector<std::string> used{"EXT_mesh_gpu_instancing"}, required{"EXT_mesh_gpu_instancing"};
+       nodes = json::array(), roots = json::array();
+  std::vector<std::string> used, required;
+  bool instanced = false;
   TileFiles files;
   const Vec3d origin = tile_origin(forest, tile);
   // Instances of the tile by species, in instance order.
@@ -185,14 +193,29 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
       fix(m);  // every textureInfo's "index" (baseColorTexture, normalTexture, ...)
       materials.push_back(std::move(m));
     }
-    json mesh = g.at("meshes").at(0);
-    for (auto& p : mesh["primitives"]) {
+    // The level's primitives split by kind: triangles go to the instanced mesh, lines and points
+    // to a mesh each instance's own node draws (see tile_gltf.h).
+    json mesh = g.at("meshes").at(0), loose = json::array();
+    json& prims = mesh["primitives"];
+    for (auto& p : prims) {
       for (auto& [name, acc] : p["attributes"].items()) acc = offset_index(acc, acc0);
       if (p.contains("indices")) p["indices"] = offset_index(p["indices"], acc0);
       if (p.contains("material")) p["material"] = offset_index(p["material"], mat0);
     }
-    const std::size_t mesh_index = meshes.size();
-    meshes.push_back(std::move(mesh));
+    json triangles = json::array();
+    for (auto& p : prims) (triangle_mode(p) ? triangles : loose).push_back(std::move(p));
+    std::optional<std::size_t> mesh_index, loose_index;
+    if (!triangles.empty()) {
+      prims = std::move(triangles);
+      mesh_index = meshes.size();
+      meshes.push_back(mesh);
+    }
+    if (!loose.empty()) {
+      json m = {{"primitives", std::move(loose)}};
+      if (mesh.contains("name")) m["name"] = mesh["name"].get<std::string>() + "_lines";
+      loose_index = meshes.size();
+      meshes.push_back(std::move(m));
+    }
     for (const auto& e : g.value("extensionsUsed", json::array()))
       if (std::find(used.begin(), used.end(), e.get<std::string>()) == used.end())
         used.push_back(e.get<std::string>());
@@ -201,23 +224,40 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
         required.push_back(e.get<std::string>());
 
     // The instances: TRANSLATION, ROTATION, SCALE, _ID, each its own view in the tile's bin.
+    // The loose primitives' nodes carry the same float values as the attributes, under a parent
+    // at the tile origin: both parts of a tree get one transform in every client.
     const auto& ids = by_species[s];
     std::string t, r, sc, id;
+    json loose_nodes = json::array();
     double tmin[3] = {INFINITY, INFINITY, INFINITY}, tmax[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (std::uint32_t i : ids) {
       const Trs trs = instance_trs(forest.species[s], forest.instances[i]);
+      json tj = json::array(), rj = json::array(), sj = json::array();
       for (int k = 0; k < 3; ++k) {
         const double v = trs.t[std::size_t(k)] - origin[std::size_t(k)];
         put_f32(t, v);
         const double fv = double(float(v));
         tmin[k] = std::min(tmin[k], fv);
         tmax[k] = std::max(tmax[k], fv);
+        tj.push_back(fv);
       }
-      for (double q : trs.r) put_f32(r, q);
-      for (double v : trs.s) put_f32(sc, v);
+      for (double q : trs.r) {
+        put_f32(r, q);
+        rj.push_back(double(float(q)));
+      }
+      for (double v : trs.s) {
+        put_f32(sc, v);
+        sj.push_back(double(float(v)));
+      }
       if (forest.instances[i].id >= (1u << 24))
         throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
       put_f32(id, double(forest.instances[i].id));
+      if (loose_index)
+        loose_nodes.push_back({{"mesh", *loose_index},
+                               {"translation", tj},
+                               {"rotation", rj},
+                               {"scale", sj},
+                               {"extras", {{"instance_id", forest.instances[i].id}}}});
     }
     auto add = [&](const std::string& data, const char* type, bool minmax) {
       const std::size_t offset = files.bin.size();
@@ -232,19 +272,35 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
       accessors.push_back(std::move(a));
       return accessors.size() - 1;
     };
-    json attrs;
-    attrs["TRANSLATION"] = add(t, "VEC3", true);
-    attrs["ROTATION"] = add(r, "VEC4", false);
-    attrs["SCALE"] = add(sc, "VEC3", false);
-    attrs["_ID"] = add(id, "SCALAR", false);
-    nodes.push_back({{"name", forest.species[s].name},
-                     {"mesh", mesh_index},
-                     {"translation", {origin[0], origin[1], origin[2]}},
-                     {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}}});
+    if (mesh_index) {
+      json attrs;
+      attrs["TRANSLATION"] = add(t, "VEC3", true);
+      attrs["ROTATION"] = add(r, "VEC4", false);
+      attrs["SCALE"] = add(sc, "VEC3", false);
+      attrs["_ID"] = add(id, "SCALAR", false);
+      instanced = true;
+      roots.push_back(nodes.size());
+      nodes.push_back({{"name", forest.species[s].name},
+                       {"mesh", *mesh_index},
+                       {"translation", {origin[0], origin[1], origin[2]}},
+                       {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}}});
+    }
+    if (loose_index) {
+      const std::size_t parent = nodes.size();
+      json children = json::array();
+      for (std::size_t k = 0; k < loose_nodes.size(); ++k) children.push_back(parent + 1 + k);
+      roots.push_back(parent);
+      nodes.push_back({{"name", forest.species[s].name + "_lines"},
+                       {"translation", {origin[0], origin[1], origin[2]}},
+                       {"children", std::move(children)}});
+      for (json& n : loose_nodes) nodes.push_back(std::move(n));
+    }
   }
   buffers[tile_buffer_slot]["byteLength"] = files.bin.size();
-  json roots = json::array();
-  for (std::size_t n = 0; n < nodes.size(); ++n) roots.push_back(n);
+  if (instanced) {
+    used.insert(used.begin(), "EXT_mesh_gpu_instancing");
+    required.insert(required.begin(), "EXT_mesh_gpu_instancing");
+  }
   out["buffers"] = buffers;
   out["bufferViews"] = views;
   out["accessors"] = accessors;
@@ -256,8 +312,8 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
   out["nodes"] = nodes;
   out["scenes"] = json::array({{{"nodes", roots}}});
   out["scene"] = 0;
-  out["extensionsUsed"] = used;
-  out["extensionsRequired"] = required;
+  if (!used.empty()) out["extensionsUsed"] = used;
+  if (!required.empty()) out["extensionsRequired"] = required;
   files.gltf = out.dump(1) + "\n";
   return files;
 }

@@ -1,7 +1,12 @@
 // The forest's glTF files (issue 13 "Output"): per species and level, the level's mesh alone
 // (the lod artifact's lod<i>.gltf, its buffer and atlas renamed to this artifact's copies); and per
 // tile and level, one .gltf with one node per species carrying EXT_mesh_gpu_instancing
-// (TRANSLATION, ROTATION, SCALE, _ID) over that species' level mesh. Tiles store no geometry of
+// (TRANSLATION, ROTATION, SCALE, _ID) over that species' level mesh's triangle primitives. The
+// level's LINES (bark lines) and POINTS primitives are not instanced: clients instance only
+// triangle meshes (three.js's loader draws a mesh with lines once, not per instance), so they form
+// a second mesh that one plain node per instance draws — children of a node `<species>_lines` at
+// the tile origin, with the instance's TRANSLATION, ROTATION, SCALE (the same float values) and
+// `extras.instance_id`. Tiles store no geometry of
 // their own: their buffers are the species' level .bin files (the same bytes the lod stage wrote,
 // stored once in the cache) plus one small .bin per tile with its instances' attributes, so a
 // forest of many tiles costs little more than its instances.

@@ -31,6 +31,8 @@ const char* kind_name(Kind k) {
       return "MSFT_lod chain";
     case Kind::kImpostor:
       return "impostor cards";
+    case Kind::kForestTile:
+      return "forest tile";
   }
   return "?";
 }
@@ -45,9 +47,10 @@ Bound bound_for(Kind k) {
       return {0.9, 4.0};
     case Kind::kMesh:  // + textured bark and alpha-masked leaves: mip and filter choices
     case Kind::kDracoMesh:
-    case Kind::kLineLevel:  // + blended lines: three.js sorts objects, sylva every element
-    case Kind::kChain:      // as its level 0
-    case Kind::kImpostor:   // unlit blended cards: three.js sorts objects, sylva every triangle
+    case Kind::kLineLevel:   // + blended lines: three.js sorts objects, sylva every element
+    case Kind::kChain:       // as its level 0
+    case Kind::kImpostor:    // unlit blended cards: three.js sorts objects, sylva every triangle
+    case Kind::kForestTile:  // instanced levels: the kinds above, several trees
       return {0.9, 8.0};
   }
   return {};

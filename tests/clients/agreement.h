@@ -33,7 +33,7 @@ inline constexpr int kBlock = 16;         // pixels per block side
 inline constexpr double kCovered = 0.25;  // a block counts as covered from this mean coverage
 
 // What a file is, for its bound (docs/clients.md).
-enum class Kind { kMesh, kDracoMesh, kLevel, kLineLevel, kRibbons, kChain, kImpostor };
+enum class Kind { kMesh, kDracoMesh, kLevel, kLineLevel, kRibbons, kChain, kImpostor, kForestTile };
 const char* kind_name(Kind k);
 
 struct Bound {

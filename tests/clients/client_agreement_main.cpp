@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/forest/instances.h"
 #include "libs/image/image_io.h"
 #include "libs/lodchain/lod_chain.h"
 #include "libs/pack/manifest.h"
@@ -73,6 +74,14 @@ bool has_lines(const nlohmann::json& j) {
     for (const auto& p : m["primitives"])
       if (p.value("mode", 4) == 1) return true;
   return false;
+}
+
+bool is_forest(const fs::path& node_dir) {
+  return fs::exists(node_dir / "instances.json") && fs::exists(node_dir / "tileset.json");
+}
+
+std::string tile_stem(const forest::Tile& t) {
+  return "tile_" + std::to_string(t.ix) + "_" + std::to_string(t.iz);
 }
 
 struct Subject {
@@ -126,6 +135,24 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
         if (!sp.impostor.empty()) out.push_back({n / sp.impostor, node + "/" + sp.impostor, Kind::kImpostor});
       }
     }
+    // A forest (stage forest, or a pack's copy of one): the tile with the most trees at its
+    // first, middle and last tile level (full detail; bark lines; the impostors' cards).
+    if (is_forest(n)) {
+      const forest::Forest f = forest::read_instances(n / "instances.json");
+      const forest::Tile* most = nullptr;
+      for (const forest::Tile& t : f.tiles)
+        if (!most || t.instances.size() > most->instances.size()) most = &t;
+      std::size_t levels = 0;
+      for (const forest::Species& sp : f.species) levels = std::max(levels, sp.levels.size());
+      if (most && levels > 0) {
+        std::vector<std::size_t> picked{0, levels / 2, levels - 1};
+        picked.erase(std::unique(picked.begin(), picked.end()), picked.end());
+        for (std::size_t l : picked) {
+          const std::string f2 = tile_stem(*most) + "_lod" + std::to_string(l) + ".gltf";
+          out.push_back({n / f2, node + "/" + f2, Kind::kForestTile});
+        }
+      }
+    }
   }
   return out;
 }
@@ -174,15 +201,42 @@ fs::path make_control(const fs::path& src, const fs::path& dir, const std::strin
   return out;
 }
 
-// Every GLB of every pack under out_dir, to be loaded by three.js: each species' chain (with the
-// MSFT_lod plugin) and each level file, with the primitives the pack's lod.json says each level has.
-struct PackLoad {
+// Files three.js only loads and counts. Every GLB of every pack under out_dir: each species' chain
+// (with the MSFT_lod plugin) and each level file, with the primitives the pack's lod.json says
+// each level has. Every tile file of every forest (and a pack's copy of one): the triangles and
+// lines sylva's renderer draws for it, every instance counted.
+struct Load {
   clients::LoadCheck check;
   std::string label;
   nlohmann::json expected;  // [{triangles, lines}] per level
+  const char* source;       // where `expected` comes from: "lod.json" or "sylva"
 };
-std::vector<PackLoad> pack_loads(const fs::path& out_dir) {
-  std::vector<PackLoad> out;
+std::vector<Load> forest_loads(const fs::path& out_dir) {
+  std::vector<Load> out;
+  std::vector<fs::path> nodes;
+  for (const auto& e : fs::directory_iterator(out_dir))
+    if (e.is_directory() && is_forest(e.path())) nodes.push_back(e.path());
+  std::sort(nodes.begin(), nodes.end());
+  for (const fs::path& n : nodes) {
+    const forest::Forest f = forest::read_instances(n / "instances.json");
+    std::size_t levels = 0;
+    for (const forest::Species& sp : f.species) levels = std::max(levels, sp.levels.size());
+    for (const forest::Tile& t : f.tiles)
+      for (std::size_t l = 0; l < levels; ++l) {
+        const std::string file = tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
+        const render::Scene scene = render::load_gltf_scene(n / file);
+        out.push_back(
+            {{n / file, false},
+             n.filename().string() + "/" + file,
+             nlohmann::json::array({{{"triangles", scene.triangle_count()}, {"lines", scene.line_count()}}}),
+             "sylva"});
+      }
+  }
+  return out;
+}
+
+std::vector<Load> pack_loads(const fs::path& out_dir) {
+  std::vector<Load> out;
   std::vector<fs::path> nodes;
   for (const auto& e : fs::directory_iterator(out_dir))
     if (e.is_directory() && fs::exists(e.path() / "manifest.json")) nodes.push_back(e.path());
@@ -194,11 +248,12 @@ std::vector<PackLoad> pack_loads(const fs::path& out_dir) {
       for (const auto& l : lod["levels"])
         all.push_back({{"triangles", l["triangles"]}, {"lines", l["lines"]}});
       const std::string node = n.filename().string();
-      out.push_back({{n / sp.chain, true}, node + "/" + sp.chain, all});
+      out.push_back({{n / sp.chain, true}, node + "/" + sp.chain, all, "lod.json"});
       for (std::size_t i = 0; i < sp.levels.size() && i < all.size(); ++i)
         out.push_back({{n / sp.levels[i].file, false},
                        node + "/" + sp.levels[i].file,
-                       nlohmann::json::array({all[i]})});
+                       nlohmann::json::array({all[i]}),
+                       "lod.json"});
     }
   return out;
 }
@@ -220,10 +275,11 @@ int main(int argc, char** argv) {
   const char* req = std::getenv("SYLVA_REQUIRE_CLIENTS");
   const bool require = req && std::string(req) == "1";
   std::vector<Subject> files;
-  std::vector<PackLoad> loads;
+  std::vector<Load> loads;
   try {
     files = subjects(out_dir);
     loads = pack_loads(out_dir);
+    for (Load& l : forest_loads(out_dir)) loads.push_back(std::move(l));
   } catch (const std::exception& e) {
     std::cerr << "sylva_client_agreement: " << out_dir.string() << ": " << e.what() << "\n";
     return 2;
@@ -350,7 +406,7 @@ int main(int argc, char** argv) {
 
   // 4. three.js, all at once (one browser).
   std::vector<clients::LoadCheck> load_checks;
-  for (const PackLoad& l : loads) load_checks.push_back(l.check);
+  for (const Load& l : loads) load_checks.push_back(l.check);
   const clients::ClientResult cr = clients::run_threejs(jobs, lod_checks, report / "work", load_checks);
   if (cr.unavailable) {
     std::cout << "three.js is not available: " << cr.message;
@@ -484,8 +540,10 @@ int main(int argc, char** argv) {
     }
   }
   // 8. Every pack GLB loads in three.js and draws the primitives its lod.json names: the chain's
-  // MSFT_lod levels (the impostor last) one by one, and each level file.
-  if (!loads.empty()) std::printf("\npack files in three.js (loaded, primitives counted):\n");
+  // MSFT_lod levels (the impostor last) one by one, and each level file. Every forest tile file
+  // draws in three.js the triangles and lines it draws in sylva, every instance (three.js
+  // instances only triangle meshes: a tile whose instanced mesh had lines would draw once).
+  if (!loads.empty()) std::printf("\npack and forest files in three.js (loaded, primitives counted):\n");
   nlohmann::json load_rows = nlohmann::json::array();
   for (std::size_t k = 0; k < loads.size(); ++k) {
     const nlohmann::json& got = cr.result["load_checks"][k];
@@ -494,18 +552,23 @@ int main(int argc, char** argv) {
     bool ok = levels.size() == want.size();
     for (std::size_t i = 0; ok && i < want.size(); ++i)
       ok = levels[i]["triangles"] == want[i]["triangles"] && levels[i]["lines"] == want[i]["lines"];
-    std::printf("  %-36s %zu level(s) (lod.json: %zu), primitives %s  %s\n", loads[k].label.c_str(),
-                levels.size(), want.size(), ok ? "as lod.json" : "DIFFER", ok ? "ok" : "WRONG");
-    if (!ok) std::printf("    three.js %s\n    lod.json %s\n", levels.dump().c_str(), want.dump().c_str());
+    std::printf("  %-36s %zu level(s) (%s: %zu), primitives %s  %s\n", loads[k].label.c_str(), levels.size(),
+                loads[k].source, want.size(), ok ? (std::string("as ") + loads[k].source).c_str() : "DIFFER",
+                ok ? "ok" : "WRONG");
+    if (!ok)
+      std::printf("    three.js %s\n    %s %s\n", levels.dump().c_str(), loads[k].source,
+                  want.dump().c_str());
     all_ok &= ok;
-    load_rows.push_back({{"file", loads[k].label}, {"threejs", levels}, {"lod_json", want}, {"passed", ok}});
+    load_rows.push_back({{"file", loads[k].label},
+                         {"threejs", levels},
+                         {"expected", want},
+                         {"source", loads[k].source},
+                         {"passed", ok}});
   }
-  std::ofstream(report / "agreement.json") << nlohmann::json{{"rows", table},
-                                                             {"controls", control_rows},
-                                                             {"lod", lod_rows},
-                                                             {"pack_loads", load_rows}}
-                                                  .dump(2)
-                                           << "\n";
+  std::ofstream(report / "agreement.json")
+      << nlohmann::json{{"rows", table}, {"controls", control_rows}, {"lod", lod_rows}, {"loads", load_rows}}
+             .dump(2)
+      << "\n";
   std::printf("\n%s; images in %s\n", all_ok ? "every client agrees" : "DISAGREEMENT (rows above)",
               report.string().c_str());
   return all_ok ? 0 : 1;

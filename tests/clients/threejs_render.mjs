@@ -131,13 +131,14 @@ window.lodJob = async (o, job) => {
   });
   return { levels: lod.levels.length, level_distances: lod.levels.map((l) => l.distance), shown };
 };
-// Triangles, line segments and points three.js draws for the objects under root.
+// Triangles, line segments and points three.js draws for the objects under root (an
+// InstancedMesh's once per instance).
 function counts(root) {
   const c = { triangles: 0, lines: 0, points: 0 };
   root.traverse((x) => {
     const g = x.geometry;
     if (!g) return;
-    const n = g.index ? g.index.count : g.attributes.position.count;
+    const n = (g.index ? g.index.count : g.attributes.position.count) * (x.isInstancedMesh ? x.count : 1);
     if (x.isLineSegments) c.lines += n / 2;
     else if (x.isLine) c.lines += Math.max(0, n - 1);
     else if (x.isPoints) c.points += n;

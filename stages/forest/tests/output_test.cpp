@@ -663,6 +663,59 @@ TEST_F(ForestOutput, ViewsDrawCoincidentLineCopiesAsOneLine) {
   EXPECT_EQ(line_primitives, 1u);
 }
 
+// A tile level with bark lines: clients instance only triangle meshes (three.js draws an instanced
+// mesh with lines once), so the tile instances the level's triangles and draws its lines with one
+// plain node per tree (children of `<species>_lines`), each placed as the tree's instance.
+TEST_F(ForestOutput, TileLinesAreDrawnByOneNodePerTree) {
+  inputs_ = {fake_lod(dir_ / "lod_t", 2, 8, "lod_a", true)};
+  const Value::Object params = {{"size_m", Value(Value::List{40.0, 40.0})},
+                                {"tile_size_m", Value(40.0)},
+                                {"species", Value(Value::List{Value(species("a", 20))})}};
+  const fs::path out = dir_ / "tile_lines";
+  const forest::Forest f = run(out, params);
+  ASSERT_EQ(f.tiles.size(), 1u);
+  const std::size_t trees = f.tiles[0].instances.size();
+  ASSERT_GE(trees, 2u);
+  // Level 0 has no lines: one instanced node, no line nodes.
+  const auto lod0 = nlohmann::json::parse(sylva::test::read_file(out / "tile_0_0_lod0.gltf"));
+  ASSERT_EQ(lod0["nodes"].size(), 1u);
+  EXPECT_TRUE(lod0["nodes"][0]["extensions"].contains("EXT_mesh_gpu_instancing"));
+  // Level 1: the instanced node's mesh holds the triangles only; the lines are drawn per tree.
+  const fs::path tile1 = out / "tile_0_0_lod1.gltf";
+  const auto g = nlohmann::json::parse(sylva::test::read_file(tile1));
+  ASSERT_EQ(g["nodes"].size(), 2 + trees);
+  EXPECT_EQ(g["scenes"][0]["nodes"], nlohmann::json({0, 1}));
+  const auto& inst = g["nodes"][0];
+  EXPECT_EQ(inst["name"], "a");
+  ASSERT_TRUE(inst["extensions"].contains("EXT_mesh_gpu_instancing"));
+  for (const auto& p : g["meshes"][inst["mesh"].get<std::size_t>()]["primitives"])
+    EXPECT_EQ(p.value("mode", 4), 4);
+  const auto& lines = g["nodes"][1];
+  EXPECT_EQ(lines["name"], "a_lines");
+  EXPECT_EQ(lines["translation"], inst["translation"]);
+  EXPECT_FALSE(lines.contains("mesh"));
+  ASSERT_EQ(lines["children"].size(), trees);
+  for (std::size_t k = 0; k < trees; ++k) {
+    const auto& n = g["nodes"][lines["children"][k].get<std::size_t>()];
+    EXPECT_EQ(n["extras"]["instance_id"], f.instances[f.tiles[0].instances[k]].id);
+    EXPECT_FALSE(n.contains("extensions"));
+    for (const auto& p : g["meshes"][n["mesh"].get<std::size_t>()]["primitives"]) EXPECT_EQ(p["mode"], 1);
+  }
+  // Every tree's triangles and lines stand at the same place, with the same transform.
+  const render::Scene s = render::load_gltf_scene(tile1);
+  ASSERT_EQ(s.meshes.size(), 2u);
+  ASSERT_EQ(s.meshes[0].instances.size(), trees);
+  ASSERT_EQ(s.meshes[1].instances.size(), trees);
+  for (std::size_t k = 0; k < trees; ++k)
+    EXPECT_TRUE(s.meshes[0].instances[k].isApprox(s.meshes[1].instances[k], 1e-6f)) << k;
+  EXPECT_EQ(s.line_count(), 3 * trees);  // the twig's three coincident lines per tree
+  EXPECT_EQ(s.triangle_count(), 2 * trees);
+  for (const auto& v : sylva::test::validate_gltf({tile1, out / "tile_0_0_lod0.gltf"})) {
+    if (v.skipped) GTEST_SKIP() << v.skip_reason;
+    EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << v.report;
+  }
+}
+
 // species[i].impostor_parallax: from each proven distance on, the octahedral impostor is drawn
 // with fewer parallax steps (16 nearer); forest views group the impostors by steps.
 TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
