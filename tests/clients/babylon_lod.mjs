@@ -19,13 +19,15 @@
 //   - the chain has exactly as many levels as lod.json lists (one LOD notification each);
 //   - at each notification the enabled meshes draw exactly the triangles and lines of the
 //     level lod.json says comes next in Babylon's order (the impostor first, level 0 last);
-//   - after loading only level 0 is left (the finest), with lod.json's level-0 counts.
+//   - after loading only level 0 is left (the finest), with lod.json's level-0 counts;
+//   - when the pack carries a forest: every tile file draws every primitive of every node as many
+//     times as the file instances it (EXT_mesh_gpu_instancing: thin instances), lines included.
 // The meshopt decoder is npm meshoptimizer's (the module Babylon.js fetches from its CDN by
 // default; here installed by tools/npm, no network).
-// Exit codes: 0 every chain as lod.json says; 1 some chain differs or fails to load (stderr says
+// Exit codes: 0 every chain as lod.json says (and every tile as it instances); 1 some chain or tile differs or fails to load (stderr says
 // which); 2 usage; 3 @babylonjs/* or meshoptimizer not installed (ctest: skipped unless
 // SYLVA_REQUIRE_CLIENTS=1).
-import { existsSync } from 'node:fs';
+import { existsSync, readFileSync, readdirSync } from 'node:fs';
 import { readFile } from 'node:fs/promises';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
@@ -158,6 +160,124 @@ for (const sp of manifest.species) {
               `loaded coarsest first; per level ${rows.join(' ')}; afterwards ${finalOk ? 'only level 0' : 'NOT only level 0'} ` +
               `enabled; with materials: ${withMaterials}  ${ok ? 'ok' : 'WRONG'}`);
   failed ||= !ok;
+}
+// A forest's tiles (docs/clients.md "Forest tiles"), when the directory holds one (a pack's copy):
+// each tile file, loaded as a Babylon.js user would (its EXT_mesh_gpu_instancing makes thin
+// instances), must draw every primitive of every node as often as the file instances it --
+// lines included. Babylon.js in node reads no external files, so each .gltf and the buffers it
+// names become one GLB first (file-uri buffers concatenated into the binary chunk).
+function gltfAsGlb(json, dir) {
+  const j = structuredClone(json);
+  const chunks = [];
+  let length = 0;
+  const moves = [];
+  const kept = [{}];
+  j.buffers.forEach((b, i) => {
+    if (!b.uri || b.uri.startsWith('data:')) {
+      moves[i] = { buffer: kept.length, shift: 0 };
+      kept.push(b);
+      return;
+    }
+    const bytes = readFileSync(path.join(dir, decodeURIComponent(b.uri))).subarray(0, b.byteLength);
+    const pad = (4 - (length % 4)) % 4;
+    if (pad) chunks.push(Buffer.alloc(pad));
+    length += pad;
+    moves[i] = { buffer: 0, shift: length };
+    chunks.push(bytes);
+    length += bytes.length;
+  });
+  const pad = (4 - (length % 4)) % 4;
+  if (pad) chunks.push(Buffer.alloc(pad));
+  length += pad;
+  kept[0].byteLength = length;
+  const move = (r) => {
+    const m = moves[r.buffer ?? 0];
+    r.buffer = m.buffer;
+    if (m.shift) r.byteOffset = (r.byteOffset ?? 0) + m.shift;
+  };
+  for (const v of j.bufferViews ?? []) {
+    move(v);
+    if (v.extensions?.EXT_meshopt_compression) move(v.extensions.EXT_meshopt_compression);
+  }
+  j.buffers = kept;
+  let text = Buffer.from(JSON.stringify(j), 'utf8');
+  if (text.length % 4) text = Buffer.concat([text, Buffer.alloc(4 - (text.length % 4), 0x20)]);
+  const header = Buffer.alloc(20);
+  header.write('glTF', 0);
+  header.writeUInt32LE(2, 4);
+  header.writeUInt32LE(12 + 8 + text.length + 8 + length, 8);
+  header.writeUInt32LE(text.length, 12);
+  header.write('JSON', 16);
+  const binHeader = Buffer.alloc(8);
+  binHeader.writeUInt32LE(length, 0);
+  binHeader.write('BIN\0', 4, 'latin1');
+  return Buffer.concat([header, text, binHeader, ...chunks]);
+}
+
+// What the file says is drawn: per node with a mesh, each primitive's elements times the node's
+// instances (EXT_mesh_gpu_instancing count, else 1).
+function declared(j) {
+  const c = { triangles: 0, lines: 0 };
+  for (const n of j.nodes ?? []) {
+    if (n.mesh === undefined) continue;
+    const inst = n.extensions?.EXT_mesh_gpu_instancing?.attributes?.TRANSLATION;
+    const times = inst === undefined ? 1 : j.accessors[inst].count;
+    for (const p of j.meshes[n.mesh].primitives) {
+      const count = p.indices !== undefined ? j.accessors[p.indices].count : j.accessors[p.attributes.POSITION].count;
+      if ((p.mode ?? 4) === 1) c.lines += (count / 2) * times;
+      else c.triangles += (count / 3) * times;
+    }
+  }
+  return c;
+}
+
+async function loadTile(bytes, modes) {
+  const scene = new BABYLON.Scene(engine);
+  const c = { triangles: 0, lines: 0 };
+  const observer = BABYLON.SceneLoader.OnPluginActivatedObservable.add((plugin) => {
+    plugin.skipMaterials = true;
+  });
+  try {
+    await BABYLON.SceneLoader.ImportMeshAsync('', '', bytes, scene, null, '.glb');
+    for (const m of scene.meshes) {
+      const pointers = m._internalMetadata?.gltf?.pointers ?? [];
+      const mode = modes.get(pointers[0]);
+      if (mode === undefined || !m.isEnabled()) continue;
+      const times = (m.thinInstanceCount ?? 0) > 0 ? m.thinInstanceCount : 1;
+      const n = (m.subMeshes ?? []).reduce((s, sm) => s + sm.indexCount, 0) * times;
+      if (mode === 1) c.lines += n / 2;
+      else c.triangles += n / 3;
+    }
+  } finally {
+    BABYLON.SceneLoader.OnPluginActivatedObservable.remove(observer);
+    scene.dispose();
+  }
+  return c;
+}
+
+if (existsSync(path.join(dir, 'instances.json')) && existsSync(path.join(dir, 'tileset.json'))) {
+  const tiles = readdirSync(dir).filter((f) => /^tile_\d+_\d+_lod\d+\.gltf$/.test(f)).sort();
+  let good = 0;
+  for (const f of tiles) {
+    const j = JSON.parse(readFileSync(path.join(dir, f), 'utf8'));
+    const modes = new Map();
+    j.meshes.forEach((m, k) => m.primitives.forEach((p, i) => modes.set(`/meshes/${k}/primitives/${i}`, p.mode ?? 4)));
+    const want = declared(j);
+    let got;
+    try {
+      got = await loadTile(new Uint8Array(gltfAsGlb(j, dir)), modes);
+    } catch (e) {
+      console.log(`${f}: Babylon.js failed to load it: ${String(e).split('\n')[0]}  WRONG`);
+      failed = true;
+      continue;
+    }
+    const ok = got.triangles === want.triangles && got.lines === want.lines;
+    if (ok) ++good;
+    else console.log(`${f}: Babylon.js draws ${got.triangles}t/${got.lines}l, the file instances ${want.triangles}t/${want.lines}l  WRONG`);
+    failed ||= !ok;
+  }
+  console.log(`forest tiles: ${good} of ${tiles.length} draw in Babylon.js every primitive as often as the file instances it`);
+  if (tiles.length === 0) failed = true;
 }
 engine.dispose();
 process.exit(failed ? 1 : 0);

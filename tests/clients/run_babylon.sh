@@ -1,7 +1,7 @@
 #!/bin/sh
 # ctest clients_babylon_pack: builds the default recipe's pack into the verify gate's output
-# directory (its nodes are cached by then) and loads every species' MSFT_lod chain in Babylon.js
-# (tests/clients/babylon_lod.mjs; docs/clients.md "Babylon.js").
+# directory (its nodes are cached by then) and loads every species' MSFT_lod chain and every forest
+# tile in Babylon.js (tests/clients/babylon_lod.mjs; docs/clients.md "Babylon.js").
 # usage: run_babylon.sh SYLVA RECIPE OUT_DIR PACK_NODE
 # Exits 77 (ctest: skipped) when the npm packages are not installed and SYLVA_REQUIRE_CLIENTS is not 1.
 set -u
