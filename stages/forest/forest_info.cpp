@@ -4,7 +4,7 @@ namespace sylva {
 
 namespace {
 // Bump whenever the bytes of any output can change.
-constexpr int kVersion = 8;
+constexpr int kVersion = 9;
 
 ParamSpec optional_path(const std::string& name, const std::string& doc) {
   ParamSpec p = Param::path(name).describe(doc);

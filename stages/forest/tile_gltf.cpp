@@ -16,6 +16,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "libs/gltf/json_numbers.h"
+
 namespace sylva::forest {
 
 namespace {
@@ -224,8 +226,9 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
         required.push_back(e.get<std::string>());
 
     // The instances: TRANSLATION, ROTATION, SCALE, _ID, each its own view in the tile's bin.
-    // The loose primitives' nodes carry the same float values as the attributes, under a parent
-    // at the tile origin: both parts of a tree get one transform in every client.
+    // The loose primitives' nodes carry the same float values as the attributes (printed as the
+    // shortest decimal of the float, gltf::float_json), under a parent at the tile origin: both
+    // parts of a tree get one transform in every client.
     const auto& ids = by_species[s];
     std::string t, r, sc, id;
     json loose_nodes = json::array();
@@ -239,15 +242,15 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
         const double fv = double(float(v));
         tmin[k] = std::min(tmin[k], fv);
         tmax[k] = std::max(tmax[k], fv);
-        tj.push_back(fv);
+        tj.push_back(gltf::float_json(fv));
       }
       for (double q : trs.r) {
         put_f32(r, q);
-        rj.push_back(double(float(q)));
+        rj.push_back(gltf::float_json(q));
       }
       for (double v : trs.s) {
         put_f32(sc, v);
-        sj.push_back(double(float(v)));
+        sj.push_back(gltf::float_json(v));
       }
       if (forest.instances[i].id >= (1u << 24))
         throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
