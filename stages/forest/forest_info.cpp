@@ -49,6 +49,10 @@ StageInfo forest_stage_info() {
       Param::real("tile_size_m", 50)
           .range(1, 1e6)
           .describe("square streaming tiles (glTF per tile and level, 3D Tiles)"),
+      Param::choice("tile_instancing", {"gpu", "nodes"}, "gpu")
+          .describe("gpu: a tile draws each species' triangles with EXT_mesh_gpu_instancing (required), its "
+                    "lines with one node per tree; nodes: one plain node per tree, no extension (for clients "
+                    "without it: Blender, Godot, Unreal)"),
       Param::object_list(
           "species",
           {Param::string("name").describe("species name ([A-Za-z0-9_-]+), in instances.json and file names"),

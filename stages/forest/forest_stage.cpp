@@ -433,6 +433,8 @@ class ForestStage final : public Stage {
     auto tile_stem = [&](std::size_t t) {
       return "tile_" + std::to_string(f.tiles[t].ix) + "_" + std::to_string(f.tiles[t].iz);
     };
+    const TileInstancing instancing =
+        ctx.param("tile_instancing").as_string() == "nodes" ? TileInstancing::kNodes : TileInstancing::kGpu;
     for (std::size_t t = 0; t < f.tiles.size(); ++t) {
       ctx.check_cancelled();
       std::string bin;
@@ -444,14 +446,14 @@ class ForestStage final : public Stage {
         }
         TileFiles tf;
         try {
-          tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin");
+          tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin", instancing);
         } catch (const std::invalid_argument& e) {
           throw StageError(e.what());
         }
         ctx.write_output(tile_stem(t) + "_lod" + std::to_string(l) + ".gltf", tf.gltf);
         bin = std::move(tf.bin);
       }
-      ctx.write_output(tile_stem(t) + ".bin", bin);
+      if (instancing == TileInstancing::kGpu) ctx.write_output(tile_stem(t) + ".bin", bin);
     }
     const Value::Object& geo = ctx.param("georeference").as_object();
     const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(),

@@ -135,7 +135,8 @@ std::string species_level_gltf(const LevelSource& level) {
 }
 
 TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<const LevelSource*>& levels,
-                    const std::string& tile_bin_name) {
+                    const std::string& tile_bin_name, TileInstancing instancing) {
+  const bool gpu = instancing == TileInstancing::kGpu;
   json out;
   out["asset"] = {{"version", "2.0"}, {"generator", "sylva"}};
   json buffers = json::array(), views = json::array(), accessors = json::array(), materials = json::array(),
@@ -148,8 +149,8 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
   // Instances of the tile by species, in instance order.
   std::vector<std::vector<std::uint32_t>> by_species(forest.species.size());
   for (std::uint32_t i : tile.instances) by_species[forest.instances[i].species].push_back(i);
-  const std::size_t tile_buffer_slot = 0;  // the tile's bin is buffer 0; species' bins follow
-  buffers.push_back({{"uri", tile_bin_name}, {"byteLength", 0}});
+  const std::size_t tile_buffer_slot = 0;  // gpu: the tile's bin is buffer 0; species' bins follow
+  if (gpu) buffers.push_back({{"uri", tile_bin_name}, {"byteLength", 0}});
   for (std::size_t s = 0; s < forest.species.size(); ++s) {
     if (by_species[s].empty()) continue;
     const LevelSource* src = levels.at(s);
@@ -205,7 +206,7 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
       if (p.contains("material")) p["material"] = offset_index(p["material"], mat0);
     }
     json triangles = json::array();
-    for (auto& p : prims) (triangle_mode(p) ? triangles : loose).push_back(std::move(p));
+    for (auto& p : prims) (!gpu || triangle_mode(p) ? triangles : loose).push_back(std::move(p));
     std::optional<std::size_t> mesh_index, loose_index;
     if (!triangles.empty()) {
       prims = std::move(triangles);
@@ -252,11 +253,11 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
         put_f32(sc, v);
         sj.push_back(gltf::float_json(v));
       }
-      if (forest.instances[i].id >= (1u << 24))
+      if (gpu && forest.instances[i].id >= (1u << 24))
         throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
       put_f32(id, double(forest.instances[i].id));
-      if (loose_index)
-        loose_nodes.push_back({{"mesh", *loose_index},
+      if (!gpu || loose_index)
+        loose_nodes.push_back({{"mesh", gpu ? *loose_index : *mesh_index},
                                {"translation", tj},
                                {"rotation", rj},
                                {"scale", sj},
@@ -275,7 +276,7 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
       accessors.push_back(std::move(a));
       return accessors.size() - 1;
     };
-    if (mesh_index) {
+    if (gpu && mesh_index) {
       json attrs;
       attrs["TRANSLATION"] = add(t, "VEC3", true);
       attrs["ROTATION"] = add(r, "VEC4", false);
@@ -288,18 +289,19 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
                        {"translation", {origin[0], origin[1], origin[2]}},
                        {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}}});
     }
-    if (loose_index) {
+    if (!loose_nodes.empty()) {
       const std::size_t parent = nodes.size();
       json children = json::array();
       for (std::size_t k = 0; k < loose_nodes.size(); ++k) children.push_back(parent + 1 + k);
       roots.push_back(parent);
-      nodes.push_back({{"name", forest.species[s].name + "_lines"},
+      nodes.push_back({{"name", forest.species[s].name + (gpu ? "_lines" : "")},
                        {"translation", {origin[0], origin[1], origin[2]}},
                        {"children", std::move(children)}});
       for (json& n : loose_nodes) nodes.push_back(std::move(n));
     }
   }
-  buffers[tile_buffer_slot]["byteLength"] = files.bin.size();
+  if (gpu) buffers[tile_buffer_slot]["byteLength"] = files.bin.size();
+  if (!gpu) files.bin.clear();
   if (instanced) {
     used.insert(used.begin(), "EXT_mesh_gpu_instancing");
     required.insert(required.begin(), "EXT_mesh_gpu_instancing");

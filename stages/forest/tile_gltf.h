@@ -42,12 +42,16 @@ std::string species_level_gltf(const LevelSource& level);
 // every species of the tile are written into `tile_bin` (same bytes for every level: call with the
 // same tile and get the same bin) named `tile_bin_name`. Throws std::invalid_argument when a
 // species' base rotation cannot be expressed as instancing TRS with its scales (see .cpp).
+// With TileInstancing::kNodes the tile uses no extension: each tree is one plain node (children of
+// a node `<species>` at the tile origin) drawing the species' whole level mesh with the tree's
+// TRANSLATION, ROTATION, SCALE and `extras.instance_id`; `bin` is then empty (no tile .bin).
+enum class TileInstancing { kGpu, kNodes };
 struct TileFiles {
   std::string gltf;
   std::string bin;
 };
 TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<const LevelSource*>& levels,
-                    const std::string& tile_bin_name);
+                    const std::string& tile_bin_name, TileInstancing instancing = TileInstancing::kGpu);
 
 // The node translation of a tile (its square's centre on y = 0): instance translations are
 // relative to it, which keeps them small in float.

@@ -716,6 +716,52 @@ TEST_F(ForestOutput, TileLinesAreDrawnByOneNodePerTree) {
   }
 }
 
+// tile_instancing: nodes — no extension: each tree one plain node drawing its species' whole
+// level mesh, placed as gpu instancing places it; the same primitives; no tile .bin.
+TEST_F(ForestOutput, NodeTilesDrawTheSameTreesWithoutTheExtension) {
+  inputs_ = {fake_lod(dir_ / "lod_t", 2, 8, "lod_a", true)};
+  Value::Object params = {{"size_m", Value(Value::List{40.0, 40.0})},
+                          {"tile_size_m", Value(40.0)},
+                          {"species", Value(Value::List{Value(species("a", 20))})}};
+  const fs::path gpu_out = dir_ / "gpu", nodes_out = dir_ / "nodes";
+  const forest::Forest f = run(gpu_out, params);
+  params["tile_instancing"] = Value(std::string("nodes"));
+  EXPECT_EQ(run(nodes_out, params), f);  // the same forest
+  ASSERT_EQ(f.tiles.size(), 1u);
+  const std::size_t trees = f.tiles[0].instances.size();
+  EXPECT_TRUE(fs::exists(gpu_out / "tile_0_0.bin"));
+  EXPECT_FALSE(fs::exists(nodes_out / "tile_0_0.bin"));
+  std::vector<fs::path> files;
+  for (int l = 0; l < 2; ++l) {
+    SCOPED_TRACE(l);
+    const std::string name = "tile_0_0_lod" + std::to_string(l) + ".gltf";
+    const fs::path p = nodes_out / name;
+    files.push_back(p);
+    const auto g = nlohmann::json::parse(sylva::test::read_file(p));
+    EXPECT_FALSE(g.contains("extensionsUsed"));
+    EXPECT_FALSE(g.contains("extensionsRequired"));
+    ASSERT_EQ(g["nodes"].size(), 1 + trees);
+    EXPECT_EQ(g["nodes"][0]["name"], "a");
+    EXPECT_EQ(g["meshes"].size(), 1u);
+    for (std::size_t k = 0; k < trees; ++k) {
+      const auto& n = g["nodes"][g["nodes"][0]["children"][k].get<std::size_t>()];
+      EXPECT_EQ(n["mesh"], 0);
+      EXPECT_EQ(n["extras"]["instance_id"], f.instances[f.tiles[0].instances[k]].id);
+    }
+    const render::Scene a = render::load_gltf_scene(gpu_out / name), b = render::load_gltf_scene(p);
+    EXPECT_EQ(b.triangle_count(), a.triangle_count());
+    EXPECT_EQ(b.line_count(), a.line_count());
+    ASSERT_EQ(b.meshes.size(), 1u);
+    ASSERT_EQ(b.meshes[0].instances.size(), trees);
+    for (std::size_t k = 0; k < trees; ++k)
+      EXPECT_TRUE(b.meshes[0].instances[k].isApprox(a.meshes[0].instances[k], 1e-6f)) << k;
+  }
+  for (const auto& v : sylva::test::validate_gltf(files)) {
+    if (v.skipped) GTEST_SKIP() << v.skip_reason;
+    EXPECT_TRUE(v.ok()) << v.file << "\n" << v.tool_error << v.report;
+  }
+}
+
 // species[i].impostor_parallax: from each proven distance on, the octahedral impostor is drawn
 // with fewer parallax steps (16 nearer); forest views group the impostors by steps.
 TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
