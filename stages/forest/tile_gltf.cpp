@@ -226,13 +226,13 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
       if (std::find(required.begin(), required.end(), e.get<std::string>()) == required.end())
         required.push_back(e.get<std::string>());
 
-    // The instances: TRANSLATION, ROTATION, SCALE, _ID, each its own view in the tile's bin.
-    // The loose primitives' nodes carry the same float values as the attributes (printed as the
-    // shortest decimal of the float, gltf::float_json), under a parent at the tile origin: both
-    // parts of a tree get one transform in every client.
+    // The instances (gpu): TRANSLATION, ROTATION, SCALE, _ID, each its own view in the tile's
+    // bin. The per-tree nodes (the loose primitives' with gpu, the whole mesh's with nodes) carry
+    // the same float values (printed as the shortest decimal of the float, gltf::float_json),
+    // under a parent at the tile origin: both parts of a tree get one transform in every client.
     const auto& ids = by_species[s];
     std::string t, r, sc, id;
-    json loose_nodes = json::array();
+    json tree_nodes = json::array();
     double tmin[3] = {INFINITY, INFINITY, INFINITY}, tmax[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (std::uint32_t i : ids) {
       const Trs trs = instance_trs(forest.species[s], forest.instances[i]);
@@ -257,11 +257,11 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
         throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
       put_f32(id, double(forest.instances[i].id));
       if (!gpu || loose_index)
-        loose_nodes.push_back({{"mesh", gpu ? *loose_index : *mesh_index},
-                               {"translation", tj},
-                               {"rotation", rj},
-                               {"scale", sj},
-                               {"extras", {{"instance_id", forest.instances[i].id}}}});
+        tree_nodes.push_back({{"mesh", gpu ? *loose_index : *mesh_index},
+                              {"translation", tj},
+                              {"rotation", rj},
+                              {"scale", sj},
+                              {"extras", {{"instance_id", forest.instances[i].id}}}});
     }
     auto add = [&](const std::string& data, const char* type, bool minmax) {
       const std::size_t offset = files.bin.size();
@@ -289,19 +289,18 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
                        {"translation", {origin[0], origin[1], origin[2]}},
                        {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}}});
     }
-    if (!loose_nodes.empty()) {
+    if (!tree_nodes.empty()) {
       const std::size_t parent = nodes.size();
       json children = json::array();
-      for (std::size_t k = 0; k < loose_nodes.size(); ++k) children.push_back(parent + 1 + k);
+      for (std::size_t k = 0; k < tree_nodes.size(); ++k) children.push_back(parent + 1 + k);
       roots.push_back(parent);
       nodes.push_back({{"name", forest.species[s].name + (gpu ? "_lines" : "")},
                        {"translation", {origin[0], origin[1], origin[2]}},
                        {"children", std::move(children)}});
-      for (json& n : loose_nodes) nodes.push_back(std::move(n));
+      for (json& n : tree_nodes) nodes.push_back(std::move(n));
     }
   }
   if (gpu) buffers[tile_buffer_slot]["byteLength"] = files.bin.size();
-  if (!gpu) files.bin.clear();
   if (instanced) {
     used.insert(used.begin(), "EXT_mesh_gpu_instancing");
     required.insert(required.begin(), "EXT_mesh_gpu_instancing");
