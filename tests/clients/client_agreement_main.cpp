@@ -3,11 +3,13 @@
 //   sylva_client_agreement RECIPE_OUT_DIR REPORT_DIR
 //
 // RECIPE_OUT_DIR is out/<recipe name>/ (one directory per node). For every mesh (tree.glb, plain
-// or Draco), every LOD chain (lod.gltf, MSFT_lod), every LOD level (lod<i>.gltf) and every
-// ribbons variant (lod<i>_ribbons.gltf) it renders the views of agreement.h ("tree", "crown")
+// or Draco), every LOD chain (lod.gltf, MSFT_lod), every LOD level (lod<i>.gltf), every
+// ribbons variant (lod<i>_ribbons.gltf), the impostors' cards, each pack's coarsest levels and a
+// forest's fullest tile at three tile levels it renders the views of agreement.h ("tree", "crown")
 // in sylva's renderer and in three.js (headless Chromium), compares them and prints one row per
 // file and view; then it checks with three.js's MSFT_lod plugin which level each chain shows at
-// the distances its lod.json names; then two negative controls made from the recipe's own files
+// the distances its lod.json names, and loads every pack GLB and every forest tile file, counting
+// what three.js draws; then two negative controls made from the recipe's own files
 // (leaves wound against their normals; black bark) must be caught. Images and agreement.json go
 // to REPORT_DIR. Exit codes: 0 all agree; 1 some file, view or control disagreed (the rows say
 // which client, file and view); 2 usage or unreadable outputs; 77 three.js/Chromium/node are
