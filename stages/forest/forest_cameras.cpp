@@ -1,9 +1,12 @@
-// Celba §6.2: "Two fly paths, 50 s and 55 s: a walkthrough, and a flight that starts low and ends
-// high." Both are sampled at a few evenly spaced instants (frames_per_path), so a verify report
-// shows a forest from the ground and from the air, near trees at their finest levels and far ones
-// at their coarsest. The walkthrough runs south to north (+z to -z) through the middle, the eye
-// moved sideways off any trunk it would stand in; the flight rises from the south-west edge to
-// outside the south-west corner to high above the forest's middle, always looking at its centre.
+// Celba §5.2: "two scene animation paths: the walkthrough through the forest as someone walks or
+// runs in the forest and flight above the forest", the flight starting "with low altitude flight
+// upon the forest" and ending "in much higher altitude". Both are sampled at a few evenly spaced
+// instants (frames_per_path), so a verify report shows a forest from the ground and from the air,
+// near trees at their finest levels and far ones at their coarsest. The walkthrough runs south to
+// north (+z to -z) through the middle, from 10 % of the depth inside the south edge to 10 % inside
+// the north edge, the eye moved sideways off any trunk it would stand in; the flight rises from
+// outside the south-west corner, low, to high above the forest's middle, always looking at its
+// centre.
 #include "stages/forest/forest_cameras.h"
 
 #include <algorithm>

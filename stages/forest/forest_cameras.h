@@ -1,5 +1,5 @@
 // The forest camera set (issue 13 "Forest views"): eye positions in the forest along the two
-// paths of Celba §5.2 / §6.2 ("a walkthrough, and a flight that starts low and ends high"), plus
+// two animation paths of Celba §5.2 (a walkthrough, and a flight from low to high altitude), plus
 // an overview, written as a camera-set file (libs/render/camera.h's format, explicit eye/target
 // views) that `sylva render`, the verify stage and `sylva lodcheck` read with the forest.
 #pragma once
