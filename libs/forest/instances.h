@@ -86,7 +86,7 @@ struct Species {
 };
 
 struct Instance {
-  std::uint32_t id = 0;       // stable: the order of placement (docs/stages/forest.md "Ids")
+  std::uint32_t id = 0;       // stable: the order of placement (docs/stages/forest.md "instances.json")
   std::uint32_t species = 0;  // index into Forest::species
   std::uint32_t tile = 0;     // index into Forest::tiles
   Vec3d position{0, 0, 0};    // metres: the tree's base point on the ground

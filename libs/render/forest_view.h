@@ -15,8 +15,9 @@
 // row); billboards are drawn as the level's mesh of cards like every other level.
 //
 // Frustum culling: a tile's box, then each tree's box, against the six planes of the view
-// (Celba §4.6.3: "compute the AABB's effective radius and test it as a sphere against the plane"
-// — here the exact box-plane test, which never culls a visible box).
+// (Celba §4.6.3: "for every frustum plane an effective radius of bounding box is computed and
+// intersection with sphere with size of effective radius is performed against frustum plane" —
+// here the exact box-plane test, which never culls a visible box).
 #pragma once
 
 #include <filesystem>

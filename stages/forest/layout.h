@@ -1,16 +1,17 @@
 // Forest layout: where every tree stands (pure: plain data in, plain data out; no I/O).
 //
-// Seed: Celba, "Dynamic Level of Detail" (2007), §4.5.2–4.5.3 and Algorithm 8 (CreateForest):
-// per tree type a density (trees per 10 000 m²) over a Width x Depth area, per-axis scale ranges
-// (SizeDeviationX/Y/Z Min/Max), a base rotation about X, Y, Z and translation along Y; the types
-// are placed in order (type 0 first), each tree at a uniform random position with a random scale;
-// its box (the type's base-transformed box, scaled) is tested against the boxes already placed,
-// found through an index (Celba: a quadtree; here a uniform grid, box_grid.h), and the tree is rejected when
-// the overlap volume with ANY ONE placed box exceeds AllowIntersection times its own volume; a rejected tree
-// is drawn again up to NumberOfRetries times, then dropped (the forest may hold fewer trees than requested).
+// Seed: Celba, "Dynamic Level of Detail" (2007), §4.5.2–4.5.3 and Algorithm 8 (PlaceTreesIntoForest, run by
+// CreateForest): per tree type a density (trees per 10 000 m²) over a Width x Depth area, per-axis scale
+// ranges (SizeDeviationX/Y/Z Min/Max), a base rotation about X, Y, Z and translation along Y; the types are
+// placed in order (type 0 first), each tree at a uniform random position with a random scale; its box (the
+// type's base-transformed box, scaled) is tested against the boxes already placed, found through an index
+// (Celba: a quadtree; here a uniform grid, box_grid.h), and the tree is rejected when the overlap volume with
+// ANY ONE placed box exceeds AllowIntersection times its own volume; a rejected tree is drawn again up to
+// NumberOfRetries times, then dropped (the forest may hold fewer trees than requested).
 //
 // Beyond Celba (his §4.5.4 "possible improvements", and what scatter tools offer), each optional:
-// an explicit seed (same inputs -> same forest); a random yaw (the box tested is then the
+// an explicit seed (same inputs -> same forest; his §5.3: "it isn't easy to generate same tree
+// positions"); a random yaw (the box tested is then the
 // axis-aligned box of the yawed box); terrain (trees stand on the height field; per-species slope
 // and altitude limits); a density map multiplying every density; exclusion polygons; rows and
 // alleys (polylines with spacing and jitter); explicit positions; and `poisson`, a Bridson-style

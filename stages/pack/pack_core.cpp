@@ -685,12 +685,15 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   }
   if (in.impostor) {
     const double t = std::tan(in.impostor->fov_y_rad / 2);
-    if (tan_half > 0 && std::abs(t - tan_half) > 1e-4 * tan_half)
-      throw std::invalid_argument("the impostor's camera (vertical fov " +
-                                  std::to_string(in.impostor->fov_y_rad * 180 / std::numbers::pi) +
-                                  " deg) is not the lod chain's (" +
-                                  std::to_string(2 * std::atan(tan_half) * 180 / std::numbers::pi) +
-                                  " deg): its switch distance is for another view");
+    if (tan_half > 0 && std::abs(t - tan_half) > 1e-4 * tan_half) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg,
+                    "the impostor's camera (vertical fov %.6g deg) is not the lod chain's (%.6g deg): its "
+                    "switch distance is for another view",
+                    in.impostor->fov_y_rad * 180 / std::numbers::pi,
+                    2 * std::atan(tan_half) * 180 / std::numbers::pi);
+      throw std::invalid_argument(msg);
+    }
     tan_half = t;
   }
 

@@ -38,7 +38,7 @@ StageInfo pack_stage_info() {
               "gltfpack -cc) and vertex fetch"),
       Param::boolean("quantize", true)
           .describe("KHR_mesh_quantization: integer positions (grid from each level's epsilon), octahedral "
-                    "normals, 16-bit uvs (not with draco)"),
+                    "normals, uvs at texcoord_bits (not with draco)"),
       Param::real("position_error", 0.25)
           .range(0.001, 1)
           .describe("largest position rounding error, as a fraction of each level's epsilon_m"),

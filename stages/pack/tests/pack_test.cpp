@@ -262,10 +262,9 @@ TEST(PackCore, RefusesAnImpostorForAnotherCamera) {
     pack_species(in, {});
     FAIL();
   } catch (const std::invalid_argument& e) {
-    EXPECT_STREQ(
-        e.what(),
-        "the impostor's camera (vertical fov 28.647890 deg) is not the lod chain's (45.000000 deg): its "
-        "switch distance is for another view");
+    EXPECT_STREQ(e.what(),
+                 "the impostor's camera (vertical fov 28.6479 deg) is not the lod chain's (45 deg): its "
+                 "switch distance is for another view");
   }
 }
 
