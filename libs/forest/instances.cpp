@@ -242,6 +242,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
       const std::string lw = w + ".levels[" + std::to_string(l) + "]";
       Level lv;
       lv.file = r.string(levels[l], "file", lw);
+      if (lv.file.empty() || lv.file.find_first_of("/\\") != std::string::npos || lv.file[0] == '.')
+        r.fail(lw + ".file must be a file name of this artifact");
       lv.epsilon_m = r.real(levels[l], "epsilon_m", lw, 0);
       lv.switch_distance_m = r.real(levels[l], "switch_distance_m", lw, 0);
       lv.primitives = r.uint(levels[l], "primitives", lw, UINT64_MAX);
@@ -359,19 +361,24 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
 }
 
 Forest read_instances(const std::filesystem::path& json_path) {
+  // Regular files only: a FIFO would block the open, a device (a link to /dev/zero) never end.
   auto slurp = [](const std::filesystem::path& p, std::string& out) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(p, ec))
+      throw FormatError(p.string() + ": error: not a regular file");
     std::ifstream in(p, std::ios::binary);
-    if (!in) return false;
+    if (!in) throw FormatError(p.string() + ": error: cannot read the file");
     std::ostringstream ss;
     ss << in.rdbuf();
     out = ss.str();
-    return true;
   };
   std::string text, bin;
-  if (!slurp(json_path, text)) throw FormatError(json_path.string() + ": error: cannot read the file");
+  std::error_code ec;
+  if (!std::filesystem::exists(json_path, ec))
+    throw FormatError(json_path.string() + ": error: no such file");
+  slurp(json_path, text);
   const std::filesystem::path bin_path = json_path.parent_path() / kInstancesBin;
-  if (std::filesystem::exists(bin_path) && !slurp(bin_path, bin))
-    throw FormatError(bin_path.string() + ": error: cannot read the file");
+  if (std::filesystem::exists(std::filesystem::symlink_status(bin_path, ec))) slurp(bin_path, bin);
   return parse_instances(text, bin, json_path.string());
 }
 

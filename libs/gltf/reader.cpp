@@ -7,12 +7,37 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 namespace sylva::gltf {
 
 namespace {
+
+// tinygltf's file callbacks, opening nothing but regular files: its own FileExists fopen()s the
+// path (an open of a FIFO blocks until a writer comes) and its reader sizes the buffer from
+// tellg(), which a directory or device does not give.
+bool exists_without_opening(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::error_code ec;
+  std::ifstream in;
+  if (std::filesystem::is_regular_file(path, ec)) in.open(path, std::ios::binary);
+  if (!in.is_open() || !in) {
+    if (err)
+      *err += "cannot read '" + path + "' (" +
+              (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file") + ")\n";
+    return false;
+  }
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return true;
+}
 
 nlohmann::json to_json(const tinygltf::Value& v) {
   switch (v.Type()) {
@@ -313,6 +338,8 @@ class SceneReader {
 Scene read_scene(const std::filesystem::path& path) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_image_bytes, nullptr);
+  loader.SetFsCallbacks({&exists_without_opening, &tinygltf::ExpandFilePath, &read_regular_file,
+                         &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warn;
   const std::string file = path.string();

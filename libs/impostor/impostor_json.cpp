@@ -4,6 +4,7 @@
 #include "libs/impostor/impostor_json.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -296,6 +297,9 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
 }
 
 ImpostorInfo read_impostor_json(const std::string& path) {
+  std::error_code ec;  // a FIFO would block the open, a device never end
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw ImpostorFormatError(path + ": error: not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ImpostorFormatError(path + ": error: cannot open file");
   std::ostringstream ss;

@@ -4,6 +4,7 @@
 #include "libs/lodchain/lod_chain.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -245,6 +246,9 @@ LodChain parse_lod_chain(const std::string& text, const std::string& source_name
 }
 
 LodChain read_lod_chain(const std::string& path) {
+  std::error_code ec;  // a FIFO would block the open, a device never end
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw LodChainFormatError(path + ": error: not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LodChainFormatError(path + ": error: cannot open file");
   std::ostringstream ss;

@@ -851,6 +851,13 @@ Scene load_gltf_scene(const std::filesystem::path& path) {
 
 namespace {
 
+// tinygltf's file-exists test for external uris. Its own fopen()s the path, which blocks on a
+// FIFO until a writer comes.
+bool exists_without_opening(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
 // tinygltf's file reader for external uris. Its own sizes its buffer from tellg(), which is -1
 // for a directory that a uri may name (an allocation of 2^63 bytes).
 bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
@@ -904,7 +911,7 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
 
   tinygltf::Model model;
   tinygltf::TinyGLTF reader;
-  reader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_regular_file,
+  reader.SetFsCallbacks({&exists_without_opening, &tinygltf::ExpandFilePath, &read_regular_file,
                          &tinygltf::WriteWholeFile, nullptr});
   std::string err, warn;
   const std::string base_dir = base_dir_path.string();

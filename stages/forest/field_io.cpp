@@ -19,6 +19,10 @@ Field read_field(const std::filesystem::path& path, double x0, double z0, double
   }
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 2 || spec.height < 2) fail("a map needs at least 2 x 2 pixels");
+  // Read as floats: 16384 x 16384 is 1 GiB, and a header may declare any size.
+  if (double(spec.width) * double(spec.height) > 16384.0 * 16384.0)
+    fail("a map of " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
+         " pixels is larger than the 16384 x 16384 a map may have");
   Field f;
   f.cols = spec.width;
   f.rows = spec.height;

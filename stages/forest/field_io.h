@@ -12,8 +12,9 @@
 
 namespace sylva::forest {
 
-// Throws std::runtime_error("<path>: <reason>") for unreadable images, images smaller than 2 x 2,
-// and float values outside [0, 1]. The field covers [x0, x1] x [z0, z1].
+// Throws std::runtime_error("<path>: <reason>") for unreadable images, images smaller than 2 x 2
+// or larger than 16384 x 16384 pixels, and float values outside [0, 1]. The field covers
+// [x0, x1] x [z0, z1].
 Field read_field(const std::filesystem::path& path, double x0, double z0, double x1, double z1);
 
 }  // namespace sylva::forest

@@ -34,6 +34,9 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace forest;
 
+// A species' longest file name, <name>_impostor_normal_depth.png, stays within the engine's 128.
+constexpr std::size_t kMaxSpeciesName = 64;
+
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   if (!in) throw StageError(p.string() + ": cannot open file");
@@ -253,9 +256,16 @@ class ForestStage final : public Stage {
       const Value::Object& sp = species_params[i].as_object();
       SpeciesRule r;
       r.name = sp.at("name").as_string();
+      if (r.name.size() > kMaxSpeciesName)
+        throw StageError("species[" + std::to_string(i) + "].name '" + r.name.substr(0, kMaxSpeciesName) +
+                         "...' is longer than " + std::to_string(kMaxSpeciesName) + " characters");
       if (!std::regex_match(r.name, kName))
         throw StageError("species[" + std::to_string(i) + "].name '" + r.name +
                          "' must match [A-Za-z0-9_-]+");
+      // The tile files are tile_<ix>_<iz>[_lod<L>]: a species named so would overwrite them.
+      if (r.name.starts_with("tile_"))
+        throw StageError("species[" + std::to_string(i) + "].name '" + r.name +
+                         "' must not begin with 'tile_' (the tile files' names)");
       if (std::find(names.begin(), names.end(), r.name) != names.end())
         throw StageError("species name '" + r.name + "' is used twice");
       names.push_back(r.name);

@@ -80,7 +80,19 @@ std::vector<HierarchyNode> build_hierarchy(const std::vector<Box3>& boxes, int n
   bool leaf = true;
   do {
     std::vector<HierarchyNode> level;
-    for (auto& g : groups_of(current, limit)) {
+    std::vector<std::vector<std::uint32_t>> groups = groups_of(current, limit);
+    // With 2 or 3 children per node the quadtree can put every item of a level in a quadrant of
+    // its own (3 items, limit 2: three singletons), and the level would never shrink. Then runs of
+    // `limit` consecutive groups, in the quadrant order (spatially coherent), make the nodes.
+    if (!leaf && current.size() > 1 && groups.size() >= current.size()) {
+      std::vector<std::vector<std::uint32_t>> runs;
+      for (std::size_t i = 0; i < groups.size(); ++i) {
+        if (i % std::size_t(limit) == 0) runs.emplace_back();
+        runs.back().insert(runs.back().end(), groups[i].begin(), groups[i].end());
+      }
+      groups = std::move(runs);
+    }
+    for (auto& g : groups) {
       HierarchyNode n;
       n.leaf = leaf;
       n.bounds = current[g.front()];

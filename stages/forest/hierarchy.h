@@ -14,7 +14,10 @@ namespace sylva::forest {
 // The hierarchy over `boxes` (one per instance, world space): node 0 is the root, children
 // listed in quadrant order; each node has at most nodes_per_node (>= 2) children. A quadrant is
 // split while it holds more than nodes_per_node items (down to a size where its items' centres
-// coincide, which then form one node however many they are). Empty input: one empty leaf root.
+// coincide, which then form one node however many they are). A level of nodes the quadtree
+// cannot shrink (2 or 3 children per node, each item alone in its quadrant) is grouped in runs of
+// nodes_per_node in quadrant order instead, so the root is always reached. Empty input: one empty
+// leaf root.
 std::vector<HierarchyNode> build_hierarchy(const std::vector<Box3>& boxes, int nodes_per_node);
 
 // Assigns each instance to the square tile holding its position (tiles of size `tile_size_m`

@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -35,6 +36,9 @@ namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr int kMaxPositionDraws = 100000;  // rejection sampling of the allowed area, per tree
+// Trees a forest may request: ~130 bytes each while placing and ~200 in the stage's output and
+// the renderer (a million-tree benchmark forest is 20 times smaller).
+constexpr double kMaxTrees = 2e7;
 
 Box3 base_box(const SpeciesRule& s) {
   Species sp;
@@ -183,6 +187,7 @@ class Placer {
       }
       insert(make_tree(e.species, e.position, yaw, scale));
     }
+    std::size_t row_trees = 0;
     for (const Row& r : p_.rows) {
       const SpeciesRule& sp = p_.species[r.species];
       double carry = 0;  // arc length from the current segment's start to the next tree
@@ -191,6 +196,7 @@ class Placer {
         const double len = std::hypot(b[0] - a[0], b[1] - a[1]);
         double t = carry;
         for (; t <= len + 1e-9; t += r.spacing_m) {
+          if ((++row_trees & 4095) == 0 && cancelled_) cancelled_();
           const double f = len > 0 ? t / len : 0;
           Point2 q{a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])};
           if (r.jitter_m > 0) {
@@ -290,8 +296,9 @@ class Placer {
     const double x0 = -0.5 * p_.width_m, z0 = -0.5 * p_.depth_m;
     const auto gx = std::size_t(std::ceil(p_.width_m / cell)) + 1,
                gz = std::size_t(std::ceil(p_.depth_m / cell)) + 1;
-    if (double(gx) * double(gz) > 4e8)
-      throw std::invalid_argument("the Poisson grid would need more than 4e8 cells: raise min_spacing_m");
+    // 24 bytes a cell (an empty vector): 1e8 cells are 2.4 GB before any tree.
+    if (double(gx) * double(gz) > 1e8)
+      throw std::invalid_argument("the Poisson grid would need more than 1e8 cells: raise min_spacing_m");
     std::vector<std::vector<std::uint32_t>> grid(gx * gz);
     std::vector<double> r_of;  // radius per placed tree
     auto cell_of = [&](const Point2& q) {
@@ -435,8 +442,28 @@ double allowed_fraction(const LayoutParams& p, std::uint32_t species) {
   return sum / (double(kGrid) * kGrid);
 }
 
+double requested_trees(const LayoutParams& p) {
+  double n = double(p.explicit_trees.size());
+  for (const Row& r : p.rows)
+    for (std::size_t k = 0; k + 1 < r.points.size(); ++k)
+      n += std::floor(std::hypot(r.points[k + 1][0] - r.points[k][0], r.points[k + 1][1] - r.points[k][1]) /
+                      r.spacing_m) +
+           1;
+  for (std::uint32_t s = 0; s < p.species.size(); ++s)
+    n += std::round(p.species[s].density_per_ha * p.width_m * p.depth_m / 1e4 * allowed_fraction(p, s));
+  return n;
+}
+
 LayoutResult lay_out(const LayoutParams& p, Rng& rng, const std::function<void()>& cancelled) {
   check_params(p);
+  if (const double n = requested_trees(p); !(n <= kMaxTrees)) {
+    char count[32];
+    std::snprintf(count, sizeof count, "%.4g", n);
+    throw std::invalid_argument(
+        std::string("the forest would request ") + count +
+        " trees (densities over the area, rows, positions), more than the 20,000,000 a "
+        "forest may hold: lower density_per_ha or size_m, or raise the rows' spacing_m");
+  }
   Placer placer(p, rng, cancelled);
   return p.method == Method::kPoisson ? placer.poisson() : placer.celba();
 }
@@ -461,10 +488,28 @@ std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std
     return cells;
   };
   auto fail = [&](const std::string& what) {
-    throw std::invalid_argument(source + ":" + std::to_string(lineno) + ": " + what);
+    throw std::invalid_argument(source + (lineno > 0 ? ":" + std::to_string(lineno) : std::string()) + ": " +
+                                what);
+  };
+  // A cell quoted in a message: at most 40 characters, bytes outside printable ASCII as \xHH.
+  auto quoted = [](const std::string& c) {
+    std::string q;
+    for (std::size_t i = 0; i < c.size() && i < 40; ++i) {
+      const auto u = static_cast<unsigned char>(c[i]);
+      if (u >= 0x20 && u < 0x7f) {
+        q += c[i];
+      } else {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "\\x%02X", unsigned(u));
+        q += hex;
+      }
+    }
+    return "'" + q + (c.size() > 40 ? "...'" : "'");
   };
   while (std::getline(in, line)) {
     ++lineno;
+    // A UTF-8 byte order mark (spreadsheets write one) is not part of the first column's name.
+    if (lineno == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
     if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#')
       continue;
     const auto cells = split(line);
@@ -477,8 +522,8 @@ std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std
                     : h == "yaw_deg" ? &col_yaw
                     : h == "scale"   ? &col_scale
                                      : nullptr;
-        if (!slot) fail("unknown column '" + h + "' (expected species, x, z, yaw_deg, scale)");
-        if (*slot >= 0) fail("column '" + h + "' appears twice");
+        if (!slot) fail("unknown column " + quoted(h) + " (expected species, x, z, yaw_deg, scale)");
+        if (*slot >= 0) fail("column " + quoted(h) + " appears twice");
         *slot = int(c);
       }
       if (col_species < 0 || col_x < 0 || col_z < 0)
@@ -491,14 +536,15 @@ std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std
     ExplicitTree t;
     t.line = lineno;
     const auto it = std::find(names.begin(), names.end(), cells[std::size_t(col_species)]);
-    if (it == names.end()) fail("unknown species '" + cells[std::size_t(col_species)] + "'");
+    if (it == names.end()) fail("unknown species " + quoted(cells[std::size_t(col_species)]));
     t.species = std::uint32_t(it - names.begin());
     auto number = [&](int col, const char* what) {
       const std::string& c = cells[std::size_t(col)];
       char* end = nullptr;
       const double v = std::strtod(c.c_str(), &end);
-      if (c.empty() || *end != '\0' || !std::isfinite(v))
-        fail(std::string(what) + " '" + c + "' is not a number");
+      if (c.empty() || *end != '\0' || end != c.c_str() + c.size() || !std::isfinite(v) ||
+          c.find_first_of("xX") != std::string::npos)
+        fail(std::string(what) + " " + quoted(c) + " is not a number");
       return v;
     };
     t.position = {number(col_x, "x"), number(col_z, "z")};
@@ -508,13 +554,14 @@ std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std
     }
     if (col_scale >= 0) {
       t.scale = number(col_scale, "scale");
-      if (!(t.scale > 0)) fail("scale must be positive");
+      // The range of the species' scale_x/y/z parameters.
+      if (!(t.scale >= 0.001 && t.scale <= 1000)) fail("scale must lie in 0.001..1000");
     }
     out.push_back(t);
   }
   if (col_species < 0) {
     lineno = 0;
-    fail("no header line (species,x,z[,yaw_deg][,scale])");
+    fail("no header line (species,x,z[,yaw_deg][,scale]): the file is empty or holds only comments");
   }
   return out;
 }

@@ -107,10 +107,15 @@ Box3 tree_box(const SpeciesRule& s, const Vec3d& position, double yaw_rad, const
 // density x width x depth / 10^4 times this.
 double allowed_fraction(const LayoutParams& p, std::uint32_t species);
 
+// Trees the parameters request before any is placed or dropped: explicit positions, one per
+// row spacing along every row segment (plus its start), and each species' expected count
+// (density x area x allowed_fraction, rounded).
+double requested_trees(const LayoutParams& p);
+
 // Lays out the forest. `rng` is the stage's stream (every random draw comes from it, in a fixed
 // order, so the result is a function of the parameters and the seed). `cancelled` is called
 // now and then and may throw. Throws std::invalid_argument for impossible parameters (message
-// says which).
+// says which), among them more than 20,000,000 requested trees (requested_trees).
 LayoutResult lay_out(const LayoutParams& p, Rng& rng, const std::function<void()>& cancelled = {});
 
 // Point in polygon, even-odd rule.

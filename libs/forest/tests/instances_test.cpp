@@ -1,8 +1,12 @@
 #include "libs/forest/instances.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 
 namespace sylva::forest {
@@ -75,6 +79,17 @@ TEST(Instances, BadInputNamesTheProblem) {
         "i.json: error: species[0].levels[1].octahedral must be a file name of this artifact, on the "
         "impostor level only");
   }
+  for (const char* file : {"\"../../etc/passwd\"", "\"/etc/passwd\"", "\"\""}) {
+    std::string l = write_instances(sample_forest(false)).json;
+    l.replace(l.find("\"oak_lod0.gltf\""), 15, file);
+    try {
+      parse_instances(l, "", "i.json");
+      FAIL() << file;
+    } catch (const FormatError& err) {
+      EXPECT_STREQ(err.what(),
+                   "i.json: error: species[0].levels[0].file must be a file name of this artifact");
+    }
+  }
   std::string p = write_instances(sample_forest(false)).json;
   p.replace(p.find("1374.125"), 8, "1000");
   try {
@@ -93,6 +108,38 @@ TEST(Instances, BadInputNamesTheProblem) {
     EXPECT_EQ(std::string(err.what()).rfind("i.json: error: not JSON: ", 0), 0u) << err.what();
   }
   EXPECT_THROW(parse_instances("[]", "", "i.json"), FormatError);
+}
+
+// A FIFO in place of instances.json or instances.bin would block the open; a link to a device
+// never end: both are refused by name, without opening them.
+TEST(Instances, ReadsRegularFilesOnly) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("sylva_instances_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const EncodedForest e = write_instances(sample_forest(true));
+  std::ofstream(dir / "instances.json", std::ios::binary) << e.json;
+  ASSERT_EQ(::mkfifo((dir / "instances.bin").c_str(), 0600), 0);
+  auto error = [&] {
+    try {
+      read_instances(dir / "instances.json");
+    } catch (const FormatError& err) {
+      return std::string(err.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(error(), (dir / "instances.bin").string() + ": error: not a regular file");
+  std::filesystem::remove(dir / "instances.bin");
+  std::filesystem::create_symlink("/dev/zero", dir / "instances.bin");
+  EXPECT_EQ(error(), (dir / "instances.bin").string() + ": error: not a regular file");
+  std::filesystem::remove(dir / "instances.bin");
+  std::ofstream(dir / "instances.bin", std::ios::binary) << e.bin;
+  EXPECT_EQ(error(), "no error");
+  std::filesystem::remove(dir / "instances.json");
+  ASSERT_EQ(::mkfifo((dir / "instances.json").c_str(), 0600), 0);
+  EXPECT_EQ(error(), (dir / "instances.json").string() + ": error: not a regular file");
+  std::filesystem::remove(dir / "instances.json");
+  EXPECT_EQ(error(), (dir / "instances.json").string() + ": error: no such file");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Instances, MatrixIsTranslateYawScaleBase) {

@@ -199,6 +199,37 @@ TEST(Layout, PoissonKeepsEverySpacingAndTheMix) {
     }
 }
 
+// Densities or rows that would request more trees than a forest may hold are refused before
+// anything is allocated (before: std::bad_alloc, or minutes in the row loop).
+TEST(Layout, RefusesMoreThanTwentyMillionRequestedTrees) {
+  const std::string why =
+      " trees (densities over the area, rows, positions), more than the 20,000,000 a forest may hold: lower "
+      "density_per_ha or size_m, or raise the rows' spacing_m";
+  auto error = [](const LayoutParams& p) {
+    Rng rng(1, "layout");
+    try {
+      lay_out(p, rng);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  LayoutParams dense;
+  dense.width_m = dense.depth_m = 1e6;
+  dense.species = {rule("a", 1e6, 1, 4)};
+  EXPECT_EQ(requested_trees(dense), 1e14);
+  EXPECT_EQ(error(dense), "the forest would request 1e+14" + why);
+  LayoutParams row;
+  row.width_m = row.depth_m = 1e6;
+  row.species = {rule("a", 0, 1, 4)};
+  row.rows = {{0, {{-4e5, 0}, {4e5, 0}}, 0.03125, 0}};  // a spacing exact in binary
+  EXPECT_EQ(requested_trees(row), 2.56e7 + 1);
+  EXPECT_EQ(error(row), "the forest would request 2.56e+07" + why);
+  LayoutParams fits = dense;
+  fits.species[0].density_per_ha = 2e7 / 1e8;  // 2e7 trees over 1e8 ha
+  EXPECT_EQ(requested_trees(fits), 2e7);
+}
+
 TEST(Layout, PoissonReportsWhatDoesNotFit) {
   LayoutParams p;
   p.method = Method::kPoisson;
@@ -234,22 +265,30 @@ TEST(Layout, PositionsCsv) {
   EXPECT_EQ(msg("species,x,z\nelm,1,2\n"), "p.csv:2: unknown species 'elm'");
   EXPECT_EQ(msg("species,x,z\noak,1,two\n"), "p.csv:2: z 'two' is not a number");
   EXPECT_EQ(msg("species,x,y\n"), "p.csv:1: unknown column 'y' (expected species, x, z, yaw_deg, scale)");
-  EXPECT_EQ(msg(""), "p.csv:0: no header line (species,x,z[,yaw_deg][,scale])");
+  EXPECT_EQ(
+      msg(""),
+      "p.csv: no header line (species,x,z[,yaw_deg][,scale]): the file is empty or holds only comments");
+  // Scales within the species parameters' range; hexadecimal and NUL-split numbers refused; a
+  // long or binary cell quoted short and escaped; a byte order mark ignored.
+  EXPECT_EQ(msg("species,x,z,scale\noak,1,2,1e300\n"), "p.csv:2: scale must lie in 0.001..1000");
+  EXPECT_EQ(msg("species,x,z,scale\noak,1,2,0.0001\n"), "p.csv:2: scale must lie in 0.001..1000");
+  EXPECT_EQ(msg("species,x,z\noak,0x10,2\n"), "p.csv:2: x '0x10' is not a number");
+  EXPECT_EQ(msg(std::string("species,x,z\noak,1\0junk,2\n", 25)), "p.csv:2: x '1\\x00junk' is not a number");
+  EXPECT_EQ(msg("species,x,z\noak,1," + std::string(100, 'q') + "\n"),
+            "p.csv:2: z '" + std::string(40, 'q') + "...' is not a number");
+  EXPECT_EQ(msg("species,x,z\n\xC3\xA9lm,1,2\n"), "p.csv:2: unknown species '\\xC3\\xA9lm'");
+  EXPECT_EQ(msg("\xEF\xBB\xBFspecies,x,z\noak,1,2\n"), "");
 }
 
-TEST(Hierarchy, NodesOfAtMostNodesPerNodeUpToOneRoot) {
-  LayoutParams p;
-  p.species = {rule("a", 300, 1, 4)};
-  Rng rng(8, "layout");
-  const LayoutResult r = lay_out(p, rng);
-  std::vector<Box3> boxes;
-  for (const auto& t : r.trees) boxes.push_back(t.box);
-  const auto nodes = build_hierarchy(boxes, 16);
+// Every node has 1..limit children, bounds its children, each box is under exactly one leaf,
+// every node but the root (node 0) has one parent.
+void expect_hierarchy(const std::vector<Box3>& boxes, int limit) {
+  const auto nodes = build_hierarchy(boxes, limit);
   ASSERT_FALSE(nodes.empty());
   std::vector<int> seen(boxes.size(), 0);
   std::vector<int> parents(nodes.size(), 0);
   for (std::size_t n = 0; n < nodes.size(); ++n) {
-    EXPECT_LE(nodes[n].children.size(), 16u);
+    EXPECT_LE(nodes[n].children.size(), std::size_t(limit));
     EXPECT_GE(nodes[n].children.size(), 1u);
     for (auto c : nodes[n].children) {
       const Box3& cb = nodes[n].leaf ? boxes[c] : nodes[c].bounds;
@@ -266,6 +305,33 @@ TEST(Hierarchy, NodesOfAtMostNodesPerNodeUpToOneRoot) {
   for (int s : seen) EXPECT_EQ(s, 1);
   EXPECT_EQ(parents[0], 0);  // the root
   for (std::size_t n = 1; n < nodes.size(); ++n) EXPECT_EQ(parents[n], 1);
+}
+
+TEST(Hierarchy, NodesOfAtMostNodesPerNodeUpToOneRoot) {
+  LayoutParams p;
+  p.species = {rule("a", 300, 1, 4)};
+  Rng rng(8, "layout");
+  const LayoutResult r = lay_out(p, rng);
+  std::vector<Box3> boxes;
+  for (const auto& t : r.trees) boxes.push_back(t.box);
+  expect_hierarchy(boxes, 16);
+}
+
+// With 2 or 3 children per node the quadtree alone can leave a level of nodes unshrunk (each in
+// a quadrant of its own): the hierarchy still ends at one root. Before the fix this looped,
+// allocating until it ran out of memory.
+TEST(Hierarchy, TwoOrThreeChildrenPerNodeReachTheRoot) {
+  for (int limit : {2, 3}) {
+    for (std::size_t n : {3u, 4u, 5u, 17u, 300u}) {
+      SCOPED_TRACE("limit " + std::to_string(limit) + ", " + std::to_string(n) + " boxes");
+      std::vector<Box3> boxes;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double x = double(i % 7) * 13.0 - double(i) * 0.5, z = double(i / 7) * 11.0 + double(i % 3);
+        boxes.push_back({{x, 0, z}, {x + 1, 5, z + 1}});
+      }
+      expect_hierarchy(boxes, limit);
+    }
+  }
 }
 
 TEST(Hierarchy, TilesHoldTheirTrees) {

@@ -321,6 +321,13 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
   Value::Object dup = params;
   dup["species"] = Value(Value::List{Value(species("a", 20)), Value(species("a", 20))});
   EXPECT_EQ(error(dup), "species name 'a' is used twice");
+  // A species named like a tile would have its level files overwritten by the tiles'.
+  Value::Object tile = params;
+  tile["species"] = Value(Value::List{Value(species("tile_0_0", 20)), Value(species("b", 10))});
+  EXPECT_EQ(error(tile), "species[0].name 'tile_0_0' must not begin with 'tile_' (the tile files' names)");
+  Value::Object longer = params;
+  longer["species"] = Value(Value::List{Value(species("a", 20)), Value(species(std::string(65, 'n'), 10))});
+  EXPECT_EQ(error(longer), "species[1].name '" + std::string(64, 'n') + "...' is longer than 64 characters");
   Value::Object row = params;
   row["rows"] = Value(Value::List{Value(Value::Object{{"species", Value("c")},
                                                       {"points", Value(Value::List{0.0, 0.0, 10.0, 0.0})},
