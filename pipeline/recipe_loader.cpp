@@ -277,6 +277,7 @@ class ParamChecker {
         std::vector<std::string> names;
         for (const auto& f : spec.fields) names.push_back(f.name);
         Value::Object out;
+        std::set<std::string> given;  // fields present, converted or not (a bad one is not "missing")
         bool ok = true;
         for (const auto& [k, v] : raw.entries) {
           const ParamSpec* f = nullptr;
@@ -288,7 +289,7 @@ class ParamChecker {
             ok = false;
             continue;
           }
-          if (out.count(k.text)) {
+          if (!given.insert(k.text).second) {
             src_.error(diags_, k.loc, "duplicate field '" + k.text + "' in " + what);
             ok = false;
             continue;
@@ -300,7 +301,7 @@ class ParamChecker {
             ok = false;
         }
         for (const auto& f : spec.fields) {
-          if (out.count(f.name)) continue;
+          if (given.count(f.name)) continue;
           if (f.required()) {
             src_.error(diags_, raw.loc, "missing required field '" + f.name + "' in " + what);
             ok = false;

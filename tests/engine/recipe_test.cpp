@@ -81,6 +81,12 @@ TEST_F(RecipeTest, ObjectListItemsAreCheckedOneByOne) {
             "r.yaml:7:34: error: value out of range: parameter 'items'[0].weight must be in [0, 10], got 11\n"
             "r.yaml:7:42: error: unknown field 'wieght' in parameter 'items'[1]; did you mean 'weight'?\n"
             "r.yaml:7:40: error: missing required field 'name' in parameter 'items'[1]\n");
+  // A required field that is present but wrong is reported once, as wrong, not also as missing.
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n"
+           "      items: [{ name: [x] }]\n"));
+  EXPECT_EQ(errors(),
+            "r.yaml:7:23: error: wrong type: parameter 'items'[0].name expects string, got a list\n");
   auto r = load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { items: [{ name: x }] }\n");
   ASSERT_TRUE(r);
   const Value& items = r->nodes.at(0).params.at("items");
