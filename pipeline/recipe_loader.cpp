@@ -899,8 +899,41 @@ class Loader {
         node.params.emplace(spec.name, spec.default_value);
       }
     }
+    if (info.check && node.params.size() == info.params.size()) {
+      for (const ParamProblem& p : info.check(node.params))
+        err(problem_loc(p.path, with, key.loc), param_problem_text(p));
+    }
     if (needs) needs_raw_.emplace(node.name, *needs);
     recipe_.nodes.push_back(std::move(node));
+  }
+
+  // Where the recipe spells out the value at `path` (ParamProblem::path): the deepest node of it
+  // the node's `with:` (or the recipe's defaults, for a parameter taken from there) holds;
+  // `node_loc` for a parameter left at its schema default.
+  SourceLoc problem_loc(const std::vector<std::string>& path, const RawNode* with,
+                        const SourceLoc& node_loc) const {
+    if (path.empty()) return node_loc;
+    const RawNode* at = nullptr;
+    if (with && with->is_map())
+      for (const auto& [k, v] : with->entries)
+        if (k.text == path[0]) at = &v;
+    if (!at)
+      if (auto d = defaults_.find(path[0]); d != defaults_.end()) at = &d->second.second;
+    if (!at) return node_loc;
+    for (std::size_t i = 1; i < path.size(); ++i) {
+      const RawNode* next = nullptr;
+      if (at->is_map()) {
+        for (const auto& [k, v] : at->entries)
+          if (k.text == path[i]) next = &v;
+      } else if (at->is_seq() && !path[i].empty() && path[i].size() < 10 &&
+                 path[i].find_first_not_of("0123456789") == std::string::npos) {
+        const std::size_t index = std::stoul(path[i]);
+        if (index < at->items.size()) next = &at->items[index];
+      }
+      if (!next) break;
+      at = next;
+    }
+    return at->loc;
   }
 
   static const ParamSpec* find_param(const StageInfo& info, const std::string& name) {

@@ -21,6 +21,20 @@ std::vector<const ArtifactFile*> InputArtifact::files_with_suffix(std::string_vi
   return out;
 }
 
+std::string param_problem_text(const ParamProblem& p) {
+  std::string where = "parameter";
+  for (std::size_t i = 0; i < p.path.size(); ++i) {
+    const std::string& e = p.path[i];
+    if (i == 0)
+      where += " '" + e + "'";
+    else if (!e.empty() && e.find_first_not_of("0123456789") == std::string::npos)
+      where += "[" + e + "]";
+    else
+      where += "." + e;
+  }
+  return where + ": " + p.message;
+}
+
 const Value& StageContext::param(std::string_view name) const {
   const auto& p = params();
   auto it = p.find(std::string(name));

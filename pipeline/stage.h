@@ -52,6 +52,19 @@ struct InputSpec {
   std::string doc;
 };
 
+// A problem with parameter values that their schema cannot express (a name's pattern, a pair out
+// of order, a list of odd length, a name another parameter must match). `path` leads from the
+// node's `with:` to the value: the parameter's name, then field names and list indices as
+// decimal strings, e.g. {"species", "1", "name"}; the recipe loader reports it at that value's
+// file:line:col (or the nearest enclosing one the recipe spells out).
+struct ParamProblem {
+  std::vector<std::string> path;
+  std::string message;  // what is wrong, without the path: "'a' is the name of species[0] too"
+};
+
+// "parameter 'species'[1].name: <message>", the form the recipe loader's own errors take.
+std::string param_problem_text(const ParamProblem& p);
+
 struct StageInfo {
   std::string name;     // recipe `stage:` value; [a-z_]+
   int version = 1;      // implementation version, part of the action key
@@ -63,6 +76,10 @@ struct StageInfo {
   // any valid name. A run that declares another name fails; a cached result naming one is
   // not this stage's (a crafted or misfiled action-cache entry) and is never used.
   std::vector<std::string> outputs;
+  // Checks of the node's complete, typed parameters beyond the schema, run when the recipe is
+  // loaded (so a bad value is a recipe error, exit 2, at its file:line:col) and by the stage
+  // itself before it runs. Pure, no inputs; optional.
+  std::function<std::vector<ParamProblem>(const Value::Object& params)> check;
 };
 
 // One file of an upstream artifact, already verified against its digest.

@@ -1,5 +1,12 @@
 #include "stages/forest/forest_info.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <string>
+#include <vector>
+
 namespace sylva {
 
 namespace {
@@ -13,6 +20,96 @@ ParamSpec optional_path(const std::string& name, const std::string& doc) {
 }
 }  // namespace
 
+namespace {
+
+// A species' longest file name, <name>_impostor_normal_depth.png, stays within the engine's 128.
+constexpr std::size_t kMaxSpeciesName = 64;
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+std::vector<double> reals(const Value& v) {
+  std::vector<double> out;
+  for (const Value& e : v.as_list()) out.push_back(e.as_real());
+  return out;
+}
+
+}  // namespace
+
+std::vector<ParamProblem> forest_param_problems(const Value::Object& params) {
+  std::vector<ParamProblem> out;
+  auto problem = [&](std::vector<std::string> path, std::string message) {
+    out.push_back({std::move(path), std::move(message)});
+  };
+  static const std::regex kName("[A-Za-z0-9_-]+");
+  std::vector<std::string> names;
+  const Value::List& species = params.at("species").as_list();
+  for (std::size_t i = 0; i < species.size(); ++i) {
+    const Value::Object& sp = species[i].as_object();
+    const std::string is = std::to_string(i);
+    const std::string& name = sp.at("name").as_string();
+    if (name.size() > kMaxSpeciesName)
+      problem({"species", is, "name"}, "'" + name.substr(0, kMaxSpeciesName) + "...' is longer than " +
+                                           std::to_string(kMaxSpeciesName) + " characters");
+    else if (!std::regex_match(name, kName))
+      problem({"species", is, "name"}, "'" + name + "' must match [A-Za-z0-9_-]+");
+    else if (name.starts_with("tile_"))  // tile_<ix>_<iz>[_lod<L>]: it would overwrite the tile files
+      problem({"species", is, "name"}, "'" + name + "' must not begin with 'tile_' (the tile files' names)");
+    for (std::size_t j = 0; j < names.size(); ++j)
+      if (names[j] == name)
+        problem({"species", is, "name"},
+                "'" + name + "' is the name of species[" + std::to_string(j) + "] too");
+    names.push_back(name);
+    for (const char* key : {"scale_x", "scale_y", "scale_z"}) {
+      const std::vector<double> r = reals(sp.at(key));
+      if (r[0] > r[1])
+        problem({"species", is, key},
+                "must be [min, max] with min <= max, got [" + number(r[0]) + ", " + number(r[1]) + "]");
+    }
+    if (sp.at("min_altitude_m").as_real() > sp.at("max_altitude_m").as_real())
+      problem({"species", is, "max_altitude_m"}, "must be at least min_altitude_m (" +
+                                                     number(sp.at("min_altitude_m").as_real()) + "), got " +
+                                                     number(sp.at("max_altitude_m").as_real()));
+    const std::vector<double> px = reals(sp.at("impostor_parallax"));
+    if (px.size() % 2) {
+      problem({"species", is, "impostor_parallax"},
+              "must be pairs [from_m, steps, ...], got " + std::to_string(px.size()) + " numbers");
+    } else {
+      for (std::size_t k = 0; k < px.size(); k += 2) {
+        if (!(px[k + 1] >= 0 && px[k + 1] <= 64 && px[k + 1] == std::floor(px[k + 1])))
+          problem({"species", is, "impostor_parallax"},
+                  "steps must be integers 0..64, got " + number(px[k + 1]));
+        if (k > 0 && !(px[k] > px[k - 2]))
+          problem({"species", is, "impostor_parallax"},
+                  "distances must increase, got " + number(px[k]) + " after " + number(px[k - 2]));
+      }
+    }
+  }
+  auto pairs = [&](const std::string& list, std::size_t j, const Value::Object& item) {
+    const std::size_t n = item.at("points").as_list().size();
+    if (n % 2)
+      problem({list, std::to_string(j), "points"},
+              "must be x, z pairs (an even count), got " + std::to_string(n) + " numbers");
+  };
+  const Value::List& exclusions = params.at("exclusions").as_list();
+  for (std::size_t j = 0; j < exclusions.size(); ++j) pairs("exclusions", j, exclusions[j].as_object());
+  const Value::List& rows = params.at("rows").as_list();
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const Value::Object& row = rows[j].as_object();
+    pairs("rows", j, row);
+    const std::string& sp = row.at("species").as_string();
+    if (std::find(names.begin(), names.end(), sp) == names.end())
+      problem({"rows", std::to_string(j), "species"}, "'" + sp + "' is not in 'species'");
+  }
+  const std::vector<double> te = reals(params.at("terrain_extent_m"));
+  if (!te.empty() && (te.size() != 4 || !(te[2] > te[0]) || !(te[3] > te[1])))
+    problem({"terrain_extent_m"}, "must be [x0, z0, x1, z1] with x1 > x0 and z1 > z0");
+  return out;
+}
+
 StageInfo forest_stage_info() {
   StageInfo info;
   info.name = "forest";
@@ -25,6 +122,7 @@ StageInfo forest_stage_info() {
                           -1,
                           "species: the i-th lod input is species[i] (with the i-th impostor input, if any)"};
   info.output_type = "forest";
+  info.check = forest_param_problems;
   info.params = {
       Param::integer("seed", 1)
           .range(0, 4294967295.0)

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 
 #include "libs/gltf/writer.h"
@@ -34,9 +33,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace forest;
 
-// A species' longest file name, <name>_impostor_normal_depth.png, stays within the engine's 128.
-constexpr std::size_t kMaxSpeciesName = 64;
-
 std::string read_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   if (!in) throw StageError(p.string() + ": cannot open file");
@@ -51,10 +47,9 @@ std::vector<double> reals(const Value& v) {
   return out;
 }
 
-std::vector<Point2> points_of(const Value& v, const std::string& what) {
+// x, z pairs (an even count: forest_param_problems).
+std::vector<Point2> points_of(const Value& v) {
   const std::vector<double> r = reals(v);
-  if (r.size() % 2)
-    throw StageError(what + ": points must be x, z pairs (an even count), got " + std::to_string(r.size()));
   std::vector<Point2> out;
   for (std::size_t i = 0; i + 1 < r.size(); i += 2) out.push_back({r[i], r[i + 1]});
   return out;
@@ -85,25 +80,16 @@ struct SpeciesInput {
   std::vector<ParallaxStep> parallax;
 };
 
-// species[i].impostor_parallax: pairs (distance, steps), distances strictly increasing, steps an
-// integer 0..64, for an octahedral impostor only.
+// species[i].impostor_parallax (checked by forest_param_problems: pairs, distances increasing,
+// steps integers 0..64), for an octahedral impostor only.
 std::vector<ParallaxStep> parallax_table(const Value& v, const std::string& species, bool octahedral) {
   const std::vector<double> r = reals(v);
   if (r.empty()) return {};
-  const std::string what = "species '" + species + "': impostor_parallax ";
-  if (!octahedral) throw StageError(what + "needs a (hemi-)octahedral impostor input for the species");
-  if (r.size() % 2)
-    throw StageError(what + "must be pairs [from_m, steps, ...], got " + std::to_string(r.size()) +
-                     " numbers");
+  if (!octahedral)
+    throw StageError("species '" + species +
+                     "': impostor_parallax needs a (hemi-)octahedral impostor input for the species");
   std::vector<ParallaxStep> out;
-  for (std::size_t k = 0; k < r.size(); k += 2) {
-    if (r[k + 1] != std::floor(r[k + 1]) || r[k + 1] < 0 || r[k + 1] > 64)
-      throw StageError(what + "steps must be integers 0..64, got " + format_real(r[k + 1]));
-    if (!out.empty() && !(r[k] > out.back().from_m))
-      throw StageError(what + "distances must increase, got " + format_real(r[k]) + " after " +
-                       format_real(out.back().from_m));
-    out.push_back({r[k], int(r[k + 1])});
-  }
+  for (std::size_t k = 0; k + 1 < r.size(); k += 2) out.push_back({r[k], int(r[k + 1])});
   return out;
 }
 
@@ -229,6 +215,9 @@ class ForestStage final : public Stage {
   const StageInfo& info() const override { return info_; }
 
   void run(StageContext& ctx) const override {
+    // The checks a recipe's loader ran already (StageInfo::check), for nodes run another way.
+    if (const auto problems = forest_param_problems(ctx.params()); !problems.empty())
+      throw StageError(param_problem_text(problems.front()));
     // 1. Species: the i-th lod input with species[i].
     std::vector<const InputArtifact*> lods, impostors;
     for (const InputArtifact& in : ctx.inputs()) (in.type == "lod" ? lods : impostors).push_back(&in);
@@ -251,23 +240,10 @@ class ForestStage final : public Stage {
     lp.retries = int(ctx.integer("retries"));
     std::vector<std::string> names;
     std::vector<SpeciesInput> inputs;
-    static const std::regex kName("[A-Za-z0-9_-]+");
     for (std::size_t i = 0; i < lods.size(); ++i) {
       const Value::Object& sp = species_params[i].as_object();
       SpeciesRule r;
       r.name = sp.at("name").as_string();
-      if (r.name.size() > kMaxSpeciesName)
-        throw StageError("species[" + std::to_string(i) + "].name '" + r.name.substr(0, kMaxSpeciesName) +
-                         "...' is longer than " + std::to_string(kMaxSpeciesName) + " characters");
-      if (!std::regex_match(r.name, kName))
-        throw StageError("species[" + std::to_string(i) + "].name '" + r.name +
-                         "' must match [A-Za-z0-9_-]+");
-      // The tile files are tile_<ix>_<iz>[_lod<L>]: a species named so would overwrite them.
-      if (r.name.starts_with("tile_"))
-        throw StageError("species[" + std::to_string(i) + "].name '" + r.name +
-                         "' must not begin with 'tile_' (the tile files' names)");
-      if (std::find(names.begin(), names.end(), r.name) != names.end())
-        throw StageError("species name '" + r.name + "' is used twice");
       names.push_back(r.name);
       inputs.push_back(read_species(*lods[i], r.name));
       if (!impostors.empty()) read_impostor(*impostors[i], r.name, inputs.back());
@@ -276,8 +252,6 @@ class ForestStage final : public Stage {
       r.density_per_ha = sp.at("density_per_ha").as_real();
       auto range = [&](const char* key) {
         const auto v = reals(sp.at(key));
-        if (v[1] < v[0])
-          throw StageError("species '" + r.name + "': " + key + " must be [min, max] with min <= max");
         return Point2{v[0], v[1]};
       };
       r.scale_x = range("scale_x");
@@ -299,8 +273,6 @@ class ForestStage final : public Stage {
       if (!ctx.string("height_map").empty()) {
         std::vector<double> e = reals(ctx.param("terrain_extent_m"));
         if (e.empty()) e = {-0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m};
-        if (e.size() != 4 || !(e[2] > e[0]) || !(e[3] > e[1]))
-          throw StageError("terrain_extent_m must be [x0, z0, x1, z1] with x1 > x0 and z1 > z0");
         lp.terrain.field = read_field(ctx.param_file("height_map"), e[0], e[1], e[2], e[3]);
         const auto hr = reals(ctx.param("height_range_m"));
         lp.terrain.height_min = hr[0];
@@ -315,18 +287,13 @@ class ForestStage final : public Stage {
     }
     const Value::List& ex = ctx.param("exclusions").as_list();
     for (std::size_t i = 0; i < ex.size(); ++i)
-      lp.exclusions.push_back(
-          points_of(ex[i].as_object().at("points"), "exclusions[" + std::to_string(i) + "]"));
+      lp.exclusions.push_back(points_of(ex[i].as_object().at("points")));
     const Value::List& rows = ctx.param("rows").as_list();
     for (std::size_t i = 0; i < rows.size(); ++i) {
       const Value::Object& r = rows[i].as_object();
       const std::string& sp = r.at("species").as_string();
       const auto it = std::find(names.begin(), names.end(), sp);
-      if (it == names.end())
-        throw StageError("rows[" + std::to_string(i) + "] names species '" + sp +
-                         "', which is not in 'species'");
-      lp.rows.push_back({std::uint32_t(it - names.begin()),
-                         points_of(r.at("points"), "rows[" + std::to_string(i) + "]"),
+      lp.rows.push_back({std::uint32_t(it - names.begin()), points_of(r.at("points")),
                          r.at("spacing_m").as_real(), r.at("jitter_m").as_real()});
     }
     if (!ctx.string("positions").empty()) {

@@ -94,6 +94,20 @@ TEST_F(RecipeTest, ObjectListItemsAreCheckedOneByOne) {
   EXPECT_EQ(items.canonical(), "[{\"name\":\"x\",\"weight\":1.0}]");
 }
 
+// A stage's own checks (StageInfo::check) are recipe errors at the value they are about: inside
+// a list of objects, or in the recipe's defaults; none when the schema already failed.
+TEST_F(RecipeTest, StageChecksPointAtTheValue) {
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with:\n"
+           "      items: [{ name: x }, { name: y }, { name: x }]\n"));
+  EXPECT_EQ(errors(), "r.yaml:7:49: error: parameter 'items'[2].name: 'x' is the name of items[0] too\n");
+  EXPECT_FALSE(load("version: 1\nname: r\ndefaults: { text: forbidden }\nnodes:\n  a:\n    stage: text\n"));
+  EXPECT_EQ(errors(), "r.yaml:3:19: error: parameter 'text': 'forbidden' is not allowed\n");
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n    with: { text: forbidden, count: x }\n"));
+  EXPECT_EQ(errors(), "r.yaml:6:37: error: wrong type: parameter 'count' expects int, got 'x'\n");
+}
+
 TEST_F(RecipeTest, MissingInputNode) {
   EXPECT_FALSE(
       load("version: 1\nname: r\nnodes:\n  base:\n    stage: text\n"

@@ -65,6 +65,19 @@ class TextStage final : public Stage {
     };
     info_.inputs = {{}, 0, 0, ""};
     info_.output_type = "text";
+    // Checks beyond the schema (StageInfo::check): item names unique, and one forbidden text.
+    info_.check = [](const Value::Object& p) {
+      std::vector<ParamProblem> out;
+      const Value::List& items = p.at("items").as_list();
+      for (std::size_t i = 0; i < items.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (items[i].as_object().at("name") == items[j].as_object().at("name"))
+            out.push_back({{"items", std::to_string(i), "name"},
+                           "'" + items[i].as_object().at("name").as_string() + "' is the name of items[" +
+                               std::to_string(j) + "] too"});
+      if (p.at("text").as_string() == "forbidden") out.push_back({{"text"}, "'forbidden' is not allowed"});
+      return out;
+    };
   }
   const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {

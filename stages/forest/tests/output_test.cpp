@@ -18,6 +18,7 @@
 #include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
+#include "stages/forest/forest_info.h"
 #include "stages/forest/forest_stage.h"
 #include "stages/forest/tests/card_glb.h"
 #include "tests/support/gltf_validator.h"
@@ -155,6 +156,46 @@ Value::Object species(const std::string& name, double density) {
           {"max_altitude_m", Value(1e9)},
           {"min_spacing_m", Value(0.0)},
           {"impostor_parallax", Value(Value::List{})}};
+}
+
+// The checks the recipe loader runs (StageInfo::check) find every problem, each with the path of
+// its value, so a recipe error points at it (the stage itself reports the first: ForestOutput).
+TEST(ForestParams, EveryProblemWithThePathOfItsValue) {
+  const StageInfo info = forest_stage_info();
+  ASSERT_TRUE(info.check);
+  Value::Object p;  // as the loader completes a node: schema defaults, then the recipe's values
+  for (const ParamSpec& s : info.params)
+    if (!s.required()) p[s.name] = s.default_value;
+  Value::Object a = species("a", 10), b = species("tile_b", 10), c = species("a", 10);
+  a["scale_y"] = Value(Value::List{1.2, 0.8});
+  a["min_altitude_m"] = Value(5.0);
+  a["max_altitude_m"] = Value(4.0);
+  c["impostor_parallax"] = Value(Value::List{100.0, 8.0, 90.0, 65.0});
+  p["species"] = Value(Value::List{Value(a), Value(b), Value(c)});
+  p["exclusions"] = Value(
+      Value::List{Value(Value::Object{{"points", Value(Value::List{0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 2.0})}})});
+  p["rows"] = Value(Value::List{Value(Value::Object{{"species", Value("elm")},
+                                                    {"points", Value(Value::List{0.0, 0.0, 10.0, 0.0})},
+                                                    {"spacing_m", Value(5.0)},
+                                                    {"jitter_m", Value(0.0)}})});
+  p["terrain_extent_m"] = Value(Value::List{0.0, 0.0, -1.0, 10.0});
+  std::vector<std::string> got;
+  for (const ParamProblem& pr : info.check(p)) got.push_back(param_problem_text(pr));
+  const std::vector<std::string> want = {
+      "parameter 'species'[0].scale_y: must be [min, max] with min <= max, got [1.2, 0.8]",
+      "parameter 'species'[0].max_altitude_m: must be at least min_altitude_m (5), got 4",
+      "parameter 'species'[1].name: 'tile_b' must not begin with 'tile_' (the tile files' names)",
+      "parameter 'species'[2].name: 'a' is the name of species[0] too",
+      "parameter 'species'[2].impostor_parallax: steps must be integers 0..64, got 65",
+      "parameter 'species'[2].impostor_parallax: distances must increase, got 90 after 100",
+      "parameter 'exclusions'[0].points: must be x, z pairs (an even count), got 7 numbers",
+      "parameter 'rows'[0].species: 'elm' is not in 'species'",
+      "parameter 'terrain_extent_m': must be [x0, z0, x1, z1] with x1 > x0 and z1 > z0"};
+  EXPECT_EQ(got, want);
+  p["species"] = Value(Value::List{Value(species("a", 10)), Value(species("elm", 10))});
+  p["exclusions"] = Value(Value::List{});
+  p["terrain_extent_m"] = Value(Value::List{});
+  EXPECT_TRUE(info.check(p).empty());
 }
 
 class ForestOutput : public ::testing::Test {
@@ -320,20 +361,22 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
             "order of 'needs')");
   Value::Object dup = params;
   dup["species"] = Value(Value::List{Value(species("a", 20)), Value(species("a", 20))});
-  EXPECT_EQ(error(dup), "species name 'a' is used twice");
+  EXPECT_EQ(error(dup), "parameter 'species'[1].name: 'a' is the name of species[0] too");
   // A species named like a tile would have its level files overwritten by the tiles'.
   Value::Object tile = params;
   tile["species"] = Value(Value::List{Value(species("tile_0_0", 20)), Value(species("b", 10))});
-  EXPECT_EQ(error(tile), "species[0].name 'tile_0_0' must not begin with 'tile_' (the tile files' names)");
+  EXPECT_EQ(error(tile),
+            "parameter 'species'[0].name: 'tile_0_0' must not begin with 'tile_' (the tile files' names)");
   Value::Object longer = params;
   longer["species"] = Value(Value::List{Value(species("a", 20)), Value(species(std::string(65, 'n'), 10))});
-  EXPECT_EQ(error(longer), "species[1].name '" + std::string(64, 'n') + "...' is longer than 64 characters");
+  EXPECT_EQ(error(longer),
+            "parameter 'species'[1].name: '" + std::string(64, 'n') + "...' is longer than 64 characters");
   Value::Object row = params;
   row["rows"] = Value(Value::List{Value(Value::Object{{"species", Value("c")},
                                                       {"points", Value(Value::List{0.0, 0.0, 10.0, 0.0})},
                                                       {"spacing_m", Value(5.0)},
                                                       {"jitter_m", Value(0.0)}})});
-  EXPECT_EQ(error(row), "rows[0] names species 'c', which is not in 'species'");
+  EXPECT_EQ(error(row), "parameter 'rows'[0].species: 'c' is not in 'species'");
   Value::Object shear = params;
   Value::Object sp = species("a", 20);
   sp["base_rotation_deg"] = Value(Value::List{30.0, 0.0, 0.0});
@@ -847,11 +890,11 @@ TEST_F(ForestOutput, ImpostorParallaxTableSetsTheStepsByDistance) {
     return std::string("no error");
   };
   EXPECT_EQ(error_of({140.0, 4.0, 170.0}, false),
-            "species 'a': impostor_parallax must be pairs [from_m, steps, ...], got 3 numbers");
+            "parameter 'species'[0].impostor_parallax: must be pairs [from_m, steps, ...], got 3 numbers");
   EXPECT_EQ(error_of({140.0, 4.5}, false),
-            "species 'a': impostor_parallax steps must be integers 0..64, got 4.5");
+            "parameter 'species'[0].impostor_parallax: steps must be integers 0..64, got 4.5");
   EXPECT_EQ(error_of({140.0, 4.0, 140.0, 0.0}, false),
-            "species 'a': impostor_parallax distances must increase, got 140.0 after 140.0");
+            "parameter 'species'[0].impostor_parallax: distances must increase, got 140 after 140");
   inputs_[3] = fake_impostor(dir_ / "imp_b2", 5, "imp_b");  // billboards
   EXPECT_EQ(error_of({140.0, 4.0}, true),
             "species 'b': impostor_parallax needs a (hemi-)octahedral impostor input for the species");
