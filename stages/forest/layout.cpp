@@ -140,8 +140,8 @@ void check_params(const LayoutParams& p) {
 
 class Placer {
  public:
-  Placer(const LayoutParams& p, Rng& rng, const std::function<void()>& cancelled)
-      : p_(p), rng_(rng), cancelled_(cancelled) {
+  Placer(const LayoutParams& p, std::vector<double> allowed, Rng& rng, const std::function<void()>& cancelled)
+      : p_(p), allowed_(std::move(allowed)), rng_(rng), cancelled_(cancelled) {
     for (const auto& s : p.species) base_.push_back(base_box(s));
     out_.stats.resize(p.species.size());
   }
@@ -237,8 +237,8 @@ class Placer {
     std::size_t total = out_.trees.size();
     for (std::uint32_t s = 0; s < p_.species.size(); ++s) {
       const SpeciesRule& sp = p_.species[s];
-      counts.push_back(std::size_t(
-          std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_fraction(p_, s))));
+      counts.push_back(
+          std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_[s])));
       total += counts.back();
     }
     out_.trees.reserve(total);
@@ -333,8 +333,7 @@ class Placer {
     std::size_t missing = 0;
     for (std::uint32_t s = 0; s < ns; ++s) {
       const SpeciesRule& sp = p_.species[s];
-      target[s] = std::size_t(
-          std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_fraction(p_, s)));
+      target[s] = std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_[s]));
       out_.stats[s].requested += target[s];
       missing += target[s];
     }
@@ -404,6 +403,7 @@ class Placer {
   }
 
   const LayoutParams& p_;
+  const std::vector<double> allowed_;  // allowed_fraction per species
   Rng& rng_;
   const std::function<void()>& cancelled_;
   std::vector<Box3> base_;
@@ -442,7 +442,15 @@ double allowed_fraction(const LayoutParams& p, std::uint32_t species) {
   return sum / (double(kGrid) * kGrid);
 }
 
-double requested_trees(const LayoutParams& p) {
+namespace {
+
+std::vector<double> allowed_fractions(const LayoutParams& p) {
+  std::vector<double> out;
+  for (std::uint32_t s = 0; s < p.species.size(); ++s) out.push_back(allowed_fraction(p, s));
+  return out;
+}
+
+double requested_trees(const LayoutParams& p, const std::vector<double>& allowed) {
   double n = double(p.explicit_trees.size());
   for (const Row& r : p.rows)
     for (std::size_t k = 0; k + 1 < r.points.size(); ++k)
@@ -450,13 +458,18 @@ double requested_trees(const LayoutParams& p) {
                       r.spacing_m) +
            1;
   for (std::uint32_t s = 0; s < p.species.size(); ++s)
-    n += std::round(p.species[s].density_per_ha * p.width_m * p.depth_m / 1e4 * allowed_fraction(p, s));
+    n += std::round(p.species[s].density_per_ha * p.width_m * p.depth_m / 1e4 * allowed[s]);
   return n;
 }
 
+}  // namespace
+
+double requested_trees(const LayoutParams& p) { return requested_trees(p, allowed_fractions(p)); }
+
 LayoutResult lay_out(const LayoutParams& p, Rng& rng, const std::function<void()>& cancelled) {
   check_params(p);
-  if (const double n = requested_trees(p); !(n <= kMaxTrees)) {
+  std::vector<double> allowed = allowed_fractions(p);  // 256 x 256 samples each: computed once
+  if (const double n = requested_trees(p, allowed); !(n <= kMaxTrees)) {
     char count[32];
     std::snprintf(count, sizeof count, "%.4g", n);
     throw std::invalid_argument(
@@ -464,7 +477,7 @@ LayoutResult lay_out(const LayoutParams& p, Rng& rng, const std::function<void()
         " trees (densities over the area, rows, positions), more than the 20,000,000 a "
         "forest may hold: lower density_per_ha or size_m, or raise the rows' spacing_m");
   }
-  Placer placer(p, rng, cancelled);
+  Placer placer(p, std::move(allowed), rng, cancelled);
   return p.method == Method::kPoisson ? placer.poisson() : placer.celba();
 }
 
