@@ -235,6 +235,7 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
     const json& cam = r.at(sj, "camera", w);
     sp.fov_y_deg = r.real(cam, "fov_y_deg", w + ".camera", 1e-6, 179.999);
     sp.height_px = int(r.uint(cam, "height_px", w + ".camera", 1u << 20));
+    if (sp.height_px < 1) r.fail(w + ".camera.height_px is out of range");
     sp.pixel_error_px = r.real(sj, "pixel_error_px", w, 1e-9);
     const json& levels = r.array(sj, "levels", w);
     if (levels.empty()) r.fail(w + ".levels is empty");
@@ -245,6 +246,8 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
       if (lv.file.empty() || lv.file.find_first_of("/\\") != std::string::npos || lv.file[0] == '.')
         r.fail(lw + ".file must be a file name of this artifact");
       lv.epsilon_m = r.real(levels[l], "epsilon_m", lw, 0);
+      // Not necessarily increasing: an impostor proven nearer than the last mesh level's switch
+      // distance takes over from there, and that mesh level is never drawn.
       lv.switch_distance_m = r.real(levels[l], "switch_distance_m", lw, 0);
       lv.primitives = r.uint(levels[l], "primitives", lw, UINT64_MAX);
       lv.impostor = r.boolean(levels[l], "impostor", lw);

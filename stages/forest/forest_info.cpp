@@ -107,6 +107,8 @@ std::vector<ParamProblem> forest_param_problems(const Value::Object& params) {
   const std::vector<double> te = reals(params.at("terrain_extent_m"));
   if (!te.empty() && (te.size() != 4 || !(te[2] > te[0]) || !(te[3] > te[1])))
     problem({"terrain_extent_m"}, "must be [x0, z0, x1, z1] with x1 > x0 and z1 > z0");
+  else if (!te.empty() && params.at("height_map").as_string().empty())
+    problem({"terrain_extent_m"}, "places the height map, but there is no height_map");
   return out;
 }
 

@@ -12,7 +12,8 @@ StageInfo forest_stage_info();
 // The forest's parameter checks beyond the schema (StageInfo::check): species names (pattern, at
 // most 64 characters, not beginning with `tile_`, unique), scale ranges in order, altitude limits
 // in order, impostor_parallax rows (pairs, distances increasing, steps integers 0..64), polygon and
-// polyline points in x, z pairs, rows naming a listed species, terrain_extent_m's order. `params`:
+// polyline points in x, z pairs, rows naming a listed species, terrain_extent_m's order (and a
+// height_map for it to place). `params`:
 // the node's complete, typed parameters.
 std::vector<ParamProblem> forest_param_problems(const Value::Object& params);
 

@@ -90,6 +90,14 @@ TEST(Instances, BadInputNamesTheProblem) {
                    "i.json: error: species[0].levels[0].file must be a file name of this artifact");
     }
   }
+  std::string h = write_instances(sample_forest(false)).json;
+  h.replace(h.find("\"height_px\": 1080"), 17, "\"height_px\": 0");
+  try {
+    parse_instances(h, "", "i.json");
+    FAIL();
+  } catch (const FormatError& err) {
+    EXPECT_STREQ(err.what(), "i.json: error: species[0].camera.height_px is out of range");
+  }
   std::string p = write_instances(sample_forest(false)).json;
   p.replace(p.find("1374.125"), 8, "1000");
   try {

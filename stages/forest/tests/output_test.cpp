@@ -196,6 +196,10 @@ TEST(ForestParams, EveryProblemWithThePathOfItsValue) {
   p["exclusions"] = Value(Value::List{});
   p["terrain_extent_m"] = Value(Value::List{});
   EXPECT_TRUE(info.check(p).empty());
+  p["terrain_extent_m"] = Value(Value::List{0.0, 0.0, 10.0, 10.0});  // but no height_map
+  ASSERT_EQ(info.check(p).size(), 1u);
+  EXPECT_EQ(param_problem_text(info.check(p)[0]),
+            "parameter 'terrain_extent_m': places the height map, but there is no height_map");
 }
 
 class ForestOutput : public ::testing::Test {
