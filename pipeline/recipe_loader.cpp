@@ -904,6 +904,7 @@ class Loader {
         err(problem_loc(p.path, with, key.loc), param_problem_text(p));
     }
     if (needs) needs_raw_.emplace(node.name, *needs);
+    if (with) with_raw_.emplace(node.name, *with);
     recipe_.nodes.push_back(std::move(node));
   }
 
@@ -1011,16 +1012,27 @@ class Loader {
                        " input" + ((in.max < 0 ? in.min : in.max) == 1 ? "" : "s") + ", got " +
                        std::to_string(count));
       }
+      std::vector<std::string> types;
+      bool types_ok = !(count < in.min || (in.max >= 0 && count > in.max));
       for (const auto& up : node.needs) {
         const NodeDecl* u = recipe_.find(up);
         const std::string& type = u->stage->info().output_type;
+        types.push_back(type);
         if (std::find(in.types.begin(), in.types.end(), type) == in.types.end()) {
+          types_ok = false;
           std::string accepted;
           for (const auto& t : in.types) accepted += (accepted.empty() ? "" : ", ") + t;
           err(where, "node '" + node.name + "' cannot take '" + up + "' as input: stage '" +
                          node.stage->info().name + "' accepts " +
                          (accepted.empty() ? "no inputs" : accepted) + ", but '" + up + "' makes a " + type);
         }
+      }
+      const StageInfo& info = node.stage->info();
+      if (info.check_inputs && types_ok && node.params.size() == info.params.size()) {
+        const auto w = with_raw_.find(node.name);
+        for (const ParamProblem& p : info.check_inputs(node.params, types))
+          err(problem_loc(p.path, w == with_raw_.end() ? nullptr : &w->second, node.loc),
+              param_problem_text(p));
       }
     }
   }
@@ -1041,6 +1053,7 @@ class Loader {
   std::vector<NodeEntry> entries_;
   std::unordered_map<std::string, SourceLoc> node_loc_;
   std::map<std::string, RawNode> needs_raw_;
+  std::map<std::string, RawNode> with_raw_;  // each node's `with:`, for StageInfo::check_inputs
 };
 
 }  // namespace

@@ -80,6 +80,11 @@ struct StageInfo {
   // loaded (so a bad value is a recipe error, exit 2, at its file:line:col) and by the stage
   // itself before it runs. Pure, no inputs; optional.
   std::function<std::vector<ParamProblem>(const Value::Object& params)> check;
+  // The same, for checks that need the inputs' artifact types (in the order of `needs`, after
+  // its patterns are resolved), e.g. one parameter entry per input of a type. Optional.
+  std::function<std::vector<ParamProblem>(const Value::Object& params,
+                                          const std::vector<std::string>& input_types)>
+      check_inputs;
 };
 
 // One file of an upstream artifact, already verified against its digest.

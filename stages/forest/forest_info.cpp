@@ -112,6 +112,16 @@ std::vector<ParamProblem> forest_param_problems(const Value::Object& params) {
   return out;
 }
 
+std::vector<ParamProblem> forest_input_problems(const Value::Object& params,
+                                                const std::vector<std::string>& input_types) {
+  const std::size_t species = params.at("species").as_list().size();
+  const auto lods = std::size_t(std::count(input_types.begin(), input_types.end(), "lod"));
+  if (species == lods) return {};
+  return {{{"species"},
+           "lists " + std::to_string(species) + " entries but the node needs " + std::to_string(lods) +
+               " lod inputs (one entry per lod input, in the order of 'needs')"}};
+}
+
 StageInfo forest_stage_info() {
   StageInfo info;
   info.name = "forest";
@@ -125,6 +135,7 @@ StageInfo forest_stage_info() {
                           "species: the i-th lod input is species[i] (with the i-th impostor input, if any)"};
   info.output_type = "forest";
   info.check = forest_param_problems;
+  info.check_inputs = forest_input_problems;
   info.params = {
       Param::integer("seed", 1)
           .range(0, 4294967295.0)

@@ -17,4 +17,8 @@ StageInfo forest_stage_info();
 // the node's complete, typed parameters.
 std::vector<ParamProblem> forest_param_problems(const Value::Object& params);
 
+// StageInfo::check_inputs: one `species` entry per lod input (in the order of `needs`).
+std::vector<ParamProblem> forest_input_problems(const Value::Object& params,
+                                                const std::vector<std::string>& input_types);
+
 }  // namespace sylva

@@ -227,10 +227,10 @@ class ForestStage final : public Stage {
                        " impostor inputs: give every species an impostor (the i-th impostor input is the "
                        "i-th lod input's species) or none");
     const Value::List& species_params = ctx.param("species").as_list();
-    if (species_params.size() != lods.size())
-      throw StageError("'species' lists " + std::to_string(species_params.size()) +
-                       " entries but the node needs " + std::to_string(lods.size()) +
-                       " lod inputs (one entry per lod input, in the order of 'needs')");
+    std::vector<std::string> types;
+    for (const InputArtifact& in : ctx.inputs()) types.push_back(in.type);
+    if (const auto problems = forest_input_problems(ctx.params(), types); !problems.empty())
+      throw StageError(param_problem_text(problems.front()));
     LayoutParams lp;
     const std::vector<double> size = reals(ctx.param("size_m"));
     lp.width_m = size[0];

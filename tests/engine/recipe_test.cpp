@@ -108,6 +108,17 @@ TEST_F(RecipeTest, StageChecksPointAtTheValue) {
   EXPECT_EQ(errors(), "r.yaml:6:37: error: wrong type: parameter 'count' expects int, got 'x'\n");
 }
 
+// Checks that need the resolved inputs (StageInfo::check_inputs) run after `needs`, at the value.
+TEST_F(RecipeTest, StageInputChecksPointAtTheValue) {
+  EXPECT_FALSE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: text\n"
+           "  c:\n    stage: concat\n    needs: [a, b]\n    with: { suffix: '#3' }\n"));
+  EXPECT_EQ(errors(), "r.yaml:11:21: error: parameter 'suffix': says 3 inputs, the node has 2\n");
+  EXPECT_TRUE(
+      load("version: 1\nname: r\nnodes:\n  a:\n    stage: text\n  b:\n    stage: text\n"
+           "  c:\n    stage: concat\n    needs: [a, b]\n    with: { suffix: '#2' }\n"));
+}
+
 TEST_F(RecipeTest, MissingInputNode) {
   EXPECT_FALSE(
       load("version: 1\nname: r\nnodes:\n  base:\n    stage: text\n"

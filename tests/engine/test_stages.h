@@ -111,6 +111,15 @@ class ConcatStage final : public Stage {
                     Param::boolean("fail", false).describe("fail with a StageError")};
     info_.inputs = {{"text"}, 1, -1, "texts"};
     info_.output_type = "text";
+    // A check that needs the inputs (StageInfo::check_inputs): a suffix "#N" must name the count.
+    info_.check_inputs = [](const Value::Object& p, const std::vector<std::string>& types) {
+      std::vector<ParamProblem> out;
+      const std::string& s = p.at("suffix").as_string();
+      if (s.starts_with("#") && s != "#" + std::to_string(types.size()))
+        out.push_back(
+            {{"suffix"}, "says " + s.substr(1) + " inputs, the node has " + std::to_string(types.size())});
+      return out;
+    };
   }
   const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {

@@ -361,8 +361,8 @@ TEST_F(ForestOutput, BinaryTableAndClearErrors) {
   Value::Object one = params;
   one["species"] = Value(Value::List{Value(species("a", 20))});
   EXPECT_EQ(error(one),
-            "'species' lists 1 entries but the node needs 2 lod inputs (one entry per lod input, in the "
-            "order of 'needs')");
+            "parameter 'species': lists 1 entries but the node needs 2 lod inputs (one entry per lod input, "
+            "in the order of 'needs')");
   Value::Object dup = params;
   dup["species"] = Value(Value::List{Value(species("a", 20)), Value(species("a", 20))});
   EXPECT_EQ(error(dup), "parameter 'species'[1].name: 'a' is the name of species[0] too");
