@@ -81,9 +81,49 @@ std::optional<ActionResult> Cache::lookup(const std::string& key, const std::vec
   return result;
 }
 
-bool Cache::store_action(const std::string& key, const ActionResult& result, bool durable,
-                         std::string* error) {
-  return fs_.write_atomic(action_path(key), result.to_json(key), durable, error);
+bool Cache::store(const std::string& key, const ActionResult& result, bool durable, std::string* error) {
+  const fs::path p = action_path(key);
+  if (fs_.write_atomic(p, result.to_json(key), durable, error)) return true;
+  if (error) *error = p.string() + ": " + *error;
+  return false;
+}
+
+namespace {
+// fsync of every file, then of every directory holding one, then of `top` (cas/ or ac/, whose
+// fan-out directories may be new) and of the cache root (whose cas/ or ac/ may be new): after a
+// power loss each file is there under its name with its bytes. Each directory is synced once.
+bool sync_files_and_dirs(FileSystem& fs, const std::vector<fs::path>& files, const fs::path& top,
+                         const fs::path& root, std::string* error) {
+  std::set<fs::path> dirs;
+  for (const auto& f : files) {
+    if (!fs.sync(f, error)) {
+      if (error) *error = f.string() + ": " + *error;
+      return false;
+    }
+    dirs.insert(f.parent_path());
+  }
+  if (files.empty()) return true;
+  dirs.insert(top);
+  dirs.insert(root);
+  for (const auto& d : dirs)
+    if (!fs.sync(d, error)) {
+      if (error) *error = d.string() + ": " + *error;
+      return false;
+    }
+  return true;
+}
+}  // namespace
+
+bool Cache::make_durable(const std::vector<std::string>& keys, std::string* error) {
+  std::vector<fs::path> files;
+  for (const auto& k : keys) files.push_back(action_path(k));
+  return sync_files_and_dirs(fs_, files, root_ / "ac", root_, error);
+}
+
+bool Cache::make_durable(const std::vector<Digest>& digests, std::string* error) {
+  std::set<fs::path> unique;
+  for (const auto& d : digests) unique.insert(blob_path(d.hash));
+  return sync_files_and_dirs(fs_, {unique.begin(), unique.end()}, root_ / "cas", root_, error);
 }
 
 std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at, bool durable,
@@ -92,12 +132,23 @@ std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_
   auto d = known ? known : fs_.digest(file, error);
   if (!d) return std::nullopt;
   const fs::path dest = blob_path(d->hash);
+  // A file that is the blob itself (an input passed on with StageContext::link_output, a hard
+  // link of it) is stored already; its mtime must not move under the published links of it.
+  if (known) {
+    auto a = fs_.stat(file), b = fs_.stat(dest);
+    if (a && b && !b->is_dir && a->ino == b->ino && a->dev == b->dev && b->size == known->size) {
+      fs_.remove(file);
+      if (durable && !make_durable(std::vector<Digest>{*d}, error)) return std::nullopt;
+      if (known_at) *known_at = now;
+      return d;
+    }
+  }
   // Replacing an existing blob (rather than trusting it) costs nothing and heals a damaged one.
   fs_.set_mtime(file, now - 1);
   fs_.make_read_only(file);
   if (!fs_.make_dirs(dest.parent_path(), error)) return std::nullopt;
-  if (durable && !fs_.sync(file, error)) return std::nullopt;
   if (!fs_.rename(file, dest, error)) return std::nullopt;
+  if (durable && !make_durable(std::vector<Digest>{*d}, error)) return std::nullopt;
   if (known_at) *known_at = now;
   return d;
 }

@@ -4,10 +4,10 @@
 //                            its own key
 //   <root>/locks/ab/<key>    flock files: one process runs an action at a time
 //   <root>/tmp/              temporary files and stage scratch directories
-// Every write is temp + rename, made durable (fsync or syncfs, DurableBatch) before an action
-// result names it. An action-cache hit counts only if the entry names its own key, lists at
-// least one output, every output name is a valid file name ([A-Za-z0-9_.-], no "." or "..":
-// an entry can never name a path outside the node's directory) matching the stage's declared
+// Every write is temp + rename; a blob is made durable (fsync of the file and of its
+// directories, DurableBatch) before an action result names it. An action-cache hit counts only if the entry
+// names its own key, lists at least one output, every output name is a valid file name ([A-Za-z0-9_.-], no
+// "." or "..": an entry can never name a path outside the node's directory) matching the stage's declared
 // output patterns, and every blob it names is present with the recorded size; a blob whose
 // content does not hash to its name is deleted when it is read and the action rebuilt, never
 // used. Anything else is a miss (and `cache verify` deletes it): a crafted or damaged entry is
@@ -21,26 +21,12 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/action_cache.h"
+#include "pipeline/blob_store.h"
 #include "pipeline/digest.h"
 #include "pipeline/filesystem.h"
 
 namespace sylva {
-
-struct OutputEntry {
-  std::string name;  // file name within the node's output directory
-  Digest digest;
-  friend bool operator==(const OutputEntry&, const OutputEntry&) = default;
-};
-
-struct ActionResult {
-  std::vector<OutputEntry> outputs;  // sorted by name
-  // The entry stored under `key`.
-  std::string to_json(const std::string& key) const;
-  // The entry's outputs if it is well formed and names `key` (see above); else nullopt.
-  // `why` (optional) says what is wrong.
-  static std::optional<ActionResult> from_json(const std::string& text, const std::string& key,
-                                               std::string* why = nullptr);
-};
 
 // True if output `name` matches one of `patterns` (fnmatch); an empty list accepts any name.
 bool output_name_declared(const std::string& name, const std::vector<std::string>& patterns);
@@ -60,7 +46,9 @@ struct VerifyResult {
 // An action result is a few hundred bytes; anything much larger is not one (never read whole).
 inline constexpr std::uint64_t kMaxActionBytes = 1 << 20;
 
-class Cache {
+// The local cache on the engine's FileSystem: both seams (ActionCache, BlobStore) and what only
+// a local cache has (locks, scratch directories, gc, verify).
+class Cache final : public ActionCache, public BlobStore {
  public:
   Cache(FileSystem& fs, std::filesystem::path root);
 
@@ -70,28 +58,28 @@ class Cache {
 
   // The result for `key` if it is valid (above; `outputs`: the stage's declared output name
   // patterns, empty = any name) and every blob it names is present (sizes checked).
-  std::optional<ActionResult> lookup(const std::string& key, const std::vector<std::string>& outputs = {});
-  // Writes the entry for `key`; `durable` fsyncs it (false when a DurableBatch syncs the file
-  // system instead). False (and `error`) if it could not be written.
-  bool store_action(const std::string& key, const ActionResult& result, bool durable = true,
-                    std::string* error = nullptr);
+  std::optional<ActionResult> lookup(const std::string& key,
+                                     const std::vector<std::string>& outputs = {}) override;
+  // Writes the entry for `key`; `durable` fsyncs it and its directory (false when a
+  // DurableBatch makes a batch of entries durable at once). False (and `error`) on failure.
+  bool store(const std::string& key, const ActionResult& result, bool durable = true,
+             std::string* error = nullptr) override;
+  // fsync of each entry, then of each directory holding one (ac/ab/, ac/, the root).
+  bool make_durable(const std::vector<std::string>& keys, std::string* error = nullptr) override;
 
   // Moves `file` into the CAS (a rename: the bytes are not copied), read-only, replacing any
-  // blob of that name; hashes it first unless `known` (its digest, computed while it was
-  // written) is given. Its mtime is set just below the clock read before that, so every later
-  // write to it (or to a hard link of it) is visible to DigestCache. `durable` fsyncs it before
-  // the rename (false when a DurableBatch syncs the file system before any action result names
-  // it). `known_at` (if given) receives that clock value. The file is gone afterwards.
+  // blob of that name (which heals a damaged one). Its mtime is set just below the clock read
+  // before that, so every later write to it (or to a hard link of it) is visible to
+  // DigestCache. `durable` fsyncs it and its directories (false when a DurableBatch makes a
+  // batch of blobs durable at once).
   std::optional<Digest> put_file(const std::filesystem::path& file, std::int64_t* known_at = nullptr,
                                  bool durable = true, std::string* error = nullptr,
-                                 const std::optional<Digest>& known = std::nullopt);
-
-  // Makes `dest` hold blob `d`: a hard link where possible (bytes stored once), else a copy;
-  // atomically. With `verify`, the blob is hashed first, and one that does not match its
-  // digest is deleted and false returned (the caller rebuilds). `known_at` receives the clock
-  // read before the content was verified (for DigestCache::record).
+                                 const std::optional<Digest>& known = std::nullopt) override;
+  // A hard link where possible, else a copy (a copy's mtime is set as the blob's).
   bool materialize(const Digest& d, const std::filesystem::path& dest, bool verify = true,
-                   std::int64_t* known_at = nullptr, std::string* error = nullptr);
+                   std::int64_t* known_at = nullptr, std::string* error = nullptr) override;
+  // fsync of each blob, then of each directory holding one (cas/ab/, cas/, the root).
+  bool make_durable(const std::vector<Digest>& digests, std::string* error = nullptr) override;
 
   // Marks the root as a sylva cache (a CACHEDIR.TAG, https://bford.info/cachedir/, which also
   // keeps backup tools out), once; lock_for_build() calls it. `sylva clean --all` deletes only

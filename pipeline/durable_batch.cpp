@@ -2,7 +2,7 @@
 
 namespace sylva {
 
-DurableBatch::DurableBatch(FileSystem& fs, Cache& cache) : fs_(fs), cache_(cache) {}
+DurableBatch::DurableBatch(ActionCache& actions, BlobStore& blobs) : actions_(actions), blobs_(blobs) {}
 
 DurableBatch::~DurableBatch() { finish(); }
 
@@ -16,6 +16,30 @@ void DurableBatch::commit(std::string key, ActionResult result, std::unique_ptr<
   cv_.notify_one();
 }
 
+std::vector<std::string> DurableBatch::store(std::vector<Item>& batch) {
+  std::vector<std::string> errors;
+  std::string why;
+  std::vector<Digest> blobs;
+  for (const Item& item : batch)
+    for (const auto& o : item.result.outputs) blobs.push_back(o.digest);
+  // Every blob these results name was moved into the store before it was queued.
+  if (!blobs_.make_durable(blobs, &why)) {
+    errors.push_back("cannot make the cache's blobs durable (" + why + "); " + std::to_string(batch.size()) +
+                     " action result(s) not stored");
+    return errors;
+  }
+  std::vector<std::string> stored;
+  for (const Item& item : batch) {
+    if (actions_.store(item.key, item.result, /*durable=*/false, &why))
+      stored.push_back(item.key);
+    else
+      errors.push_back("cannot write action result " + why);
+  }
+  if (!actions_.make_durable(stored, &why))
+    errors.push_back("cannot make the cache's action results durable (" + why + ")");
+  return errors;
+}
+
 void DurableBatch::run() {
   std::unique_lock l(mu_);
   for (;;) {
@@ -25,19 +49,7 @@ void DurableBatch::run() {
     batch.swap(queue_);
     busy_ = true;
     l.unlock();
-    std::vector<std::string> errors;
-    std::string why;
-    // Every blob these results name was renamed into the CAS before it was queued.
-    if (!fs_.sync_fs(cache_.root(), &why)) {
-      errors.push_back("cannot make the cache at " + cache_.root().string() + " durable (" + why + "); " +
-                       std::to_string(batch.size()) + " action result(s) not stored");
-    } else {
-      for (Item& item : batch) {
-        if (!cache_.store_action(item.key, item.result, /*durable=*/false, &why))
-          errors.push_back("cannot write action result " + cache_.action_path(item.key).string() + ": " +
-                           why);
-      }
-    }
+    std::vector<std::string> errors = store(batch);
     batch.clear();  // releases the action locks
     l.lock();
     errors_.insert(errors_.end(), errors.begin(), errors.end());
@@ -47,24 +59,18 @@ void DurableBatch::run() {
 }
 
 bool DurableBatch::finish(std::vector<std::string>* errors) {
-  {
-    std::unique_lock l(mu_);
-    if (!finished_) {
-      finished_ = true;
-      stopping_ = true;
-      const bool started = thread_.joinable();
-      cv_.notify_one();
-      l.unlock();
-      if (started) thread_.join();
-      l.lock();
-      // The results written by the last batch (and their directory entries) become durable.
-      std::string why;
-      if (started && !fs_.sync_fs(cache_.root(), &why))
-        errors_.push_back("cannot make the cache at " + cache_.root().string() + " durable (" + why + ")");
-    }
-    if (errors) *errors = errors_;
-    return errors_.empty();
+  std::unique_lock l(mu_);
+  if (!finished_) {
+    finished_ = true;
+    stopping_ = true;
+    const bool started = thread_.joinable();
+    cv_.notify_one();
+    l.unlock();
+    if (started) thread_.join();
+    l.lock();
   }
+  if (errors) *errors = errors_;
+  return errors_.empty();
 }
 
 }  // namespace sylva

@@ -1,5 +1,8 @@
 // Runs a checked recipe: computes each node's action key, reuses cached results, runs stages
 // for the rest in parallel (oneTBB, at most `jobs` at a time), stores and publishes outputs.
+// The seams (docs/architecture.md "Engine seams"): the action cache and the blob store
+// (pipeline/action_cache.h, blob_store.h; the local Cache by default) and the node runner
+// (pipeline/node_runner.h; a LocalRunner by default, a DryRunRunner for a dry run).
 //
 // Outputs of node N land in <out_dir>/N/ (out_dir is out/<recipe>/), hard-linked from the CAS
 // where the file system allows (else copied); the action record of the last completed run of N
@@ -17,10 +20,13 @@
 #include <vector>
 
 #include "pipeline/action.h"
+#include "pipeline/action_cache.h"
+#include "pipeline/blob_store.h"
 #include "pipeline/cache.h"
 #include "pipeline/clock.h"
 #include "pipeline/digest_cache.h"
 #include "pipeline/filesystem.h"
+#include "pipeline/node_runner.h"
 #include "pipeline/recipe.h"
 
 namespace sylva {
@@ -69,11 +75,16 @@ inline constexpr double kDefaultCacheShare = 0.25;
 
 struct BuildEnv {
   FileSystem& fs;
-  Cache& cache;
+  Cache& cache;                   // the local cache: action locks, scratch directories, eviction
   std::filesystem::path out_dir;  // out/<recipe>
   const Clock& clock;
   const std::atomic<bool>* cancel = nullptr;
   BuildObserver* observer = nullptr;
+  // The seams; nullptr: the local cache (`cache`) and a LocalRunner. A dry run always uses a
+  // DryRunRunner.
+  ActionCache* actions = nullptr;
+  BlobStore* blobs = nullptr;
+  NodeRunner* runner = nullptr;
 };
 
 struct BuildSummary {

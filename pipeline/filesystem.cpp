@@ -181,6 +181,40 @@ bool RealFileSystem::copy_atomic(const fs::path& from, const fs::path& to, std::
 }
 
 namespace {
+// A file written with plain write(2) calls; the caller (HashingStream) does the buffering.
+class PosixWritableFile final : public WritableFile {
+ public:
+  explicit PosixWritableFile(int fd) : fd_(fd) {}
+  ~PosixWritableFile() override {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  bool append(const char* data, std::size_t n, std::string* error) override {
+    if (err_ == 0 && !write_all(fd_, data, n)) err_ = errno;
+    return err_ == 0 || fail(error, err_);
+  }
+  bool close(std::string* error) override {
+    if (fd_ < 0) return err_ == 0 || fail(error, err_);
+    if (::close(fd_) != 0 && err_ == 0) err_ = errno;
+    fd_ = -1;
+    return err_ == 0 || fail(error, err_);
+  }
+
+ private:
+  int fd_;
+  int err_ = 0;
+};
+}  // namespace
+
+std::unique_ptr<WritableFile> RealFileSystem::create(const fs::path& p, std::string* error) {
+  const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    fail(error);
+    return nullptr;
+  }
+  return std::make_unique<PosixWritableFile>(fd);
+}
+
+namespace {
 FileInfo info_of(const struct stat& st) {
   FileInfo info;
   info.is_dir = S_ISDIR(st.st_mode);
@@ -390,21 +424,6 @@ bool RealFileSystem::replace_dir(const fs::path& staged, const fs::path& dest, f
     return fail(error, err);
   }
   if (had_old && displaced) *displaced = old;
-  return true;
-}
-
-bool RealFileSystem::sync_fs(const fs::path& p, std::string* error) {
-  fs::path at = p;
-  std::error_code ec;
-  while (!at.empty() && !fs::exists(at, ec)) at = at.parent_path();
-  int fd = ::open(at.empty() ? "." : at.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return fail(error);
-  if (::syncfs(fd) != 0) {
-    const int err = errno;
-    ::close(fd);
-    return fail(error, err);
-  }
-  ::close(fd);
   return true;
 }
 

@@ -35,6 +35,18 @@ class FileLock {
   virtual ~FileLock() = default;
 };
 
+// A regular file being written from the start (FileSystem::create): the caller buffers, this
+// writes. Not atomic: it is for files in a private scratch directory, renamed into place later.
+class WritableFile {
+ public:
+  virtual ~WritableFile() = default;  // closes the file if close() was not called
+  // Appends `n` bytes. False (and `error`, strerror(3) words) if the write failed; the file is
+  // then incomplete and every later append fails too.
+  virtual bool append(const char* data, std::size_t n, std::string* error = nullptr) = 0;
+  // Closes the file. False (and `error`) if closing failed (a delayed write error).
+  virtual bool close(std::string* error = nullptr) = 0;
+};
+
 class FileSystem {
  public:
   virtual ~FileSystem() = default;
@@ -56,6 +68,9 @@ class FileSystem {
                             std::string* error = nullptr) = 0;
   // Copies `from` to `to` atomically (temp + fsync + rename). False on failure.
   virtual bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) = 0;
+  // Creates (or truncates) regular file `p` for writing, mode 0644; its directory must exist.
+  // nullptr (and `error`) on failure.
+  virtual std::unique_ptr<WritableFile> create(const fs::path& p, std::string* error = nullptr) = 0;
   virtual std::optional<FileInfo> stat(const fs::path& p) = 0;
   // stat(p), and *not_link = true if this call also established, on the real disk, that `p`
   // itself is not a symbolic link (or does not exist), which ProjectRoot::contains would
@@ -85,7 +100,8 @@ class FileSystem {
   // (store once), else a copy; atomically (temporary sibling, then rename). `linked` says which.
   virtual bool link_or_copy(const fs::path& from, const fs::path& to, bool* linked = nullptr,
                             std::string* error = nullptr) = 0;
-  // fsync(2) of an existing file (before a rename makes it durable under a trusted name).
+  // fsync(2) of an existing file, or of a directory (its entries: names renamed or linked into
+  // it survive a power loss once it returns).
   virtual bool sync(const fs::path& p, std::string* error = nullptr) = 0;
   // rename(2): atomically replaces `to`. False on failure.
   virtual bool rename(const fs::path& from, const fs::path& to, std::string* error = nullptr) = 0;
@@ -107,9 +123,6 @@ class FileSystem {
   // left at `*displaced` (a temporary sibling) for the caller to remove. Both must be siblings.
   virtual bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
                            std::string* error = nullptr) = 0;
-  // syncfs(2): every write to the file system holding `p` so far is durable when it returns
-  // (one call instead of an fsync per file and per directory).
-  virtual bool sync_fs(const fs::path& p, std::string* error = nullptr) = 0;
   // The path with every symlink resolved (realpath(3)); nullopt if it does not exist.
   virtual std::optional<fs::path> real_path(const fs::path& p) = 0;
   // While *flag is true, digest() stops with "interrupted" (Ctrl-C must not wait for a
@@ -130,6 +143,7 @@ class RealFileSystem final : public FileSystem {
   bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true,
                     std::string* error = nullptr) override;
   bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) override;
+  std::unique_ptr<WritableFile> create(const fs::path& p, std::string* error = nullptr) override;
   std::optional<FileInfo> stat(const fs::path& p) override;
   // One lstat; a second call (stat) only for a symbolic link.
   std::optional<FileInfo> stat_checking_link(const fs::path& p, bool* not_link) override;
@@ -153,7 +167,6 @@ class RealFileSystem final : public FileSystem {
   std::optional<std::uint64_t> free_bytes(const fs::path& p) override;
   bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
                    std::string* error = nullptr) override;
-  bool sync_fs(const fs::path& p, std::string* error = nullptr) override;
   std::optional<fs::path> real_path(const fs::path& p) override;
 };
 

@@ -1,9 +1,5 @@
 #include "pipeline/stage.h"
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-
 namespace sylva {
 
 const ArtifactFile* InputArtifact::file(std::string_view name) const {
@@ -40,33 +36,6 @@ const Value& StageContext::param(std::string_view name) const {
   auto it = p.find(std::string(name));
   if (it == p.end()) throw std::logic_error("stage read undeclared parameter '" + std::string(name) + "'");
   return it->second;
-}
-
-namespace {
-
-class FileOutputStream final : public OutputStream {
- public:
-  explicit FileOutputStream(const std::filesystem::path& p)
-      : path_(p), out_(p, std::ios::binary | std::ios::trunc) {
-    if (!out_)
-      throw StageError("cannot create output " + p.filename().string() + ": " + std::strerror(errno));
-  }
-  std::ostream& stream() override { return out_; }
-  void close() override {
-    out_.close();
-    if (!out_)
-      throw StageError("cannot write output " + path_.filename().string() + ": " + std::strerror(errno));
-  }
-
- private:
-  std::filesystem::path path_;
-  std::ofstream out_;
-};
-
-}  // namespace
-
-std::unique_ptr<OutputStream> StageContext::open_output(std::string_view name) {
-  return std::make_unique<FileOutputStream>(output_path(name));
 }
 
 }  // namespace sylva

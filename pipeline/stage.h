@@ -3,12 +3,14 @@
 // A stage is a pure function from typed input artifacts and checked parameters to output
 // files. It declares itself once (StageInfo: name, implementation version, parameter schema,
 // accepted input types, output type) and is run through run(StageContext&). It must:
-//   - read only its declared inputs: upstream artifacts (ctx.inputs()) and files named by its
-//     kPath parameters (ctx.param_file()); nothing else enters the action key;
+//   - read only its declared inputs: upstream artifacts (ctx.inputs(), read with
+//     ctx.read_input()) and files named by its kPath/kDir parameters (ctx.read_param_file());
+//     nothing else enters the action key. Every read goes through the context, i.e. through the
+//     engine's FileSystem: stage tests run on the in-memory fake;
 //   - take every random choice from ctx.rng(stream) (seeded by its `seed` parameter);
-//   - write outputs only through ctx.output_path()/write_output(), into the scratch area; the
-//     engine hashes, stores and publishes them atomically, so a failed or interrupted run
-//     leaves nothing behind;
+//   - write outputs only through ctx.write_output()/open_output()/link_output() (output_path()
+//     for a library that can only write to a path), into the scratch area; the engine hashes,
+//     stores and publishes them atomically, so a failed or interrupted run leaves nothing behind;
 //   - report bad input by throwing StageError with a message naming the file and line/element.
 // A stage never touches the cache, out/, or another stage's files. Bump `version` whenever a
 // change to the implementation can change the bytes it writes: the version is part of the key.
@@ -90,8 +92,10 @@ struct StageInfo {
 // One file of an upstream artifact, already verified against its digest.
 struct ArtifactFile {
   std::string name;            // file name inside the artifact, e.g. "tree.sylt"
-  std::filesystem::path path;  // readable path (under out/<recipe>/<node>/)
+  std::filesystem::path path;  // where it is (under out/<recipe>/<node>/): for messages, and for
+                               // libraries that can only open a path; read it with read_input()
   std::string digest;          // hex SHA-256
+  std::uint64_t size = 0;      // bytes
 };
 
 struct InputArtifact {
@@ -127,6 +131,15 @@ class StageContext {
   // The resolved path of the file (kPath) or directory (kDir) named by parameter `param`.
   virtual std::filesystem::path param_file(std::string_view param) const = 0;
 
+  // The bytes of input file `f` (one of inputs()' files), through the engine's FileSystem.
+  // Throws StageError "cannot read input file '<name>' (<path>): <reason>".
+  virtual std::string read_input(const ArtifactFile& f) const = 0;
+  // The bytes of the file named by kPath parameter `param`, or (kDir) of the file `relative`
+  // below the directory it names; at most `max_bytes`. Throws StageError "cannot read '<path>'
+  // (parameter '<param>'): <reason>" (a FIFO or device is refused without blocking).
+  virtual std::string read_param_file(std::string_view param, const std::filesystem::path& relative = {},
+                                      std::uint64_t max_bytes = UINT64_MAX) const = 0;
+
   // A generator for `stream`, seeded from the node's `seed` parameter (0 when the stage has
   // none). The same (seed, stream) always yields the same sequence.
   virtual Rng rng(std::string_view stream) const = 0;
@@ -140,9 +153,12 @@ class StageContext {
   // Convenience: declare output `name` and write `bytes` to it.
   virtual void write_output(std::string_view name, std::string_view bytes) = 0;
   // Declare output `name` and stream it: the engine hashes the bytes as they are written (it
-  // does not read the file again) and never holds the whole file in memory. The default opens
-  // output_path(name) with an ofstream.
-  virtual std::unique_ptr<OutputStream> open_output(std::string_view name);
+  // does not read the file again) and never holds the whole file in memory.
+  virtual std::unique_ptr<OutputStream> open_output(std::string_view name) = 0;
+  // Declare output `name` holding exactly the bytes of input file `f` (a stage passing a file on):
+  // a hard link where the file system allows, with f's digest (nothing is copied, read or hashed
+  // again). Throws StageError if the link (or the copy it falls back to) fails.
+  virtual void link_output(std::string_view name, const ArtifactFile& f) = 0;
 
   // Throws Cancelled after Ctrl-C; long loops call it now and then.
   virtual void check_cancelled() const = 0;

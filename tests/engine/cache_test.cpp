@@ -34,7 +34,7 @@ TEST(CacheTest, HitRequiresEveryBlobPresentWithItsSize) {
   fs.put("/s/a", "aaa");
   Cache cache(fs, "/c");
   auto d = *cache.put_file("/s/a");
-  cache.store_action(kKey, ActionResult{{{"a", d}}});
+  cache.store(kKey, ActionResult{{{"a", d}}});
   ASSERT_TRUE(cache.lookup(kKey));
   EXPECT_EQ(cache.lookup(kKey)->outputs.at(0).digest, d);
   fs.files[cache.blob_path(d.hash).string()] = "aaaa";  // wrong size
@@ -78,8 +78,8 @@ TEST(CacheTest, GcEvictsLeastRecentlyUsedAboveBudget) {
   const std::string k1(64, '1'), k2(64, '2');
   fs.put("/s/old", std::string(100, 'o'));
   fs.put("/s/new", std::string(100, 'n'));
-  cache.store_action(k1, ActionResult{{{"o", *cache.put_file("/s/old")}}});
-  cache.store_action(k2, ActionResult{{{"n", *cache.put_file("/s/new")}}});
+  cache.store(k1, ActionResult{{{"o", *cache.put_file("/s/old")}}});
+  cache.store(k2, ActionResult{{{"n", *cache.put_file("/s/new")}}});
   fs.ages[cache.action_path(k1).string()] = 500;  // k1 used long ago
   fs.ages["/c/tmp/stale"] = 7200;
   fs.files["/c/tmp/stale"] = "x";

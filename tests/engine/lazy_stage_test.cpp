@@ -9,6 +9,8 @@
 #include "pipeline/executor.h"
 #include "pipeline/recipe_loader.h"
 #include "tests/engine/test_stages.h"
+#include "tests/support/fake_filesystem.h"
+#include "tests/support/fake_stage_context.h"
 #include "tests/support/test_support.h"
 
 namespace sylva {
@@ -70,21 +72,8 @@ TEST(LazyStageTest, AnImplementationOfAnotherVersionIsRefused) {
   StageInfo info = test::TextStage(nullptr).info();
   info.version = 2;
   auto lazy = make_lazy_stage(info, module);
-  struct NoContext : StageContext {
-    std::string n = "a";
-    Value::Object p;
-    std::vector<InputArtifact> in;
-    std::filesystem::path s;
-    const std::string& node_name() const override { return n; }
-    const Value::Object& params() const override { return p; }
-    const std::vector<InputArtifact>& inputs() const override { return in; }
-    std::filesystem::path param_file(std::string_view) const override { return {}; }
-    Rng rng(std::string_view stream) const override { return Rng(0, stream); }
-    const std::filesystem::path& scratch_dir() const override { return s; }
-    std::filesystem::path output_path(std::string_view) override { return {}; }
-    void write_output(std::string_view, std::string_view) override {}
-    void check_cancelled() const override {}
-  } ctx;
+  test::FakeFileSystem fake;
+  test::FakeStageContext ctx(*lazy, {}, "/out", {}, &fake);
   try {
     lazy->run(ctx);
     FAIL() << "expected logic_error";

@@ -23,12 +23,8 @@ class NoOpTest : public ::testing::Test {
  protected:
   NoOpTest() { test::register_test_stages(reg_, &log_); }
 
-  // The readfile stage reads its file from the real disk when it runs; the engine hashes it
-  // through the fake. Both hold the same bytes.
-  void put_input(const std::string& bytes) {
-    test::write_file(input_, bytes);
-    fs_.put(input_.string(), bytes);
-  }
+  // The readfile stage reads its file through its context, i.e. through the fake too.
+  void put_input(const std::string& bytes) { fs_.put(input_.string(), bytes); }
 
   Recipe load() {
     fs_.put("/p/r.yaml",
@@ -38,7 +34,7 @@ class NoOpTest : public ::testing::Test {
             "  f:\n    stage: readfile\n    with: { file: " +
                 input_.string() + " }\n");
     Diagnostics d;
-    LoadOptions trusted;  // the input lives in a real temp dir, outside the fake /p
+    LoadOptions trusted;  // the input lives outside the project root /p
     trusted.confine = false;
     auto r = load_recipe("/p/r.yaml", reg_, fs_, d, trusted);
     EXPECT_TRUE(r) << d.str();
@@ -54,8 +50,7 @@ class NoOpTest : public ::testing::Test {
     return s;
   }
 
-  test::TempDir dir_;
-  fs::path input_ = dir_ / "in.txt";
+  fs::path input_ = "/data/in.txt";
   StageRegistry reg_;
   test::RunLog log_;
   test::FakeFileSystem fs_;

@@ -6,11 +6,9 @@
 
 #include <atomic>
 #include <chrono>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <sstream>
 #include <string>
 #include <thread>
 
@@ -126,12 +124,7 @@ class ConcatStage final : public Stage {
     if (log_) log_->record(ctx.node_name());
     if (ctx.boolean("fail")) throw StageError("asked to fail");
     std::string s;
-    for (const auto& in : ctx.inputs()) {
-      std::ifstream f(in.file("out.txt")->path);
-      std::stringstream ss;
-      ss << f.rdbuf();
-      s += ss.str();
-    }
+    for (const auto& in : ctx.inputs()) s += ctx.read_input(*in.file("out.txt"));
     ctx.write_output("out.txt", s + ctx.string("suffix"));
   }
 
@@ -154,10 +147,7 @@ class ReadFileStage final : public Stage {
   const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {
     if (log_) log_->record(ctx.node_name());
-    std::ifstream f(ctx.param_file("file"));
-    std::stringstream ss;
-    ss << f.rdbuf();
-    ctx.write_output("out.txt", ss.str());
+    ctx.write_output("out.txt", ctx.read_param_file("file"));
   }
 
  private:

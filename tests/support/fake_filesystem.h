@@ -1,9 +1,11 @@
 // An in-memory FileSystem for tests: records every write and every content read, keeps a stat
-// (inode, mtime, ctime) per file stamped from a clock the test controls, and can be told to fail
+// (inode, mtime, ctime) per file stamped from a clock the test controls, can be told to fail
 // writes whose path contains a given substring (to prove that failures leave nothing
-// half-written).
+// half-written), and models durability: a file survives a power loss (durable()) once, after its
+// last write, rename or link into place, both the file and its directory were synced.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -22,10 +24,13 @@ class FakeFileSystem final : public FileSystem {
   std::vector<std::string> reads;            // every read() and digest() of a file's content
   std::string fail_writes_containing;        // non-empty: such writes fail ...
   std::string fail_reason = "No space left on device";  // ... with this reason
-  int syncs = 0;                                        // sync_fs() calls
-  std::vector<std::string> events;                      // "write <path>" and "sync", in order
-  std::int64_t now = 1'700'000'000'123'456'789;         // the file-system clock (ns); tests advance it
-  std::uint64_t free = 1ull << 40;                      // free_bytes()
+  int syncs = 0;                                        // sync() calls
+  // "write <path>", "rename <to>", "link <to>" and "sync <path>", in order.
+  std::vector<std::string> events;
+  // Called after every successful write_atomic() or create()d file's close(), with the path.
+  std::function<void(const std::string&)> on_write;
+  std::int64_t now = 1'700'000'000'123'456'789;  // the file-system clock (ns); tests advance it
+  std::uint64_t free = 1ull << 40;               // free_bytes()
 
   // Content written behind the fake's back keeps a stat from the current clock.
   void put(const std::string& path, const std::string& content) {
@@ -49,7 +54,7 @@ class FakeFileSystem final : public FileSystem {
     reads.push_back(it->first);
     return it->second;
   }
-  bool write_atomic(const fs::path& p, std::string_view bytes, bool = true,
+  bool write_atomic(const fs::path& p, std::string_view bytes, bool durable = true,
                     std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
     const std::string k = key(p);
@@ -58,8 +63,33 @@ class FakeFileSystem final : public FileSystem {
     ages[k] = 0;
     stamp(k, true);
     writes.push_back(k);
-    events.push_back("write " + k);
+    changed(k, "write ");
+    if (durable) {
+      sync(k);
+      sync(fs::path(k).parent_path());
+    }
+    if (on_write) on_write(k);
     return true;
+  }
+  std::unique_ptr<WritableFile> create(const fs::path& p, std::string* error = nullptr) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    const std::string k = key(p);
+    if (failing(k)) {
+      fail(error);
+      return nullptr;
+    }
+    return std::make_unique<File>(*this, k);
+  }
+  // True if `path` would survive a power loss now (see the header).
+  bool durable(const std::string& path) {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    const std::string k = key(path);
+    auto changed_at = last_change_.find(k);
+    if (!files.count(k) || changed_at == last_change_.end()) return false;
+    auto synced = last_sync_.find(k);
+    auto dir_synced = last_sync_.find(fs::path(k).parent_path().string());
+    return synced != last_sync_.end() && synced->second > changed_at->second &&
+           dir_synced != last_sync_.end() && dir_synced->second > changed_at->second;
   }
   bool copy_atomic(const fs::path& from, const fs::path& to, std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
@@ -148,10 +178,23 @@ class FakeFileSystem final : public FileSystem {
     meta_[t] = meta_[f];
     touch_parent(t);
     writes.push_back(t);
+    changed(t, "link ");
     if (linked) *linked = true;
     return true;
   }
-  bool sync(const fs::path& p, std::string* = nullptr) override { return stat(p).has_value(); }
+  bool sync(const fs::path& p, std::string* error = nullptr) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    const std::string k = key(p);
+    if (failing("<sync>")) return fail(error);
+    if (!stat(p)) {
+      if (error) *error = "No such file or directory";
+      return false;
+    }
+    ++syncs;
+    last_sync_[k] = ++clock_;
+    events.push_back("sync " + k);
+    return true;
+  }
   // Renames a file, or a directory (every file below it).
   bool rename(const fs::path& from, const fs::path& to, std::string* error = nullptr) override {
     std::lock_guard<std::recursive_mutex> l(mu_);
@@ -180,6 +223,7 @@ class FakeFileSystem final : public FileSystem {
       touch_parent(f);
       touch_parent(t);
       writes.push_back(t);
+      changed(t, "rename ");
       return true;
     }
     files[t] = std::move(it->second);
@@ -189,6 +233,7 @@ class FakeFileSystem final : public FileSystem {
     touch_parent(f);
     touch_parent(t);
     writes.push_back(t);
+    changed(t, "rename ");
     return true;
   }
   void set_mtime(const fs::path& p, std::int64_t mtime_ns) override {
@@ -218,20 +263,44 @@ class FakeFileSystem final : public FileSystem {
     }
     return rename(staged, dest, error);
   }
-  bool sync_fs(const fs::path&, std::string* error = nullptr) override {
-    std::lock_guard<std::recursive_mutex> l(mu_);
-    ++syncs;
-    if (failing("<sync>")) return fail(error);
-    events.push_back("sync");
-    return true;
-  }
   std::optional<fs::path> real_path(const fs::path& p) override {
     if (!stat(p)) return std::nullopt;
     return fs::path(key(p));
   }
 
  private:
+  // A file being written with create(): its bytes appear on close().
+  class File final : public WritableFile {
+   public:
+    File(FakeFileSystem& fs, std::string path) : fs_(fs), path_(std::move(path)) {}
+    ~File() override { close(); }
+    bool append(const char* data, std::size_t n, std::string* error = nullptr) override {
+      if (fs_.failing(path_)) return fs_.fail(error);
+      bytes_.append(data, n);
+      return true;
+    }
+    bool close(std::string* = nullptr) override {
+      if (closed_) return true;
+      closed_ = true;
+      return fs_.write_atomic(path_, bytes_, /*durable=*/false);
+    }
+
+   private:
+    FakeFileSystem& fs_;
+    std::string path_, bytes_;
+    bool closed_ = false;
+  };
+
   static std::string key(const fs::path& p) { return p.lexically_normal().string(); }
+  // Every change to what `k` names (a write, a rename or link into place), for durable().
+  void changed(const std::string& k, const char* what) {
+    last_change_[k] = ++clock_;
+    events.push_back(what + k);
+    // A directory renamed into place: the files below it moved too.
+    for (const auto& [f, c] : files)
+      if (f.size() > k.size() && f.compare(0, k.size(), k) == 0 && f[k.size()] == '/')
+        last_change_[f] = clock_;
+  }
   bool fail(std::string* error) const {
     if (error) *error = fail_reason;
     return false;
@@ -256,6 +325,8 @@ class FakeFileSystem final : public FileSystem {
   std::recursive_mutex mu_;
   std::map<std::string, FileInfo> meta_, dir_meta_;
   std::uint64_t next_ino_ = 0;
+  std::map<std::string, std::uint64_t> last_change_, last_sync_;  // event clock per path
+  std::uint64_t clock_ = 0;
 };
 
 }  // namespace sylva::test

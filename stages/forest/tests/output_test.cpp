@@ -21,6 +21,7 @@
 #include "stages/forest/forest_info.h"
 #include "stages/forest/forest_stage.h"
 #include "stages/forest/tests/card_glb.h"
+#include "tests/support/fake_stage_context.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
@@ -29,39 +30,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class FakeContext final : public StageContext {
- public:
+struct FakeContext : sylva::test::FakeStageContext {
   FakeContext(const Stage& stage, std::vector<InputArtifact> inputs, fs::path out,
-              Value::Object overrides = {})
-      : inputs_(std::move(inputs)), out_(std::move(out)) {
-    for (const ParamSpec& p : stage.info().params)
-      if (!p.required()) params_[p.name] = p.default_value;
-    for (auto& [k, v] : overrides) params_[k] = v;
+              const Value::Object& overrides = {})
+      : FakeStageContext(stage, {}, std::move(out), overrides) {
+    name = "forest";
+    for (auto& in : inputs) add_input(std::move(in));
   }
-  const std::string& node_name() const override { return name_; }
-  const Value::Object& params() const override { return params_; }
-  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
-  fs::path param_file(std::string_view name) const override { return files.at(std::string(name)); }
-  Rng rng(std::string_view stream) const override {
-    return Rng(std::uint64_t(params_.at("seed").as_int()), stream);
-  }
-  const fs::path& scratch_dir() const override { return out_; }
-  fs::path output_path(std::string_view name) override {
-    declared.insert(std::string(name));
-    return out_ / std::string(name);
-  }
-  void write_output(std::string_view name, std::string_view bytes) override {
-    sylva::test::write_file(output_path(name), std::string(bytes));
-  }
-  void check_cancelled() const override {}
-  std::set<std::string> declared;
-  std::map<std::string, fs::path> files;
-
- private:
-  std::string name_ = "forest";
-  Value::Object params_;
-  std::vector<InputArtifact> inputs_;
-  fs::path out_;
 };
 
 // A box tree of half width w and height h, two levels (the second a coarser "level": a flat card;

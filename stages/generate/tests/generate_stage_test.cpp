@@ -9,51 +9,25 @@
 #include "libs/image/image_io.h"
 #include "libs/tree/stats.h"
 #include "libs/tree/sylt_format.h"
+#include "tests/support/fake_stage_context.h"
 #include "tests/support/test_support.h"
 
 namespace sylva {
 namespace {
 
-class FakeContext : public StageContext {
- public:
-  FakeContext(const StageInfo& info, Value::Object with, std::filesystem::path preset,
+struct FakeContext : test::FakeStageContext {
+  FakeContext(const Stage& stage, const Value::Object& with, const std::filesystem::path& preset,
               std::filesystem::path out)
-      : preset_(std::move(preset)), out_(std::move(out)) {
-    for (const ParamSpec& p : info.params)
-      if (!p.required()) params_[p.name] = p.default_value;
-    for (auto& [k, v] : with) params_[k] = v;
-    params_["preset"] = preset_.string();
-    std::filesystem::create_directories(out_);
+      : FakeStageContext(stage, {}, std::move(out), with) {
+    name = "tree";
+    set_file("preset", preset);
   }
-  const std::string& node_name() const override { return name_; }
-  const Value::Object& params() const override { return params_; }
-  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
-  std::filesystem::path param_file(std::string_view) const override { return preset_; }
-  Rng rng(std::string_view stream) const override {
-    return Rng(static_cast<std::uint64_t>(params_.at("seed").as_int()), stream);
-  }
-  const std::filesystem::path& scratch_dir() const override { return out_; }
-  std::filesystem::path output_path(std::string_view name) override {
-    outputs.emplace_back(name);
-    return out_ / std::string(name);
-  }
-  void write_output(std::string_view name, std::string_view bytes) override {
-    test::write_file(output_path(name), std::string(bytes));
-  }
-  void check_cancelled() const override {}
-  std::vector<std::string> outputs;
-
- private:
-  std::string name_ = "tree";
-  Value::Object params_;
-  std::vector<InputArtifact> inputs_;
-  std::filesystem::path preset_, out_;
 };
 
 void run(const Value::Object& with, const std::filesystem::path& preset, const std::filesystem::path& out,
          std::vector<std::string>* outputs = nullptr) {
   auto stage = make_generate_stage();
-  FakeContext ctx(stage->info(), with, preset, out);
+  FakeContext ctx(*stage, with, preset, out);
   stage->run(ctx);
   if (outputs) *outputs = ctx.outputs;
 }

@@ -9,6 +9,7 @@
 #include "libs/tree/stats.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/import/import_file.h"
+#include "tests/support/fake_stage_context.h"
 #include "tests/support/test_support.h"
 
 namespace sylva {
@@ -17,40 +18,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // A StageContext over a temporary directory that records the outputs a stage declares.
-class FakeContext final : public StageContext {
- public:
-  FakeContext(const Stage& stage, fs::path file, fs::path out, Value::Object overrides = {})
-      : file_(std::move(file)), out_(std::move(out)) {
-    for (const ParamSpec& p : stage.info().params)
-      if (!p.required()) params_[p.name] = p.default_value;
-    params_["file"] = file_.string();
-    for (auto& [k, v] : overrides) params_[k] = v;
+struct FakeContext : test::FakeStageContext {
+  FakeContext(const Stage& stage, const fs::path& file, fs::path out, const Value::Object& overrides = {})
+      : FakeStageContext(stage, {}, std::move(out), overrides) {
+    name = "imp";
+    set_file("file", file);
   }
-  const std::string& node_name() const override { return name_; }
-  const Value::Object& params() const override { return params_; }
-  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
-  fs::path param_file(std::string_view param) const override {
-    if (param != "file") throw std::logic_error("unexpected file parameter");
-    return file_;
-  }
-  Rng rng(std::string_view stream) const override { return Rng(0, stream); }
-  const fs::path& scratch_dir() const override { return out_; }
-  fs::path output_path(std::string_view name) override {
-    declared.insert(std::string(name));
-    return out_ / std::string(name);
-  }
-  void write_output(std::string_view name, std::string_view bytes) override {
-    test::write_file(output_path(name), std::string(bytes));
-  }
-  void check_cancelled() const override {}
-
-  std::set<std::string> declared;
-
- private:
-  std::string name_ = "imp";
-  Value::Object params_;
-  std::vector<InputArtifact> inputs_;
-  fs::path file_, out_;
 };
 
 TEST(ImportStage, Declaration) {

@@ -17,6 +17,7 @@
 #include "stages/generate/preset.h"
 #include "stages/generate/textures.h"
 #include "stages/mesh/tests/test_trees.h"
+#include "tests/support/fake_stage_context.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
@@ -26,43 +27,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // A StageContext with one upstream "tree" artifact made of the files in `input_dir`.
-class FakeContext final : public StageContext {
- public:
-  FakeContext(const Stage& stage, const fs::path& input_dir, fs::path out, Value::Object overrides = {})
-      : out_(std::move(out)) {
-    for (const ParamSpec& p : stage.info().params)
-      if (!p.required()) params_[p.name] = p.default_value;
-    for (auto& [k, v] : overrides) params_[k] = v;
-    InputArtifact in;
-    in.node = "gen";
-    in.type = "tree";
-    std::set<std::string> names;
-    for (const auto& e : fs::directory_iterator(input_dir)) names.insert(e.path().filename().string());
-    for (const auto& n : names) in.files.push_back({n, input_dir / n, "0"});
-    inputs_.push_back(std::move(in));
+struct FakeContext : test::FakeStageContext {
+  FakeContext(const Stage& stage, const fs::path& input_dir, fs::path out,
+              const Value::Object& overrides = {})
+      : FakeStageContext(stage, {{"gen", "tree", input_dir}}, std::move(out), overrides) {
+    name = "mesh_node";
   }
-  const std::string& node_name() const override { return name_; }
-  const Value::Object& params() const override { return params_; }
-  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
-  fs::path param_file(std::string_view) const override { throw std::logic_error("no file parameters"); }
-  Rng rng(std::string_view stream) const override { return Rng(0, stream); }
-  const fs::path& scratch_dir() const override { return out_; }
-  fs::path output_path(std::string_view name) override {
-    declared.insert(std::string(name));
-    return out_ / std::string(name);
-  }
-  void write_output(std::string_view name, std::string_view bytes) override {
-    sylva::test::write_file(output_path(name), std::string(bytes));
-  }
-  void check_cancelled() const override {}
-
-  std::set<std::string> declared;
-
- private:
-  std::string name_ = "mesh_node";
-  Value::Object params_;
-  std::vector<InputArtifact> inputs_;
-  fs::path out_;
 };
 
 void write_png(const generate::Rgba8& px, const fs::path& path) {

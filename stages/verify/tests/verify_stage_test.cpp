@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stages/verify/tests/fake_renderer.h"
+#include "tests/support/fake_stage_context.h"
 #include "tests/support/test_support.h"
 
 namespace sylva {
@@ -14,47 +15,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class FakeContext : public StageContext {
- public:
-  FakeContext(const StageInfo& info, Value::Object with, std::vector<InputArtifact> inputs, fs::path cameras,
-              fs::path refs, fs::path out)
-      : inputs_(std::move(inputs)),
-        cameras_(std::move(cameras)),
-        refs_(std::move(refs)),
-        out_(std::move(out)) {
-    for (const ParamSpec& p : info.params)
-      if (!p.required()) params_[p.name] = p.default_value;
-    for (auto& [k, v] : with) params_[k] = v;
-    params_["cameras"] = cameras_.string();
-    params_["references"] = refs_.string();
-    fs::remove_all(out_);
-    fs::create_directories(out_);
+struct FakeContext : test::FakeStageContext {
+  FakeContext(const Stage& stage, const Value::Object& with, std::vector<InputArtifact> inputs,
+              const fs::path& cameras, const fs::path& refs, fs::path out)
+      : FakeStageContext(stage, {}, std::move(out), with) {
+    name = "verify";
+    for (auto& in : inputs) add_input(std::move(in));
+    set_file("cameras", cameras);
+    set_file("references", refs);
   }
-  const std::string& node_name() const override { return name_; }
-  const Value::Object& params() const override { return params_; }
-  const std::vector<InputArtifact>& inputs() const override { return inputs_; }
-  fs::path param_file(std::string_view p) const override {
-    if (p == "cameras") return cameras_;
-    if (p == "references") return refs_;
-    throw std::logic_error("undeclared file parameter");
-  }
-  Rng rng(std::string_view stream) const override { return Rng(0, stream); }
-  const fs::path& scratch_dir() const override { return out_; }
-  fs::path output_path(std::string_view name) override {
-    outputs.emplace_back(name);
-    return out_ / std::string(name);
-  }
-  void write_output(std::string_view name, std::string_view bytes) override {
-    test::write_file(output_path(name), std::string(bytes));
-  }
-  void check_cancelled() const override {}
-  std::vector<std::string> outputs;
-
- private:
-  std::string name_ = "verify";
-  Value::Object params_;
-  std::vector<InputArtifact> inputs_;
-  fs::path cameras_, refs_, out_;
 };
 
 class VerifyStageTest : public ::testing::Test {
@@ -85,7 +54,8 @@ class VerifyStageTest : public ::testing::Test {
   // Runs the stage; returns the declared outputs.
   std::vector<std::string> run(const Value::Object& with = {}, std::vector<InputArtifact> in = {}) {
     auto s = stage();
-    FakeContext ctx(s->info(), with, in.empty() ? inputs() : std::move(in), cameras_, refs_, out_);
+    fs::remove_all(out_);
+    FakeContext ctx(*s, with, in.empty() ? inputs() : std::move(in), cameras_, refs_, out_);
     s->run(ctx);
     return ctx.outputs;
   }
@@ -207,7 +177,8 @@ TEST_F(VerifyStageTest, NoRendererIsAStageError) {
   auto s = make_verify_stage([]() -> render::Renderer& {
     throw render::RenderUnavailableError("headless OpenGL is not available: no EGL display");
   });
-  FakeContext ctx(s->info(), {}, inputs(), cameras_, refs_, out_);
+  fs::remove_all(out_);
+  FakeContext ctx(*s, {}, inputs(), cameras_, refs_, out_);
   try {
     s->run(ctx);
     FAIL();
