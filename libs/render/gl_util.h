@@ -72,7 +72,7 @@ GLenum gl_mode(Topology t);
 // (GL_SRGB8_ALPHA8 when `srgb`), fills level 0 from `rgba` (rows top first, 4 bytes a texel, no
 // padding), generates the others (glGenerateMipmap) and samples them trilinearly, clamped to the
 // edge (bilinear when mip_levels is 0). An impostor map: 64 or 151 MB at level 0
-// (docs/performance.md "Uploading before drawing").
+// (docs/performance.md "Forest", "Levers kept").
 void upload_mipmapped_rgba8(const std::uint8_t* rgba, int width, int height, bool srgb, int mip_levels);
 
 // Uploads an 8-bit sRGB-encoded RGBA texture (sampling returns linear values) with its sampler

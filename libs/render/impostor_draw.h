@@ -9,7 +9,7 @@
 // ImpostorRenderer::render_octahedral draws them. Every function expects the context current.
 //
 // The maps (two RGBA8 textures with mip levels per species, 4096 or 6144 px, and the two below:
-// ~1.0 s for forest_celba's three species, docs/performance.md "Uploading before drawing") stay
+// ~1.0 s for forest_celba's three species, docs/performance.md "Forest", "Levers kept") stay
 // uploaded between calls while their atlas lives: a drawer keeps each
 // atlas's textures with a weak reference to it and deletes them once the atlas is gone (checked
 // at every upload) or when the drawer is destroyed.

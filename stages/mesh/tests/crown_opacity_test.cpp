@@ -88,7 +88,7 @@ render::Scene adult_scene(const std::filesystem::path& preset) {
 }
 
 // Floors: the goal, 0.75 for broadleaves and 0.65 for conifers; every adult preset meets
-// it as drawn (docs/performance.md, "Crown opacity").
+// it as drawn (docs/performance.md, "Trees in leaf").
 const std::map<std::string, double> kFloor = {
     {"birch", 0.75}, {"holly", 0.75},      {"mugo_pine", 0.65},      {"norway_spruce", 0.65},
     {"oak", 0.75},   {"scots_pine", 0.65}, {"weeping_willow", 0.75}, {"white_poplar", 0.75},
