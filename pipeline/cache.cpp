@@ -83,47 +83,59 @@ std::optional<ActionResult> Cache::lookup(const std::string& key, const std::vec
 
 bool Cache::store(const std::string& key, const ActionResult& result, bool durable, std::string* error) {
   const fs::path p = action_path(key);
-  if (fs_.write_atomic(p, result.to_json(key), durable, error)) return true;
+  if (make_parent(p, error) && fs_.write_atomic(p, result.to_json(key), durable, error)) return true;
   if (error) *error = p.string() + ": " + *error;
   return false;
 }
 
-namespace {
-// fsync of every file, then of every directory holding one, then of `top` (cas/ or ac/, whose
-// fan-out directories may be new) and of the cache root (whose cas/ or ac/ may be new): after a
-// power loss each file is there under its name with its bytes. Each directory is synced once.
-bool sync_files_and_dirs(FileSystem& fs, const std::vector<fs::path>& files, const fs::path& top,
-                         const fs::path& root, std::string* error) {
+bool Cache::make_parent(const fs::path& file, std::string* error) {
+  const fs::path dir = file.parent_path();
+  if (fs_.stat(dir)) return true;
+  std::vector<fs::path> missing;  // dir and each missing ancestor, innermost first
+  for (fs::path d = dir; !d.empty() && d != d.parent_path() && !fs_.stat(d); d = d.parent_path())
+    missing.push_back(d);
+  if (!fs_.make_dirs(dir, error)) return false;
+  std::lock_guard l(dirs_mu_);
+  new_dirs_.insert(missing.begin(), missing.end());
+  return true;
+}
+
+bool Cache::sync_files(const std::vector<fs::path>& files, std::string* error) {
+  if (files.empty()) return true;
+  if (files.size() > kSyncEachMaxFiles) return fs_.sync_fs(root_, error);
+  // fsync of every file, then of every directory holding one or holding a directory this cache
+  // created (an fsync of a directory makes the names renamed or made in it durable), each once.
   std::set<fs::path> dirs;
   for (const auto& f : files) {
-    if (!fs.sync(f, error)) {
+    if (!fs_.sync(f, error)) {
       if (error) *error = f.string() + ": " + *error;
       return false;
     }
     dirs.insert(f.parent_path());
   }
-  if (files.empty()) return true;
-  dirs.insert(top);
-  dirs.insert(root);
+  {
+    std::lock_guard l(dirs_mu_);
+    for (const auto& d : new_dirs_) dirs.insert(d.parent_path());
+    new_dirs_.clear();
+  }
   for (const auto& d : dirs)
-    if (!fs.sync(d, error)) {
+    if (!fs_.sync(d, error)) {
       if (error) *error = d.string() + ": " + *error;
       return false;
     }
   return true;
 }
-}  // namespace
 
 bool Cache::make_durable(const std::vector<std::string>& keys, std::string* error) {
   std::vector<fs::path> files;
   for (const auto& k : keys) files.push_back(action_path(k));
-  return sync_files_and_dirs(fs_, files, root_ / "ac", root_, error);
+  return sync_files(files, error);
 }
 
 bool Cache::make_durable(const std::vector<Digest>& digests, std::string* error) {
   std::set<fs::path> unique;
   for (const auto& d : digests) unique.insert(blob_path(d.hash));
-  return sync_files_and_dirs(fs_, {unique.begin(), unique.end()}, root_ / "cas", root_, error);
+  return sync_files({unique.begin(), unique.end()}, error);
 }
 
 std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_at, bool durable,
@@ -146,7 +158,7 @@ std::optional<Digest> Cache::put_file(const fs::path& file, std::int64_t* known_
   // Replacing an existing blob (rather than trusting it) costs nothing and heals a damaged one.
   fs_.set_mtime(file, now - 1);
   fs_.make_read_only(file);
-  if (!fs_.make_dirs(dest.parent_path(), error)) return std::nullopt;
+  if (!make_parent(dest, error)) return std::nullopt;
   if (!fs_.rename(file, dest, error)) return std::nullopt;
   if (durable && !make_durable(std::vector<Digest>{*d}, error)) return std::nullopt;
   if (known_at) *known_at = now;

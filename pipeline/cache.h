@@ -17,6 +17,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,6 +48,13 @@ struct VerifyResult {
 // An action result is a few hundred bytes; anything much larger is not one (never read whole).
 inline constexpr std::uint64_t kMaxActionBytes = 1 << 20;
 
+// make_durable() of more files than this calls syncfs(2) once instead of an fsync per file and
+// per directory. A one-node build then costs a few fsyncs of its own files, not a wait for every
+// other process's dirty pages; a cold build of thousands of nodes (whose batches grow while the
+// previous batch is synced) costs one syncfs per batch instead of ~4 fsyncs per node, which on
+// ext4 is a journal commit each (docs/performance.md, "Engine").
+inline constexpr std::size_t kSyncEachMaxFiles = 16;
+
 // The local cache on the engine's FileSystem: both seams (ActionCache, BlobStore) and what only
 // a local cache has (locks, scratch directories, gc, verify).
 class Cache final : public ActionCache, public BlobStore {
@@ -64,7 +73,8 @@ class Cache final : public ActionCache, public BlobStore {
   // DurableBatch makes a batch of entries durable at once). False (and `error`) on failure.
   bool store(const std::string& key, const ActionResult& result, bool durable = true,
              std::string* error = nullptr) override;
-  // fsync of each entry, then of each directory holding one (ac/ab/, ac/, the root).
+  // fsync of each entry and of each directory holding one (or holding a directory this cache
+  // made); syncfs for more than kSyncEachMaxFiles entries.
   bool make_durable(const std::vector<std::string>& keys, std::string* error = nullptr) override;
 
   // Moves `file` into the CAS (a rename: the bytes are not copied), read-only, replacing any
@@ -78,7 +88,7 @@ class Cache final : public ActionCache, public BlobStore {
   // A hard link where possible, else a copy (a copy's mtime is set as the blob's).
   bool materialize(const Digest& d, const std::filesystem::path& dest, bool verify = true,
                    std::int64_t* known_at = nullptr, std::string* error = nullptr) override;
-  // fsync of each blob, then of each directory holding one (cas/ab/, cas/, the root).
+  // As for action results: fsyncs of the blobs and their directories, or one syncfs.
   bool make_durable(const std::vector<Digest>& digests, std::string* error = nullptr) override;
 
   // Marks the root as a sylva cache (a CACHEDIR.TAG, https://bford.info/cachedir/, which also
@@ -111,8 +121,15 @@ class Cache final : public ActionCache, public BlobStore {
   VerifyResult verify_all();
 
  private:
+  // Creates the directory of `file` if it is missing, remembering each directory it made: its
+  // own name is made durable with the next make_durable().
+  bool make_parent(const std::filesystem::path& file, std::string* error);
+  bool sync_files(const std::vector<std::filesystem::path>& files, std::string* error);
+
   FileSystem& fs_;
   std::filesystem::path root_;
+  std::mutex dirs_mu_;
+  std::set<std::filesystem::path> new_dirs_;  // made since the last make_durable()
 };
 
 }  // namespace sylva

@@ -28,15 +28,14 @@ std::vector<std::string> DurableBatch::store(std::vector<Item>& batch) {
                      " action result(s) not stored");
     return errors;
   }
-  std::vector<std::string> stored;
+  // Not yet durable: finish() makes every result of the build durable at once. Until then a
+  // power loss can only lose a result (its action runs again), never its blobs.
   for (const Item& item : batch) {
     if (actions_.store(item.key, item.result, /*durable=*/false, &why))
-      stored.push_back(item.key);
+      stored_.push_back(item.key);
     else
       errors.push_back("cannot write action result " + why);
   }
-  if (!actions_.make_durable(stored, &why))
-    errors.push_back("cannot make the cache's action results durable (" + why + ")");
   return errors;
 }
 
@@ -68,6 +67,9 @@ bool DurableBatch::finish(std::vector<std::string>* errors) {
     l.unlock();
     if (started) thread_.join();
     l.lock();
+    std::string why;
+    if (!actions_.make_durable(stored_, &why))
+      errors_.push_back("cannot make the cache's action results durable (" + why + ")");
   }
   if (errors) *errors = errors_;
   return errors_.empty();

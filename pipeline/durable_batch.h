@@ -3,12 +3,12 @@
 // A stored action result is a promise that its blobs are on disk. Stages' outputs are moved into
 // the blob store without waiting for the disk, and their results are queued here; one committer
 // thread takes everything queued so far, makes that batch's blobs durable (BlobStore::
-// make_durable: an fsync of each blob and one of each directory holding them), writes the
-// batch's results, makes them durable the same way (ActionCache::make_durable) and releases
-// their action locks. Nodes keep running meanwhile, and a batch grows while the previous one is
-// being synced (group commit). finish() waits for the queue to drain, so when a build returns
-// its results are durable. Only this build's own files are synced: a one-node build does not
-// wait for every other process's dirty pages, as syncfs(2) of the whole file system would.
+// make_durable: for the local cache an fsync of each blob and of each directory holding one, or
+// one syncfs(2) for a large batch), writes the batch's results and releases their action locks.
+// Nodes keep running meanwhile, and a batch grows while the previous one is being synced (group
+// commit). finish() waits for the queue to drain and makes every result written durable
+// (ActionCache::make_durable), so when a build returns its results are durable. A small build
+// syncs only its own files: a one-node build does not wait for every other process's dirty pages.
 //
 // Crash safety: a result is never written before the blobs it names are durable; a kill -9 or
 // power loss before that loses only unwritten results (those actions run again), never leaves
@@ -60,6 +60,7 @@ class DurableBatch {
   std::vector<Item> queue_;
   bool busy_ = false, stopping_ = false, finished_ = false;
   std::vector<std::string> errors_;
+  std::vector<std::string> stored_;  // keys of the results written (by the committer thread)
   std::thread thread_;
 };
 

@@ -427,6 +427,21 @@ bool RealFileSystem::replace_dir(const fs::path& staged, const fs::path& dest, f
   return true;
 }
 
+bool RealFileSystem::sync_fs(const fs::path& p, std::string* error) {
+  fs::path at = p;
+  std::error_code ec;
+  while (!at.empty() && !fs::exists(at, ec)) at = at.parent_path();
+  int fd = ::open(at.empty() ? "." : at.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return fail(error);
+  if (::syncfs(fd) != 0) {
+    const int err = errno;
+    ::close(fd);
+    return fail(error, err);
+  }
+  ::close(fd);
+  return true;
+}
+
 std::optional<fs::path> RealFileSystem::real_path(const fs::path& p) {
   char* r = ::realpath(p.c_str(), nullptr);
   if (!r) return std::nullopt;

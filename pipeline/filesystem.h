@@ -123,6 +123,9 @@ class FileSystem {
   // left at `*displaced` (a temporary sibling) for the caller to remove. Both must be siblings.
   virtual bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
                            std::string* error = nullptr) = 0;
+  // syncfs(2): every write to the file system holding `p` so far is durable when it returns,
+  // other processes' writes too (cheaper than an fsync per file only for many files).
+  virtual bool sync_fs(const fs::path& p, std::string* error = nullptr) = 0;
   // The path with every symlink resolved (realpath(3)); nullopt if it does not exist.
   virtual std::optional<fs::path> real_path(const fs::path& p) = 0;
   // While *flag is true, digest() stops with "interrupted" (Ctrl-C must not wait for a
@@ -167,6 +170,7 @@ class RealFileSystem final : public FileSystem {
   std::optional<std::uint64_t> free_bytes(const fs::path& p) override;
   bool replace_dir(const fs::path& staged, const fs::path& dest, fs::path* displaced,
                    std::string* error = nullptr) override;
+  bool sync_fs(const fs::path& p, std::string* error = nullptr) override;
   std::optional<fs::path> real_path(const fs::path& p) override;
 };
 

@@ -25,7 +25,7 @@ class FakeFileSystem final : public FileSystem {
   std::string fail_writes_containing;        // non-empty: such writes fail ...
   std::string fail_reason = "No space left on device";  // ... with this reason
   int syncs = 0;                                        // sync() calls
-  // "write <path>", "rename <to>", "link <to>" and "sync <path>", in order.
+  // "write <path>", "rename <to>", "link <to>", "sync <path>" and "syncfs", in order.
   std::vector<std::string> events;
   // Called after every successful write_atomic() or create()d file's close(), with the path.
   std::function<void(const std::string&)> on_write;
@@ -105,8 +105,9 @@ class FakeFileSystem final : public FileSystem {
       info.size = it->second.size();
       return info;
     }
+    const std::string prefix = k == "/" ? k : k + "/";
     for (const auto& [f, c] : files)
-      if (f.size() > k.size() && f.compare(0, k.size(), k) == 0 && f[k.size()] == '/') {
+      if (f.size() > prefix.size() && f.compare(0, prefix.size(), prefix) == 0) {
         FileInfo info = dir_meta_[k];
         info.is_dir = true;
         return info;
@@ -262,6 +263,20 @@ class FakeFileSystem final : public FileSystem {
       return true;
     }
     return rename(staged, dest, error);
+  }
+  // Every file and directory becomes durable.
+  bool sync_fs(const fs::path&, std::string* error = nullptr) override {
+    std::lock_guard<std::recursive_mutex> l(mu_);
+    if (failing("<sync>")) return fail(error);
+    ++syncs;
+    const std::uint64_t at = ++clock_;
+    for (const auto& [f, c] : files) {
+      last_sync_[f] = at;
+      for (fs::path d = fs::path(f).parent_path(); !d.empty() && d != d.parent_path(); d = d.parent_path())
+        last_sync_[d.string()] = at;
+    }
+    events.push_back("syncfs");
+    return true;
   }
   std::optional<fs::path> real_path(const fs::path& p) override {
     if (!stat(p)) return std::nullopt;
