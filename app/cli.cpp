@@ -22,10 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Common : GlobalOptions {
-  fs::path cache_root() const { return cache_root_for(out_dir, cache_dir); }
-};
-
 std::string type_text(const ParamSpec& p) {
   std::string t = param_type_name(p.type);
   if (p.type == ParamType::kEnum) {
@@ -72,9 +68,9 @@ int cmd_stages(const StageRegistry& reg, const CliIo& io) {
   return kExitOk;
 }
 
-int cmd_graph(const std::string& file, bool dot, const StageRegistry& reg, FileSystem& fsys,
-              const CliIo& io) {
-  auto recipe = load_recipe_or_report(file, reg, fsys, io);
+int cmd_graph(const std::string& file, bool dot, CommandContext& ctx) {
+  const CliIo& io = ctx.io;
+  auto recipe = load_recipe_or_report(file, ctx);
   if (!recipe) return kExitUsage;
   BuildGraph g(*recipe);
   if (dot) {
@@ -135,8 +131,10 @@ std::string human_bytes(std::uint64_t b);
 // `--cache ..` its parent): the cache if Cache::is_cache() accepts it, and in the output root
 // each recipe directory (it has .sylva/) and the parse cache (.sylva-parse/); then the output
 // root itself if nothing else is left in it. Everything else is kept and counted.
-int cmd_clean_all(const Common& c, FileSystem& fsys, const CliIo& io) {
-  const fs::path cache = c.cache_root();
+int cmd_clean_all(CommandContext& ctx) {
+  FileSystem& fsys = ctx.fs;
+  const CliIo& io = ctx.io;
+  const fs::path cache = ctx.cache_root();
   std::size_t kept = 0;
   if (fsys.stat(cache)) {
     if (Cache::is_cache(fsys, cache)) {
@@ -149,7 +147,7 @@ int cmd_clean_all(const Common& c, FileSystem& fsys, const CliIo& io) {
       ++kept;
     }
   }
-  const fs::path out = c.out_dir;
+  const fs::path out = ctx.out_root();
   for (const auto& name : fsys.list(out)) {
     const fs::path p = out / name;
     auto st = fsys.stat(p);
@@ -171,15 +169,14 @@ int cmd_clean_all(const Common& c, FileSystem& fsys, const CliIo& io) {
   return kExitOk;
 }
 
-int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, FileSystem& fsys,
-              const CliIo& io) {
-  auto recipe = load_recipe_or_report(a.recipe, reg, fsys, io, c.out_dir);
+int cmd_build(const BuildArgs& a, CommandContext& ctx) {
+  const CliIo& io = ctx.io;
+  auto recipe = load_recipe_or_report(a.recipe, ctx, ctx.options.out_dir);
   if (!recipe) return kExitUsage;
-  Cache cache(fsys, c.cache_root());
-  SteadyClock clock;
-  ProgressPrinter progress(io.err, io.err_is_terminal, clock);
-  const fs::path out_dir = fs::path(c.out_dir) / recipe->name;
-  BuildEnv env{fsys, cache, out_dir, clock, io.cancel, &progress};
+  Cache cache(ctx.fs, ctx.cache_root());
+  ProgressPrinter progress(io.err, io.err_is_terminal, ctx.clock);
+  const fs::path out_dir = ctx.out_root() / recipe->name;
+  BuildEnv env{ctx.fs, cache, out_dir, ctx.clock, io.cancel, &progress};
   BuildOptions opt;
   opt.jobs = a.jobs;
   opt.keep_going = a.keep_going;
@@ -216,9 +213,9 @@ int cmd_build(const BuildArgs& a, const Common& c, const StageRegistry& reg, Fil
   return s.ok() ? kExitOk : kExitBuildFailed;
 }
 
-int cmd_explain(const std::string& file, const std::string& node, const Common& c, const StageRegistry& reg,
-                FileSystem& fsys, const CliIo& io) {
-  auto recipe = load_recipe_or_report(file, reg, fsys, io, c.out_dir);
+int cmd_explain(const std::string& file, const std::string& node, CommandContext& ctx) {
+  const CliIo& io = ctx.io;
+  auto recipe = load_recipe_or_report(file, ctx, ctx.options.out_dir);
   if (!recipe) return kExitUsage;
   if (!recipe->find(node)) {
     std::vector<std::string> names;
@@ -227,9 +224,8 @@ int cmd_explain(const std::string& file, const std::string& node, const Common& 
                  did_you_mean(node, names).c_str());
     return kExitUsage;
   }
-  Cache cache(fsys, c.cache_root());
-  SteadyClock clock;
-  BuildEnv env{fsys, cache, fs::path(c.out_dir) / recipe->name, clock, nullptr, nullptr};
+  Cache cache(ctx.fs, ctx.cache_root());
+  BuildEnv env{ctx.fs, cache, ctx.out_root() / recipe->name, ctx.clock, nullptr, nullptr};
   for (const auto& line : explain_node(*recipe, env, node)) std::fprintf(io.out, "%s\n", line.c_str());
   return kExitOk;
 }
@@ -249,31 +245,26 @@ std::string human_bytes(std::uint64_t b) {
 
 }  // namespace
 
-namespace {
-const GlobalOptions* g_global_options = nullptr;  // those of the command line being run
-}  // namespace
-
 int report_interrupted(const CliIo& io, const char* command) {
   std::fprintf(io.err, "%s: interrupted; nothing more was written (earlier reports are as they were)\n",
                command);
   return kExitInterrupted;
 }
 
-std::optional<Recipe> load_recipe_or_report(const std::string& file, const StageRegistry& registry,
-                                            FileSystem& fsys, const CliIo& io, const std::string& out_dir) {
+std::optional<Recipe> load_recipe_or_report(const std::string& file, CommandContext& ctx,
+                                            const std::string& out_dir) {
+  const CliIo& io = ctx.io;
   LoadOptions options;
   if (!out_dir.empty()) options.parse_cache_dir = fs::path(out_dir) / ".sylva-parse";
-  if (const GlobalOptions* g = g_global_options) {
-    options.confine = !g->allow_outside_root;
-    options.root = g->root;
-    for (const auto& l : g->limits)
-      if (auto why = set_limit(options.limits, l)) {
-        std::fprintf(io.err, "error: --limit %s: %s\n", escape_bytes(l).c_str(), why->c_str());
-        return std::nullopt;
-      }
-  }
+  options.confine = !ctx.options.allow_outside_root;
+  options.root = ctx.options.root;
+  for (const auto& l : ctx.options.limits)
+    if (auto why = set_limit(options.limits, l)) {
+      std::fprintf(io.err, "error: --limit %s: %s\n", escape_bytes(l).c_str(), why->c_str());
+      return std::nullopt;
+    }
   Diagnostics diags(options.limits.errors);
-  auto recipe = load_recipe(file, registry, fsys, diags, options);
+  auto recipe = load_recipe(file, ctx.registry, ctx.fs, diags, options);
   if (!recipe) {
     std::fputs(diags.pretty().c_str(), io.err);
     std::fprintf(io.err, "%zu error%s in recipe %s\n", diags.size(), diags.size() == 1 ? "" : "s",
@@ -298,7 +289,6 @@ void add_global_options(CLI::App& app, GlobalOptions& g) {
          "--limit", g.limits,
          "raise a recipe limit: file-bytes, yaml-nodes, include-depth, matrix, nodes, errors (NAME=N)")
       ->allow_extra_args(false);
-  g_global_options = &g;
 }
 
 std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv, const CliIo& io) {
@@ -320,14 +310,12 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const
   return std::nullopt;
 }
 
-int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const CliIo& io,
-            const std::vector<CliCommand*>& extra) {
-  RealFileSystem fsys;
-  fsys.set_cancel_flag(io.cancel);  // Ctrl-C and SIGTERM stop hashing too
-  Common common;
+int run_cli(int argc, const char* const* argv, CommandContext& ctx, const std::vector<CliCommand*>& extra) {
+  const CliIo& io = ctx.io;
+  FileSystem& fsys = ctx.fs;
   CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
   app.require_subcommand(1);
-  add_global_options(app, common);
+  add_global_options(app, ctx.options);
 
   BuildArgs build;
   auto* b = app.add_subcommand("build", "build a recipe (default: configs/default.yaml)");
@@ -378,14 +366,14 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
   if (auto code = parse_command_line(app, argc, argv, io)) return *code;
 
   try {
-    if (b->parsed()) return cmd_build(build, common, reg, fsys, io);
-    if (g->parsed()) return cmd_graph(graph_recipe, dot, reg, fsys, io);
-    if (e->parsed()) return cmd_explain(explain_recipe, explain_target, common, reg, fsys, io);
-    if (st->parsed()) return cmd_stages(reg, io);
+    if (b->parsed()) return cmd_build(build, ctx);
+    if (g->parsed()) return cmd_graph(graph_recipe, dot, ctx);
+    if (e->parsed()) return cmd_explain(explain_recipe, explain_target, ctx);
+    if (st->parsed()) return cmd_stages(ctx.registry, io);
     for (auto& [sub, cmd] : extra_apps)
-      if (sub->parsed()) return cmd->run(io);
+      if (sub->parsed()) return cmd->run(ctx);
     if (cs->parsed()) {
-      Cache cache(fsys, common.cache_root());
+      Cache cache(fsys, ctx.cache_root());
       const CacheStats s = cache.stats();
       std::fprintf(io.out, "cache %s: %llu blobs (%s), %llu action results, %llu temp entries\n",
                    cache.root().c_str(), static_cast<unsigned long long>(s.blobs),
@@ -394,7 +382,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
       return kExitOk;
     }
     if (cg->parsed()) {
-      Cache cache(fsys, common.cache_root());
+      Cache cache(fsys, ctx.cache_root());
       auto gc_lock = cache.lock_for_gc();  // waits for running builds; they wait for it
       const GcResult r = cache.gc(static_cast<std::uint64_t>(max_gib * (1ull << 30)));
       std::fprintf(io.out, "removed %llu action results, %llu blobs (%s), %llu temp entries\n",
@@ -404,7 +392,7 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
       return kExitOk;
     }
     if (cv->parsed()) {
-      Cache cache(fsys, common.cache_root());
+      Cache cache(fsys, ctx.cache_root());
       auto gc_lock = cache.lock_for_gc();
       const VerifyResult v = cache.verify_all();
       std::fprintf(io.out, "%llu corrupt blob%s removed, %llu invalid action result%s removed\n",
@@ -413,14 +401,14 @@ int run_cli(int argc, const char* const* argv, const StageRegistry& reg, const C
       return v.blobs_removed + v.actions_removed ? kExitBuildFailed : kExitOk;
     }
     if (cl->parsed()) {
-      if (clean_all) return cmd_clean_all(common, fsys, io);
+      if (clean_all) return cmd_clean_all(ctx);
       if (clean_recipe.empty()) {
         std::fprintf(io.err, "error: 'sylva clean' needs a recipe or --all\n");
         return kExitUsage;
       }
-      auto recipe = load_recipe_or_report(clean_recipe, reg, fsys, io);
+      auto recipe = load_recipe_or_report(clean_recipe, ctx);
       if (!recipe) return kExitUsage;
-      fsys.remove_all(fs::path(common.out_dir) / recipe->name);
+      fsys.remove_all(ctx.out_root() / recipe->name);
       return kExitOk;
     }
   } catch (const std::exception& ex) {

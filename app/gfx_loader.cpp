@@ -23,9 +23,8 @@ std::filesystem::path module_path(const std::string& file, const std::string& en
 
 class GfxCommand final : public CliCommand {
  public:
-  GfxCommand(GfxCommandInfo info, GfxLoader& loader, int argc, const char* const* argv,
-             const StageRegistry& registry)
-      : info_(info), loader_(loader), argc_(argc), argv_(argv), registry_(registry) {}
+  GfxCommand(GfxCommandInfo info, GfxLoader& loader, int argc, const char* const* argv)
+      : info_(info), loader_(loader), argc_(argc), argv_(argv) {}
 
   CLI::App* add_to(CLI::App& app) override {
     auto* sub = app.add_subcommand(info_.name, info_.summary);
@@ -36,16 +35,16 @@ class GfxCommand final : public CliCommand {
     return sub;
   }
 
-  int run(const CliIo& io) override {
+  int run(CommandContext& ctx) override {
     const GfxModule* m = nullptr;
     try {
       m = &loader_.module();
       if (!m->run_command) throw StageError("the module has no commands");
     } catch (const StageError& e) {
-      std::fprintf(io.err, "error: sylva %s: %s\n", info_.name, e.what());
+      std::fprintf(ctx.io.err, "error: sylva %s: %s\n", info_.name, e.what());
       return kExitBuildFailed;
     }
-    return m->run_command(argc_, argv_, registry_, io);
+    return m->run_command(argc_, argv_, ctx);
   }
 
  private:
@@ -53,7 +52,6 @@ class GfxCommand final : public CliCommand {
   GfxLoader& loader_;
   int argc_;
   const char* const* argv_;
-  const StageRegistry& registry_;
 };
 
 }  // namespace
@@ -87,11 +85,9 @@ const Stage& ModuleLoader::resolve(std::string_view name) {
 }
 
 std::vector<std::unique_ptr<CliCommand>> make_gfx_commands(GfxLoader& loader, int argc,
-                                                           const char* const* argv,
-                                                           const StageRegistry& registry) {
+                                                           const char* const* argv) {
   std::vector<std::unique_ptr<CliCommand>> out;
-  for (const auto& info : kGfxCommands)
-    out.push_back(std::make_unique<GfxCommand>(info, loader, argc, argv, registry));
+  for (const auto& info : kGfxCommands) out.push_back(std::make_unique<GfxCommand>(info, loader, argc, argv));
   return out;
 }
 

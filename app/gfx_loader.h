@@ -47,9 +47,8 @@ using GfxLoader = ModuleLoader;
 
 // One command per entry of kGfxCommands: declared in the binary's command line (name and
 // summary only; its options and --help belong to the module), and run by handing the whole
-// command line to the module. argv must outlive the commands.
+// command line and the binary's CommandContext to the module. argv must outlive the commands.
 std::vector<std::unique_ptr<CliCommand>> make_gfx_commands(GfxLoader& loader, int argc,
-                                                           const char* const* argv,
-                                                           const StageRegistry& registry);
+                                                           const char* const* argv);
 
 }  // namespace sylva

@@ -1,7 +1,7 @@
 // The graphics module's entry point (libsylva_gfx.so; app/gfx_module.h): the heavy stages
 // (stages/register_gfx_stages.cpp) and the commands that render (render, verify, lodcheck,
-// impostorcheck),
-// with the same global options and parse rules as the binary's command line.
+// impostorcheck), with the same global options and parse rules as the binary's command line and
+// the binary's CommandContext (the module wires no file system or clock of its own).
 #include "app/gfx_module.h"
 
 #include <memory>
@@ -28,25 +28,24 @@ const StageRegistry& gfx_stages() {
 
 const Stage* find_stage(const char* name) { return gfx_stages().find(name); }
 
-int run_command(int argc, const char* const* argv, const StageRegistry& registry, const CliIo& io) {
+int run_command(int argc, const char* const* argv, CommandContext& ctx) {
   try {
-    GlobalOptions global;
     CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
     app.require_subcommand(1);
-    add_global_options(app, global);
+    add_global_options(app, ctx.options);
     std::vector<std::unique_ptr<CliCommand>> commands;
-    commands.push_back(make_impostorcheck_command(registry));
-    commands.push_back(make_lodcheck_command(registry));
+    commands.push_back(make_impostorcheck_command());
+    commands.push_back(make_lodcheck_command());
     commands.push_back(make_render_command());
-    commands.push_back(make_verify_command(registry));
+    commands.push_back(make_verify_command());
     std::vector<std::pair<CLI::App*, CliCommand*>> subs;
     for (auto& c : commands) subs.emplace_back(c->add_to(app), c.get());
-    if (auto code = parse_command_line(app, argc, argv, io)) return *code;
+    if (auto code = parse_command_line(app, argc, argv, ctx.io)) return *code;
     for (auto& [sub, cmd] : subs)
-      if (sub->parsed()) return cmd->run(io);
+      if (sub->parsed()) return cmd->run(ctx);
     return kExitUsage;
   } catch (const std::exception& e) {
-    std::fprintf(io.err, "error: %s\n", e.what());
+    std::fprintf(ctx.io.err, "error: %s\n", e.what());
     return kExitBuildFailed;
   }
 }

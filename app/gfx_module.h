@@ -18,7 +18,7 @@
 namespace sylva {
 
 // Bump when GfxModule or the types it passes change shape.
-inline constexpr int kGfxModuleAbi = 1;
+inline constexpr int kGfxModuleAbi = 2;
 
 // The table is shared by the geometry module (app/geometry_module.cpp: OpenMesh, CGAL, Draco,
 // tinygltf), which has stages only (run_command is null).
@@ -27,10 +27,11 @@ struct GfxModule {
   // The implementation of a heavy stage (one the binary registers with make_lazy_stage), or
   // nullptr if the module has no stage of that name. The module owns it for the process's life.
   const Stage* (*find_stage)(const char* name) = nullptr;
-  // Runs a heavy command: argv is the whole command line (`sylva [--out D] render ...`);
-  // `registry` is the binary's (commands that build recipes use it). Returns the exit code.
-  int (*run_command)(int argc, const char* const* argv, const StageRegistry& registry,
-                     const CliIo& io) = nullptr;
+  // Runs a heavy command: argv is the whole command line (`sylva [--out D] render ...`); `ctx`
+  // is the binary's (app/command_context.h: its file system, clock, stdio, cancel flag and
+  // stages), whose options the module parses the global options into again. Returns the exit
+  // code.
+  int (*run_command)(int argc, const char* const* argv, CommandContext& ctx) = nullptr;
 };
 
 // The commands the module runs, with the one-line summary `sylva --help` prints without loading

@@ -3,7 +3,8 @@
 //
 //  1. Loads the recipe and picks its `impostor` nodes (all, or those named by --node); builds them.
 //  2. Per node, the full-detail model of what the impostor was baked from: for an input of stage
-//     lod the chain's epsilon = 0 model (as `sylva lodcheck` builds it), for a mesh the mesh.
+//     lod the chain's epsilon = 0 model, its full.glb (what `sylva lodcheck` judges against;
+//     app/full_detail.h), for a mesh the mesh.
 //  3. Renders the impostor (octahedral kinds with the reference shader, billboards as impostor.glb)
 //     and the full detail from the same cameras at the impostor's switch distance, from 12
 //     azimuths x 3 elevations that are not frame directions (stages/impostor/check), and judges
@@ -20,5 +21,5 @@
 #include "app/cli.h"
 
 namespace sylva {
-std::unique_ptr<CliCommand> make_impostorcheck_command(const StageRegistry& registry);
+std::unique_ptr<CliCommand> make_impostorcheck_command();
 }

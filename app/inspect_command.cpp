@@ -16,7 +16,8 @@ class InspectCommand final : public CliCommand {
     sub->add_flag("--json", json_, "print JSON instead of text");
     return sub;
   }
-  int run(const CliIo& io) override {
+  int run(CommandContext& ctx) override {
+    const CliIo& io = ctx.io;
     try {
       const tree::Tree t = tree::read_sylt(file_);
       const auto stats = tree::compute_stats(t);

@@ -1,4 +1,6 @@
-// Library plus main(): the only place the real stages, the real disk and the real signals meet.
+// Library plus main(): the only place the real stages, the real disk, the real clock and the real
+// signals meet. They make the one CommandContext (app/command_context.h) every command runs
+// with, the graphics module's included.
 #include <unistd.h>
 
 #include <csignal>
@@ -38,12 +40,16 @@ int main(int argc, char** argv) {
   sylva::CliIo io;
   io.err_is_terminal = isatty(STDERR_FILENO) && std::getenv("CI") == nullptr;
   io.cancel = &g_cancel;
+  sylva::RealFileSystem fsys;
+  fsys.set_cancel_flag(&g_cancel);  // Ctrl-C and SIGTERM stop hashing too
+  sylva::SteadyClock clock;
+  sylva::CommandContext ctx{fsys, clock, registry, io, {}};
   auto inspect = sylva::make_inspect_command();
   auto pack = sylva::make_pack_command();
-  auto gfx_commands = sylva::make_gfx_commands(gfx, argc, argv, registry);
+  auto gfx_commands = sylva::make_gfx_commands(gfx, argc, argv);
   std::vector<sylva::CliCommand*> commands{inspect.get(), pack.get()};
   for (auto& c : gfx_commands) commands.push_back(c.get());
-  const int code = sylva::run_cli(argc, argv, registry, io, commands);
+  const int code = sylva::run_cli(argc, argv, ctx, commands);
   // Leave without running static destructors. The shared EGL renderer (stages/verify) lives on a
   // worker thread's context, and Mesa's llvmpipe threads and LLVM's static destructors racing at
   // exit() corrupted the heap now and then ("corrupted size vs. prev_size", exit 134) after

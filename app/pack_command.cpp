@@ -20,7 +20,8 @@ class PackCommand final : public CliCommand {
     diff->add_flag("--json", json_, "print {\"added\": [...], \"changed\": [...], \"removed\": [...]}");
     return pack;
   }
-  int run(const CliIo& io) override {
+  int run(CommandContext& ctx) override {
+    const CliIo& io = ctx.io;
     try {
       const pack::ManifestDiff d = pack::diff_manifests(pack::read_manifest(old_), pack::read_manifest(new_));
       if (json_) {

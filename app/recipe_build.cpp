@@ -1,5 +1,5 @@
-// Building part of a recipe for a command: the same cache, progress and exit codes as `sylva
-// build`, so `sylva verify` and `sylva lodcheck` never disagree with it about what is built.
+// Building part of a recipe for a command: the same file system, cache, progress and exit codes as
+// `sylva build`, so `sylva verify` and `sylva lodcheck` never disagree with it about what is built.
 #include "app/recipe_build.h"
 
 #include <algorithm>
@@ -7,19 +7,11 @@
 
 #include "app/progress.h"
 #include "pipeline/cache.h"
-#include "pipeline/clock.h"
 #include "pipeline/diagnostic.h"
-#include "pipeline/filesystem.h"
 
 namespace sylva {
 
 namespace fs = std::filesystem;
-
-std::optional<std::string> global_option(const CLI::App* parent, const char* name) {
-  const CLI::Option* o = parent ? parent->get_option_no_throw(name) : nullptr;
-  if (!o || o->count() == 0) return std::nullopt;
-  return o->as<std::string>();
-}
 
 const NodeReport* RecipeBuild::report(const std::string& node) const {
   for (const auto& r : summary.nodes)
@@ -53,17 +45,14 @@ std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& rec
   return selected;
 }
 
-RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets,
-                                 const CLI::App* parent, int jobs, const CliIo& io, const char* command) {
+RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets, int jobs,
+                                 CommandContext& ctx, const char* command) {
+  const CliIo& io = ctx.io;
   RecipeBuild b;
-  const std::string out_root = global_option(parent, "--out").value_or("out");
-  b.out_dir = fs::path(out_root) / recipe.name;
-  RealFileSystem fsys;
-  fsys.set_cancel_flag(io.cancel);
-  Cache cache(fsys, cache_root_for(out_root, global_option(parent, "--cache").value_or("")));
-  SteadyClock clock;
-  ProgressPrinter progress(io.err, io.err_is_terminal, clock);
-  BuildEnv env{fsys, cache, b.out_dir, clock, io.cancel, &progress};
+  b.out_dir = ctx.out_root() / recipe.name;
+  Cache cache(ctx.fs, ctx.cache_root());
+  ProgressPrinter progress(io.err, io.err_is_terminal, ctx.clock);
+  BuildEnv env{ctx.fs, cache, b.out_dir, ctx.clock, io.cancel, &progress};
   BuildOptions opt;
   opt.jobs = jobs;
   opt.targets = targets;

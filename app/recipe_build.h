@@ -1,6 +1,7 @@
 // What the commands that work on a recipe's built outputs (`sylva verify`, `sylva lodcheck`, `sylva
-// impostorcheck`) share: the global options they inherit from `sylva`, and building some targets of a recipe
-// with the real cache, a progress printer and Ctrl-C, as `sylva build` does.
+// impostorcheck`; app/check_command.h) use to get at them: choosing nodes of a stage, building some
+// targets of a recipe with the context's file system, cache, clock and Ctrl-C and a progress
+// printer, as `sylva build` does, and the files of a built node.
 #pragma once
 
 #include <filesystem>
@@ -13,10 +14,6 @@
 #include "pipeline/recipe.h"
 
 namespace sylva {
-
-// The value of a global option (`sylva --out DIR verify ...`) if it was given; `parent` is the
-// top-level app the subcommand was added to (may be null).
-std::optional<std::string> global_option(const CLI::App* parent, const char* name);
 
 struct RecipeBuild {
   int exit_code = kExitOk;        // kExitOk, or what the command should return
@@ -36,10 +33,12 @@ std::optional<std::vector<const NodeDecl*>> select_stage_nodes(const Recipe& rec
                                                                const std::vector<std::string>& names,
                                                                const std::string& doc_page, const CliIo& io);
 
-// Builds `targets` (and what they need) of `recipe`. On failure prints why to io.err, prefixed
-// with `command` ("sylva verify"), and sets exit_code (usage error, build failure, interrupted).
-RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets,
-                                 const CLI::App* parent, int jobs, const CliIo& io, const char* command);
+// Builds `targets` (and what they need) of `recipe` into <ctx.out_root()>/<recipe name>/ with the
+// cache at ctx.cache_root(), `jobs` nodes at a time (0: all cores). On failure prints why to
+// ctx.io.err, prefixed with `command` ("sylva verify"), and sets exit_code (usage error, build
+// failure, interrupted).
+RecipeBuild build_recipe_targets(const Recipe& recipe, const std::vector<std::string>& targets, int jobs,
+                                 CommandContext& ctx, const char* command);
 
 // The files of a built node as a stage would receive them as input.
 InputArtifact input_artifact(const Recipe& recipe, const RecipeBuild& built, const std::string& node);

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -30,9 +29,7 @@ void print_error(std::FILE* err, const std::string& what) {
     std::fprintf(err, "error: %s\n", what.c_str());
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
+double seconds_since(const Clock& clock, double t) { return clock.now_seconds() - t; }
 
 bool has_png_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -60,7 +57,8 @@ class RenderCommand final : public CliCommand {
     return sub;
   }
 
-  int run(const CliIo& io) override {
+  int run(CommandContext& ctx) override {
+    const CliIo& io = ctx.io;
     // A forest (instances.json) is drawn with its LOD levels per tree (libs/render/forest_view.h)
     // and, unless --camera says otherwise, its own camera set.
     const bool forest = fs::path(file_).filename() == "instances.json";
@@ -72,7 +70,7 @@ class RenderCommand final : public CliCommand {
       set = render::load_camera_set(camera_);
     } catch (const render::CameraSetError& e) {
       std::fprintf(io.err, "%s\n", e.what());
-      if (!fs::exists(camera_) && camera_ == kDefaultCameras)
+      if (!ctx.fs.stat(camera_) && camera_ == kDefaultCameras)
         std::fprintf(io.err, "(run sylva from the repository root, or name a camera set with --camera)\n");
       return kExitUsage;
     }
@@ -94,8 +92,8 @@ class RenderCommand final : public CliCommand {
     }
 
     // 3. One file or a directory.
-    std::error_code ec;
-    const bool single = has_png_extension(output_) && !fs::is_directory(output_, ec);
+    const auto out_stat = ctx.fs.stat(output_);
+    const bool single = has_png_extension(output_) && !(out_stat && out_stat->is_dir);
     if (chosen.empty()) {
       if (single)
         chosen.push_back(set.views.front());
@@ -111,33 +109,33 @@ class RenderCommand final : public CliCommand {
     set.views = chosen;
 
     // 4. The asset, 5. the renderer, 6. the pictures.
-    const auto start = std::chrono::steady_clock::now();
+    const double start = ctx.clock.now_seconds();
     std::vector<render::RenderedView> images;
     try {
       if (forest) {
         render::ForestView fv = render::ForestView::load(file_);
-        const double load_s = seconds_since(start);
+        const double load_s = seconds_since(ctx.clock, start);
         auto renderer = render::Renderer::create_headless();
         const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
         render::ForestViewOptions fo;
         fo.pixel_error_px = pixel_error_;
         // Every level and impostor map the views draw is uploaded before the first view (the
         // loading step), so each view's time below is its drawing.
-        const auto upload_start = std::chrono::steady_clock::now();
+        const double upload_start = ctx.clock.now_seconds();
         fv.prepare(*renderer, cams, render::options_for(set), fo);
         std::fprintf(io.err, "sylva: forest loaded in %.2f s, uploaded in %.2f s\n", load_s,
-                     seconds_since(upload_start));
+                     seconds_since(ctx.clock, upload_start));
         // One view at a time: Ctrl-C or SIGTERM stops between views, before anything is written.
         for (std::size_t i = 0; i < cams.size(); ++i) {
           if (cancelled(io)) return report_interrupted(io, "sylva render");
-          const auto view_start = std::chrono::steady_clock::now();
+          const double view_start = ctx.clock.now_seconds();
           std::vector<render::ForestViewStats> stats;
           std::vector<image::Image> imgs = fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1),
                                                      render::options_for(set), fo, &stats);
           std::fprintf(io.err,
                        "sylva: view %s: %zu of %zu trees drawn (%zu as impostors), %zu primitives, %.2f s\n",
                        cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].impostors,
-                       stats[0].primitives, seconds_since(view_start));
+                       stats[0].primitives, seconds_since(ctx.clock, view_start));
           // Per species: trees at each level (level index: count), impostors by parallax steps.
           for (std::size_t s = 0; s < stats[0].species_trees.size(); ++s) {
             std::string line;
@@ -175,10 +173,9 @@ class RenderCommand final : public CliCommand {
     // 7. Write.
     try {
       if (!single) {
-        fs::create_directories(output_, ec);
-        if (ec) {
-          std::fprintf(io.err, "%s: error: cannot create the directory: %s\n", output_.c_str(),
-                       ec.message().c_str());
+        std::string why;
+        if (!ctx.fs.make_dirs(output_, &why)) {
+          std::fprintf(io.err, "%s: error: cannot create the directory: %s\n", output_.c_str(), why.c_str());
           return kExitBuildFailed;
         }
       }
@@ -191,7 +188,7 @@ class RenderCommand final : public CliCommand {
       print_error(io.err, e.what());
       return kExitBuildFailed;
     }
-    const double seconds = seconds_since(start);
+    const double seconds = seconds_since(ctx.clock, start);
     const std::string aa = "MSAA " + std::to_string(set.msaa) + "x" +
                            (set.supersample > 1 ? ", supersampled " + std::to_string(set.supersample) + "x" +
                                                       std::to_string(set.supersample)

@@ -13,7 +13,8 @@ fs::path staging_path_for(const fs::path& dir) {
 }
 }  // namespace
 
-StagedReportDir::StagedReportDir(fs::path report_dir) : final_(std::move(report_dir)) {
+StagedReportDir::StagedReportDir(FileSystem& fs, fs::path report_dir)
+    : fs_(fs), final_(std::move(report_dir)) {
   if (!final_.has_filename()) final_ = final_.parent_path();
   staged_ = staging_path_for(final_);
   std::string why;

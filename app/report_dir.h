@@ -15,9 +15,10 @@ namespace sylva {
 
 class StagedReportDir {
  public:
-  // Creates the staging directory (and the report's parent). Throws std::runtime_error with
-  // the reason if it cannot.
-  explicit StagedReportDir(std::filesystem::path report_dir);
+  // Creates the staging directory (and the report's parent) through `fs`, which must outlive
+  // this object (the command's CommandContext::fs). Throws std::runtime_error with the reason if
+  // it cannot.
+  StagedReportDir(FileSystem& fs, std::filesystem::path report_dir);
   ~StagedReportDir();
   StagedReportDir(const StagedReportDir&) = delete;
   StagedReportDir& operator=(const StagedReportDir&) = delete;
@@ -33,7 +34,7 @@ class StagedReportDir {
   void remove_previous();
 
  private:
-  RealFileSystem fs_;
+  FileSystem& fs_;
   std::filesystem::path final_, staged_;
   bool committed_ = false;
 };

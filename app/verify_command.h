@@ -20,5 +20,5 @@
 #include "app/cli.h"
 
 namespace sylva {
-std::unique_ptr<CliCommand> make_verify_command(const StageRegistry& registry);
+std::unique_ptr<CliCommand> make_verify_command();
 }

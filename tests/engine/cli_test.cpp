@@ -30,8 +30,10 @@ class CliTest : public ::testing::Test {
     for (auto& a : with_dirs) argv.push_back(a.c_str());
     std::FILE* out = std::tmpfile();
     std::FILE* err = std::tmpfile();
-    CliIo io{out, err, false, nullptr};
-    const int code = run_cli(static_cast<int>(argv.size()), argv.data(), reg_, io);
+    RealFileSystem fsys;
+    SteadyClock clock;
+    CommandContext ctx{fsys, clock, reg_, CliIo{out, err, false, nullptr}, {}};
+    const int code = run_cli(static_cast<int>(argv.size()), argv.data(), ctx);
     auto slurp = [](std::FILE* f) {
       std::string s;
       std::rewind(f);
