@@ -28,11 +28,13 @@ run: build
 test: build
 	@cd $(BUILD) && SYLVA_REQUIRE_GLTF_VALIDATOR=1 SYLVA_REQUIRE_CLIENTS=1 ctest --output-on-failure -j $(JOBS) --timeout 600
 
-# The CI jobs beyond `make test` (.ci/run runs all three): sanitizers + fuzzers (.ci/sanitize.sh, its own clang
-# build in out/build-san) and the formatting check.
+# The CI jobs beyond `make test` (.ci/run runs them all): sanitizers + fuzzers (.ci/sanitize.sh, its own clang
+# build in out/build-san), the formatting check and the size budget (tools/size_budget.py: no new function over
+# 120 lines or file over 800 beyond tools/size-allowlist.txt, which only shrinks).
 check: setup
 	@.ci/sanitize.sh
 	@tools/format-check
+	@tools/size_budget.py check
 
 format-check:
 	@tools/format-check
