@@ -69,7 +69,7 @@ struct ImpostorInfo {
   std::string color_map;         // sRGB base colour (unlit albedo), straight alpha = coverage
   std::string normal_depth_map;  // RGB = object-space normal * 0.5 + 0.5, A = depth (see depth_encoding)
   // Error model and switch distance (error_model.h).
-  ViewCamera camera;
+  lodmodel::Camera camera;
   double pixel_error_px = 0;  // delta
   ErrorTerms error;
   double switch_distance_m = 0;

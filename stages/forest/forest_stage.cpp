@@ -15,6 +15,7 @@
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/lodchain/lod_chain.h"
+#include "libs/lodmodel/lod_model.h"
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
 #include "stages/forest/forest_info.h"
@@ -70,7 +71,7 @@ struct SpeciesInput {
   double impostor_epsilon_m = 0;
   double impostor_switch_distance_m = 0;
   double impostor_pixel_error_px = 0;
-  impostor::ViewCamera impostor_camera;
+  lodmodel::Camera impostor_camera;
   // A (hemi-)octahedral impostor: its impostor.json (maps renamed to the forest's copies) and maps.
   bool octahedral = false;
   impostor::ImpostorInfo impostor_info;
@@ -344,9 +345,9 @@ class ForestStage final : public Stage {
       if (in.has_impostor) {
         // Distances in impostor.json's terms (its delta and camera) move into the chain's.
         auto chain_terms = [&](double d) {
-          return impostor_switch_distance_m(d, in.impostor_pixel_error_px, in.impostor_camera.fov_y_rad,
-                                            in.impostor_camera.height_px, sp.pixel_error_px, sp.fov_y_deg,
-                                            sp.height_px);
+          return impostor_switch_distance_m(d, in.impostor_camera, in.impostor_pixel_error_px,
+                                            lodmodel::camera_from_degrees(sp.fov_y_deg, sp.height_px),
+                                            sp.pixel_error_px);
         };
         sp.levels.push_back({names[s] + "_impostor.gltf",
                              in.impostor_epsilon_m,

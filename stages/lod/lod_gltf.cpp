@@ -5,9 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <map>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 
@@ -90,7 +88,7 @@ gltf::Primitive triangles(const std::vector<float>& positions, const std::vector
 
 // Lines with each vertex's drawn alpha in COLOR_0 (white, so the material's colour shows):
 // eq. (12) per node, as coverage at the switch distance split over the three lines
-// (drawn_line_alpha, chain.h).
+// (lodmodel::drawn_line_alpha).
 gltf::Primitive lines(const BranchGeometry& g, double delta, int material) {
   gltf::Primitive p;
   p.mode = gltf::PrimitiveMode::kLines;
@@ -99,7 +97,8 @@ gltf::Primitive lines(const BranchGeometry& g, double delta, int material) {
   p.indices = g.line_indices;
   p.colors.reserve(g.line_alpha12.size() * 4);
   for (float a : g.line_alpha12) {
-    p.colors.insert(p.colors.end(), {1.0f, 1.0f, 1.0f, static_cast<float>(drawn_line_alpha(a, delta))});
+    p.colors.insert(p.colors.end(),
+                    {1.0f, 1.0f, 1.0f, static_cast<float>(lodmodel::drawn_line_alpha(a, delta))});
   }
   p.material = material;
   return p;
@@ -150,14 +149,6 @@ gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level
 }
 
 nlohmann::json file_extras(const tree::Tree& tree) { return {{"sylva_stage", "lod"}, {"tree", tree.name}}; }
-
-void extend(double (&lo)[3], double (&hi)[3], const std::vector<float>& xyz) {
-  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], double(xyz[i + k]));
-      hi[k] = std::max(hi[k], double(xyz[i + k]));
-    }
-}
 
 }  // namespace
 
@@ -231,39 +222,27 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
 }
 
 double bounding_radius(const Level& l) {
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  lodmodel::BoundingBox box;
   for (const BranchGeometry* g : {&l.branches, &l.needles}) {
-    extend(lo, hi, g->tri_positions);
-    extend(lo, hi, g->line_positions);
+    box.extend(g->tri_positions);
+    box.extend(g->line_positions);
   }
-  extend(lo, hi, l.leaves.positions);
-  if (!(lo[0] <= hi[0])) return 0.0;
-  return 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                         (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  box.extend(l.leaves.positions);
+  return box.radius();
 }
 
-std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double radius) {
+std::vector<double> screen_coverages(const std::vector<Level>& levels, const lodmodel::Camera& camera,
+                                     double radius) {
   std::vector<double> out;
-  const double t = std::tan(camera.fov_y_rad / 2);
-  for (std::size_t i = 0; i < levels.size(); ++i) {
-    if (i + 1 == levels.size()) {
-      out.push_back(0.0);
-    } else {
-      const double d = levels[i + 1].spec.switch_distance;
-      const double c = std::numbers::pi * radius * radius / ((2 * d * t) * (2 * d * t));
-      out.push_back(std::min(1.0, c));
-    }
-  }
+  for (std::size_t i = 0; i < levels.size(); ++i)
+    out.push_back(i + 1 == levels.size()
+                      ? 0.0
+                      : lodmodel::screen_coverage(camera, radius, levels[i + 1].spec.switch_distance));
   return out;
 }
 
-double coverage_distance(double coverage, const Camera& camera, double radius) {
-  if (!(coverage > 0)) return std::numeric_limits<double>::infinity();
-  return radius * std::sqrt(std::numbers::pi) / (2 * std::tan(camera.fov_y_rad / 2) * std::sqrt(coverage));
-}
-
-gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
-                        const OutputTextures& tex) {
+gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels,
+                        const lodmodel::Camera& camera, const OutputTextures& tex) {
   gltf::Scene s;
   bool any_leaves = false;
   for (const Level& l : levels) any_leaves |= !l.leaves.indices.empty();
@@ -300,7 +279,7 @@ std::string encode_full_detail(const tree::Tree& tree, Level full, const OutputT
 }
 
 std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,
-                                                  const Camera& camera, const OutputTextures& tex,
+                                                  const lodmodel::Camera& camera, const OutputTextures& tex,
                                                   bool ribbons) {
   std::vector<gltf::EncodedFile> out;
   std::map<std::string, std::string> stored;  // name -> bytes of every resource written
@@ -349,7 +328,7 @@ lodchain::LodChain chain_summary(const tree::Tree& tree, const std::vector<Level
                                  const ChainOptions& o, bool ribbons) {
   lodchain::LodChain c;
   c.tree = tree.name;
-  c.camera = {o.camera.fov_y_rad * 180 / std::numbers::pi, o.camera.height_px};
+  c.camera = {lodmodel::degrees(o.camera.fov_y_rad), o.camera.height_px};
   c.pixel_error_px = o.pixel_error;
   c.tree_height_m = tree_height(tree);
   const double radius = levels.empty() ? 0.0 : bounding_radius(levels[0]);
@@ -382,7 +361,7 @@ lodchain::LodChain chain_summary(const tree::Tree& tree, const std::vector<Level
     if (ribbons && has_lines(level)) l.ribbons_file = "lod" + std::to_string(i) + "_ribbons.gltf";
     l.screen_coverage = coverage[i];
     // Where a loader that switches by MSFT_screencoverage leaves this level for the next one.
-    const double d = coverage_distance(coverage[i], o.camera, radius);
+    const double d = lodmodel::coverage_distance(o.camera, radius, coverage[i]);
     if (std::isfinite(d)) l.coverage_switch_distance_m = d;
     if (o.card_cluster_px > 0) {
       // How the level's cards were chosen (chain.h CardChoice; docs/stages/lod.md "Card clusters").

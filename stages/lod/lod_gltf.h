@@ -49,36 +49,30 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
 // True when the level has LINES (branch or needle lines), i.e. a ribbons variant differs.
 bool has_lines(const Level& level);
 
-// Radius (m) of the bounding sphere of level 0's geometry: half the diagonal of its axis-aligned
-// box, as Babylon.js bounds a mesh (0 for an empty level).
+// Radius (m) of the bounding sphere of level 0's geometry (lodmodel::BoundingBox over every
+// position of the level: half the diagonal of its axis-aligned box; 0 for an empty level).
 double bounding_radius(const Level& level0);
 
-// MSFT_screencoverage of every level, as the extension and Babylon.js define screen coverage:
-// the area of the screen the object covers over the screen's area, for the bounding sphere of
-// radius R at distance d, vertical fov phi, a square screen (aspect 1):
-//   c(d) = pi R^2 / (2 d tan(phi/2))^2
-// Value i is c at the switch distance of level i + 1 (level i is drawn while the coverage is at
-// least c_i), clamped to 1 (a loader never sees more than the whole screen, so a level whose
-// switch distance lies where the sphere overfills the screen takes over where c = 1, i.e. later:
-// a finer level is kept longer, never a coarser one shown early); the last value is 0 (the
-// coarsest level is never culled). Non-increasing, in [0, 1].
-std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double radius);
-
-// The distance at which a loader switches to level i + 1 from c_i (the inverse of c(d)):
-//   d = R sqrt(pi) / (2 tan(phi/2) sqrt(c)); infinite for c = 0.
-double coverage_distance(double coverage, const Camera& camera, double radius);
+// MSFT_screencoverage of every level (lodmodel::screen_coverage, docs/lod-model.md "Screen
+// coverage"): value i is c at the switch distance of level i + 1 (level i is drawn while the
+// coverage is at least c_i), clamped to 1 (a level whose switch distance lies where the sphere
+// overfills the screen takes over where c = 1, i.e. later: a finer level is kept longer, never a
+// coarser one shown early); the last value is 0 (the coarsest level is never culled).
+// Non-increasing, in [0, 1]. A loader leaves level i at lodmodel::coverage_distance(c_i).
+std::vector<double> screen_coverages(const std::vector<Level>& levels, const lodmodel::Camera& camera,
+                                     double radius);
 
 // The chain's scene (lod.gltf): level 0 is the scene's root node, carrying MSFT_lod ids of the
 // other levels' nodes and extras.MSFT_screencoverage; those nodes are not scene roots
 // (MSFT_lod). Mesh i lives in buffer "lod<i>.bin". Materials equal across levels are shared.
-gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
-                        const OutputTextures& tex);
+gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels,
+                        const lodmodel::Camera& camera, const OutputTextures& tex);
 
 // Every output file of the chain but lod.json (names above), in a fixed order; each .bin and the
 // atlas once. Throws std::logic_error if the chain and the level files would disagree on a
 // .bin's bytes, gltf::GltfError if a scene cannot be written.
 std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,
-                                                  const Camera& camera, const OutputTextures& tex,
+                                                  const lodmodel::Camera& camera, const OutputTextures& tex,
                                                   bool ribbons);
 
 // full.glb: the full-detail model (build_full_detail: epsilon 0, every leaf and needle) as one

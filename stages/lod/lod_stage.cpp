@@ -110,8 +110,8 @@ lod::ChainOptions chain_options_from_params(const Value::Object& params) {
   };
   lod::ChainOptions o;
   const Value::Object& cam = at("camera").as_object();
-  o.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
-  o.camera.height_px = static_cast<int>(cam.at("height_px").as_int());
+  o.camera = lodmodel::camera_from_degrees(cam.at("fov_y_deg").as_real(),
+                                           static_cast<int>(cam.at("height_px").as_int()));
   o.pixel_error = at("pixel_error").as_real();
   o.levels = static_cast<int>(at("levels").as_int());
   for (const Value& v : at("errors_m").as_list()) o.errors.push_back(v.as_real());

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <tuple>
@@ -18,6 +17,7 @@
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/writer.h"
 #include "libs/image/png.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/pack/lod_json.h"
 
 namespace sylva::pack {
@@ -162,41 +162,13 @@ std::uint64_t primitives_of(const gltf::Scene& s) {
   return l.triangles + l.lines + points;
 }
 
-// Half the diagonal of the axis-aligned box of every position of the scene's meshes: the
-// bounding sphere the lod stage's MSFT_screencoverage is for (lod_gltf.h bounding_radius).
+// The radius of the bounding sphere the lod stage's MSFT_screencoverage is for: the
+// lodmodel::BoundingBox of every position of the scene's meshes (level 0's, as the lod stage).
 double bounding_radius(const gltf::Scene& s) {
-  std::array<double, 3> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
+  lodmodel::BoundingBox box;
   for (const auto& m : s.meshes)
-    for (const auto& p : m.primitives)
-      for (std::size_t i = 0; i < p.positions.size(); ++i) {
-        lo[i % 3] = std::min<double>(lo[i % 3], p.positions[i]);
-        hi[i % 3] = std::max<double>(hi[i % 3], p.positions[i]);
-      }
-  if (!(lo[0] <= hi[0])) return 0;
-  double d2 = 0;
-  for (int c = 0; c < 3; ++c) d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
-  return 0.5 * std::sqrt(d2);
-}
-
-// A branch or needle line's alpha drawn from d instead of its level's switch distance s, scale =
-// s / d. The lod stage stores in COLOR_0's alpha the pixel coverage c of the branch at s split
-// over the three lines of an internode, alpha = 1 - (1 - c)^(1/3) (docs/stages/lod.md "Line
-// alpha, as drawn"); c is a width over the pixel's, and a pixel at d is d / s of one at s, so
-// from d the same branch covers min(1, c s / d).
-float line_alpha_at(float alpha, double scale) {
-  if (!(alpha < 1)) return 1.0f;
-  const double c = -std::expm1(3 * std::log1p(-double(std::max(alpha, 0.0f))));  // 1 - (1 - a)^3
-  const double at = std::min(1.0, c * scale);
-  return at >= 1 ? 1.0f : float(-std::expm1(std::log1p(-at) / 3));
-}
-
-// MSFT_screencoverage at distance d (lod_gltf.h screen_coverages): pi R^2 / (2 d tan(phi/2))^2,
-// clamped to 1.
-double coverage_at(double radius, double tan_half_fov, double d) {
-  const double c = std::numbers::pi * radius * radius / ((2 * d * tan_half_fov) * (2 * d * tan_half_fov));
-  return std::min(1.0, c);
+    for (const auto& p : m.primitives) box.extend(p.positions);
+  return box.radius();
 }
 
 }  // namespace
@@ -291,7 +263,7 @@ class Prepared {
   // Candidate `c` as drawn from distance `d`: set_grid(c, d) and, with
   // PackOptions::nearer_line_coverage, for a mesh level drawn from nearer than its own switch
   // distance s, the level with its blended lines' alpha for d
-  // (line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
+  // (lodmodel::line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
   // s / d times the pixels they cover at s). Lines of other materials and every other
   // primitive are the level's. The scenes are kept here, one per level and distance.
   void draw_from(Candidate& c, double d) {
@@ -314,7 +286,7 @@ class Prepared {
         for (gltf::Primitive& p : m.primitives)
           if (blended_lines(p))
             for (std::size_t i = 3; i < p.colors.size(); i += 4)
-              p.colors[i] = line_alpha_at(p.colors[i], scale);
+              p.colors[i] = float(lodmodel::line_alpha_at(p.colors[i], scale));
     }
     c.scene = &it->second;
   }
@@ -681,17 +653,17 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   for (std::size_t i = 0; i + 1 < parsed.levels.size() && tan_half == 0; ++i) {
     const double c = parsed.coverage[i];
     if (c > 0 && c < 1 && radius > 0)
-      tan_half = radius * std::sqrt(std::numbers::pi / c) / (2 * parsed.levels[i + 1].switch_distance_m);
+      tan_half = lodmodel::coverage_tan_half_fov(radius, c, parsed.levels[i + 1].switch_distance_m);
   }
   if (in.impostor) {
-    const double t = std::tan(in.impostor->fov_y_rad / 2);
+    const double t = lodmodel::tan_half_fov(in.impostor->camera);
     if (tan_half > 0 && std::abs(t - tan_half) > 1e-4 * tan_half) {
       char msg[160];
       std::snprintf(msg, sizeof msg,
                     "the impostor's camera (vertical fov %.6g deg) is not the lod chain's (%.6g deg): its "
                     "switch distance is for another view",
-                    in.impostor->fov_y_rad * 180 / std::numbers::pi,
-                    2 * std::atan(tan_half) * 180 / std::numbers::pi);
+                    lodmodel::degrees(in.impostor->camera.fov_y_rad),
+                    lodmodel::degrees(2 * std::atan(tan_half)));
       throw std::invalid_argument(msg);
     }
     tan_half = t;
@@ -765,7 +737,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
                        next.level.switch_distance_m ==
                            parsed.levels[std::size_t(next.level.source_level)].switch_distance_m;
       c = own ? parsed.coverage[std::size_t(next.level.source_level) - 1]
-              : coverage_at(radius, tan_half, next.level.switch_distance_m);
+              : lodmodel::screen_coverage(tan_half, radius, next.level.switch_distance_m);
     }
     kept[k].level.screen_coverage = c;
   }

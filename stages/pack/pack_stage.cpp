@@ -12,7 +12,6 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <regex>
 #include <set>
@@ -23,6 +22,7 @@
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/lodchain/lod_chain.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/pack/manifest.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/shared_renderer.h"
@@ -176,9 +176,8 @@ class PackStage : public Stage {
     } catch (const lodchain::LodChainFormatError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
-    check::CheckCamera camera;
-    camera.fov_y_rad = chain.camera.fov_y_deg * std::numbers::pi / 180;
-    camera.height_px = chain.camera.height_px;
+    const lodmodel::Camera camera =
+        lodmodel::camera_from_degrees(chain.camera.fov_y_deg, chain.camera.height_px);
     // An edge moved by delta pixels changes a pixel's coverage by at most delta (as lodcheck).
     view_options.pixel_threshold = std::min(1.0, chain.pixel_error_px);
     render::Scene scene;
@@ -246,7 +245,7 @@ class PackStage : public Stage {
       out.epsilon_m = info.error.epsilon_m();
       out.pixel_error_px = info.pixel_error_px;
       out.switch_distance_m = info.switch_distance_m;
-      out.fov_y_rad = info.camera.fov_y_rad;
+      out.camera = info.camera;
     } catch (const impostor::ImpostorFormatError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }

@@ -167,7 +167,7 @@ SpeciesInput chain(const std::vector<Level>& levels, double impostor_lowered = 0
     im.epsilon_m = 0.162;
     im.pixel_error_px = 0.5;
     im.switch_distance_m = switch_distance(0.162);
-    im.fov_y_rad = kFov;
+    im.camera.fov_y_rad = kFov;
     in.impostor = std::move(im);
   }
   return in;
