@@ -58,7 +58,7 @@ class ImpostorStage final : public Stage {
     impostor::SourceDesc src;
     render::Scene scene;
     if (in.type == "lod") {
-      const ArtifactFile* summary = in.file("lod.json");
+      const ArtifactFile* summary = in.file(lodchain::kSummaryFile);
       if (!summary) throw StageError("input '" + in.node + "' (lod) has no lod.json");
       std::vector<impostor::LodLevelRef> levels;
       try {
@@ -107,8 +107,8 @@ class ImpostorStage final : public Stage {
     } catch (const image::ImageError& e) {
       throw StageError(e.what());
     }
-    ctx.write_output("impostor.glb", out.glb);
-    ctx.write_output("impostor.json", impostor::write_impostor_json(out.info));
+    ctx.write_output(impostor::kImpostorGlbFile, out.glb);
+    ctx.write_output(impostor::kImpostorJsonFile, impostor::write_impostor_json(out.info));
   }
 
  private:

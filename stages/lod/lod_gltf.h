@@ -16,7 +16,8 @@
 // order: bark (TRIANGLES, opaque), leaves (TRIANGLES, double-sided, alpha MASK with the leaf
 // atlas when given), needle prisms (TRIANGLES), branch lines (LINES, BLEND, each vertex's
 // drawn alpha in COLOR_0), needle lines (LINES, BLEND). Lines last, so a level's non-line data is a
-// prefix of its .bin. Every level's node and mesh carry the level's extras (level_extras()).
+// prefix of its .bin. Every level's node and mesh carry the level's extras
+// (lodchain::level_extras of level_numbers()). File names are libs/lodchain's (lod_chain.h).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -35,10 +36,9 @@ struct OutputTextures {
   std::string leaf_png;  // bytes of the leaf atlas (empty = leaves use the leaf colour only)
 };
 
-inline constexpr const char* kLeafImageFile = "leaves.png";
-
-// The level's description: epsilon, delta, switch distance, budgets E1..E5, counts, alpha.
-nlohmann::json level_extras(const Level& level, std::size_t index);
+// The level's numbers as lod.json and its glTF extras state them (epsilon, delta, switch distance,
+// budgets E1..E5, line alphas, polygon error, counts; no files, coverage or cards): level `index`.
+lodchain::Level level_numbers(const Level& level, std::size_t index);
 
 // The scene of a single level (lod<i>.gltf, or a GLB when encoded with gltf::encode): one root
 // node; its buffer is "lod<i>.bin", the atlas "leaves.png". With `ribbons` the LINES primitives

@@ -86,12 +86,13 @@ class LodStage : public Stage {
     } catch (const gltf::GltfError& e) {
       throw StageError(std::string("writing glTF: ") + e.what());
     }
-    ctx.write_output("lod.json", lodchain::write_lod_chain(lod::chain_summary(tree, levels, o, ribbons)));
+    ctx.write_output(lodchain::kSummaryFile,
+                     lodchain::write_lod_chain(lod::chain_summary(tree, levels, o, ribbons)));
     // The full-detail model the levels are judged against (the pack stage measures with it).
     try {
-      ctx.write_output("full.glb", lod::encode_full_detail(tree, std::move(full), tex));
+      ctx.write_output(lodchain::kFullDetailFile, lod::encode_full_detail(tree, std::move(full), tex));
     } catch (const gltf::GltfError& e) {
-      throw StageError(std::string("writing full.glb: ") + e.what());
+      throw StageError(std::string("writing ") + lodchain::kFullDetailFile + ": " + e.what());
     }
   }
 

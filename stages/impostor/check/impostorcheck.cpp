@@ -1,5 +1,5 @@
-// DESIGN.md's error model checked in image space for impostors (impostorcheck.h): renders from
-// libs/render (the verifier's renderer for the full detail and the billboard cards, the reference
+// The LOD error model (docs/lod-model.md) checked in image space for impostors (impostorcheck.h): renders
+// from libs/render (the verifier's renderer for the full detail and the billboard cards, the reference
 // impostor shader for the octahedral kinds), statistics and verdict from libs/check (judge.h), the
 // coverage judged as lodcheck judges LOD levels, plus the colour of what both renders cover.
 #include "stages/impostor/check/impostorcheck.h"
