@@ -144,7 +144,7 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
       if (!f) throw StageError("input '" + in.node + "' has no " + file + " though lod.json lists it");
       // The level file through libs/lodchain: its one buffer and its images, each checked here
       // to be in the artifact as it is named.
-      const lodchain::LevelFile level = lodchain::parse_level_file(
+      lodchain::LevelFile level = lodchain::parse_level_file(
           read_file(f->path), file, [&](const std::string& uri, lodchain::LevelResource kind) {
             const ArtifactFile* a = in.file(uri);
             if (kind == lodchain::LevelResource::kBuffer) {
@@ -157,7 +157,7 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
             }
           });
       LevelSource src;
-      src.gltf = level.gltf;
+      src.gltf = std::move(level.gltf);
       src.bin_name = name + "_" + level.buffer_uri;
       src.bin_bytes = level.buffer_bytes;
       src.image_prefix = name + "_";
