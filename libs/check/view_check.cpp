@@ -76,7 +76,8 @@ render::Camera check_camera(const render::Bounds& full_bounds, double distance, 
 }
 
 ReferenceViews::ReferenceViews(render::Renderer& renderer, const render::Scene& full,
-                               const CheckCamera& camera, double distance, const ViewCheckOptions& options)
+                               const lodmodel::Camera& camera, double distance,
+                               const ViewCheckOptions& options)
     : renderer_(&renderer), options_(options), distance_(distance) {
   // The views' cameras, cropped to the centred window that holds the tree (the same for every
   // view and for every subject at this distance, so the images compare pixel for pixel; outside
@@ -115,8 +116,9 @@ std::vector<ViewJudgement> ReferenceViews::judge(const render::Scene& subject) c
 }
 
 std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::Scene& full,
-                                      const std::vector<CheckSubject>& subjects, const CheckCamera& camera,
-                                      const ViewCheckOptions& options, const CheckImageSink& sink) {
+                                      const std::vector<CheckSubject>& subjects,
+                                      const lodmodel::Camera& camera, const ViewCheckOptions& options,
+                                      const CheckImageSink& sink) {
   // The full-detail renders: one per (distance, view).
   std::map<double, ReferenceViews> references;
   for (const auto& s : subjects)

@@ -5,7 +5,7 @@
 //
 // Seeds: Zhang et al. 2017 §3 (a level of spatial error epsilon seen from distance d projects to
 // at most delta = epsilon / s(d) pixels; switching at d = epsilon / (delta s(1)) keeps every
-// level's error at most delta pixels, "invisible" for delta = 0.5); DESIGN.md "LOD error model".
+// level's error at most delta pixels, "invisible" for delta = 0.5); docs/lod-model.md.
 //
 // The camera of a check. The bound holds for geometry at distance >= d from the eye, so the eye
 // is placed at distance d from the nearest point of the full-detail tree's bounding box: it looks
@@ -37,6 +37,7 @@
 #include "libs/image/compare.h"
 #include "libs/image/coverage.h"
 #include "libs/image/image.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/render/camera.h"
 #include "libs/render/renderer.h"
 #include "libs/render/scene.h"
@@ -65,12 +66,6 @@ struct ViewCheckOptions {
   CoverageThresholds thresholds() const;
 };
 
-// The camera the error bound is for: vertical field of view and image height H.
-struct CheckCamera {
-  double fov_y_rad = 0.785398163397448;  // 45°
-  int height_px = 1080;
-};
-
 // The eye for a check at `distance` metres from the box (see the header comment), named
 // "az<azimuth>".
 render::Camera check_camera(const render::Bounds& full_bounds, double distance, double azimuth_deg,
@@ -83,7 +78,7 @@ render::Camera check_camera(const render::Bounds& full_bounds, double distance, 
 class ReferenceViews {
  public:
   // Renders `full` (throws render::RenderError when rendering fails).
-  ReferenceViews(render::Renderer& renderer, const render::Scene& full, const CheckCamera& camera,
+  ReferenceViews(render::Renderer& renderer, const render::Scene& full, const lodmodel::Camera& camera,
                  double distance, const ViewCheckOptions& options);
 
   // `subject` from the same cameras, supersampled and reduced as the reference.
@@ -137,7 +132,8 @@ using CheckImageSink = std::function<void(const ViewCheck&, const image::Image& 
 // Renders `full` once per distinct (distance, view) and every subject at its distance, compares.
 // Throws render::RenderError when rendering fails. Results in subject order, views inner.
 std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::Scene& full,
-                                      const std::vector<CheckSubject>& subjects, const CheckCamera& camera,
-                                      const ViewCheckOptions& options, const CheckImageSink& sink = {});
+                                      const std::vector<CheckSubject>& subjects,
+                                      const lodmodel::Camera& camera, const ViewCheckOptions& options,
+                                      const CheckImageSink& sink = {});
 
 }  // namespace sylva::check

@@ -43,7 +43,7 @@ struct Box3 {
 
 // One level of a species' chain as the forest draws it: a glTF file of this artifact (the
 // species' level mesh alone, in object space) with the level's spatial error and switch distance
-// (DESIGN.md "LOD error model": valid from switch_distance_m on, at the chain's camera and delta).
+// (docs/lod-model.md: valid from switch_distance_m on, at the chain's camera and delta).
 // A row of an octahedral impostor level's parallax table: from `from_m` on (a distance in the
 // terms of the level's switch distance), the reference impostor shader marches `steps` steps
 // (u_parallax_steps; 0 = flat frames) instead of its 16; each row is a distance at which
@@ -139,8 +139,12 @@ struct Forest {
   friend bool operator==(const Forest&, const Forest&) = default;
 };
 
+// The forest artifact's files that other programs look for by name (docs/stages/forest.md).
 inline constexpr const char* kInstancesJson = "instances.json";
 inline constexpr const char* kInstancesBin = "instances.bin";
+inline constexpr const char* kTilesetJson = "tileset.json";  // the 3D Tiles 1.1 tileset
+inline constexpr const char* kCameraSetFile =
+    "cameras.yaml";  // the forest's camera set (libs/render/camera.h)
 // id u32, species u32, tile u32, position 3 x f64, yaw f64, scale 3 x f64 (little-endian).
 inline constexpr std::size_t kRecordBytes = 3 * 4 + 7 * 8;
 

@@ -1,4 +1,5 @@
-// DESIGN.md "LOD error model" for impostors; error_model.h says what each term bounds.
+// The impostor's error terms (error_model.h says what each bounds); the model itself is
+// libs/lodmodel (docs/lod-model.md).
 #include "libs/impostor/error_model.h"
 
 #include <algorithm>
@@ -7,12 +8,8 @@
 
 namespace sylva::impostor {
 
-double pixel_size(const ViewCamera& camera, double distance) {
-  return 2 * distance * std::tan(camera.fov_y_rad / 2) / camera.height_px;
-}
-
-double switch_distance(const ViewCamera& camera, const ErrorTerms& terms, double delta) {
-  return terms.epsilon_m() / (delta * pixel_size(camera, 1.0));
+double switch_distance(const lodmodel::Camera& camera, const ErrorTerms& terms, double delta) {
+  return lodmodel::switch_distance(camera, terms.epsilon_m(), delta);
 }
 
 double billboard_max_view_angle(int cards, bool top_card) {

@@ -1,6 +1,6 @@
-// The impostor's place in the LOD error model (DESIGN.md "LOD error model"): its spatial error
-// epsilon in metres, and the switch distance d = epsilon / (delta s(1)) from which it stays within
-// delta pixels, s(d) = 2 d tan(phi/2) / H.
+// The impostor's place in the LOD error model (docs/lod-model.md; libs/lodmodel computes it): its
+// spatial error epsilon in metres, and the switch distance d = epsilon / (delta s(1)) from which it
+// stays within delta pixels, s(d) = 2 d tan(phi/2) / H.
 //
 // An impostor misplaces a point of the tree by at most the sum of three terms (they are
 // displacements of the same edge by independent causes, so they add, as Zhang's E1 + E2 do):
@@ -20,16 +20,9 @@
 // measures it (docs/stages/impostor.md).
 #pragma once
 
+#include "libs/lodmodel/lod_model.h"
+
 namespace sylva::impostor {
-
-struct ViewCamera {
-  double fov_y_rad = 0.785398163397448;  // phi (45°)
-  int height_px = 1080;                  // H
-  friend bool operator==(const ViewCamera&, const ViewCamera&) = default;
-};
-
-// s(d) = 2 d tan(phi/2) / H (m per pixel at distance d).
-double pixel_size(const ViewCamera& camera, double distance);
 
 struct ErrorTerms {
   double source_m = 0;  // epsilon of the baked LOD level (0 for a full mesh)
@@ -39,8 +32,8 @@ struct ErrorTerms {
   friend bool operator==(const ErrorTerms&, const ErrorTerms&) = default;
 };
 
-// d = epsilon / (delta s(1)) for epsilon = terms.epsilon_m() (delta > 0, px).
-double switch_distance(const ViewCamera& camera, const ErrorTerms& terms, double delta);
+// lodmodel::switch_distance for epsilon = terms.epsilon_m() (delta > 0, px).
+double switch_distance(const lodmodel::Camera& camera, const ErrorTerms& terms, double delta);
 
 // The largest angle between a view direction (elevation 0..90°, any azimuth) and the normal of the
 // nearest card of a billboard set: `cards` vertical cards 360/cards degrees apart, plus a

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <sstream>
 
 namespace sylva::impostor {
@@ -18,9 +17,6 @@ using Json = nlohmann::ordered_json;
 
 constexpr int kFormatVersion = 1;
 constexpr const char* kFormatName = "sylva.impostor";
-
-double to_deg(double rad) { return rad * 180 / std::numbers::pi; }
-double to_rad(double deg) { return deg * std::numbers::pi / 180; }
 
 Json vec(const Vec3d& v) { return Json::array({v[0], v[1], v[2]}); }
 
@@ -158,7 +154,8 @@ std::string write_impostor_json(const ImpostorInfo& info) {
   j["sphere"] = {{"center", vec(info.sphere_center)}, {"radius_m", info.sphere_radius}};
   j["frame_half_extent_m"] = info.frame_half_extent;
   j["error"] = {
-      {"camera", {{"fov_y_deg", to_deg(info.camera.fov_y_rad)}, {"height_px", info.camera.height_px}}},
+      {"camera",
+       {{"fov_y_deg", lodmodel::degrees(info.camera.fov_y_rad)}, {"height_px", info.camera.height_px}}},
       {"pixel_error_px", info.pixel_error_px},
       {"source_epsilon_m", info.error.source_m},
       {"texel_m", info.error.texel_m},
@@ -232,7 +229,7 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
   info.frame_half_extent = r.real(j, "frame_half_extent_m", "", 1e-9, 1e9);
   const Json& e = r.at(j, "error", "");
   const Json& cam = r.at(e, "camera", "error");
-  info.camera.fov_y_rad = to_rad(r.real(cam, "fov_y_deg", "error.camera", 1e-6, 179.999));
+  info.camera.fov_y_rad = lodmodel::radians(r.real(cam, "fov_y_deg", "error.camera", 1e-6, 179.999));
   info.camera.height_px = r.integer(cam, "height_px", "error.camera", 1, 1 << 20);
   info.pixel_error_px = r.real(e, "pixel_error_px", "error", 1e-9, 1e9);
   info.error.source_m = r.real(e, "source_epsilon_m", "error", 0, 1e9);

@@ -20,6 +20,10 @@
 
 namespace sylva::impostor {
 
+// The impostor artifact's files that other programs look for by name (docs/stages/impostor.md).
+inline constexpr const char* kImpostorJsonFile = "impostor.json";  // this format
+inline constexpr const char* kImpostorGlbFile = "impostor.glb";    // the cards every client draws
+
 class ImpostorFormatError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -69,7 +73,7 @@ struct ImpostorInfo {
   std::string color_map;         // sRGB base colour (unlit albedo), straight alpha = coverage
   std::string normal_depth_map;  // RGB = object-space normal * 0.5 + 0.5, A = depth (see depth_encoding)
   // Error model and switch distance (error_model.h).
-  ViewCamera camera;
+  lodmodel::Camera camera;
   double pixel_error_px = 0;  // delta
   ErrorTerms error;
   double switch_distance_m = 0;
@@ -79,7 +83,7 @@ struct ImpostorInfo {
   int source_level = -1;    // LOD level index, -1 for a mesh
   // The cards' glTF: its file name beside impostor.json (the impostor stage's impostor.glb; a
   // forest renames it with the species), its triangles and its cards.
-  std::string glb_file = "impostor.glb";
+  std::string glb_file = kImpostorGlbFile;
   std::vector<Card> cards;
   std::size_t glb_triangles = 0;
   friend bool operator==(const ImpostorInfo&, const ImpostorInfo&) = default;

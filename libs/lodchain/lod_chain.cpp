@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "libs/lodchain/chain_gltf.h"
+
 namespace sylva::lodchain {
 
 namespace {
@@ -106,28 +108,9 @@ class Reader {
 
 constexpr double kHuge = 1e12;  // no distance, size or budget in a real chain comes near this
 
-Json counts_json(const LevelCounts& c) {
-  return {{"quads", c.quads},           {"triangles", c.triangles},       {"lines", c.lines},
-          {"leaves", c.leaves},         {"needle_lines", c.needle_lines}, {"needle_quads", c.needle_quads},
-          {"internodes", c.internodes}, {"branches", c.branches}};
-}
-
+// A level: the numbers its glTF extras carry (level_extras), then its files and coverage.
 Json level_json(const Level& l) {
-  Json j = {{"sylva_lod_level", l.sylva_lod_level},
-            {"epsilon_m", l.epsilon_m},
-            {"pixel_error_px", l.pixel_error_px},
-            {"switch_distance_m", l.switch_distance_m},
-            {"E1_m", l.e1_m},
-            {"E2_m", l.e2_m},
-            {"E3_m", l.e3_m},
-            {"E4_m", l.e4_m},
-            {"E5_m", l.e5_m},
-            {"line_alpha", l.line_alpha},
-            {"line_alpha_eq12", l.line_alpha_eq12},
-            {"needle_line_alpha", l.needle_line_alpha},
-            {"needle_line_alpha_eq12", l.needle_line_alpha_eq12},
-            {"max_polygon_error_m", l.max_polygon_error_m},
-            {"counts", counts_json(l.counts)}};
+  Json j = level_extras(l);
   j["file"] = l.file;
   if (l.ribbons_file) j["ribbons_file"] = *l.ribbons_file;
   j["screen_coverage"] = l.screen_coverage;
@@ -190,7 +173,7 @@ Level parse_level(const Reader& r, const Json& l, const std::string& path) {
 std::string write_lod_chain(const LodChain& chain) {
   Json j;
   j["tree"] = chain.tree;
-  j["camera"] = {{"fov_y_deg", chain.camera.fov_y_deg}, {"height_px", chain.camera.height_px}};
+  j["camera"] = {{"fov_y_deg", chain.camera_fov_y_deg}, {"height_px", chain.camera_height_px}};
   j["pixel_error_px"] = chain.pixel_error_px;
   j["tree_height_m"] = chain.tree_height_m;
   j["bounding_radius_m"] = chain.bounding_radius_m;
@@ -215,9 +198,9 @@ LodChain parse_lod_chain(const std::string& text, const std::string& source_name
   LodChain c;
   c.tree = r.string(j, "tree", "");
   const Json& cam = r.at(j, "camera", "");
-  c.camera.fov_y_deg = r.real(cam, "fov_y_deg", "camera", 0, 180, true);
-  if (c.camera.fov_y_deg == 180) r.fail("'camera.fov_y_deg' = 180 must be less than 180");
-  c.camera.height_px = r.integer(cam, "height_px", "camera", 1, 1 << 20);
+  c.camera_fov_y_deg = r.real(cam, "fov_y_deg", "camera", 0, 180, true);
+  if (c.camera_fov_y_deg == 180) r.fail("'camera.fov_y_deg' = 180 must be less than 180");
+  c.camera_height_px = r.integer(cam, "height_px", "camera", 1, 1 << 20);
   c.pixel_error_px = r.real(j, "pixel_error_px", "", 0, kHuge, true);
   c.tree_height_m = r.real(j, "tree_height_m", "", 0, kHuge);
   c.bounding_radius_m = r.real(j, "bounding_radius_m", "", 0, kHuge);
@@ -243,6 +226,16 @@ LodChain parse_lod_chain(const std::string& text, const std::string& source_name
     c.levels.push_back(std::move(l));
   }
   return c;
+}
+
+std::string level_name(std::size_t i) { return "lod" + std::to_string(i); }
+std::string level_file(std::size_t i) { return level_name(i) + ".gltf"; }
+std::string level_bin(std::size_t i) { return level_name(i) + ".bin"; }
+std::string ribbons_file(std::size_t i) { return level_name(i) + "_ribbons.gltf"; }
+std::string ribbons_bin(std::size_t i) { return level_name(i) + "_ribbons.bin"; }
+
+lodmodel::Camera LodChain::camera() const {
+  return lodmodel::camera_from_degrees(camera_fov_y_deg, camera_height_px);
 }
 
 LodChain read_lod_chain(const std::string& path) {

@@ -1,7 +1,8 @@
 // lod.json: the summary of a `lod` artifact's chain, for every program that reads one. The one
 // reader and writer of the format (docs/formats.md, docs/stages/lod.md "Outputs"): the lod stage
 // writes it; the impostor, forest and pack stages, `sylva lodcheck` and `sylva impostorcheck`
-// read it through parse_lod_chain / read_lod_chain.
+// read it through parse_lod_chain / read_lod_chain. The artifact's other files are named below;
+// their glTF metadata (level extras, MSFT_lod) is chain_gltf.h's.
 //
 // Contract: write_lod_chain(chain) gives deterministic bytes: nlohmann::json's sorted key order,
 // doubles printed shortest round-trip, `dump(2)` plus a newline (the bytes the lod stage wrote
@@ -14,24 +15,31 @@
 // Units: metres (`_m`), pixels (`_px`), degrees (`_deg`); glTF object space of the level files.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "libs/lodmodel/lod_model.h"
+
 namespace sylva::lodchain {
+
+// The lod artifact's files (docs/stages/lod.md "Outputs"): their names, here only.
+inline constexpr const char* kSummaryFile = "lod.json";      // this format
+inline constexpr const char* kChainFile = "lod.gltf";        // the MSFT_lod chain of every level
+inline constexpr const char* kFullDetailFile = "full.glb";   // the full-detail model
+inline constexpr const char* kLeafImageFile = "leaves.png";  // the leaf atlas the levels share
+std::string level_name(std::size_t i);    // "lod<i>": level i's node and mesh in the glTF files
+std::string level_file(std::size_t i);    // "lod<i>.gltf": level i alone
+std::string level_bin(std::size_t i);     // "lod<i>.bin": level i's buffer (lod.gltf's buffer i too)
+std::string ribbons_file(std::size_t i);  // "lod<i>_ribbons.gltf": level i with ribbons for lines
+std::string ribbons_bin(std::size_t i);   // "lod<i>_ribbons.bin": the ribbons' buffer
 
 class LodChainFormatError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-// The camera the chain's errors and switch distances are for (the lod stage's `camera`).
-struct Camera {
-  double fov_y_deg = 45;  // vertical field of view, in (0, 180)
-  int height_px = 1080;   // image height, >= 1
-  friend bool operator==(const Camera&, const Camera&) = default;
 };
 
 // The input tree's element counts.
@@ -78,13 +86,18 @@ struct Level {
 
 struct LodChain {
   std::string tree;  // the tree's name
-  Camera camera;
+  // `camera`: the camera the chain's errors and switch distances are for, as the file states it
+  // (degrees, so that a file rewrites byte for byte; camera() is the model's).
+  double camera_fov_y_deg = 45;  // vertical field of view, in (0, 180)
+  int camera_height_px = 1080;   // image height, >= 1
   double pixel_error_px = 0.5;   // delta, > 0
   double tree_height_m = 0;      // y extent of the skeleton, >= 0
   double bounding_radius_m = 0;  // half the diagonal of level 0's box, >= 0
   SourceCounts source;
-  std::string chain_file = "lod.gltf";  // the MSFT_lod chain, not empty
+  std::string chain_file = kChainFile;  // the MSFT_lod chain, not empty
   std::vector<Level> levels;            // finest first; 1..8 of them
+  // The camera of the error model (libs/lodmodel): lodmodel::camera_from_degrees of the above.
+  lodmodel::Camera camera() const;
   friend bool operator==(const LodChain&, const LodChain&) = default;
 };
 

@@ -28,6 +28,7 @@ namespace sylva::pack {
 // Writes version 4; reads 1 (no forests, level file names only), 2 (level file names only), 3
 // (levels without `measured`) and 4 (levels may carry `measured`).
 inline constexpr int kManifestVersion = 4;
+inline constexpr const char* kManifestFile = "manifest.json";  // the file's name in a pack
 
 // A manifest that cannot be read: what() names the file and the JSON element.
 class ManifestError : public std::runtime_error {

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <optional>
 #include <regex>
@@ -107,15 +108,16 @@ class Parser {
     return int(v);
   }
 
-  std::optional<Vec3> vec3(const YAML::Node& map, const std::string& key, const std::string& what) {
+  std::optional<Eigen::Vector3d> vec3(const YAML::Node& map, const std::string& key,
+                                      const std::string& what) {
     const YAML::Node n = map[key];
     if (!n) return std::nullopt;
-    Vec3 v;
+    Eigen::Vector3d v;
     bool ok = n.IsSequence() && n.size() == 3;
     for (std::size_t i = 0; ok && i < 3; ++i) {
       double d = 0;
       ok = n[i].IsScalar() && YAML::convert<double>::decode(n[i], d) && std::isfinite(d);
-      v[int(i)] = float(d);
+      v[int(i)] = d;
     }
     if (!ok) {
       error(n.Mark(), "'" + key + "' in " + what + " must be a list of three numbers [x, y, z]");
@@ -171,8 +173,8 @@ class Parser {
         set.supersample = *v;
       }
     }
-    float default_fov = 40.f;
-    if (auto v = fov(root, top)) default_fov = *v;
+    if (auto v = fov(root, top)) set.fov_y_deg = *v;
+    const float default_fov = float(set.fov_y_deg);
 
     const YAML::Node views = root["views"];
     if (!views) {
@@ -197,14 +199,14 @@ class Parser {
   }
 
  private:
-  std::optional<float> fov(const YAML::Node& map, const std::string& what) {
+  std::optional<double> fov(const YAML::Node& map, const std::string& what) {
     auto v = number(map, "fov_y_deg", what);
     if (!v) return std::nullopt;
     if (*v <= 0 || *v >= 180) {
       error(map["fov_y_deg"].Mark(), "'fov_y_deg' must be between 0 and 180 degrees (exclusive)");
       return std::nullopt;
     }
-    return float(*v);
+    return *v;
   }
 
   std::optional<CameraView> parse_view(const YAML::Node& node, std::size_t index, float default_fov) {
@@ -227,7 +229,7 @@ class Parser {
     view.fov_y_deg = default_fov;
     if (node["fov_y_deg"]) {
       if (auto v = fov(node, what)) {
-        view.fov_y_deg = *v;
+        view.fov_y_deg = float(*v);
       } else {
         ok = false;
       }
@@ -283,11 +285,13 @@ class Parser {
       lv.eye = *eye;
       lv.target = *target;
       if (up) lv.up = *up;
-      const Vec3 dir = lv.target - lv.eye;
+      // Judged as the renderer will see the view: in floats.
+      const Vec3 dir = lv.target.cast<float>() - lv.eye.cast<float>();
+      const Vec3 up_f = lv.up.cast<float>();
       if (dir.norm() < 1e-6f) {
         error(node["eye"].Mark(), what + ": 'eye' and 'target' are the same point");
         ok = false;
-      } else if (lv.up.norm() < 1e-6f || dir.normalized().cross(lv.up.normalized()).norm() < 1e-4f) {
+      } else if (up_f.norm() < 1e-6f || dir.normalized().cross(up_f.normalized()).norm() < 1e-4f) {
         error((node["up"] ? node["up"] : node["eye"]).Mark(),
               what + ": 'up' is parallel to the viewing direction");
         ok = false;
@@ -334,6 +338,54 @@ CameraSet load_camera_set(const std::filesystem::path& path) {
   std::ostringstream text;
   text << f.rdbuf();
   return parse_camera_set(text.str(), path.string());
+}
+
+namespace {
+
+// "[x, y, z]" in metres with 4 decimals (0.1 mm), however large.
+std::string position(const Eigen::Vector3d& v) {
+  const char* format = "[%.4f, %.4f, %.4f]";
+  std::string out(std::size_t(std::snprintf(nullptr, 0, format, v.x(), v.y(), v.z())), '\0');
+  std::snprintf(out.data(), out.size() + 1, format, v.x(), v.y(), v.z());
+  return out;
+}
+
+std::string number(const char* format, double x) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, x);
+  return buf;
+}
+
+}  // namespace
+
+std::string write_camera_set(const CameraSet& set, std::string_view comment) {
+  std::string y;
+  while (!comment.empty()) {
+    const std::size_t end = std::min(comment.find('\n'), comment.size());
+    y += "# " + std::string(comment.substr(0, end)) + "\n";
+    comment.remove_prefix(std::min(end + 1, comment.size()));
+  }
+  y += "version: 1\nwidth: " + std::to_string(set.width) + "\nheight: " + std::to_string(set.height) +
+       "\nmsaa: " + std::to_string(set.msaa) + "\n";
+  if (set.supersample > 1) y += "supersample: " + std::to_string(set.supersample) + "\n";
+  y += "fov_y_deg: " + number("%.6g", set.fov_y_deg) + "\n";
+  y += "views:\n";
+  for (const CameraView& v : set.views) {
+    y += "  - name: " + v.name + "\n";
+    if (const auto* o = std::get_if<OrbitView>(&v.placement)) {
+      y += "    orbit: { azimuth_deg: " + number("%.9g", o->azimuth_deg) +
+           ", elevation_deg: " + number("%.9g", o->elevation_deg) +
+           (o->distance_m > 0 ? ", distance_m: " + number("%.9g", o->distance_m)
+                              : ", distance_factor: " + number("%.9g", o->distance_factor)) +
+           " }\n";
+    } else {
+      const auto& l = std::get<LookAtView>(v.placement);
+      y += "    eye: " + position(l.eye) + "\n    target: " + position(l.target) + "\n";
+      if (l.up != Eigen::Vector3d::UnitY()) y += "    up: " + position(l.up) + "\n";
+    }
+    if (v.fov_y_deg != float(set.fov_y_deg)) y += "    fov_y_deg: " + number("%.9g", v.fov_y_deg) + "\n";
+  }
+  return y;
 }
 
 Mat4 Camera::view_matrix() const {
@@ -391,9 +443,9 @@ Camera resolve(const CameraView& view, const Bounds& scene_bounds, float aspect)
     }
   } else {
     const auto& l = std::get<LookAtView>(view.placement);
-    cam.eye = l.eye;
-    cam.target = l.target;
-    cam.up = l.up;
+    cam.eye = l.eye.cast<float>();
+    cam.target = l.target.cast<float>();
+    cam.up = l.up.cast<float>();
   }
   const float d = (cam.eye - center).norm();
   cam.z_far = d + radius * 1.05f;

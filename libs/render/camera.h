@@ -24,6 +24,9 @@
 // Azimuth 0 looks at the scene from +Z (glTF's front), 90 from +X; elevation 90 looks straight
 // down. With distance_factor 1 the bounding sphere just fits the narrower image axis; orbit
 // may give distance_m (metres from the box centre) instead of distance_factor.
+//
+// This file is the format's one reader (parse_camera_set, load_camera_set) and writer
+// (write_camera_set: the forest stage's cameras.yaml).
 #pragma once
 
 #include <filesystem>
@@ -58,10 +61,12 @@ struct OrbitView {
   float distance_m = 0.f;       // > 0 overrides distance_factor: metres from the box centre
 };
 
+// Points in metres as the file states them (double: what a writer was given is what it writes;
+// resolve() rounds them to the renderer's floats).
 struct LookAtView {
-  Vec3 eye = Vec3(0, 0, 5);
-  Vec3 target = Vec3::Zero();
-  Vec3 up = Vec3::UnitY();
+  Eigen::Vector3d eye = Eigen::Vector3d(0, 0, 5);
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
 };
 
 struct CameraView {
@@ -75,7 +80,8 @@ struct CameraSet {
   int width = 1024;
   int height = 1024;
   int msaa = 4;
-  int supersample = 1;  // RenderOptions::supersample
+  int supersample = 1;    // RenderOptions::supersample
+  double fov_y_deg = 40;  // the file's top-level fov_y_deg: the views' default, in (0, 180)
   std::vector<CameraView> views;
 };
 
@@ -95,6 +101,14 @@ class CameraSetError : public std::runtime_error {
 CameraSet load_camera_set(const std::filesystem::path& path);
 // The same, from text; `source_name` is used as the file name in messages.
 CameraSet parse_camera_set(std::string_view yaml_text, const std::string& source_name);
+
+// The camera-set file of `set` (a set parse_camera_set accepts): `comment` (may be empty; one
+// "# " line per line of it), then version 1, width, height, msaa, supersample (when > 1), the
+// set's fov_y_deg (6 significant digits) and the views in order: name, then `orbit` (its numbers
+// to float precision) or eye and target (and up, unless +Y) in metres with 4 decimals, then the
+// view's fov_y_deg when it is not the set's (as a float). Reading it back gives the set, up to
+// those precisions.
+std::string write_camera_set(const CameraSet& set, std::string_view comment = {});
 
 // A concrete camera for `view` looking at a scene with world bounds `scene_bounds`, for an image
 // of the given aspect (width / height). Near and far planes enclose the bounding sphere (near is

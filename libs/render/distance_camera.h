@@ -1,4 +1,4 @@
-// The camera of the error model's checks (DESIGN.md "LOD error model"): a representation valid
+// The camera of the error model's checks (docs/lod-model.md): a representation valid
 // from distance d is judged with the eye at distance d from the NEAREST point of the full-detail
 // bounding box, so every surface is at least d away, where the bound holds. Shared by `sylva
 // lodcheck` (stages/lod/check) and `sylva impostorcheck` (stages/impostor/check), so LOD levels

@@ -2,7 +2,7 @@
 // tree's LOD level is picked by its distance, tiles and trees outside the view frustum are
 // culled, and each (species, level) mesh is drawn instanced once over the trees that use it.
 //
-// Level choice (DESIGN.md "LOD error model"): a level of spatial error epsilon is valid from its
+// Level choice (docs/lod-model.md): a level of spatial error epsilon is valid from its
 // switch distance d = epsilon / (delta s(1)) on; a tree is drawn with the coarsest level whose
 // switch distance is at most the distance from the eye to the tree's world box (0 inside it), so
 // every surface of the level is at least its switch distance away, as `sylva lodcheck` proves

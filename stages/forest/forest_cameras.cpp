@@ -11,17 +11,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "libs/render/camera.h"
 
 namespace sylva::forest {
 
 namespace {
-
-std::string vec(double x, double y, double z) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "[%.4f, %.4f, %.4f]", x, y, z);
-  return buf;
-}
 
 // The nearest tree position to (x, z) on the ground, metres.
 double clearance(const Forest& f, double x, double z) {
@@ -42,17 +37,18 @@ std::string forest_camera_set(const Forest& f, const Terrain& terrain, const For
     top = std::max(top, in.position[1] + s.bounds.max[1] * in.scale[1]);
   }
   const double ground_c = terrain.height(cx, cz);
-  std::string y = "# The forest camera set written by stage forest (docs/stages/forest.md, \"Cameras\").\n";
-  y += "version: 1\nwidth: " + std::to_string(o.width_px) + "\nheight: " + std::to_string(o.height_px) +
-       "\nmsaa: " + std::to_string(o.msaa) + "\n";
-  if (o.supersample > 1) y += "supersample: " + std::to_string(o.supersample) + "\n";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "fov_y_deg: %.6g\n", o.fov_y_deg);
-  y += buf;
-  y += "views:\n";
+  render::CameraSet set;
+  set.width = o.width_px;
+  set.height = o.height_px;
+  set.msaa = o.msaa;
+  set.supersample = o.supersample;
+  set.fov_y_deg = o.fov_y_deg;
   const int n = std::max(1, o.frames_per_path);
   auto add = [&](const std::string& name, double ex, double ey, double ez, double tx, double ty, double tz) {
-    y += "  - name: " + name + "\n    eye: " + vec(ex, ey, ez) + "\n    target: " + vec(tx, ty, tz) + "\n";
+    render::LookAtView look;
+    look.eye = {ex, ey, ez};
+    look.target = {tx, ty, tz};
+    set.views.push_back({name, look, float(set.fov_y_deg)});
   };
   for (int k = 0; k < n; ++k) {
     const double t = n == 1 ? 0.5 : double(k) / double(n - 1);
@@ -71,7 +67,8 @@ std::string forest_camera_set(const Forest& f, const Terrain& terrain, const For
     add("fly_" + std::to_string(k), ex, ey, ez, cx, ground_c, cz - 0.1 * d);
   }
   add("overview", cx, ground_c + 0.6 * std::max(w, d), cz + 0.9 * d, cx, ground_c, cz);
-  return y;
+  return render::write_camera_set(
+      set, "The forest camera set written by stage forest (docs/stages/forest.md, \"Cameras\").");
 }
 
 }  // namespace sylva::forest

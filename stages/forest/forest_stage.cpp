@@ -14,7 +14,9 @@
 
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
+#include "libs/lodchain/chain_gltf.h"
 #include "libs/lodchain/lod_chain.h"
+#include "libs/lodmodel/lod_model.h"
 #include "stages/forest/field_io.h"
 #include "stages/forest/forest_cameras.h"
 #include "stages/forest/forest_info.h"
@@ -70,7 +72,7 @@ struct SpeciesInput {
   double impostor_epsilon_m = 0;
   double impostor_switch_distance_m = 0;
   double impostor_pixel_error_px = 0;
-  impostor::ViewCamera impostor_camera;
+  lodmodel::Camera impostor_camera;
   // A (hemi-)octahedral impostor: its impostor.json (maps renamed to the forest's copies) and maps.
   bool octahedral = false;
   impostor::ImpostorInfo impostor_info;
@@ -128,7 +130,7 @@ Box3 position_bounds(const json& g, const std::string& what) {
 SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
   SpeciesInput s;
   s.node = in.node;
-  const ArtifactFile* lj = in.file("lod.json");
+  const ArtifactFile* lj = in.file(lodchain::kSummaryFile);
   if (!lj) throw StageError("input '" + in.node + "' has no lod.json");
   try {
     s.chain = lodchain::read_lod_chain(lj->path.string());  // at least one level
@@ -140,28 +142,31 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
       const std::string& file = s.chain.levels[i].file;
       const ArtifactFile* f = in.file(file);
       if (!f) throw StageError("input '" + in.node + "' has no " + file + " though lod.json lists it");
+      // The level file through libs/lodchain: its one buffer and its images, each checked here
+      // to be in the artifact as it is named.
+      lodchain::LevelFile level = lodchain::parse_level_file(
+          read_file(f->path), file, [&](const std::string& uri, lodchain::LevelResource kind) {
+            const ArtifactFile* a = in.file(uri);
+            if (kind == lodchain::LevelResource::kBuffer) {
+              if (!a)
+                throw StageError("input '" + in.node + "' has no " + uri + " though " + file + " uses it");
+              s.level_bins.push_back(a);
+            } else {
+              if (!a) throw StageError("input '" + in.node + "' has no image " + uri);
+              if (std::find(s.images.begin(), s.images.end(), a) == s.images.end()) s.images.push_back(a);
+            }
+          });
       LevelSource src;
-      src.gltf = json::parse(read_file(f->path));
-      const json& buffers = src.gltf.at("buffers");
-      if (buffers.size() != 1 || !buffers[0].contains("uri"))
-        throw StageError("input '" + in.node + "': " + file + " must have exactly one external buffer");
-      const std::string bin = buffers[0]["uri"].get<std::string>();
-      const ArtifactFile* bf = in.file(bin);
-      if (!bf) throw StageError("input '" + in.node + "' has no " + bin + " though " + file + " uses it");
-      s.level_bins.push_back(bf);
-      src.bin_name = name + "_" + bin;
-      src.bin_bytes = buffers[0].at("byteLength").get<std::size_t>();
+      src.gltf = std::move(level.gltf);
+      src.bin_name = name + "_" + level.buffer_uri;
+      src.bin_bytes = level.buffer_bytes;
       src.image_prefix = name + "_";
-      for (const auto& im : src.gltf.value("images", json::array())) {
-        if (!im.contains("uri")) continue;
-        const ArtifactFile* imf = in.file(im["uri"].get<std::string>());
-        if (!imf) throw StageError("input '" + in.node + "' has no image " + im["uri"].get<std::string>());
-        if (std::find(s.images.begin(), s.images.end(), imf) == s.images.end()) s.images.push_back(imf);
-      }
       s.primitives.push_back(primitive_count(src.gltf));
       if (i == 0) s.bounds = position_bounds(src.gltf, "input '" + in.node + "': " + file);
       s.levels.push_back(std::move(src));
     }
+  } catch (const lodchain::ChainGltfError& e) {
+    throw StageError("input '" + in.node + "': " + e.what());
   } catch (const json::exception& e) {
     throw StageError("input '" + in.node + "': unreadable lod output: " + e.what());
   }
@@ -172,8 +177,8 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
 // impostor.glb, which becomes the species' last level; for the (hemi-)octahedral kinds also the
 // two maps, which renderers with the reference shader draw (impostor.glb is then their fallback).
 void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInput& s) {
-  const ArtifactFile* ij = in.file("impostor.json");
-  const ArtifactFile* glb = in.file("impostor.glb");
+  const ArtifactFile* ij = in.file(impostor::kImpostorJsonFile);
+  const ArtifactFile* glb = in.file(impostor::kImpostorGlbFile);
   if (!ij || !glb)
     throw StageError("input '" + in.node + "' (impostor) has no impostor.json and impostor.glb");
   try {
@@ -331,8 +336,8 @@ class ForestStage final : public Stage {
       sp.base_rotation_deg = lp.species[s].base_rotation_deg;
       sp.base_translation_y_m = lp.species[s].base_translation_y_m;
       sp.pixel_error_px = in.chain.pixel_error_px;
-      sp.fov_y_deg = in.chain.camera.fov_y_deg;
-      sp.height_px = in.chain.camera.height_px;
+      sp.fov_y_deg = in.chain.camera_fov_y_deg;
+      sp.height_px = in.chain.camera_height_px;
       for (std::size_t l = 0; l < in.chain.levels.size(); ++l)
         sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
                              in.chain.levels[l].epsilon_m,
@@ -344,9 +349,9 @@ class ForestStage final : public Stage {
       if (in.has_impostor) {
         // Distances in impostor.json's terms (its delta and camera) move into the chain's.
         auto chain_terms = [&](double d) {
-          return impostor_switch_distance_m(d, in.impostor_pixel_error_px, in.impostor_camera.fov_y_rad,
-                                            in.impostor_camera.height_px, sp.pixel_error_px, sp.fov_y_deg,
-                                            sp.height_px);
+          return impostor_switch_distance_m(d, in.impostor_camera, in.impostor_pixel_error_px,
+                                            lodmodel::camera_from_degrees(sp.fov_y_deg, sp.height_px),
+                                            sp.pixel_error_px);
         };
         sp.levels.push_back({names[s] + "_impostor.gltf",
                              in.impostor_epsilon_m,
@@ -410,6 +415,9 @@ class ForestStage final : public Stage {
     auto tile_stem = [&](std::size_t t) {
       return "tile_" + std::to_string(f.tiles[t].ix) + "_" + std::to_string(f.tiles[t].iz);
     };
+    auto tile_file = [&](std::size_t t, int l) {
+      return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
+    };
     const TileInstancing instancing =
         ctx.param("tile_instancing").as_string() == "nodes" ? TileInstancing::kNodes : TileInstancing::kGpu;
     for (std::size_t t = 0; t < f.tiles.size(); ++t) {
@@ -427,7 +435,7 @@ class ForestStage final : public Stage {
         } catch (const std::invalid_argument& e) {
           throw StageError(e.what());
         }
-        ctx.write_output(tile_stem(t) + "_lod" + std::to_string(l) + ".gltf", tf.gltf);
+        ctx.write_output(tile_file(t, l), tf.gltf);
         bin = std::move(tf.bin);
       }
       if (instancing == TileInstancing::kGpu) ctx.write_output(tile_stem(t) + ".bin", bin);
@@ -435,12 +443,7 @@ class ForestStage final : public Stage {
     const Value::Object& geo = ctx.param("georeference").as_object();
     const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(),
                          geo.at("height_m").as_real()};
-    ctx.write_output("tileset.json", tileset_json(
-                                         f, level_count, g,
-                                         [&](std::size_t t, int l) {
-                                           return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
-                                         },
-                                         ground_bounds));
+    ctx.write_output(kTilesetJson, tileset_json(f, level_count, g, tile_file, ground_bounds));
     const Value::Object& cams = ctx.param("cameras").as_object();
     ForestCameraOptions co;
     co.width_px = int(cams.at("width_px").as_int());
@@ -448,7 +451,7 @@ class ForestStage final : public Stage {
     co.frames_per_path = int(cams.at("frames_per_path").as_int());
     co.supersample = int(cams.at("supersample").as_int());
     co.fov_y_deg = f.species.empty() ? 45 : f.species[0].fov_y_deg;
-    ctx.write_output("cameras.yaml", forest_camera_set(f, lp.terrain, co));
+    ctx.write_output(kCameraSetFile, forest_camera_set(f, lp.terrain, co));
   }
 
  private:

@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <stdexcept>
 
 namespace sylva::forest {
@@ -58,19 +57,13 @@ ImpostorLevel impostor_level_source(const std::string& glb, const std::string& n
   return out;
 }
 
-double switch_distance_m(double epsilon_m, double pixel_error_px, double fov_y_deg, int height_px) {
-  const double s1 = 2 * std::tan(0.5 * fov_y_deg * std::numbers::pi / 180) / double(height_px);
-  return epsilon_m / (pixel_error_px * s1);
-}
-
-double impostor_switch_distance_m(double recorded_m, double impostor_pixel_error_px,
-                                  double impostor_fov_y_rad, int impostor_height_px,
-                                  double chain_pixel_error_px, double chain_fov_y_deg, int chain_height_px) {
-  // The error a pixel budget allows at distance d is delta s(d) = delta d s(1): equal budgets at
-  // d_c and d_i when d_c = d_i (delta_i s_i(1)) / (delta_c s_c(1)).
-  const double si = 2 * std::tan(0.5 * impostor_fov_y_rad) / double(impostor_height_px);
-  const double sc = 2 * std::tan(0.5 * chain_fov_y_deg * std::numbers::pi / 180) / double(chain_height_px);
-  const double k = (impostor_pixel_error_px * si) / (chain_pixel_error_px * sc);
+double impostor_switch_distance_m(double recorded_m, const lodmodel::Camera& impostor_camera,
+                                  double impostor_pixel_error_px, const lodmodel::Camera& chain_camera,
+                                  double chain_pixel_error_px) {
+  const double k =
+      lodmodel::distance_scale(impostor_camera, impostor_pixel_error_px, chain_camera, chain_pixel_error_px);
+  // The recorded distance itself where the cameras agree up to rounding (a chain's camera comes
+  // back from lod.json's degrees): no drift of a proven distance by an ulp.
   return std::abs(k - 1) <= 1e-9 ? recorded_m : recorded_m * k;
 }
 

@@ -2,13 +2,14 @@
 // per LOD level of the species ..., the impostor level included"): the impostor artifact's
 // impostor.glb (its cards, one embedded image; docs/stages/impostor.md) split into a .gltf and
 // its .bin, so that the forest's tile files can instance it by reference like every other level,
-// and its switch distance in the species' chain's terms (DESIGN.md "LOD error model"): the one
+// and its switch distance in the species' chain's terms (docs/lod-model.md): the one
 // impostor.json records (its `switch_distance_m`: a proven distance when the recipe set one, else
 // the error model's), never one recomputed from its epsilon.
 #pragma once
 
 #include <string>
 
+#include "libs/lodmodel/lod_model.h"
 #include "stages/forest/tile_gltf.h"
 
 namespace sylva::forest {
@@ -24,17 +25,13 @@ struct ImpostorLevel {
 // JSON does not describe one buffer and one mesh.
 ImpostorLevel impostor_level_source(const std::string& glb, const std::string& name, const std::string& what);
 
-// d = epsilon / (delta s(1)), s(1) = 2 tan(phi / 2) / H: where a level of error epsilon_m stays
-// within delta = pixel_error_px for a camera of vertical field of view fov_y_deg and height_px rows.
-double switch_distance_m(double epsilon_m, double pixel_error_px, double fov_y_deg, int height_px);
-
 // The impostor level's switch distance in the chain's terms: impostor.json's recorded distance
-// `recorded_m`, valid for the impostor's own delta and camera (fov_y_rad, height_px), moved to the
-// distance where the chain's camera and delta allow the same error: recorded_m x (delta_i s_i(1)) /
-// (delta_c s_c(1)). Exactly `recorded_m` when the two agree (within 1e-9 relative), as they do
-// when the impostor stage keeps its defaults and the chain was built for the same camera.
-double impostor_switch_distance_m(double recorded_m, double impostor_pixel_error_px,
-                                  double impostor_fov_y_rad, int impostor_height_px,
-                                  double chain_pixel_error_px, double chain_fov_y_deg, int chain_height_px);
+// `recorded_m`, valid for the impostor's own camera and delta, moved to the distance where the
+// chain's camera and delta allow the same error: recorded_m x lodmodel::distance_scale (= (delta_i
+// s_i(1)) / (delta_c s_c(1))). Exactly `recorded_m` when the two agree (within 1e-9 relative), as
+// they do when the impostor stage keeps its defaults and the chain was built for the same camera.
+double impostor_switch_distance_m(double recorded_m, const lodmodel::Camera& impostor_camera,
+                                  double impostor_pixel_error_px, const lodmodel::Camera& chain_camera,
+                                  double chain_pixel_error_px);
 
 }  // namespace sylva::forest

@@ -7,19 +7,21 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "libs/lodmodel/lod_model.h"
+
 namespace sylva::forest {
 
 namespace {
 
 // The geometricError of a tile drawing level `l` of species `s`: its epsilon, except for the
 // impostor, whose recorded switch distance d may be a proven one nearer than its error model's
-// (impostor.json "switch_distance_m"): the error that distance stands for, d delta s(1) with
-// s(1) = 2 tan(phi/2) / H, so a client with maximumScreenSpaceError = delta switches to the
+// (impostor.json "switch_distance_m"): the error that distance stands for, d delta s(1)
+// (lodmodel::spatial_error), so a client with maximumScreenSpaceError = delta switches to the
 // impostor exactly where sylva's views do. For a mesh level d = epsilon / (delta s(1)): the same.
 double tile_error(const Species& s, const Level& l) {
   if (!l.impostor || !(l.switch_distance_m > 0)) return l.epsilon_m;
-  const double s1 = 2 * std::tan(s.fov_y_deg * std::numbers::pi / 360) / s.height_px;
-  return l.switch_distance_m * s.pixel_error_px * s1;
+  return lodmodel::spatial_error(lodmodel::camera_from_degrees(s.fov_y_deg, s.height_px), l.switch_distance_m,
+                                 s.pixel_error_px);
 }
 
 using nlohmann::json;

@@ -2,7 +2,7 @@
 // CesiumJS streams it with no conversion.
 //
 // Error model, one-to-one: sylva's level of spatial error epsilon is valid from the distance d
-// where epsilon / s(d) <= delta pixels, s(d) = 2 d tan(phi/2) / H (DESIGN.md); 3D Tiles refines a
+// where epsilon / s(d) <= delta pixels, s(d) = 2 d tan(phi/2) / H (docs/lod-model.md); 3D Tiles refines a
 // tile when its screen-space error geometricError * H / (2 d tan(phi/2)) exceeds the client's
 // maximumScreenSpaceError. With geometricError = epsilon of the level a tile draws, the two are
 // the same test: a client with maximumScreenSpaceError = delta shows exactly sylva's levels

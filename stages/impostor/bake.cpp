@@ -1,5 +1,5 @@
 // The impostor core (bake.h lists the steps). Sources: Brucks 2018 (octahedral impostors), the
-// SpeedTree billboard ring, Persson 2009 (cutouts), DESIGN.md's error model.
+// SpeedTree billboard ring, Persson 2009 (cutouts), the LOD error model (docs/lod-model.md).
 #include "stages/impostor/bake.h"
 
 #include <algorithm>
@@ -285,7 +285,7 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   const nlohmann::json extras = {{"sylva_impostor_kind", kind_name(info.kind)},
                                  {"switch_distance_m", info.switch_distance_m},
                                  {"epsilon_m", info.error.epsilon_m()},
-                                 {"impostor_json", "impostor.json"}};
+                                 {"impostor_json", kImpostorJsonFile}};
 
   BakeOutput out;
   out.glb = encode_impostor_glb(glb_cards, img, p.glb_alpha, extras);

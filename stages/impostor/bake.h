@@ -39,7 +39,7 @@ struct BakeParams {
   int msaa = 1;                  // coverage samples per texel
   int threads = 2;               // GL contexts baking rows side by side (the bytes do not depend on it)
   GlbAlpha glb_alpha;            // impostor.glb's alpha mode (impostor_gltf.h)
-  ViewCamera camera;             // the error model's camera ...
+  lodmodel::Camera camera;       // the error model's camera ...
   double pixel_error = 0.5;      // ... and delta
   double switch_distance_m = 0;  // > 0: recorded instead of the error model's (a proven distance)
 };

@@ -75,7 +75,7 @@ const Source& source(const impostor::BakeParams& params) {
     if (!dir)
       throw std::runtime_error("set SYLVA_BENCH_LOD to a built lod node's directory (out/default/lod_oak)");
     const auto levels =
-        impostor::lod_level_refs(lodchain::read_lod_chain((fs::path(dir) / "lod.json").string()));
+        impostor::lod_level_refs(lodchain::read_lod_chain((fs::path(dir) / lodchain::kSummaryFile).string()));
     Source out;
     out.desc = impostor::choose_source(levels, render::load_gltf_scene(fs::path(dir) / levels.back().file),
                                        params.layout);

@@ -4,11 +4,11 @@
 #include "stages/impostor/impostor_stage.h"
 
 #include <algorithm>
-#include <numbers>
 #include <thread>
 
 #include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/render/gltf_scene.h"
 #include "stages/impostor/atlas_png.h"
 #include "stages/impostor/impostor_info.h"
@@ -58,7 +58,7 @@ class ImpostorStage final : public Stage {
     impostor::SourceDesc src;
     render::Scene scene;
     if (in.type == "lod") {
-      const ArtifactFile* summary = in.file("lod.json");
+      const ArtifactFile* summary = in.file(lodchain::kSummaryFile);
       if (!summary) throw StageError("input '" + in.node + "' (lod) has no lod.json");
       std::vector<impostor::LodLevelRef> levels;
       try {
@@ -107,8 +107,8 @@ class ImpostorStage final : public Stage {
     } catch (const image::ImageError& e) {
       throw StageError(e.what());
     }
-    ctx.write_output("impostor.glb", out.glb);
-    ctx.write_output("impostor.json", impostor::write_impostor_json(out.info));
+    ctx.write_output(impostor::kImpostorGlbFile, out.glb);
+    ctx.write_output(impostor::kImpostorJsonFile, impostor::write_impostor_json(out.info));
   }
 
  private:
@@ -143,8 +143,7 @@ impostor::BakeParams bake_params_from(const Value::Object& params) {
   p.glb_alpha.blend = at("glb_alpha").as_string() == "blend";
   p.glb_alpha.cutoff = float(at("alpha_cutoff").as_real());
   const Value::Object& cam = at("camera").as_object();
-  p.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
-  p.camera.height_px = int(cam.at("height_px").as_int());
+  p.camera = lodmodel::camera_from_degrees(cam.at("fov_y_deg").as_real(), int(cam.at("height_px").as_int()));
   p.pixel_error = at("pixel_error").as_real();
   p.switch_distance_m = at("switch_distance_m").as_real();
   return p;

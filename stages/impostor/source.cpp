@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "libs/lodmodel/lod_model.h"
+
 namespace sylva::impostor {
 
 std::vector<LodLevelRef> lod_level_refs(const lodchain::LodChain& chain) {
@@ -32,7 +34,8 @@ SourceDesc choose_source(const std::vector<LodLevelRef>& levels, const render::S
   d.file = levels[i].file;
   d.level = int(i);
   d.epsilon = levels[i].epsilon;
-  d.line_pixel_m = levels[i].pixel_error > 0 ? levels[i].epsilon / levels[i].pixel_error : 0;
+  d.line_pixel_m =
+      levels[i].pixel_error > 0 ? lodmodel::switch_pixel_size(levels[i].epsilon, levels[i].pixel_error) : 0;
   return d;
 }
 

@@ -25,7 +25,7 @@
 //     orientation a cluster's survivor imposes on its cards (crossed cards become one) is not
 //     resolved.
 //   * A level of spatial error epsilon and pixel error delta is seen from its switch distance,
-//     where a pixel measures s = epsilon / delta metres (DESIGN.md). Its cards are the cut of the
+//     where a pixel measures s = epsilon / delta metres (docs/lod-model.md). Its cards are the cut of the
 //     forest at err <= kappa s (kappa = `card_cluster_px`): every card's coverage moves by at most
 //     kappa pixels, the aggregate-detail counterpart of the branches' delta-pixel bound.
 //   * Each cluster of the cut is drawn as ONE card (Cook's survivor, FSA's four-vertex unit): the

@@ -1,6 +1,6 @@
 // The LOD chain: epsilon ladder, switch distances, and the per-level passes.
 // Seeds: Zhang et al. 2017, §3 (delta, epsilon), §4.4, §5.1–5.5, §6 (N <= 8, 0.22 m);
-// Remolar et al. (FSA/VDF) §4 (uniform extraction); DESIGN.md "LOD error model".
+// Remolar et al. (FSA/VDF) §4 (uniform extraction); the LOD error model, docs/lod-model.md.
 #include "stages/lod/chain.h"
 
 #include <tbb/parallel_for.h>
@@ -16,14 +16,6 @@
 #include "stages/lod/topology.h"
 
 namespace sylva::lod {
-
-double pixel_size(const Camera& camera, double distance) {
-  return 2 * distance * std::tan(camera.fov_y_rad / 2) / camera.height_px;
-}
-
-double switch_distance(const Camera& camera, double epsilon, double delta) {
-  return epsilon / (delta * pixel_size(camera, 1.0));
-}
 
 std::vector<LevelSpec> plan_levels(const ChainOptions& o) {
   if (!(o.camera.fov_y_rad > 0 && o.camera.fov_y_rad < 3.14159) || o.camera.height_px <= 0)
@@ -55,7 +47,7 @@ std::vector<LevelSpec> plan_levels(const ChainOptions& o) {
     LevelSpec s;
     s.epsilon = e;
     s.delta = o.pixel_error;
-    s.switch_distance = switch_distance(o.camera, e, o.pixel_error);
+    s.switch_distance = lodmodel::switch_distance(o.camera, e, o.pixel_error);
     s.e1 = o.e1 * e;
     s.e2 = o.e2 * e;
     s.e3 = o.e3 * e;
@@ -160,7 +152,7 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
       ClusterCut clustered;
       if (options.card_cluster_px > 0 && spec.epsilon > 0 && spec.delta > 0 &&
           !pre.card_forest.cards.empty()) {
-        const double pixel = spec.epsilon / spec.delta;
+        const double pixel = lodmodel::switch_pixel_size(spec.epsilon, spec.delta);
         // The cut's size bounds the cards it can draw (a split only adds cards): skip the
         // survivors' construction where it cannot win.
         if (pre.card_forest.forest.cut_by_error(options.card_cluster_px * pixel).size() < active.size()) {
@@ -199,9 +191,9 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
     }
   }
   level.line_alpha_eq12 = level.branches.level_alpha();
-  level.line_alpha = drawn_line_alpha(level.line_alpha_eq12, spec.delta);
+  level.line_alpha = lodmodel::drawn_line_alpha(level.line_alpha_eq12, spec.delta);
   level.needle_alpha_eq12 = level.needles.level_alpha();
-  level.needle_line_alpha = drawn_line_alpha(level.needle_alpha_eq12, spec.delta);
+  level.needle_line_alpha = lodmodel::drawn_line_alpha(level.needle_alpha_eq12, spec.delta);
   level.counts.quads = level.branches.quads;
   level.counts.triangles = level.branches.triangles;
   level.counts.lines = level.branches.lines;
@@ -209,13 +201,6 @@ Level build_level(const tree::Tree& tree, const Precomputed& pre, const LevelSpe
   level.counts.needle_lines = level.needles.lines;
   level.counts.needle_quads = level.needles.quads + level.needles.triangles;
   return level;
-}
-
-double drawn_line_alpha(double eq12_alpha, double delta) {
-  const double coverage = std::clamp(eq12_alpha * delta, 0.0, 1.0);
-  if (coverage >= 1) return 1.0;
-  // 1 - (1 - c)^(1/3) without cancellation (c can be ~1e-16 for a needle line).
-  return std::clamp(-std::expm1(std::log1p(-coverage) / 3), 0.0, 1.0);
 }
 
 Level build_full_detail(const tree::Tree& tree, const Precomputed& pre, const ChainOptions& options) {

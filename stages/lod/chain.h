@@ -3,8 +3,8 @@
 //
 // Seeds: Zhang et al. 2017, §3 (permitted pixel error delta, permitted spatial error epsilon),
 // §5.4 (E1 = E2 = E3 = E4 = epsilon per level in the paper), §6 (N <= 8 levels, coarsest
-// epsilon 0.22 m); DESIGN.md "LOD error model": s(d) = 2 d tan(phi/2) / H_px, epsilon =
-// delta s(d), switch distance d = epsilon / (delta s(1)).
+// epsilon 0.22 m); the LOD error model (docs/lod-model.md, libs/lodmodel): s(d) = 2 d tan(phi/2) / H_px,
+// epsilon = delta s(d), switch distance d = epsilon / (delta s(1)).
 //
 // Per level the budgets are E_i = factor_i * epsilon (docs/stages/lod.md explains the defaults:
 // E1 = E2 = epsilon/4 and E4 = epsilon/2, so a point of the full-detail branch surface is within
@@ -16,6 +16,7 @@
 #include <functional>
 #include <vector>
 
+#include "libs/lodmodel/lod_model.h"
 #include "libs/tree/tree.h"
 #include "stages/lod/card_clusters.h"
 #include "stages/lod/card_coverage.h"
@@ -26,19 +27,8 @@
 
 namespace sylva::lod {
 
-struct Camera {
-  double fov_y_rad = 0.785398163397448;  // vertical field of view phi (45°)
-  int height_px = 1080;                  // image height H in pixels
-};
-
-// s(d) = 2 d tan(phi/2) / H: metres spanned by one pixel at distance d (m).
-double pixel_size(const Camera& camera, double distance);
-
-// d = epsilon / (delta s(1)): the distance from which a level of spatial error epsilon is valid.
-double switch_distance(const Camera& camera, double epsilon, double delta);
-
 struct ChainOptions {
-  Camera camera;
+  lodmodel::Camera camera;     // the camera the levels' switch distances are for
   double pixel_error = 0.5;    // delta, px
   int levels = 6;              // N, 1..8, used when `errors` is empty
   std::vector<double> errors;  // explicit epsilon per level (m), increasing; overrides N
@@ -107,21 +97,14 @@ struct Level {
   BranchGeometry branches;
   BranchGeometry needles;  // needles drawn like internodes (lines or prisms)
   LeafGeometry leaves;
-  double line_alpha_eq12 = 1;    // length-weighted mean of eq. 12 over the branch line internodes
-  double line_alpha = 1;         // drawn alpha of each branch line: drawn_line_alpha(eq. 12 mean, delta)
+  double line_alpha_eq12 = 1;  // length-weighted mean of eq. 12 over the branch line internodes
+  double line_alpha = 1;  // drawn alpha of each branch line: lodmodel::drawn_line_alpha(eq. 12 mean, delta)
   double needle_alpha_eq12 = 1;  // the same for needle lines
   double needle_line_alpha = 1;
   LevelCounts counts;
   CardChoice cards;
   std::vector<std::vector<std::uint32_t>> kept_nodes;  // per branch; empty = decimated
 };
-
-// The alpha each of an internode's three lines is drawn with (docs/stages/lod.md, "Line
-// alpha"). Eq. (12)'s 2/rho is the pixel coverage 2R/s of a branch of radius R where the pixel
-// size s is E3 / delta with delta = 1 px; for the chain's delta the coverage at the switch
-// distance is delta * 2/rho. The three lines of an internode (§5.5) lie on the same pixels and
-// blend over each other, so each gets 1 - (1 - coverage)^(1/3): together they cover `coverage`.
-double drawn_line_alpha(double eq12_alpha, double delta);
 
 // Data computed once per tree and shared by every level.
 struct Precomputed {

@@ -5,22 +5,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <map>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 
 #include "libs/gltf/writer.h"
+#include "libs/lodchain/chain_gltf.h"
 #include "libs/tree/default_colors.h"
 #include "stages/lod/ribbons.h"
 
 namespace sylva::lod {
 
 namespace {
-
-std::string level_bin(std::size_t i) { return "lod" + std::to_string(i) + ".bin"; }
-std::string ribbons_bin(std::size_t i) { return "lod" + std::to_string(i) + "_ribbons.bin"; }
 
 // The materials of a level, by role; a role a level does not use is left out by the writer.
 // Colours are those of the mesh stage (libs/tree/default_colors.h), including its fallbacks
@@ -73,7 +69,7 @@ int add_material(gltf::Scene& s, const gltf::Material& m) {
 
 int add_leaf_image(gltf::Scene& s, const OutputTextures& tex) {
   if (tex.leaf_png.empty()) return -1;
-  s.images.push_back({kLeafImageFile, "image/png", tex.leaf_png, kLeafImageFile});
+  s.images.push_back({lodchain::kLeafImageFile, "image/png", tex.leaf_png, lodchain::kLeafImageFile});
   return static_cast<int>(s.images.size() - 1);
 }
 
@@ -90,7 +86,7 @@ gltf::Primitive triangles(const std::vector<float>& positions, const std::vector
 
 // Lines with each vertex's drawn alpha in COLOR_0 (white, so the material's colour shows):
 // eq. (12) per node, as coverage at the switch distance split over the three lines
-// (drawn_line_alpha, chain.h).
+// (lodmodel::drawn_line_alpha).
 gltf::Primitive lines(const BranchGeometry& g, double delta, int material) {
   gltf::Primitive p;
   p.mode = gltf::PrimitiveMode::kLines;
@@ -99,7 +95,8 @@ gltf::Primitive lines(const BranchGeometry& g, double delta, int material) {
   p.indices = g.line_indices;
   p.colors.reserve(g.line_alpha12.size() * 4);
   for (float a : g.line_alpha12) {
-    p.colors.insert(p.colors.end(), {1.0f, 1.0f, 1.0f, static_cast<float>(drawn_line_alpha(a, delta))});
+    p.colors.insert(p.colors.end(),
+                    {1.0f, 1.0f, 1.0f, static_cast<float>(lodmodel::drawn_line_alpha(a, delta))});
   }
   p.material = material;
   return p;
@@ -111,7 +108,7 @@ gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level
                       int leaf_image, int ribbon_buffer) {
   const LevelMaterials mats = level_materials(tree, leaf_image);
   gltf::Mesh mesh;
-  mesh.name = "lod" + std::to_string(index);
+  mesh.name = lodchain::level_name(index);
   // Opaque and masked triangles first, lines last (lod_gltf.h).
   if (!level.branches.tri_indices.empty())
     mesh.primitives.push_back(triangles(level.branches.tri_positions, level.branches.tri_normals,
@@ -145,19 +142,11 @@ gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level
     p.positions = {0, 0, 0};
     mesh.primitives.push_back(std::move(p));
   }
-  mesh.extras = level_extras(level, index);
+  mesh.extras = lodchain::level_extras(level_numbers(level, index));
   return mesh;
 }
 
 nlohmann::json file_extras(const tree::Tree& tree) { return {{"sylva_stage", "lod"}, {"tree", tree.name}}; }
-
-void extend(double (&lo)[3], double (&hi)[3], const std::vector<float>& xyz) {
-  for (std::size_t i = 0; i + 2 < xyz.size(); i += 3)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], double(xyz[i + k]));
-      hi[k] = std::max(hi[k], double(xyz[i + k]));
-    }
-}
 
 }  // namespace
 
@@ -171,32 +160,27 @@ double tree_height(const tree::Tree& tree) {
   return hi > lo ? hi - lo : 0.0;
 }
 
-nlohmann::json level_extras(const Level& level, std::size_t index) {
+lodchain::Level level_numbers(const Level& level, std::size_t index) {
   const LevelSpec& s = level.spec;
-  const LevelCounts& c = level.counts;
-  return {{"sylva_lod_level", index},
-          {"epsilon_m", s.epsilon},
-          {"pixel_error_px", s.delta},
-          {"switch_distance_m", s.switch_distance},
-          {"E1_m", s.e1},
-          {"E2_m", s.e2},
-          {"E3_m", s.e3},
-          {"E4_m", s.e4},
-          {"E5_m", s.e5},
-          {"line_alpha", level.line_alpha},
-          {"line_alpha_eq12", level.line_alpha_eq12},
-          {"needle_line_alpha", level.needle_line_alpha},
-          {"needle_line_alpha_eq12", level.needle_alpha_eq12},
-          {"max_polygon_error_m", level.branches.max_polygon_error},
-          {"counts",
-           {{"quads", c.quads},
-            {"triangles", c.triangles},
-            {"lines", c.lines},
-            {"leaves", c.leaves},
-            {"needle_lines", c.needle_lines},
-            {"needle_quads", c.needle_quads},
-            {"internodes", c.internodes},
-            {"branches", c.branches}}}};
+  const LevelCounts& n = level.counts;
+  lodchain::Level l;
+  l.sylva_lod_level = index;
+  l.epsilon_m = s.epsilon;
+  l.pixel_error_px = s.delta;
+  l.switch_distance_m = s.switch_distance;
+  l.e1_m = s.e1;
+  l.e2_m = s.e2;
+  l.e3_m = s.e3;
+  l.e4_m = s.e4;
+  l.e5_m = s.e5;
+  l.line_alpha = level.line_alpha;
+  l.line_alpha_eq12 = level.line_alpha_eq12;
+  l.needle_line_alpha = level.needle_line_alpha;
+  l.needle_line_alpha_eq12 = level.needle_alpha_eq12;
+  l.max_polygon_error_m = level.branches.max_polygon_error;
+  l.counts = {n.quads,        n.triangles,    n.lines,      n.leaves,
+              n.needle_lines, n.needle_quads, n.internodes, n.branches};
+  return l;
 }
 
 bool has_lines(const Level& level) {
@@ -207,23 +191,23 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
                         const OutputTextures& tex, bool ribbons) {
   gltf::Scene s;
   const int leaf_image = level.leaves.indices.empty() ? -1 : add_leaf_image(s, tex);
-  s.buffer_uris = {level_bin(index)};
+  s.buffer_uris = {lodchain::level_bin(index)};
   const bool with_ribbons = ribbons && has_lines(level);
-  if (with_ribbons) s.buffer_uris.push_back(ribbons_bin(index));
+  if (with_ribbons) s.buffer_uris.push_back(lodchain::ribbons_bin(index));
   s.meshes.push_back(level_mesh(s, tree, level, index, leaf_image, with_ribbons ? 1 : -1));
   if (with_ribbons) {
     // A level of lines only (a leafless tree's coarsest): nothing of lod<i>.bin is used.
     bool uses_level_bin = false;
     for (const gltf::Primitive& p : s.meshes[0].primitives) uses_level_bin |= p.buffer < 0;
     if (!uses_level_bin) {
-      s.buffer_uris = {ribbons_bin(index)};
+      s.buffer_uris = {lodchain::ribbons_bin(index)};
       for (gltf::Primitive& p : s.meshes[0].primitives) p.buffer = -1;
     }
   }
   gltf::Node node;
-  node.name = "lod" + std::to_string(index);
+  node.name = lodchain::level_name(index);
   node.mesh = 0;
-  node.extras = level_extras(level, index);
+  node.extras = lodchain::level_extras(level_numbers(level, index));
   s.nodes.push_back(node);
   s.roots = {0};
   s.extras = file_extras(tree);
@@ -231,62 +215,48 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
 }
 
 double bounding_radius(const Level& l) {
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  lodmodel::BoundingBox box;
   for (const BranchGeometry* g : {&l.branches, &l.needles}) {
-    extend(lo, hi, g->tri_positions);
-    extend(lo, hi, g->line_positions);
+    box.extend(g->tri_positions);
+    box.extend(g->line_positions);
   }
-  extend(lo, hi, l.leaves.positions);
-  if (!(lo[0] <= hi[0])) return 0.0;
-  return 0.5 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                         (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  box.extend(l.leaves.positions);
+  return box.radius();
 }
 
-std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double radius) {
+std::vector<double> screen_coverages(const std::vector<Level>& levels, const lodmodel::Camera& camera,
+                                     double radius) {
   std::vector<double> out;
-  const double t = std::tan(camera.fov_y_rad / 2);
-  for (std::size_t i = 0; i < levels.size(); ++i) {
-    if (i + 1 == levels.size()) {
-      out.push_back(0.0);
-    } else {
-      const double d = levels[i + 1].spec.switch_distance;
-      const double c = std::numbers::pi * radius * radius / ((2 * d * t) * (2 * d * t));
-      out.push_back(std::min(1.0, c));
-    }
-  }
+  for (std::size_t i = 0; i < levels.size(); ++i)
+    out.push_back(i + 1 == levels.size()
+                      ? 0.0
+                      : lodmodel::screen_coverage(camera, radius, levels[i + 1].spec.switch_distance));
   return out;
 }
 
-double coverage_distance(double coverage, const Camera& camera, double radius) {
-  if (!(coverage > 0)) return std::numeric_limits<double>::infinity();
-  return radius * std::sqrt(std::numbers::pi) / (2 * std::tan(camera.fov_y_rad / 2) * std::sqrt(coverage));
-}
-
-gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
-                        const OutputTextures& tex) {
+gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels,
+                        const lodmodel::Camera& camera, const OutputTextures& tex) {
   gltf::Scene s;
   bool any_leaves = false;
   for (const Level& l : levels) any_leaves |= !l.leaves.indices.empty();
   const int leaf_image = any_leaves ? add_leaf_image(s, tex) : -1;
   for (std::size_t i = 0; i < levels.size(); ++i) {
-    s.buffer_uris.push_back(level_bin(i));
+    s.buffer_uris.push_back(lodchain::level_bin(i));
     gltf::Mesh mesh = level_mesh(s, tree, levels[i], i, leaf_image, -1);
     mesh.buffer = static_cast<int>(i);
     s.meshes.push_back(std::move(mesh));
     gltf::Node node;
-    node.name = "lod" + std::to_string(i);
+    node.name = lodchain::level_name(i);
     node.mesh = static_cast<int>(i);
-    node.extras = level_extras(levels[i], i);
+    node.extras = lodchain::level_extras(level_numbers(levels[i], i));
     s.nodes.push_back(node);
   }
-  s.nodes[0].extras["MSFT_screencoverage"] = screen_coverages(levels, camera, bounding_radius(levels[0]));
+  std::vector<int> level_nodes(levels.size());
+  for (std::size_t i = 0; i < levels.size(); ++i) level_nodes[i] = static_cast<int>(i);
+  lodchain::link_levels(s.nodes[0].extras, s.nodes[0].extensions, level_nodes,
+                        screen_coverages(levels, camera, bounding_radius(levels[0])));
   s.roots = {0};
   s.extras = file_extras(tree);
-  if (levels.size() >= 2) {
-    nlohmann::json ids = nlohmann::json::array();
-    for (std::size_t i = 1; i < levels.size(); ++i) ids.push_back(i);
-    s.nodes[0].extensions = {{"MSFT_lod", {{"ids", ids}}}};
-  }
   return s;
 }
 
@@ -300,7 +270,7 @@ std::string encode_full_detail(const tree::Tree& tree, Level full, const OutputT
 }
 
 std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,
-                                                  const Camera& camera, const OutputTextures& tex,
+                                                  const lodmodel::Camera& camera, const OutputTextures& tex,
                                                   bool ribbons) {
   std::vector<gltf::EncodedFile> out;
   std::map<std::string, std::string> stored;  // name -> bytes of every resource written
@@ -320,22 +290,22 @@ std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const 
   };
   for (std::size_t i = 0; i < levels.size(); ++i) {
     gltf::EncodedFiles level = gltf::encode_external(level_scene(tree, levels[i], i, tex));
-    out.push_back({"lod" + std::to_string(i) + ".gltf", std::move(level.gltf)});
+    out.push_back({lodchain::level_file(i), std::move(level.gltf)});
     for (const gltf::EncodedFile& f : level.resources) keep(f);
   }
   gltf::EncodedFiles chain = gltf::encode_external(chain_scene(tree, levels, camera, tex));
-  out.insert(out.begin(), {"lod.gltf", std::move(chain.gltf)});
+  out.insert(out.begin(), {lodchain::kChainFile, std::move(chain.gltf)});
   for (const gltf::EncodedFile& f : chain.resources) keep(f);
   if (ribbons)
     for (std::size_t i = 0; i < levels.size(); ++i) {
       if (!has_lines(levels[i])) continue;
       gltf::Scene rs = level_scene(tree, levels[i], i, tex, true);
       // Its buffer 0 is the level's whole lod<i>.bin (lines included): declare the file's size.
-      if (rs.buffer_uris.size() == 2) rs.buffer_byte_lengths = {stored.at(level_bin(i)).size(), 0};
+      if (rs.buffer_uris.size() == 2) rs.buffer_byte_lengths = {stored.at(lodchain::level_bin(i)).size(), 0};
       gltf::EncodedFiles r = gltf::encode_external(rs);
-      out.push_back({"lod" + std::to_string(i) + "_ribbons.gltf", std::move(r.gltf)});
+      out.push_back({lodchain::ribbons_file(i), std::move(r.gltf)});
       for (const gltf::EncodedFile& f : r.resources) {
-        if (f.name == level_bin(i)) {
+        if (f.name == lodchain::level_bin(i)) {
           check_prefix(f);
         } else {
           keep(f);
@@ -349,40 +319,23 @@ lodchain::LodChain chain_summary(const tree::Tree& tree, const std::vector<Level
                                  const ChainOptions& o, bool ribbons) {
   lodchain::LodChain c;
   c.tree = tree.name;
-  c.camera = {o.camera.fov_y_rad * 180 / std::numbers::pi, o.camera.height_px};
+  c.camera_fov_y_deg = lodmodel::degrees(o.camera.fov_y_rad);
+  c.camera_height_px = o.camera.height_px;
   c.pixel_error_px = o.pixel_error;
   c.tree_height_m = tree_height(tree);
   const double radius = levels.empty() ? 0.0 : bounding_radius(levels[0]);
   c.bounding_radius_m = radius;
   c.source = {tree.branches.size(), tree.leaves.size(), tree.needles.size()};
-  c.chain_file = "lod.gltf";
+  c.chain_file = lodchain::kChainFile;
   const std::vector<double> coverage = screen_coverages(levels, o.camera, radius);
   for (std::size_t i = 0; i < levels.size(); ++i) {
     const Level& level = levels[i];
-    const LevelSpec& s = level.spec;
-    const LevelCounts& n = level.counts;
-    lodchain::Level l;  // the numbers of level_extras(), plus the files and the coverage
-    l.sylva_lod_level = i;
-    l.epsilon_m = s.epsilon;
-    l.pixel_error_px = s.delta;
-    l.switch_distance_m = s.switch_distance;
-    l.e1_m = s.e1;
-    l.e2_m = s.e2;
-    l.e3_m = s.e3;
-    l.e4_m = s.e4;
-    l.e5_m = s.e5;
-    l.line_alpha = level.line_alpha;
-    l.line_alpha_eq12 = level.line_alpha_eq12;
-    l.needle_line_alpha = level.needle_line_alpha;
-    l.needle_line_alpha_eq12 = level.needle_alpha_eq12;
-    l.max_polygon_error_m = level.branches.max_polygon_error;
-    l.counts = {n.quads,        n.triangles,    n.lines,      n.leaves,
-                n.needle_lines, n.needle_quads, n.internodes, n.branches};
-    l.file = "lod" + std::to_string(i) + ".gltf";
-    if (ribbons && has_lines(level)) l.ribbons_file = "lod" + std::to_string(i) + "_ribbons.gltf";
+    lodchain::Level l = level_numbers(level, i);  // the numbers of the extras, plus files and coverage
+    l.file = lodchain::level_file(i);
+    if (ribbons && has_lines(level)) l.ribbons_file = lodchain::ribbons_file(i);
     l.screen_coverage = coverage[i];
     // Where a loader that switches by MSFT_screencoverage leaves this level for the next one.
-    const double d = coverage_distance(coverage[i], o.camera, radius);
+    const double d = lodmodel::coverage_distance(o.camera, radius, coverage[i]);
     if (std::isfinite(d)) l.coverage_switch_distance_m = d;
     if (o.card_cluster_px > 0) {
       // How the level's cards were chosen (chain.h CardChoice; docs/stages/lod.md "Card clusters").

@@ -16,7 +16,8 @@
 // order: bark (TRIANGLES, opaque), leaves (TRIANGLES, double-sided, alpha MASK with the leaf
 // atlas when given), needle prisms (TRIANGLES), branch lines (LINES, BLEND, each vertex's
 // drawn alpha in COLOR_0), needle lines (LINES, BLEND). Lines last, so a level's non-line data is a
-// prefix of its .bin. Every level's node and mesh carry the level's extras (level_extras()).
+// prefix of its .bin. Every level's node and mesh carry the level's extras
+// (lodchain::level_extras of level_numbers()). File names are libs/lodchain's (lod_chain.h).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -35,10 +36,9 @@ struct OutputTextures {
   std::string leaf_png;  // bytes of the leaf atlas (empty = leaves use the leaf colour only)
 };
 
-inline constexpr const char* kLeafImageFile = "leaves.png";
-
-// The level's description: epsilon, delta, switch distance, budgets E1..E5, counts, alpha.
-nlohmann::json level_extras(const Level& level, std::size_t index);
+// The level's numbers as lod.json and its glTF extras state them (epsilon, delta, switch distance,
+// budgets E1..E5, line alphas, polygon error, counts; no files, coverage or cards): level `index`.
+lodchain::Level level_numbers(const Level& level, std::size_t index);
 
 // The scene of a single level (lod<i>.gltf, or a GLB when encoded with gltf::encode): one root
 // node; its buffer is "lod<i>.bin", the atlas "leaves.png". With `ribbons` the LINES primitives
@@ -49,36 +49,30 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
 // True when the level has LINES (branch or needle lines), i.e. a ribbons variant differs.
 bool has_lines(const Level& level);
 
-// Radius (m) of the bounding sphere of level 0's geometry: half the diagonal of its axis-aligned
-// box, as Babylon.js bounds a mesh (0 for an empty level).
+// Radius (m) of the bounding sphere of level 0's geometry (lodmodel::BoundingBox over every
+// position of the level: half the diagonal of its axis-aligned box; 0 for an empty level).
 double bounding_radius(const Level& level0);
 
-// MSFT_screencoverage of every level, as the extension and Babylon.js define screen coverage:
-// the area of the screen the object covers over the screen's area, for the bounding sphere of
-// radius R at distance d, vertical fov phi, a square screen (aspect 1):
-//   c(d) = pi R^2 / (2 d tan(phi/2))^2
-// Value i is c at the switch distance of level i + 1 (level i is drawn while the coverage is at
-// least c_i), clamped to 1 (a loader never sees more than the whole screen, so a level whose
-// switch distance lies where the sphere overfills the screen takes over where c = 1, i.e. later:
-// a finer level is kept longer, never a coarser one shown early); the last value is 0 (the
-// coarsest level is never culled). Non-increasing, in [0, 1].
-std::vector<double> screen_coverages(const std::vector<Level>& levels, const Camera& camera, double radius);
-
-// The distance at which a loader switches to level i + 1 from c_i (the inverse of c(d)):
-//   d = R sqrt(pi) / (2 tan(phi/2) sqrt(c)); infinite for c = 0.
-double coverage_distance(double coverage, const Camera& camera, double radius);
+// MSFT_screencoverage of every level (lodmodel::screen_coverage, docs/lod-model.md "Screen
+// coverage"): value i is c at the switch distance of level i + 1 (level i is drawn while the
+// coverage is at least c_i), clamped to 1 (a level whose switch distance lies where the sphere
+// overfills the screen takes over where c = 1, i.e. later: a finer level is kept longer, never a
+// coarser one shown early); the last value is 0 (the coarsest level is never culled).
+// Non-increasing, in [0, 1]. A loader leaves level i at lodmodel::coverage_distance(c_i).
+std::vector<double> screen_coverages(const std::vector<Level>& levels, const lodmodel::Camera& camera,
+                                     double radius);
 
 // The chain's scene (lod.gltf): level 0 is the scene's root node, carrying MSFT_lod ids of the
 // other levels' nodes and extras.MSFT_screencoverage; those nodes are not scene roots
 // (MSFT_lod). Mesh i lives in buffer "lod<i>.bin". Materials equal across levels are shared.
-gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels, const Camera& camera,
-                        const OutputTextures& tex);
+gltf::Scene chain_scene(const tree::Tree& tree, const std::vector<Level>& levels,
+                        const lodmodel::Camera& camera, const OutputTextures& tex);
 
 // Every output file of the chain but lod.json (names above), in a fixed order; each .bin and the
 // atlas once. Throws std::logic_error if the chain and the level files would disagree on a
 // .bin's bytes, gltf::GltfError if a scene cannot be written.
 std::vector<gltf::EncodedFile> encode_chain_files(const tree::Tree& tree, const std::vector<Level>& levels,
-                                                  const Camera& camera, const OutputTextures& tex,
+                                                  const lodmodel::Camera& camera, const OutputTextures& tex,
                                                   bool ribbons);
 
 // full.glb: the full-detail model (build_full_detail: epsilon 0, every leaf and needle) as one

@@ -86,12 +86,13 @@ class LodStage : public Stage {
     } catch (const gltf::GltfError& e) {
       throw StageError(std::string("writing glTF: ") + e.what());
     }
-    ctx.write_output("lod.json", lodchain::write_lod_chain(lod::chain_summary(tree, levels, o, ribbons)));
+    ctx.write_output(lodchain::kSummaryFile,
+                     lodchain::write_lod_chain(lod::chain_summary(tree, levels, o, ribbons)));
     // The full-detail model the levels are judged against (the pack stage measures with it).
     try {
-      ctx.write_output("full.glb", lod::encode_full_detail(tree, std::move(full), tex));
+      ctx.write_output(lodchain::kFullDetailFile, lod::encode_full_detail(tree, std::move(full), tex));
     } catch (const gltf::GltfError& e) {
-      throw StageError(std::string("writing full.glb: ") + e.what());
+      throw StageError(std::string("writing ") + lodchain::kFullDetailFile + ": " + e.what());
     }
   }
 
@@ -110,8 +111,8 @@ lod::ChainOptions chain_options_from_params(const Value::Object& params) {
   };
   lod::ChainOptions o;
   const Value::Object& cam = at("camera").as_object();
-  o.camera.fov_y_rad = cam.at("fov_y_deg").as_real() * std::numbers::pi / 180;
-  o.camera.height_px = static_cast<int>(cam.at("height_px").as_int());
+  o.camera = lodmodel::camera_from_degrees(cam.at("fov_y_deg").as_real(),
+                                           static_cast<int>(cam.at("height_px").as_int()));
   o.pixel_error = at("pixel_error").as_real();
   o.levels = static_cast<int>(at("levels").as_int());
   for (const Value& v : at("errors_m").as_list()) o.errors.push_back(v.as_real());

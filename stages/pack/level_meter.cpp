@@ -12,8 +12,7 @@
 namespace sylva::pack {
 
 RenderedLevelMeter::RenderedLevelMeter(render::Renderer& renderer, render::Scene full,
-                                       const check::CheckCamera& camera,
-                                       const check::ViewCheckOptions& options)
+                                       const lodmodel::Camera& camera, const check::ViewCheckOptions& options)
     : renderer_(renderer), full_(std::move(full)), camera_(camera), options_(options) {}
 
 LevelMeter::Result RenderedLevelMeter::measure(int key, const std::string& glb, double distance_m) {

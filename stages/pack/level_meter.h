@@ -21,7 +21,7 @@ class RenderedLevelMeter final : public LevelMeter {
  public:
   // `full`: the full-detail tree (the lod artifact's full.glb); `camera`: the chain's (lod.json's
   // camera: the H and field of view its pixel error is for).
-  RenderedLevelMeter(render::Renderer& renderer, render::Scene full, const check::CheckCamera& camera,
+  RenderedLevelMeter(render::Renderer& renderer, render::Scene full, const lodmodel::Camera& camera,
                      const check::ViewCheckOptions& options);
 
   // Renders the full detail once per distance and each candidate's file once per distance it is
@@ -38,7 +38,7 @@ class RenderedLevelMeter final : public LevelMeter {
  private:
   render::Renderer& renderer_;
   render::Scene full_;
-  check::CheckCamera camera_;
+  lodmodel::Camera camera_;
   check::ViewCheckOptions options_;
   std::map<double, check::ReferenceViews> references_;  // by distance
   std::map<int, render::Scene> scenes_;                 // decoded candidate files, by key

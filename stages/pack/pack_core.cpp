@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <tuple>
@@ -18,17 +17,13 @@
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/writer.h"
 #include "libs/image/png.h"
+#include "libs/lodchain/chain_gltf.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/pack/lod_json.h"
 
 namespace sylva::pack {
 
 namespace {
-
-double number(const nlohmann::json& extras, const char* key, const std::string& where) {
-  if (!extras.is_object() || !extras.contains(key) || !extras[key].is_number())
-    throw std::invalid_argument(where + " has no numeric extras." + key);
-  return extras[key].get<double>();
-}
 
 void count_primitives(const gltf::Scene& s, LodLevel& l) {
   for (const auto& m : s.meshes)
@@ -39,23 +34,15 @@ void count_primitives(const gltf::Scene& s, LodLevel& l) {
     }
 }
 
-// The keys of a mesh level's node extras the pack keeps (a level's numbers; lod.json has them
-// and more). The lod stage's diagnostics (E1_m..E5_m, line alphas, polygon error, counts) and its
-// mesh extras (the same again) stay in the lod artifact (a smaller JSON chunk in every file).
-nlohmann::json level_node_extras(const nlohmann::json& extras) {
-  nlohmann::json out = nlohmann::json::object();
-  if (!extras.is_object()) return out;
-  for (const char* key : {"sylva_lod_level", "epsilon_m", "pixel_error_px", "switch_distance_m"})
-    if (extras.contains(key)) out[key] = extras[key];
-  return out;
-}
-
 // A mesh level's nodes and meshes from index `first_node` / `first_mesh` on, in the copy of the
-// scene that is being encoded: only the level's numbers in the nodes' extras, none in the meshes'.
+// scene that is being encoded: only the level's numbers in the nodes' extras
+// (lodchain::level_number_extras; lod.json has them and more), none in the meshes'. The lod
+// stage's diagnostics (E1_m..E5_m, line alphas, polygon error, counts) and its mesh extras (the
+// same again) stay in the lod artifact (a smaller JSON chunk in every file).
 void trim_level_extras(gltf::Scene& s, std::size_t first_node, std::size_t first_mesh) {
   for (std::size_t m = first_mesh; m < s.meshes.size(); ++m) s.meshes[m].extras = nullptr;
   for (std::size_t n = first_node; n < s.nodes.size(); ++n)
-    s.nodes[n].extras = level_node_extras(s.nodes[n].extras);
+    s.nodes[n].extras = lodchain::level_number_extras(s.nodes[n].extras);
 }
 
 }  // namespace
@@ -113,38 +100,21 @@ struct ParsedChain {
   std::vector<double> coverage;  // the chain's MSFT_screencoverage
 };
 
+// The chain's MSFT_lod links and every level's numbers (lodchain::read_chain_levels).
 ParsedChain parse_chain(const SpeciesInput& in) {
   const gltf::Scene& chain = in.chain;
-  if (chain.roots.size() != 1 || chain.roots[0] < 0 || std::size_t(chain.roots[0]) >= chain.nodes.size())
-    throw std::invalid_argument("the lod chain has not exactly one root node");
-  const gltf::Node& root = chain.nodes[std::size_t(chain.roots[0])];
-  const nlohmann::json no_ids = nlohmann::json::array();
-  const nlohmann::json& ids = root.extensions.is_object() && root.extensions.contains("MSFT_lod")
-                                  ? root.extensions["MSFT_lod"].value("ids", no_ids)
-                                  : no_ids;
-  if (!ids.is_array() || ids.size() + 1 != in.levels.size())
-    throw std::invalid_argument("the lod chain's MSFT_lod names " +
-                                std::to_string(ids.is_array() ? ids.size() + 1 : 0) + " levels, but " +
-                                std::to_string(in.levels.size()) + " level files were given");
-  const nlohmann::json& coverage =
-      root.extras.is_object() ? root.extras.value("MSFT_screencoverage", nlohmann::json()) : nlohmann::json();
-  if (!coverage.is_array() || coverage.size() != in.levels.size())
-    throw std::invalid_argument("the lod chain's root has no MSFT_screencoverage for every level");
+  const std::vector<lodchain::ChainLevelNumbers> levels =
+      lodchain::read_chain_levels(chain.roots, chain.nodes.size(), in.levels.size(), [&](std::size_t n) {
+        return lodchain::ChainNode{&chain.nodes[n].extras, &chain.nodes[n].extensions};
+      });
   ParsedChain out;
-  for (std::size_t i = 0; i < in.levels.size(); ++i) {
-    const int node = i == 0 ? chain.roots[0] : (ids[i - 1].is_number_integer() ? ids[i - 1].get<int>() : -1);
-    if (node < 0 || std::size_t(node) >= chain.nodes.size())
-      throw std::invalid_argument("MSFT_lod names node " + std::to_string(node) + ", which does not exist");
-    const gltf::Node& n = chain.nodes[std::size_t(node)];
-    const std::string where = "level " + std::to_string(i) + " (node " + std::to_string(node) + ")";
-    if (!coverage[i].is_number())
-      throw std::invalid_argument("MSFT_screencoverage[" + std::to_string(i) + "] is not a number");
+  for (const lodchain::ChainLevelNumbers& n : levels) {
     ChainLevel l;
-    l.node = &n;
-    l.epsilon_m = number(n.extras, "epsilon_m", where);
-    l.pixel_error_px = number(n.extras, "pixel_error_px", where);
-    l.switch_distance_m = number(n.extras, "switch_distance_m", where);
-    l.coverage = coverage[i].get<double>();
+    l.node = &chain.nodes[std::size_t(n.node)];
+    l.epsilon_m = n.epsilon_m;
+    l.pixel_error_px = n.pixel_error_px;
+    l.switch_distance_m = n.switch_distance_m;
+    l.coverage = n.screen_coverage;
     out.coverage.push_back(l.coverage);
     out.levels.push_back(l);
   }
@@ -162,41 +132,13 @@ std::uint64_t primitives_of(const gltf::Scene& s) {
   return l.triangles + l.lines + points;
 }
 
-// Half the diagonal of the axis-aligned box of every position of the scene's meshes: the
-// bounding sphere the lod stage's MSFT_screencoverage is for (lod_gltf.h bounding_radius).
+// The radius of the bounding sphere the lod stage's MSFT_screencoverage is for: the
+// lodmodel::BoundingBox of every position of the scene's meshes (level 0's, as the lod stage).
 double bounding_radius(const gltf::Scene& s) {
-  std::array<double, 3> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
+  lodmodel::BoundingBox box;
   for (const auto& m : s.meshes)
-    for (const auto& p : m.primitives)
-      for (std::size_t i = 0; i < p.positions.size(); ++i) {
-        lo[i % 3] = std::min<double>(lo[i % 3], p.positions[i]);
-        hi[i % 3] = std::max<double>(hi[i % 3], p.positions[i]);
-      }
-  if (!(lo[0] <= hi[0])) return 0;
-  double d2 = 0;
-  for (int c = 0; c < 3; ++c) d2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
-  return 0.5 * std::sqrt(d2);
-}
-
-// A branch or needle line's alpha drawn from d instead of its level's switch distance s, scale =
-// s / d. The lod stage stores in COLOR_0's alpha the pixel coverage c of the branch at s split
-// over the three lines of an internode, alpha = 1 - (1 - c)^(1/3) (docs/stages/lod.md "Line
-// alpha, as drawn"); c is a width over the pixel's, and a pixel at d is d / s of one at s, so
-// from d the same branch covers min(1, c s / d).
-float line_alpha_at(float alpha, double scale) {
-  if (!(alpha < 1)) return 1.0f;
-  const double c = -std::expm1(3 * std::log1p(-double(std::max(alpha, 0.0f))));  // 1 - (1 - a)^3
-  const double at = std::min(1.0, c * scale);
-  return at >= 1 ? 1.0f : float(-std::expm1(std::log1p(-at) / 3));
-}
-
-// MSFT_screencoverage at distance d (lod_gltf.h screen_coverages): pi R^2 / (2 d tan(phi/2))^2,
-// clamped to 1.
-double coverage_at(double radius, double tan_half_fov, double d) {
-  const double c = std::numbers::pi * radius * radius / ((2 * d * tan_half_fov) * (2 * d * tan_half_fov));
-  return std::min(1.0, c);
+    for (const auto& p : m.primitives) box.extend(p.positions);
+  return box.radius();
 }
 
 }  // namespace
@@ -291,7 +233,7 @@ class Prepared {
   // Candidate `c` as drawn from distance `d`: set_grid(c, d) and, with
   // PackOptions::nearer_line_coverage, for a mesh level drawn from nearer than its own switch
   // distance s, the level with its blended lines' alpha for d
-  // (line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
+  // (lodmodel::line_alpha_at, s / d: the coverage of the branches they stand for at d, where they cover
   // s / d times the pixels they cover at s). Lines of other materials and every other
   // primitive are the level's. The scenes are kept here, one per level and distance.
   void draw_from(Candidate& c, double d) {
@@ -314,7 +256,7 @@ class Prepared {
         for (gltf::Primitive& p : m.primitives)
           if (blended_lines(p))
             for (std::size_t i = 3; i < p.colors.size(); i += 4)
-              p.colors[i] = line_alpha_at(p.colors[i], scale);
+              p.colors[i] = float(lodmodel::line_alpha_at(p.colors[i], scale));
     }
     c.scene = &it->second;
   }
@@ -681,17 +623,17 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   for (std::size_t i = 0; i + 1 < parsed.levels.size() && tan_half == 0; ++i) {
     const double c = parsed.coverage[i];
     if (c > 0 && c < 1 && radius > 0)
-      tan_half = radius * std::sqrt(std::numbers::pi / c) / (2 * parsed.levels[i + 1].switch_distance_m);
+      tan_half = lodmodel::coverage_tan_half_fov(radius, c, parsed.levels[i + 1].switch_distance_m);
   }
   if (in.impostor) {
-    const double t = std::tan(in.impostor->fov_y_rad / 2);
+    const double t = lodmodel::tan_half_fov(in.impostor->camera);
     if (tan_half > 0 && std::abs(t - tan_half) > 1e-4 * tan_half) {
       char msg[160];
       std::snprintf(msg, sizeof msg,
                     "the impostor's camera (vertical fov %.6g deg) is not the lod chain's (%.6g deg): its "
                     "switch distance is for another view",
-                    in.impostor->fov_y_rad * 180 / std::numbers::pi,
-                    2 * std::atan(tan_half) * 180 / std::numbers::pi);
+                    lodmodel::degrees(in.impostor->camera.fov_y_rad),
+                    lodmodel::degrees(2 * std::atan(tan_half)));
       throw std::invalid_argument(msg);
     }
     tan_half = t;
@@ -728,21 +670,15 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
       l.kind = "impostor";
       l.impostor_kind = im.kind;
       l.source_level = -1;
-      k.node_extras = {{"sylva_lod_level", kept.size()},
-                       {"kind", "impostor"},
-                       {"impostor_kind", im.kind},
-                       {"epsilon_m", im.epsilon_m},
-                       {"pixel_error_px", im.pixel_error_px},
-                       {"switch_distance_m", c.switch_distance_m}};
+      k.node_extras = lodchain::impostor_level_extras(kept.size(), im.kind, im.epsilon_m, im.pixel_error_px,
+                                                      c.switch_distance_m);
     } else {
       const ChainLevel& cl = parsed.levels[c.source_level];
       k.inputs = c.source_level < in.level_inputs.size() ? in.level_inputs[c.source_level]
                                                          : std::vector<std::string>{};
       l.file = in.species + "_lod" + std::to_string(mesh_index++) + ".glb";
       l.source_level = int(c.source_level);
-      k.node_extras = level_node_extras(cl.node->extras);
-      if (k.node_extras.contains("switch_distance_m"))
-        k.node_extras["switch_distance_m"] = c.switch_distance_m;
+      k.node_extras = lodchain::level_number_extras(cl.node->extras, c.switch_distance_m);
     }
     l.epsilon_m = cand.epsilon_m;
     l.pixel_error_px = cand.pixel_error_px;
@@ -765,7 +701,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
                        next.level.switch_distance_m ==
                            parsed.levels[std::size_t(next.level.source_level)].switch_distance_m;
       c = own ? parsed.coverage[std::size_t(next.level.source_level) - 1]
-              : coverage_at(radius, tan_half, next.level.switch_distance_m);
+              : lodmodel::screen_coverage(tan_half, radius, next.level.switch_distance_m);
     }
     kept[k].level.screen_coverage = c;
   }
@@ -778,7 +714,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   std::vector<int> chain_bits;
   std::vector<double> chain_float_error;
   std::vector<int> level_nodes;
-  nlohmann::json coverage = nlohmann::json::array();
+  std::vector<double> coverage;
   for (Kept& k : kept) {
     const Candidate& cand = *k.candidate;
     const std::size_t first_mesh = chain.meshes.size(), first_node = chain.nodes.size();
@@ -799,12 +735,7 @@ std::vector<PackedFile> pack_species(const SpeciesInput& in, const PackOptions& 
   }
   chain.roots = {level_nodes[0]};
   gltf::Node& root = chain.nodes[std::size_t(level_nodes[0])];
-  root.extras["MSFT_screencoverage"] = coverage;
-  if (level_nodes.size() >= 2) {
-    nlohmann::json ids = nlohmann::json::array();
-    for (std::size_t i = 1; i < level_nodes.size(); ++i) ids.push_back(level_nodes[i]);
-    root.extensions = {{"MSFT_lod", {{"ids", ids}}}};
-  }
+  lodchain::link_levels(root.extras, root.extensions, level_nodes, coverage);
   std::vector<std::string> chain_inputs = in.chain_inputs;
   if (in.impostor)
     chain_inputs.insert(chain_inputs.end(), in.impostor->inputs.begin(), in.impostor->inputs.end());

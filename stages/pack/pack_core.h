@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "libs/gltf/scene.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/pack/lod_json.h"
 
 namespace sylva::pack {
@@ -79,7 +80,7 @@ struct ImpostorLevelInput {
   double epsilon_m = 0;             // impostor.json error.epsilon_m()
   double pixel_error_px = 0;        // delta
   double switch_distance_m = 0;     // from here on the impostor is within delta px
-  double fov_y_rad = 0;             // the camera its switch distance is for
+  lodmodel::Camera camera;          // the camera its switch distance is for
   std::vector<std::string> inputs;  // input files (impostor.json, impostor.glb)
 };
 

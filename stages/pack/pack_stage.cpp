@@ -12,17 +12,18 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <optional>
 #include <regex>
 #include <set>
 #include <sstream>
 
+#include "libs/forest/instances.h"
 #include "libs/gltf/meshopt_files.h"
 #include "libs/gltf/reader.h"
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
 #include "libs/lodchain/lod_chain.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/pack/manifest.h"
 #include "libs/render/gltf_scene.h"
 #include "libs/render/shared_renderer.h"
@@ -155,7 +156,7 @@ class PackStage : public Stage {
                                              ctx.string("forest_compression") == "meshopt", claim, manifest));
     }
     for (const InputArtifact* in : packs) merge_pack(ctx, *in, claim, seen, forests_seen, manifest);
-    ctx.write_output("manifest.json", pack::write_manifest(manifest));
+    ctx.write_output(pack::kManifestFile, pack::write_manifest(manifest));
   }
 
  private:
@@ -163,12 +164,12 @@ class PackStage : public Stage {
   // camera and pixel error its chain is for (lod.json), the process's headless renderer.
   pack::RenderedLevelMeter make_meter(StageContext& ctx, const InputArtifact& in,
                                       check::ViewCheckOptions view_options) const {
-    const ArtifactFile* full = in.file("full.glb");
+    const ArtifactFile* full = in.file(lodchain::kFullDetailFile);
     if (!full)
       throw StageError("input '" + in.node +
                        "' has no full.glb, the full-detail model the measured level choice judges against "
                        "(a lod node of stage version 10 or later writes it; or set `measure: false`)");
-    const ArtifactFile* summary = in.file("lod.json");
+    const ArtifactFile* summary = in.file(lodchain::kSummaryFile);
     if (!summary) throw StageError("input '" + in.node + "' has no lod.json (is it a lod node?)");
     lodchain::LodChain chain;  // its camera in (0, 180) degrees and >= 1 px, its delta > 0
     try {
@@ -176,9 +177,7 @@ class PackStage : public Stage {
     } catch (const lodchain::LodChainFormatError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
-    check::CheckCamera camera;
-    camera.fov_y_rad = chain.camera.fov_y_deg * std::numbers::pi / 180;
-    camera.height_px = chain.camera.height_px;
+    const lodmodel::Camera camera = chain.camera();
     // An edge moved by delta pixels changes a pixel's coverage by at most delta (as lodcheck).
     view_options.pixel_threshold = std::min(1.0, chain.pixel_error_px);
     render::Scene scene;
@@ -203,22 +202,21 @@ class PackStage : public Stage {
   static pack::SpeciesInput read_species(const InputArtifact& in, const std::string& species) {
     pack::SpeciesInput s;
     s.species = species;
-    const ArtifactFile* chain = in.file("lod.gltf");
+    const ArtifactFile* chain = in.file(lodchain::kChainFile);
     if (!chain) throw StageError("input '" + in.node + "' has no lod.gltf (is it a lod node?)");
     std::vector<std::string> shared;  // textures: every file of the chain and of each level uses them
     for (const ArtifactFile* f : in.files_with_suffix(".png")) shared.push_back(f->name);
     try {
       s.chain = gltf::read_scene(chain->path);
-      s.chain_inputs = {"lod.gltf"};
+      s.chain_inputs = {lodchain::kChainFile};
       for (std::size_t i = 0;; ++i) {
-        const std::string stem = "lod" + std::to_string(i);
-        const ArtifactFile* level = in.file(stem + ".gltf");
+        const ArtifactFile* level = in.file(lodchain::level_file(i));
         if (!level) break;
         s.levels.push_back(gltf::read_scene(level->path));
-        std::vector<std::string> used = {stem + ".gltf"};
-        if (in.file(stem + ".bin")) {
-          used.push_back(stem + ".bin");
-          s.chain_inputs.push_back(stem + ".bin");
+        std::vector<std::string> used = {lodchain::level_file(i)};
+        if (in.file(lodchain::level_bin(i))) {
+          used.push_back(lodchain::level_bin(i));
+          s.chain_inputs.push_back(lodchain::level_bin(i));
         }
         used.insert(used.end(), shared.begin(), shared.end());
         s.level_inputs.push_back(std::move(used));
@@ -234,8 +232,8 @@ class PackStage : public Stage {
   // impostor.glb (the level every client draws) and impostor.json's error model (libs/impostor).
   // Input names carry the prefix "impostor/" so that the manifest names the right artifact.
   static pack::ImpostorLevelInput read_impostor(const InputArtifact& in) {
-    const ArtifactFile* json = in.file("impostor.json");
-    const ArtifactFile* glb = in.file("impostor.glb");
+    const ArtifactFile* json = in.file(impostor::kImpostorJsonFile);
+    const ArtifactFile* glb = in.file(impostor::kImpostorGlbFile);
     if (!json || !glb)
       throw StageError("input '" + in.node +
                        "' has no impostor.json and impostor.glb (is it an impostor node?)");
@@ -246,7 +244,7 @@ class PackStage : public Stage {
       out.epsilon_m = info.error.epsilon_m();
       out.pixel_error_px = info.pixel_error_px;
       out.switch_distance_m = info.switch_distance_m;
-      out.fov_y_rad = info.camera.fov_y_rad;
+      out.camera = info.camera;
     } catch (const impostor::ImpostorFormatError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
@@ -257,7 +255,8 @@ class PackStage : public Stage {
     } catch (const gltf::ReadError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
-    out.inputs = {"impostor/impostor.json", "impostor/impostor.glb"};
+    out.inputs = {std::string("impostor/") + impostor::kImpostorJsonFile,
+                  std::string("impostor/") + impostor::kImpostorGlbFile};
     return out;
   }
 
@@ -270,11 +269,11 @@ class PackStage : public Stage {
                                 bool compress, Claim& claim, pack::Manifest& manifest) const {
     pack::ForestEntry e;
     e.name = name;
-    if (!in.file("tileset.json") || !in.file("instances.json"))
+    if (!in.file(forest::kTilesetJson) || !in.file(forest::kInstancesJson))
       throw StageError("input '" + in.node +
                        "' has no tileset.json and instances.json (is it a forest node?)");
-    e.tileset = "tileset.json";
-    e.instances = "instances.json";
+    e.tileset = forest::kTilesetJson;
+    e.instances = forest::kInstancesJson;
     // The rewritten files, and for each the input files it is made from: a .gltf from itself and
     // the .bin files it names; a .bin from itself and the .gltf files naming it (their views set
     // its layout).
@@ -352,7 +351,7 @@ class PackStage : public Stage {
   template <class Claim>
   void merge_pack(StageContext& ctx, const InputArtifact& in, Claim& claim, std::set<std::string>& species,
                   std::set<std::string>& forests, pack::Manifest& manifest) const {
-    const ArtifactFile* listing = in.file("manifest.json");
+    const ArtifactFile* listing = in.file(pack::kManifestFile);
     if (!listing) throw StageError("input '" + in.node + "' has no manifest.json (is it a pack node?)");
     pack::Manifest sub;
     try {
@@ -367,7 +366,7 @@ class PackStage : public Stage {
     std::set<std::string> listed;
     for (const pack::FileEntry& f : sub.files) listed.insert(f.path);
     for (const ArtifactFile& f : in.files)
-      if (f.name != "manifest.json" && !listed.count(f.name))
+      if (f.name != pack::kManifestFile && !listed.count(f.name))
         throw StageError("input '" + in.node + "' has '" + f.name + "', which its manifest does not list");
     for (pack::FileEntry& f : sub.files) {
       ctx.check_cancelled();

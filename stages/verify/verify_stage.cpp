@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "libs/forest/instances.h"
 #include "libs/render/camera.h"
 #include "libs/render/shared_renderer.h"
 #include "stages/verify/report.h"
@@ -82,7 +83,7 @@ std::vector<Asset> assets_from_inputs(const std::vector<InputArtifact>& inputs) 
   std::vector<Asset> assets;
   for (const InputArtifact& in : inputs) {
     if (in.type == "forest") {  // one asset: the forest seen from its own cameras
-      const ArtifactFile* f = in.file("instances.json");
+      const ArtifactFile* f = in.file(forest::kInstancesJson);
       if (!f) throw StageError("input '" + in.node + "' (type forest) has no instances.json");
       assets.push_back({in.node, f->path, true});
       continue;

@@ -402,7 +402,7 @@ int main(int argc, char** argv) {
         c.distances.push_back(*l.coverage_switch_distance_m * 1.001);
       }
     }
-    lod_checks.push_back({s.file, c.summary.camera.fov_y_deg, c.summary.bounding_radius_m, c.distances});
+    lod_checks.push_back({s.file, c.summary.camera_fov_y_deg, c.summary.bounding_radius_m, c.distances});
     chains.push_back(std::move(c));
   }
 

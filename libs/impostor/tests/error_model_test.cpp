@@ -9,10 +9,10 @@
 namespace sylva::impostor {
 namespace {
 
-// s(d) and d = epsilon / (delta s(1)) as DESIGN.md writes them: 45°, 1080 px, delta 0.5 px.
+// s(d) and d = epsilon / (delta s(1)) as docs/lod-model.md writes them: 45°, 1080 px, delta 0.5 px.
 TEST(ErrorModel, SwitchDistanceOfTheSummedTerms) {
-  const ViewCamera cam{std::numbers::pi / 4, 1080};
-  EXPECT_NEAR(pixel_size(cam, 1.0), 2 * std::tan(std::numbers::pi / 8) / 1080, 1e-15);
+  const lodmodel::Camera cam{std::numbers::pi / 4, 1080};
+  EXPECT_NEAR(lodmodel::pixel_size(cam, 1.0), 2 * std::tan(std::numbers::pi / 8) / 1080, 1e-15);
   const ErrorTerms t{0.05, 0.10, 0.07};
   EXPECT_DOUBLE_EQ(t.epsilon_m(), 0.22);
   // 0.22 m at delta 0.5: 0.22 / (0.5 * 7.6696e-4) = 573.7 m, the lod chain's level-5 distance.

@@ -38,7 +38,8 @@ Level sample_level(std::uint64_t i, double epsilon) {
 LodChain sample_chain() {
   LodChain c;
   c.tree = "oak/adult seed 7";
-  c.camera = {45.000000000000007, 1080};
+  c.camera_fov_y_deg = 45.000000000000007;
+  c.camera_height_px = 1080;
   c.pixel_error_px = 0.5;
   c.tree_height_m = 12.25;
   c.bounding_radius_m = 7.1;

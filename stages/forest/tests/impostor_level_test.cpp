@@ -50,23 +50,21 @@ TEST(ImpostorLevel, RejectsWhatIsNotASingleMeshGlb) {
   EXPECT_EQ(message(v1), "in/impostor.glb: GLB version 1 (expected 2)");
 }
 
-TEST(ImpostorLevel, SwitchDistanceIsEpsilonOverDeltaTimesPixelSize) {
-  // s(1) = 2 tan(22.5 deg) / 1080; d = eps / (delta s(1)).
-  const double s1 = 2 * std::tan(22.5 * M_PI / 180) / 1080;
-  EXPECT_NEAR(switch_distance_m(0.1, 0.5, 45, 1080), 0.1 / (0.5 * s1), 1e-9);
-  EXPECT_NEAR(switch_distance_m(0.1, 1.0, 45, 540), 0.1 / (1.0 * 2 * s1), 1e-9);
-}
+// The switch distance itself (d = eps / (delta s(1))): libs/lodmodel/tests
+// (LodModel.SwitchDistanceAndItsInverse).
 
 TEST(ImpostorLevel, RecordedSwitchDistanceInTheChainsTerms) {
   const double fov = 45 * M_PI / 180;
+  const lodmodel::Camera c45 = lodmodel::camera_from_degrees(45, 1080);
   // The same camera and delta: the recorded distance itself, to the bit.
-  EXPECT_EQ(impostor_switch_distance_m(630, 0.5, fov, 1080, 0.5, 45, 1080), 630.0);
+  EXPECT_EQ(impostor_switch_distance_m(630, {fov, 1080}, 0.5, c45, 0.5), 630.0);
   // Twice the impostor's delta, or half its rows (twice its pixel size): the same error twice as far.
-  EXPECT_NEAR(impostor_switch_distance_m(630, 1.0, fov, 1080, 0.5, 45, 1080), 1260, 1e-9);
-  EXPECT_NEAR(impostor_switch_distance_m(630, 0.5, fov, 540, 0.5, 45, 1080), 1260, 1e-9);
+  EXPECT_NEAR(impostor_switch_distance_m(630, {fov, 1080}, 1.0, c45, 0.5), 1260, 1e-9);
+  EXPECT_NEAR(impostor_switch_distance_m(630, {fov, 540}, 0.5, c45, 0.5), 1260, 1e-9);
   // A wider chain camera (larger pixels): nearer.
   const double k = std::tan(22.5 * M_PI / 180) / std::tan(30 * M_PI / 180);
-  EXPECT_NEAR(impostor_switch_distance_m(630, 0.5, fov, 1080, 0.5, 60, 1080), 630 * k, 1e-9);
+  EXPECT_NEAR(impostor_switch_distance_m(630, {fov, 1080}, 0.5, lodmodel::camera_from_degrees(60, 1080), 0.5),
+              630 * k, 1e-9);
 }
 
 TEST(SpeciesLevel, ImpostorAtTheTopLodLevelsClampedBelow) {

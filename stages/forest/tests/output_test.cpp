@@ -48,7 +48,8 @@ InputArtifact fake_lod(const fs::path& dir, double w, double h, const std::strin
   lodchain::LodChain lod;  // lod.json as the lod stage writes it (libs/lodchain)
   lod.tree = node + " tree";
   lod.pixel_error_px = 0.5;
-  lod.camera = {45.0, 1080};
+  lod.camera_fov_y_deg = 45.0;
+  lod.camera_height_px = 1080;
   for (int l = 0; l < 2; ++l) {
     gltf::Scene s;
     gltf::Material m;

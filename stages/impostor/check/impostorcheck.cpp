@@ -1,5 +1,5 @@
-// DESIGN.md's error model checked in image space for impostors (impostorcheck.h): renders from
-// libs/render (the verifier's renderer for the full detail and the billboard cards, the reference
+// The LOD error model (docs/lod-model.md) checked in image space for impostors (impostorcheck.h): renders
+// from libs/render (the verifier's renderer for the full detail and the billboard cards, the reference
 // impostor shader for the octahedral kinds), statistics and verdict from libs/check (judge.h), the
 // coverage judged as lodcheck judges LOD levels, plus the colour of what both renders cover.
 #include "stages/impostor/check/impostorcheck.h"
@@ -15,6 +15,7 @@
 #include "libs/image/resample.h"
 #include "libs/impostor/error_model.h"
 #include "libs/impostor/octahedral.h"
+#include "libs/lodmodel/lod_model.h"
 #include "libs/render/distance_camera.h"
 
 namespace sylva::impostor {
@@ -51,7 +52,7 @@ ImpostorCheckResult check_impostor(render::Renderer& scene_renderer,
   const double distance = info.switch_distance_m * o.distance_scale;
   const render::Bounds bounds = full.bounds();
   // The crop: the full-detail box's sphere seen from the nearest distance, plus a margin.
-  const double px = pixel_size(info.camera, distance);
+  const double px = lodmodel::pixel_size(info.camera, distance);
   const int crop = std::min(info.camera.height_px, int(std::ceil(2.4 * bounds.radius() / px)) + 8);
   // Supersampling: at least o.supersample, and enough that a render pixel is no larger than an
   // atlas texel, so the full detail is drawn at the resolution the atlas was baked at. Coarser,

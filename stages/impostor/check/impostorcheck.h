@@ -2,7 +2,7 @@
 // drawn from the same camera at the impostor's switch distance, from views that are not frame
 // directions, judged on coverage and colour per view.
 //
-// Seeds: DESIGN.md "LOD error model" (a representation of spatial error epsilon is within delta
+// Seeds: docs/lod-model.md, the LOD error model (a representation of spatial error epsilon is within delta
 // pixels from d = epsilon / (delta s(1)) on); Zhang et al. 2017 §3; the impostor's epsilon is
 // libs/impostor/error_model.h's. The judgement is lodcheck's (libs/check/judge.h, docs/stages/lod.md):
 //  - camera: the impostor's fov and an H-pixel image scale (H its camera's height), the eye at the

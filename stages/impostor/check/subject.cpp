@@ -19,9 +19,9 @@ render::OctahedralImpostor octahedral_of(const ImpostorInfo& info, image::Image 
 ImpostorSubject load_impostor_subject(const std::filesystem::path& dir, const std::string& label) {
   ImpostorSubject s;
   s.label = label;
-  s.info = read_impostor_json((dir / "impostor.json").string());
+  s.info = read_impostor_json((dir / kImpostorJsonFile).string());
   if (s.info.kind == Kind::kBillboards) {
-    s.cards = render::load_gltf_scene(dir / "impostor.glb");
+    s.cards = render::load_gltf_scene(dir / kImpostorGlbFile);
   } else {
     s.octahedral = octahedral_of(s.info, image::read_image(dir / s.info.color_map),
                                  image::read_image(dir / s.info.normal_depth_map));

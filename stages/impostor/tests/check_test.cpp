@@ -144,7 +144,7 @@ TEST(ImpostorCheck, AHemiImpostorSeenFromBelowFails) {
 // beside where it stands.
 TEST(ImpostorCheck, AShiftedAtlasFails) {
   ImpostorSubject s = bake(params());
-  const double px = pixel_size(s.info.camera, s.info.switch_distance_m);
+  const double px = lodmodel::pixel_size(s.info.camera, s.info.switch_distance_m);
   const int shift = int(std::ceil(4 * px / s.info.error.texel_m));
   ASSERT_LT(shift, s.info.frame_px / 4);
   for (image::Image* m : {&s.octahedral.color, &s.octahedral.normal_depth}) {

@@ -17,14 +17,8 @@ using ViewCheck = check::ViewCheck;
 using CheckImageSink = check::CheckImageSink;
 using check::check_camera;
 
-// check::check_subjects with the chain's camera.
-inline std::vector<ViewCheck> check_subjects(render::Renderer& renderer, const render::Scene& full,
-                                             const std::vector<CheckSubject>& subjects,
-                                             const Camera& chain_camera, const LodCheckOptions& options,
-                                             const CheckImageSink& sink = {}) {
-  return check::check_subjects(renderer, full, subjects, {chain_camera.fov_y_rad, chain_camera.height_px},
-                               options, sink);
-}
+// check::check_subjects, with the chain's camera (ChainOptions::camera, a lodmodel::Camera).
+using check::check_subjects;
 
 // Keeps only the branch primitives of a scene (materials "bark" and "bark_lines" as lod_gltf.h
 // names them): for comparing branch simplification without the foliage.

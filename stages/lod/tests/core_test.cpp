@@ -38,11 +38,7 @@ TEST(EdgeFunction, StepsOfEquation11) {
   EXPECT_EQ(edge_count(INFINITY, 12), 1);  // R = 0
   EXPECT_DOUBLE_EQ(line_alpha(4.0), 0.5);  // eq. (12)
   EXPECT_DOUBLE_EQ(line_alpha(1.0), 1.0);
-  // Drawn alpha: coverage delta * eq. 12, shared by three overlapping lines.
-  EXPECT_NEAR(drawn_line_alpha(0.5, 0.5), 1 - std::cbrt(0.75), 1e-15);
-  EXPECT_NEAR(1 - std::pow(1 - drawn_line_alpha(0.5, 0.5), 3), 0.25, 1e-12);  // three lines blend to 0.25
-  EXPECT_NEAR(drawn_line_alpha(0.8, 2.0), 1.0, 1e-15);                        // coverage clamps at 1
-  EXPECT_NEAR(drawn_line_alpha(0.4, 1.0), 1 - std::cbrt(0.6), 1e-15);         // delta = 1: eq. 12 itself
+  // The drawn alpha of eq. 12's lines: libs/lodmodel/tests (LodModel.DrawnLineAlpha).
   // Every h-gon chosen keeps its polygonisation error under E3 = rho R.
   for (double rho = 0.001; rho < 2; rho *= 1.1) {
     const int h = edge_count(rho, 1000);
@@ -253,7 +249,7 @@ TEST(Chain, HelixReproducesFigure7) {
   EXPECT_LT(levels.back().counts.internodes, 128u / 3);
 }
 
-// The error vocabulary of DESIGN.md: epsilon = delta s(d) at the switch distance.
+// The error vocabulary of docs/lod-model.md: epsilon = delta s(d) at the switch distance.
 TEST(Chain, SwitchDistanceMatchesPixelError) {
   ChainOptions o;
   o.levels = 6;
@@ -262,7 +258,7 @@ TEST(Chain, SwitchDistanceMatchesPixelError) {
   EXPECT_NEAR(specs.front().epsilon, o.min_error, 1e-15);
   EXPECT_NEAR(specs.back().epsilon, 0.22, 1e-12);
   for (const auto& s : specs)
-    EXPECT_NEAR(s.delta * pixel_size(o.camera, s.switch_distance), s.epsilon, 1e-12);
+    EXPECT_NEAR(s.delta * lodmodel::pixel_size(o.camera, s.switch_distance), s.epsilon, 1e-12);
   o.levels = 9;
   EXPECT_THROW(plan_levels(o), std::invalid_argument);
   o.errors = {0.1, 0.05};

@@ -134,13 +134,13 @@ TEST(LodStage, WritesLinkedChainPerLevelFilesAndSummary) {
     }
     EXPECT_EQ(cov[3].get<double>(), 0.0);
     // Unclamped coverages invert to the next level's switch distance.
-    lod::Camera cam;
+    lodmodel::Camera cam;
     cam.fov_y_rad = 45 * M_PI / 180;
     cam.height_px = 1080;
     const double radius = summary["bounding_radius_m"];
     for (std::size_t i = 0; i + 1 < cov.size(); ++i)
       if (cov[i].get<double>() < 1) {
-        EXPECT_NEAR(lod::coverage_distance(cov[i], cam, radius),
+        EXPECT_NEAR(lodmodel::coverage_distance(cam, radius, cov[i]),
                     summary["levels"][i + 1]["switch_distance_m"].get<double>(), 1e-9);
       }
     for (int i = 0; i < 4; ++i) {

@@ -158,20 +158,22 @@ int main(int argc, char** argv) {
     views.push_back({"side", {"side", render::OrbitView{90, 20, 1.05f, 0}, 40}});
     const float h = b.max.y() - b.min.y();
     const float span = std::max({h, b.max.x() - b.min.x(), b.max.z() - b.min.z()});
-    views.push_back({"close",
-                     {"close",
-                      render::LookAtView{render::Vec3(span * 0.12f, h * 0.32f, span * 0.16f),
-                                         render::Vec3(0, h * 0.28f, 0), render::Vec3::UnitY()},
-                      40}});
+    views.push_back(
+        {"close",
+         {"close",
+          render::LookAtView{render::Vec3(span * 0.12f, h * 0.32f, span * 0.16f).cast<double>(),
+                             render::Vec3(0, h * 0.28f, 0).cast<double>(), Eigen::Vector3d::UnitY()},
+          40}});
     // CLOSE="ex ey ez tx ty tz [fov]" replaces the close-up camera.
     if (const char* c = std::getenv("CLOSE")) {
       float e[7] = {0, 0, 0, 0, 0, 0, 40};
       std::istringstream in(c);
       for (float& x : e) in >> x;
-      views.back().v = {"close",
-                        render::LookAtView{render::Vec3(e[0], e[1], e[2]), render::Vec3(e[3], e[4], e[5]),
-                                           render::Vec3::UnitY()},
-                        e[6]};
+      views.back().v = {
+          "close",
+          render::LookAtView{render::Vec3(e[0], e[1], e[2]).cast<double>(),
+                             render::Vec3(e[3], e[4], e[5]).cast<double>(), Eigen::Vector3d::UnitY()},
+          e[6]};
     }
     for (const View& v : views) {
       const render::Camera cam = render::resolve(v.v, b, 1.0f);

@@ -167,7 +167,7 @@ SpeciesInput chain(const std::vector<Level>& levels, double impostor_lowered = 0
     im.epsilon_m = 0.162;
     im.pixel_error_px = 0.5;
     im.switch_distance_m = switch_distance(0.162);
-    im.fov_y_rad = kFov;
+    im.camera.fov_y_rad = kFov;
     in.impostor = std::move(im);
   }
   return in;
@@ -475,7 +475,8 @@ void write_lod_dir(const std::filesystem::path& dir, const std::vector<Level>& l
   }
   lodchain::LodChain summary;  // lod.json (libs/lodchain): the stage reads its camera and delta
   summary.tree = "box";
-  summary.camera = {45.0, 200};
+  summary.camera_fov_y_deg = 45.0;
+  summary.camera_height_px = 200;
   summary.pixel_error_px = 0.5;
   for (std::size_t i = 0; i < levels.size(); ++i) {
     lodchain::Level l;

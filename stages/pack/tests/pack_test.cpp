@@ -170,7 +170,7 @@ ImpostorLevelInput impostor(double switch_distance) {
   im.epsilon_m = 0.5;
   im.pixel_error_px = 0.5;
   im.switch_distance_m = switch_distance;
-  im.fov_y_rad = 0.785398163397448;
+  im.camera.fov_y_rad = 0.785398163397448;
   im.inputs = {"impostor/impostor.json", "impostor/impostor.glb"};
   return im;
 }
@@ -257,7 +257,7 @@ TEST(PackCore, RefusesAnImpostorForAnotherCamera) {
   write_chain(dir.path());
   SpeciesInput in = read_input(dir.path());
   in.impostor = impostor(400);
-  in.impostor->fov_y_rad = 0.5;
+  in.impostor->camera.fov_y_rad = 0.5;
   try {
     pack_species(in, {});
     FAIL();
