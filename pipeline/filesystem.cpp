@@ -6,6 +6,8 @@
 // forever or streaming /dev/zero.
 #include "pipeline/filesystem.h"
 
+#include "libs/fileio/read_file.h"
+
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -120,35 +122,7 @@ fs::path unique_temp_path(const fs::path& p) {
 
 std::optional<std::string> RealFileSystem::read(const fs::path& p, std::string* error,
                                                 std::uint64_t max_bytes) {
-  struct stat st {};
-  int fd = open_regular(p, &st, error);
-  if (fd < 0) return std::nullopt;
-  if (static_cast<std::uint64_t>(st.st_size) > max_bytes) {
-    ::close(fd);
-    if (error) *error = "larger than " + std::to_string(max_bytes) + " bytes";
-    return std::nullopt;
-  }
-  std::string out;
-  out.reserve(static_cast<std::size_t>(st.st_size));
-  char buf[1 << 16];
-  for (;;) {
-    ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      fail(error);
-      ::close(fd);
-      return std::nullopt;
-    }
-    if (n == 0) break;
-    out.append(buf, static_cast<std::size_t>(n));
-    if (out.size() > max_bytes) {  // grew while being read
-      ::close(fd);
-      if (error) *error = "larger than " + std::to_string(max_bytes) + " bytes";
-      return std::nullopt;
-    }
-  }
-  ::close(fd);
-  return out;
+  return fileio::read_regular_file(p, error, max_bytes);
 }
 
 bool RealFileSystem::write_atomic(const fs::path& p, std::string_view bytes, bool durable,

@@ -72,9 +72,21 @@ NodeContext::NodeContext(FileSystem& fs, const NodeDecl& node, std::vector<Input
       inputs_(std::move(inputs)),
       work_(std::move(work)),
       out_(std::move(out)),
-      cancel_(cancel) {
+      cancel_(cancel),
+      files_(fs) {
   auto it = node.params.find("seed");
   if (it != node.params.end() && it->second.is_int()) seed_ = static_cast<std::uint64_t>(it->second.as_int());
+  for (const auto& in : inputs_)
+    for (const auto& f : in.files) files_.allow_file(f.path);
+  for (const auto& [param, path] : node.files) {
+    bool is_dir = false;
+    for (const auto& p : node.stage->info().params)
+      if (p.name == param) is_dir = p.type == ParamType::kDir;
+    if (is_dir)
+      files_.allow_dir(path);
+    else
+      files_.allow_file(path);
+  }
 }
 
 fs::path NodeContext::param_file(std::string_view param) const {

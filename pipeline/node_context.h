@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/declared_files.h"
 #include "pipeline/digest.h"
 #include "pipeline/filesystem.h"
 #include "pipeline/recipe.h"
@@ -31,6 +32,7 @@ class NodeContext final : public StageContext {
   const Value::Object& params() const override { return node_.params; }
   const std::vector<InputArtifact>& inputs() const override { return inputs_; }
   std::filesystem::path param_file(std::string_view param) const override;
+  const fileio::FileSource& files() const override { return files_; }
   std::string read_input(const ArtifactFile& f) const override;
   std::string read_param_file(std::string_view param, const std::filesystem::path& relative = {},
                               std::uint64_t max_bytes = UINT64_MAX) const override;
@@ -55,6 +57,7 @@ class NodeContext final : public StageContext {
   std::filesystem::path work_, out_;
   const std::atomic<bool>* cancel_;
   std::uint64_t seed_ = 0;
+  DeclaredFiles files_;
   std::mutex mu_;
   std::set<std::string> declared_;
   std::map<std::string, Digest> known_;

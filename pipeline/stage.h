@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "libs/fileio/file_source.h"
 #include "pipeline/param.h"
 #include "pipeline/rng.h"
 #include "pipeline/value.h"
@@ -131,6 +132,12 @@ class StageContext {
   // The resolved path of the file (kPath) or directory (kDir) named by parameter `param`.
   virtual std::filesystem::path param_file(std::string_view param) const = 0;
 
+  // The node's declared files as a FileSource, for a library that reads a file and the files
+  // beside it (a .gltf with its buffers and images): inputs()' files, and the files (kPath) and
+  // everything below the directories (kDir) its parameters name, read through the engine's
+  // FileSystem. Reading any other path throws std::logic_error (a stage reads only what it
+  // declared); exists() is false for it.
+  virtual const fileio::FileSource& files() const = 0;
   // The bytes of input file `f` (one of inputs()' files), through the engine's FileSystem.
   // Throws StageError "cannot read input file '<name>' (<path>): <reason>".
   virtual std::string read_input(const ArtifactFile& f) const = 0;

@@ -363,25 +363,17 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   return f;
 }
 
-Forest read_instances(const std::filesystem::path& json_path) {
-  // Regular files only: a FIFO would block the open, a device (a link to /dev/zero) never end.
-  auto slurp = [](const std::filesystem::path& p, std::string& out) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(p, ec))
-      throw FormatError(p.string() + ": error: not a regular file");
-    std::ifstream in(p, std::ios::binary);
-    if (!in) throw FormatError(p.string() + ": error: cannot read the file");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    out = ss.str();
+Forest read_instances(const std::filesystem::path& json_path, const fileio::FileSource& files) {
+  auto slurp = [&](const std::filesystem::path& p) {
+    try {
+      return files.read(p);
+    } catch (const fileio::FileReadError& e) {
+      throw FormatError(e.what());
+    }
   };
-  std::string text, bin;
-  std::error_code ec;
-  if (!std::filesystem::exists(json_path, ec))
-    throw FormatError(json_path.string() + ": error: no such file");
-  slurp(json_path, text);
+  const std::string text = slurp(json_path);
   const std::filesystem::path bin_path = json_path.parent_path() / kInstancesBin;
-  if (std::filesystem::exists(std::filesystem::symlink_status(bin_path, ec))) slurp(bin_path, bin);
+  const std::string bin = files.exists(bin_path) ? slurp(bin_path) : std::string();
   return parse_instances(text, bin, json_path.string());
 }
 

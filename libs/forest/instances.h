@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "libs/fileio/file_source.h"
+
 namespace sylva::forest {
 
 class FormatError : public std::runtime_error {
@@ -156,8 +158,10 @@ struct EncodedForest {
 EncodedForest write_instances(const Forest& forest);
 // `bin` is read only when the JSON says the table is binary (it must then be exactly the table).
 Forest parse_instances(const std::string& json, const std::string& bin, const std::string& source_name);
-// Reads `json_path` and, when needed, instances.bin beside it.
-Forest read_instances(const std::filesystem::path& json_path);
+// Reads `json_path` and, when needed, instances.bin beside it, from `files` (the disk, or a
+// stage's declared inputs). Throws FormatError "<path>: error: <reason>" if either cannot be read.
+Forest read_instances(const std::filesystem::path& json_path,
+                      const fileio::FileSource& files = fileio::disk_files());
 
 // W for instance `inst` of `species` (column-major 4x4, acts on column vectors).
 std::array<double, 16> instance_matrix(const Species& species, const Instance& inst);

@@ -10,34 +10,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
+
+#include "libs/gltf/tinygltf_files.h"
 
 namespace sylva::gltf {
 
 namespace {
-
-// tinygltf's file callbacks, opening nothing but regular files: its own FileExists fopen()s the
-// path (an open of a FIFO blocks until a writer comes) and its reader sizes the buffer from
-// tellg(), which a directory or device does not give.
-bool exists_without_opening(const std::string& path, void*) {
-  std::error_code ec;
-  return std::filesystem::exists(path, ec);
-}
-
-bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  std::error_code ec;
-  std::ifstream in;
-  if (std::filesystem::is_regular_file(path, ec)) in.open(path, std::ios::binary);
-  if (!in.is_open() || !in) {
-    if (err)
-      *err += "cannot read '" + path + "' (" +
-              (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file") + ")\n";
-    return false;
-  }
-  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return true;
-}
 
 nlohmann::json to_json(const tinygltf::Value& v) {
   switch (v.Type()) {
@@ -335,17 +316,27 @@ class SceneReader {
 
 }  // namespace
 
-Scene read_scene(const std::filesystem::path& path) {
+Scene read_scene(const std::filesystem::path& path, const fileio::FileSource& files) {
+  const std::string file = path.string();
+  std::string bytes;
+  try {
+    bytes = files.read(path);
+  } catch (const fileio::FileReadError& e) {
+    throw ReadError(e.what());
+  }
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw ReadError(file + ": larger than 4 GiB");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_image_bytes, nullptr);
-  loader.SetFsCallbacks({&exists_without_opening, &tinygltf::ExpandFilePath, &read_regular_file,
-                         &tinygltf::WriteWholeFile, nullptr});
+  loader.SetFsCallbacks(file_callbacks(files));
   tinygltf::Model model;
   std::string err, warn;
-  const std::string file = path.string();
-  const bool glb = path.extension() == ".glb";
-  const bool ok = glb ? loader.LoadBinaryFromFile(&model, &err, &warn, file)
-                      : loader.LoadASCIIFromFile(&model, &err, &warn, file);
+  const std::string base_dir = path.parent_path().string();
+  const auto size = static_cast<unsigned int>(bytes.size());
+  const bool ok =
+      path.extension() == ".glb"
+          ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                        reinterpret_cast<const unsigned char*>(bytes.data()), size, base_dir)
+          : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, base_dir);
   if (!ok) {
     std::string msg = err.empty() ? "cannot be read" : err;
     while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "libs/fileio/file_source.h"
 #include "libs/gltf/scene.h"
 
 namespace sylva::gltf {
@@ -27,6 +28,8 @@ class ReadError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-Scene read_scene(const std::filesystem::path& path);
+// Reads `path` (.glb by its extension, else .gltf) and the files it names from `files`: the disk,
+// or a stage's declared inputs. Throws ReadError.
+Scene read_scene(const std::filesystem::path& path, const fileio::FileSource& files = fileio::disk_files());
 
 }  // namespace sylva::gltf

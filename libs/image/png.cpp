@@ -13,6 +13,8 @@
 #include <fstream>
 #include <system_error>
 
+#include "libs/fileio/read_file.h"
+
 namespace sylva::image {
 namespace {
 
@@ -149,11 +151,10 @@ Image decode_png(std::string_view bytes, const std::string& name) {
 }
 
 Image read_png(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::error_code ec;
-  if (!f || !std::filesystem::is_regular_file(path, ec)) fail(path.string(), "no such image file");
-  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-  return decode_png(bytes, path.string());
+  std::string why;
+  auto bytes = fileio::read_regular_file(path, &why);
+  if (!bytes) fail(path.string(), why);
+  return decode_png(*bytes, path.string());
 }
 
 void write_png(const Image& img, const std::filesystem::path& path) { write_png(img, path, PngOptions{}); }

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "libs/fileio/read_file.h"
+
 namespace sylva::impostor {
 
 namespace {
@@ -294,14 +296,13 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
 }
 
 ImpostorInfo read_impostor_json(const std::string& path) {
-  std::error_code ec;  // a FIFO would block the open, a device never end
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw ImpostorFormatError(path + ": error: not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ImpostorFormatError(path + ": error: cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_impostor_json(ss.str(), path);
+  std::string text;
+  try {
+    text = fileio::read_file(path);
+  } catch (const fileio::FileReadError& e) {
+    throw ImpostorFormatError(e.what());
+  }
+  return parse_impostor_json(text, path);
 }
 
 }  // namespace sylva::impostor

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "libs/fileio/read_file.h"
 #include "libs/lodchain/chain_gltf.h"
 
 namespace sylva::lodchain {
@@ -239,14 +240,13 @@ lodmodel::Camera LodChain::camera() const {
 }
 
 LodChain read_lod_chain(const std::string& path) {
-  std::error_code ec;  // a FIFO would block the open, a device never end
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw LodChainFormatError(path + ": error: not a regular file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw LodChainFormatError(path + ": error: cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_lod_chain(ss.str(), path);
+  std::string text;
+  try {
+    text = fileio::read_file(path);
+  } catch (const fileio::FileReadError& e) {
+    throw LodChainFormatError(e.what());
+  }
+  return parse_lod_chain(text, path);
 }
 
 }  // namespace sylva::lodchain

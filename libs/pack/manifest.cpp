@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "libs/fileio/read_file.h"
 #include "libs/pack/level_json.h"
 #include "pipeline/digest.h"
 
@@ -350,12 +351,13 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
 }
 
 Manifest read_manifest(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw ManifestError(path.string() + ": cannot be read");
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (!f && !f.eof()) throw ManifestError(path.string() + ": read failed");
-  return parse_manifest(text.str(), path.string());
+  std::string text;
+  try {
+    text = fileio::read_file(path);
+  } catch (const fileio::FileReadError& e) {
+    throw ManifestError(e.what());
+  }
+  return parse_manifest(text, path.string());
 }
 
 ManifestDiff diff_manifests(const Manifest& old_manifest, const Manifest& new_manifest) {

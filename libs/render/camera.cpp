@@ -15,6 +15,8 @@
 #include <set>
 #include <sstream>
 
+#include "libs/fileio/read_file.h"
+
 namespace sylva::render {
 namespace {
 
@@ -329,15 +331,13 @@ CameraSet parse_camera_set(std::string_view yaml_text, const std::string& source
 }
 
 CameraSet load_camera_set(const std::filesystem::path& path) {
-  std::error_code ec;
-  // A FIFO would block the open; a device would never end.
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw CameraSetError({path.string() + ": error: not a regular file"});
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw CameraSetError({path.string() + ": error: cannot open camera set"});
-  std::ostringstream text;
-  text << f.rdbuf();
-  return parse_camera_set(text.str(), path.string());
+  std::string text;
+  try {
+    text = fileio::read_file(path);
+  } catch (const fileio::FileReadError& e) {
+    throw CameraSetError({e.what()});
+  }
+  return parse_camera_set(text, path.string());
 }
 
 namespace {

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <type_traits>
 
+#include "libs/fileio/read_file.h"
+
 namespace sylva::tree {
 
 namespace {
@@ -315,12 +317,13 @@ void write_sylt(const std::filesystem::path& path, const Tree& tree) {
 }
 
 Tree read_sylt(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw TreeFormatError(path.string() + ": cannot open");
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  if (f.bad()) throw TreeFormatError(path.string() + ": read failed");
-  return decode_sylt(ss.str(), path.string());
+  std::string bytes;
+  try {
+    bytes = fileio::read_file(path);
+  } catch (const fileio::FileReadError& e) {
+    throw TreeFormatError(e.what());
+  }
+  return decode_sylt(bytes, path.string());
 }
 
 }  // namespace sylva::tree

@@ -1,16 +1,18 @@
 #include "stages/forest/field_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
 
 namespace sylva::forest {
 
-Field read_field(const std::filesystem::path& path, double x0, double z0, double x1, double z1) {
-  auto fail = [&](const std::string& why) { throw std::runtime_error(path.string() + ": " + why); };
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) fail("no such image file");
-  auto in = OIIO::ImageInput::open(path.string());
+Field read_field(const std::string& bytes, const std::string& name, double x0, double z0, double x1,
+                 double z1) {
+  auto fail = [&](const std::string& why) { throw std::runtime_error(name + ": " + why); };
+  // Decoded from memory: the stage read the file through its context (its declared input).
+  OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
+  auto in = OIIO::ImageInput::open(name, nullptr, &memory);
   if (!in) {
     std::string m = OIIO::geterror();
     for (char& c : m)

@@ -12,9 +12,11 @@
 
 namespace sylva::forest {
 
-// Throws std::runtime_error("<path>: <reason>") for unreadable images, images smaller than 2 x 2
-// or larger than 16384 x 16384 pixels, and float values outside [0, 1]. The field covers
+// The image in `bytes` (the file `name`, whose extension picks the format). Throws
+// std::runtime_error("<name>: <reason>") for undecodable images, images smaller than 2 x 2 or
+// larger than 16384 x 16384 pixels, and float values outside [0, 1]. The field covers
 // [x0, x1] x [z0, z1].
-Field read_field(const std::filesystem::path& path, double x0, double z0, double x1, double z1);
+Field read_field(const std::string& bytes, const std::string& name, double x0, double z0, double x1,
+                 double z1);
 
 }  // namespace sylva::forest

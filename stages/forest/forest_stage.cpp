@@ -8,9 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "libs/gltf/writer.h"
 #include "libs/impostor/impostor_json.h"
@@ -34,14 +32,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace forest;
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw StageError(p.string() + ": cannot open file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 std::vector<double> reals(const Value& v) {
   std::vector<double> out;
@@ -127,13 +117,13 @@ Box3 position_bounds(const json& g, const std::string& what) {
   return b;
 }
 
-SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
+SpeciesInput read_species(const StageContext& ctx, const InputArtifact& in, const std::string& name) {
   SpeciesInput s;
   s.node = in.node;
   const ArtifactFile* lj = in.file(lodchain::kSummaryFile);
   if (!lj) throw StageError("input '" + in.node + "' has no lod.json");
   try {
-    s.chain = lodchain::read_lod_chain(lj->path.string());  // at least one level
+    s.chain = lodchain::parse_lod_chain(ctx.read_input(*lj), lj->path.string());  // at least one level
   } catch (const lodchain::LodChainFormatError& e) {
     throw StageError("input '" + in.node + "': " + e.what());
   }
@@ -145,7 +135,7 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
       // The level file through libs/lodchain: its one buffer and its images, each checked here
       // to be in the artifact as it is named.
       lodchain::LevelFile level = lodchain::parse_level_file(
-          read_file(f->path), file, [&](const std::string& uri, lodchain::LevelResource kind) {
+          ctx.read_input(*f), file, [&](const std::string& uri, lodchain::LevelResource kind) {
             const ArtifactFile* a = in.file(uri);
             if (kind == lodchain::LevelResource::kBuffer) {
               if (!a)
@@ -176,14 +166,15 @@ SpeciesInput read_species(const InputArtifact& in, const std::string& name) {
 // The species' impostor artifact: impostor.json (libs/impostor's reader: its epsilon) and
 // impostor.glb, which becomes the species' last level; for the (hemi-)octahedral kinds also the
 // two maps, which renderers with the reference shader draw (impostor.glb is then their fallback).
-void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInput& s) {
+void read_impostor(const StageContext& ctx, const InputArtifact& in, const std::string& name,
+                   SpeciesInput& s) {
   const ArtifactFile* ij = in.file(impostor::kImpostorJsonFile);
   const ArtifactFile* glb = in.file(impostor::kImpostorGlbFile);
   if (!ij || !glb)
     throw StageError("input '" + in.node + "' (impostor) has no impostor.json and impostor.glb");
   try {
     const impostor::ImpostorInfo info =
-        impostor::parse_impostor_json(read_file(ij->path), in.node + "/impostor.json");
+        impostor::parse_impostor_json(ctx.read_input(*ij), in.node + "/impostor.json");
     s.impostor_epsilon_m = info.error.epsilon_m();
     if (!(info.switch_distance_m > 0))
       throw StageError("input '" + in.node +
@@ -206,7 +197,7 @@ void read_impostor(const InputArtifact& in, const std::string& name, SpeciesInpu
     throw StageError(e.what());
   }
   try {
-    s.impostor = impostor_level_source(read_file(glb->path), name, "input '" + in.node + "': impostor.glb");
+    s.impostor = impostor_level_source(ctx.read_input(*glb), name, "input '" + in.node + "': impostor.glb");
   } catch (const std::invalid_argument& e) {
     throw StageError(e.what());
   }
@@ -250,8 +241,8 @@ class ForestStage final : public Stage {
       SpeciesRule r;
       r.name = sp.at("name").as_string();
       names.push_back(r.name);
-      inputs.push_back(read_species(*lods[i], r.name));
-      if (!impostors.empty()) read_impostor(*impostors[i], r.name, inputs.back());
+      inputs.push_back(read_species(ctx, *lods[i], r.name));
+      if (!impostors.empty()) read_impostor(ctx, *impostors[i], r.name, inputs.back());
       inputs.back().parallax = parallax_table(sp.at("impostor_parallax"), r.name, inputs.back().octahedral);
       r.bounds = inputs.back().bounds;
       r.density_per_ha = sp.at("density_per_ha").as_real();
@@ -278,14 +269,15 @@ class ForestStage final : public Stage {
       if (!ctx.string("height_map").empty()) {
         std::vector<double> e = reals(ctx.param("terrain_extent_m"));
         if (e.empty()) e = {-0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m};
-        lp.terrain.field = read_field(ctx.param_file("height_map"), e[0], e[1], e[2], e[3]);
+        lp.terrain.field = read_field(ctx.read_param_file("height_map"),
+                                      ctx.param_file("height_map").string(), e[0], e[1], e[2], e[3]);
         const auto hr = reals(ctx.param("height_range_m"));
         lp.terrain.height_min = hr[0];
         lp.terrain.height_max = hr[1];
       }
       if (!ctx.string("density_map").empty())
-        lp.density = read_field(ctx.param_file("density_map"), -0.5 * lp.width_m, -0.5 * lp.depth_m,
-                                0.5 * lp.width_m, 0.5 * lp.depth_m);
+        lp.density = read_field(ctx.read_param_file("density_map"), ctx.param_file("density_map").string(),
+                                -0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m);
     } catch (const std::runtime_error& e) {
       if (dynamic_cast<const StageError*>(&e)) throw;
       throw StageError(e.what());
@@ -304,7 +296,8 @@ class ForestStage final : public Stage {
     if (!ctx.string("positions").empty()) {
       const fs::path p = ctx.param_file("positions");
       try {
-        lp.explicit_trees = parse_positions_csv(read_file(p), names, p.filename().string());
+        lp.explicit_trees =
+            parse_positions_csv(ctx.read_param_file("positions"), names, p.filename().string());
       } catch (const std::invalid_argument& e) {
         throw StageError(e.what());
       }
@@ -397,7 +390,7 @@ class ForestStage final : public Stage {
       level_count = std::max(level_count, int(f.species[s].levels.size()));
       for (std::size_t l = 0; l < in.levels.size(); ++l) {
         ctx.write_output(f.species[s].levels[l].file, species_level_gltf(in.levels[l]));
-        copy(ctx, in.level_bins[l]->path, in.levels[l].bin_name);
+        ctx.link_output(in.levels[l].bin_name, *in.level_bins[l]);
       }
       if (in.has_impostor) {
         ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
@@ -406,11 +399,11 @@ class ForestStage final : public Stage {
           impostor::ImpostorInfo info = in.impostor_info;
           info.glb_file = f.species[s].levels.back().file;  // its cards' glTF here
           ctx.write_output(f.species[s].levels.back().octahedral, impostor::write_impostor_json(info));
-          copy(ctx, in.color_map->path, in.impostor_info.color_map);
-          copy(ctx, in.normal_depth_map->path, in.impostor_info.normal_depth_map);
+          ctx.link_output(in.impostor_info.color_map, *in.color_map);
+          ctx.link_output(in.impostor_info.normal_depth_map, *in.normal_depth_map);
         }
       }
-      for (const ArtifactFile* im : in.images) copy(ctx, im->path, names[s] + "_" + im->name);
+      for (const ArtifactFile* im : in.images) ctx.link_output(names[s] + "_" + im->name, *im);
     }
     auto tile_stem = [&](std::size_t t) {
       return "tile_" + std::to_string(f.tiles[t].ix) + "_" + std::to_string(f.tiles[t].iz);
@@ -455,13 +448,6 @@ class ForestStage final : public Stage {
   }
 
  private:
-  static void copy(StageContext& ctx, const fs::path& from, const std::string& name) {
-    const fs::path to = ctx.output_path(name);
-    std::error_code ec;
-    fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
-    if (ec) throw StageError("cannot copy " + from.string() + " to " + name + ": " + ec.message());
-  }
-
   StageInfo info_;
 };
 

@@ -69,7 +69,7 @@ class GenerateStage : public Stage {
     const std::filesystem::path preset_path = ctx.param_file("preset");
     generate::SpeciesPreset species;
     try {
-      species = generate::load_species_preset(preset_path);
+      species = generate::parse_species_preset(ctx.read_param_file("preset"), preset_path.string());
     } catch (const generate::PresetParseError& e) {
       throw StageError(e.what());
     }
@@ -126,7 +126,7 @@ class GenerateStage : public Stage {
     Rng bark_rng = ctx.rng("bark");
     const generate::Rgba8 bark = generate::make_bark_texture(species.bark, texture_size, bark_rng);
     // 4. Write: the tree, the textures, and the statistics (docs/stages/generate.md).
-    tree::write_sylt(ctx.output_path("tree.sylt"), tree);
+    ctx.write_output("tree.sylt", tree::encode_sylt(tree));
     const tree::TreeStats st = tree::compute_stats(tree);
     nlohmann::json stats = nlohmann::json::parse(tree::format_stats_json(st));
     stats["foliage"] = {
@@ -145,8 +145,12 @@ class GenerateStage : public Stage {
         {"atlas_mip_coverage_without_halo", mips.coverage_plain}};
     ctx.write_output("stats.json", stats.dump(2) + "\n");
     try {
-      image::write_png(to_image(bark), ctx.output_path("bark.png"));
-      image::write_png(to_image(leaves), ctx.output_path("leaves.png"));
+      const auto png = [](const generate::Rgba8& pixels) {
+        const std::vector<std::uint8_t> bytes = image::encode_png(to_image(pixels));
+        return std::string(bytes.begin(), bytes.end());
+      };
+      ctx.write_output("bark.png", png(bark));
+      ctx.write_output("leaves.png", png(leaves));
     } catch (const image::ImageError& e) {
       throw StageError(e.what());
     }

@@ -13,6 +13,8 @@
 #include <sstream>
 #include <variant>
 
+#include "libs/fileio/read_file.h"
+
 namespace sylva::generate {
 
 namespace {
@@ -449,11 +451,13 @@ SpeciesPreset parse_species_preset(std::string_view yaml_text, const std::string
 }
 
 SpeciesPreset load_species_preset(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw PresetParseError(path.string() + ": cannot read");
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return parse_species_preset(ss.str(), path.string());
+  std::string text;
+  try {
+    text = fileio::read_file(path);
+  } catch (const fileio::FileReadError& e) {
+    throw PresetParseError(e.what());
+  }
+  return parse_species_preset(text, path.string());
 }
 
 }  // namespace sylva::generate

@@ -3,9 +3,6 @@
 // message names the file and line (text formats) or byte (.sylt).
 #include "stages/import/import_stage.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "libs/tree/sylt_format.h"
 #include "stages/import/import_error.h"
 #include "stages/import/import_file.h"
@@ -49,17 +46,8 @@ class ImportStage final : public Stage {
   const StageInfo& info() const override { return info_; }
 
   void run(StageContext& ctx) const override {
-    const std::filesystem::path path = ctx.param_file("file");
-    const std::string source = path.string();
-    std::string bytes;
-    {
-      std::ifstream in(path, std::ios::binary);
-      if (!in) throw StageError(source + ": cannot open the file");
-      std::ostringstream ss;
-      if (in.peek() != std::ifstream::traits_type::eof()) ss << in.rdbuf();
-      if (in.bad()) throw StageError(source + ": cannot read the file");
-      bytes = std::move(ss).str();
-    }
+    const std::string source = ctx.param_file("file").string();
+    const std::string bytes = ctx.read_param_file("file");
 
     import::ImportOptions options;
     options.format = ctx.string("format");
@@ -79,7 +67,7 @@ class ImportStage final : public Stage {
       throw StageError(e.what());
     }
     ctx.check_cancelled();
-    tree::write_sylt(ctx.output_path("tree.sylt"), result);
+    ctx.write_output("tree.sylt", tree::encode_sylt(result));
   }
 
  private:

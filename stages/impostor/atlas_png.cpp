@@ -24,10 +24,4 @@ AtlasPngs encode_atlas_pngs(const image::Image& color, const image::Image& norma
   return out;
 }
 
-void write_atlas_pngs(const image::Image& color, const std::filesystem::path& color_path,
-                      const image::Image& normal_depth, const std::filesystem::path& normal_depth_path) {
-  tbb::parallel_invoke([&] { image::write_png(color, color_path, options()); },
-                       [&] { image::write_png(normal_depth, normal_depth_path, options()); });
-}
-
 }  // namespace sylva::impostor

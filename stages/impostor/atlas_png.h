@@ -22,8 +22,4 @@ struct AtlasPngs {
 // image::encode_png of each map at kAtlasPngLevel. Throws image::ImageError.
 AtlasPngs encode_atlas_pngs(const image::Image& color, const image::Image& normal_depth);
 
-// image::write_png (atomic) of each map at kAtlasPngLevel. Throws image::ImageError.
-void write_atlas_pngs(const image::Image& color, const std::filesystem::path& color_path,
-                      const image::Image& normal_depth, const std::filesystem::path& normal_depth_path);
-
 }  // namespace sylva::impostor

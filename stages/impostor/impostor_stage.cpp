@@ -62,7 +62,8 @@ class ImpostorStage final : public Stage {
       if (!summary) throw StageError("input '" + in.node + "' (lod) has no lod.json");
       std::vector<impostor::LodLevelRef> levels;
       try {
-        levels = impostor::lod_level_refs(lodchain::read_lod_chain(summary->path.string()));
+        levels = impostor::lod_level_refs(
+            lodchain::parse_lod_chain(ctx.read_input(*summary), summary->path.string()));
       } catch (const lodchain::LodChainFormatError& e) {
         throw StageError(e.what());
       }
@@ -102,8 +103,12 @@ class ImpostorStage final : public Stage {
     // 3. Write.
     try {
       // Both maps at once, at zlib level 3 (atlas_png.h).
-      impostor::write_atlas_pngs(out.color, ctx.output_path(out.info.color_map), out.normal_depth,
-                                 ctx.output_path(out.info.normal_depth_map));
+      const impostor::AtlasPngs pngs = impostor::encode_atlas_pngs(out.color, out.normal_depth);
+      ctx.write_output(out.info.color_map,
+                       std::string_view(reinterpret_cast<const char*>(pngs.color.data()), pngs.color.size()));
+      ctx.write_output(out.info.normal_depth_map,
+                       std::string_view(reinterpret_cast<const char*>(pngs.normal_depth.data()),
+                                        pngs.normal_depth.size()));
     } catch (const image::ImageError& e) {
       throw StageError(e.what());
     }

@@ -6,9 +6,7 @@
 // FSA/VDF (leaves). docs/stages/lod.md lists every parameter with its equation.
 #include "stages/lod/lod_stage.h"
 
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
 #include "libs/gltf/writer.h"
 #include "libs/image/png.h"
@@ -20,13 +18,6 @@
 namespace sylva {
 
 namespace {
-
-std::string read_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class LodStage : public Stage {
  public:
@@ -41,13 +32,13 @@ class LodStage : public Stage {
     if (!sylt) throw StageError("input '" + in.node + "' has no tree.sylt");
     tree::Tree tree;
     try {
-      tree = tree::read_sylt(sylt->path);
+      tree = tree::decode_sylt(ctx.read_input(*sylt), sylt->path.string());
     } catch (const std::exception& e) {
       throw StageError(sylt->path.string() + ": " + e.what());
     }
     lod::OutputTextures tex;
     if (!tree.materials.leaf_texture.empty()) {
-      if (const ArtifactFile* f = in.file(tree.materials.leaf_texture)) tex.leaf_png = read_bytes(f->path);
+      if (const ArtifactFile* f = in.file(tree.materials.leaf_texture)) tex.leaf_png = ctx.read_input(*f);
     }
     // 2. Options.
     lod::ChainOptions o = chain_options_from_params(ctx.params());

@@ -3,9 +3,7 @@
 // through libs/gltf. Seed: Nystad 2010 §4.3 and §5.3 (the core says which part is where).
 #include "stages/mesh/mesh_stage.h"
 
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "libs/gltf/writer.h"
 #include "libs/tree/sylt_format.h"
@@ -15,15 +13,6 @@
 namespace sylva {
 
 namespace {
-
-std::string read_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw StageError(path.string() + ": cannot open the file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw StageError(path.string() + ": cannot read the file");
-  return std::move(ss).str();
-}
 
 class MeshStage final : public Stage {
  public:
@@ -38,7 +27,7 @@ class MeshStage final : public Stage {
     if (!sylt) throw StageError("input '" + in.node + "' has no tree.sylt");
     tree::Tree tree;
     try {
-      tree = tree::read_sylt(sylt->path);
+      tree = tree::decode_sylt(ctx.read_input(*sylt), sylt->path.string());
     } catch (const tree::TreeFormatError& e) {
       throw StageError(e.what());
     }
@@ -49,7 +38,7 @@ class MeshStage final : public Stage {
       if (!f)
         throw StageError(sylt->path.string() + ": the tree's " + what + " texture '" + name +
                          "' is not a file of input '" + in.node + "'");
-      t.bytes = read_bytes(f->path);
+      t.bytes = ctx.read_input(*f);
       return t;
     };
     const mesh::Texture bark = texture(tree.materials.bark_texture, "bark");

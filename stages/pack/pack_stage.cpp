@@ -9,13 +9,11 @@
 #include <fnmatch.h>
 
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <regex>
 #include <set>
-#include <sstream>
 
 #include "libs/forest/instances.h"
 #include "libs/gltf/meshopt_files.h"
@@ -113,8 +111,8 @@ class PackStage : public Stage {
       const InputArtifact& in = *lods[k];
       const InputArtifact* imp = impostors.empty() ? nullptr : impostors[k];
       ctx.check_cancelled();
-      pack::SpeciesInput s = read_species(in, species);
-      if (imp) s.impostor = read_impostor(*imp);
+      pack::SpeciesInput s = read_species(ctx, in, species);
+      if (imp) s.impostor = read_impostor(ctx, *imp);
       std::vector<pack::PackedFile> files;
       pack::LodDescription described;
       const std::string which = "species '" + species + "' (input '" + in.node + "'" +
@@ -173,7 +171,7 @@ class PackStage : public Stage {
     if (!summary) throw StageError("input '" + in.node + "' has no lod.json (is it a lod node?)");
     lodchain::LodChain chain;  // its camera in (0, 180) degrees and >= 1 px, its delta > 0
     try {
-      chain = lodchain::read_lod_chain(summary->path.string());
+      chain = lodchain::parse_lod_chain(ctx.read_input(*summary), summary->path.string());
     } catch (const lodchain::LodChainFormatError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
@@ -182,7 +180,8 @@ class PackStage : public Stage {
     view_options.pixel_threshold = std::min(1.0, chain.pixel_error_px);
     render::Scene scene;
     try {
-      scene = render::load_gltf_scene(full->path);
+      scene = render::load_gltf_scene_from_memory(ctx.read_input(*full), full->path.string(),
+                                                  full->path.parent_path());
     } catch (const std::exception& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
@@ -199,7 +198,8 @@ class PackStage : public Stage {
 
   // The chain and its levels as the lod stage wrote them (lod.gltf, lod<i>.gltf with their .bin
   // and texture files beside them), and the input files each output is made from.
-  static pack::SpeciesInput read_species(const InputArtifact& in, const std::string& species) {
+  static pack::SpeciesInput read_species(const StageContext& ctx, const InputArtifact& in,
+                                         const std::string& species) {
     pack::SpeciesInput s;
     s.species = species;
     const ArtifactFile* chain = in.file(lodchain::kChainFile);
@@ -207,12 +207,12 @@ class PackStage : public Stage {
     std::vector<std::string> shared;  // textures: every file of the chain and of each level uses them
     for (const ArtifactFile* f : in.files_with_suffix(".png")) shared.push_back(f->name);
     try {
-      s.chain = gltf::read_scene(chain->path);
+      s.chain = gltf::read_scene(chain->path, ctx.files());
       s.chain_inputs = {lodchain::kChainFile};
       for (std::size_t i = 0;; ++i) {
         const ArtifactFile* level = in.file(lodchain::level_file(i));
         if (!level) break;
-        s.levels.push_back(gltf::read_scene(level->path));
+        s.levels.push_back(gltf::read_scene(level->path, ctx.files()));
         std::vector<std::string> used = {lodchain::level_file(i)};
         if (in.file(lodchain::level_bin(i))) {
           used.push_back(lodchain::level_bin(i));
@@ -231,7 +231,7 @@ class PackStage : public Stage {
 
   // impostor.glb (the level every client draws) and impostor.json's error model (libs/impostor).
   // Input names carry the prefix "impostor/" so that the manifest names the right artifact.
-  static pack::ImpostorLevelInput read_impostor(const InputArtifact& in) {
+  static pack::ImpostorLevelInput read_impostor(const StageContext& ctx, const InputArtifact& in) {
     const ArtifactFile* json = in.file(impostor::kImpostorJsonFile);
     const ArtifactFile* glb = in.file(impostor::kImpostorGlbFile);
     if (!json || !glb)
@@ -239,7 +239,8 @@ class PackStage : public Stage {
                        "' has no impostor.json and impostor.glb (is it an impostor node?)");
     pack::ImpostorLevelInput out;
     try {
-      const impostor::ImpostorInfo info = impostor::read_impostor_json(json->path.string());
+      const impostor::ImpostorInfo info =
+          impostor::parse_impostor_json(ctx.read_input(*json), json->path.string());
       out.kind = impostor::kind_name(info.kind);
       out.epsilon_m = info.error.epsilon_m();
       out.pixel_error_px = info.pixel_error_px;
@@ -251,7 +252,7 @@ class PackStage : public Stage {
     if (!(out.switch_distance_m > 0) || !(out.epsilon_m > 0))
       throw StageError("input '" + in.node + "': impostor.json has no positive switch distance and epsilon");
     try {
-      out.scene = gltf::read_scene(glb->path);
+      out.scene = gltf::read_scene(glb->path, ctx.files());
     } catch (const gltf::ReadError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
@@ -285,7 +286,7 @@ class PackStage : public Stage {
         const bool is_gltf = f.name.size() > 5 && f.name.ends_with(".gltf");
         if (!is_gltf && !f.name.ends_with(".bin")) continue;
         ctx.check_cancelled();
-        (is_gltf ? set.gltf : set.bins)[f.name] = read_file(f.path);
+        (is_gltf ? set.gltf : set.bins)[f.name] = ctx.read_input(f);
       }
       for (const auto& [file, text] : set.gltf) {
         made_from[file].insert(file);
@@ -324,15 +325,10 @@ class PackStage : public Stage {
         entry = pack::describe_file(f.name, *bytes, std::move(producer));
         ctx.write_output(f.name, *bytes);
       } else {
-        const std::filesystem::path to = ctx.output_path(f.name);
-        std::error_code ec;
-        std::filesystem::copy_file(f.path, to, std::filesystem::copy_options::overwrite_existing, ec);
-        if (ec) throw StageError("cannot copy " + f.path.string() + " into the pack: " + ec.message());
-        const std::uintmax_t size = std::filesystem::file_size(to, ec);
-        if (ec) throw StageError("cannot read " + to.string() + ": " + ec.message());
+        ctx.link_output(f.name, f);  // the verified input file itself (a hard link)
         entry.path = f.name;
-        entry.sha256 = f.digest;  // a byte-for-byte copy of a verified input file
-        entry.size = size;
+        entry.sha256 = f.digest;
+        entry.size = f.size;
         entry.media_type = pack::media_type_for(f.name);
         entry.producer = {info_.name, info_.version, {{in.type + "/" + f.name, f.digest}}};
       }
@@ -355,7 +351,7 @@ class PackStage : public Stage {
     if (!listing) throw StageError("input '" + in.node + "' has no manifest.json (is it a pack node?)");
     pack::Manifest sub;
     try {
-      sub = pack::read_manifest(listing->path);
+      sub = pack::parse_manifest(ctx.read_input(*listing), listing->path.string());
     } catch (const pack::ManifestError& e) {
       throw StageError("input '" + in.node + "': " + e.what());
     }
@@ -374,12 +370,13 @@ class PackStage : public Stage {
       if (!file)
         throw StageError("input '" + in.node + "': its manifest lists '" + f.path +
                          "', which it does not have");
-      const std::string bytes = read_file(file->path);
-      if (bytes.size() != f.size || sha256_hex(bytes) != f.sha256)
+      // The engine verified the input file against its digest: compare that with the manifest's,
+      // and pass the file on as it is (a hard link; nothing is read).
+      if (file->size != f.size || file->digest != f.sha256)
         throw StageError("input '" + in.node + "': '" + f.path +
                          "' is not the file its manifest describes (size or SHA-256 differs)");
       claim(f.path, "pack '" + in.node + "'");
-      ctx.write_output(f.path, bytes);
+      ctx.link_output(f.path, *file);
       manifest.files.push_back(std::move(f));
     }
     for (pack::SpeciesEntry& e : sub.species) {
@@ -392,14 +389,6 @@ class PackStage : public Stage {
         throw StageError("forest '" + e.name + "' comes twice: input '" + in.node + "' has it too");
       manifest.forests.push_back(std::move(e));
     }
-  }
-
-  static std::string read_file(const std::filesystem::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::ostringstream ss;
-    ss << f.rdbuf();
-    if (!f && !f.eof()) throw StageError("cannot read " + p.string());
-    return ss.str();
   }
 
   StageInfo info_;

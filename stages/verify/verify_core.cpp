@@ -10,9 +10,11 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <set>
 #include <sstream>
 
+#include "libs/fileio/read_file.h"
 #include "libs/image/image_io.h"
 #include "libs/render/forest_view.h"
 #include "libs/render/gltf_scene.h"
@@ -35,12 +37,6 @@ std::string fixed(double v, int decimals) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   return buf;
-}
-
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) return {};
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 std::string png_bytes(const image::Image& img) {
@@ -243,13 +239,19 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
       } else {
         image::Image ref;
         std::string ref_png;
+        std::optional<std::string> unreadable;
         try {
           ref = image::read_image(ref_path);
-          ref_png = read_bytes(ref_path);
+          ref_png = fileio::read_file(ref_path);
         } catch (const image::ImageError& e) {
+          unreadable = e.what();
+        } catch (const fileio::FileReadError& e) {
+          unreadable = e.what();
+        }
+        if (unreadable) {
           c = judge_view(asset.name, view, nullptr, rv.image, thresholds);
           c.status = CaseStatus::kError;
-          c.message = std::string("the reference image cannot be read: ") + e.what();
+          c.message = "the reference image cannot be read: " + *unreadable;
           c.image_png = png;
           report.cases.push_back(std::move(c));
           continue;

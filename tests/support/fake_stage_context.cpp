@@ -34,6 +34,7 @@ FakeStageContext::FakeStageContext(const Stage& stage, const std::vector<Input>&
                                    const Value::Object& overrides, FileSystem* fsys)
     : own_fs_(fsys ? nullptr : std::make_unique<RealFileSystem>()),
       fs_(fsys ? fsys : own_fs_.get()),
+      files_(std::make_unique<DeclaredFiles>(*fs_)),
       out_(std::move(out)),
       scratch_(out_.parent_path() / (out_.filename().string() + ".scratch")) {
   for (const ParamSpec& p : stage.info().params)
@@ -59,17 +60,26 @@ void FakeStageContext::add_input(std::string node, std::string type,
     auto d = fs_->digest(p);
     in.files.push_back({n, p, d ? d->hash : "0", d ? d->size : 0});
   }
-  inputs_.push_back(std::move(in));
+  add_input(std::move(in));
 }
 
-void FakeStageContext::set_file(const std::string& param, const fs::path& path) {
-  files_[param] = path;
+void FakeStageContext::add_input(InputArtifact artifact) {
+  for (const auto& f : artifact.files) files_->allow_file(f.path);
+  inputs_.push_back(std::move(artifact));
+}
+
+void FakeStageContext::set_file(const std::string& param, const fs::path& path, bool is_dir) {
+  file_params_[param] = path;
   params_[param] = Value(path.string());
+  if (is_dir)
+    files_->allow_dir(path);
+  else
+    files_->allow_file(path);
 }
 
 fs::path FakeStageContext::param_file(std::string_view param) const {
-  auto it = files_.find(std::string(param));
-  if (it == files_.end())
+  auto it = file_params_.find(std::string(param));
+  if (it == file_params_.end())
     throw std::logic_error("no file parameter '" + std::string(param) + "' in this test");
   return it->second;
 }

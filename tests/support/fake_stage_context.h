@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/declared_files.h"
 #include "pipeline/filesystem.h"
 #include "pipeline/stage.h"
 
@@ -37,15 +38,16 @@ class FakeStageContext : public StageContext {
   void add_input(std::string node, std::string type,
                  const std::map<std::string, std::filesystem::path>& files);
   // Adds an input artifact as given (its digests and sizes are not checked).
-  void add_input(InputArtifact artifact) { inputs_.push_back(std::move(artifact)); }
+  void add_input(InputArtifact artifact);
   // Names the file (kPath) or directory (kDir) behind a file parameter; its value in params()
   // becomes the path, as the recipe loader resolves it.
-  void set_file(const std::string& param, const std::filesystem::path& path);
+  void set_file(const std::string& param, const std::filesystem::path& path, bool is_dir = false);
 
   const std::string& node_name() const override { return name; }
   const Value::Object& params() const override { return params_; }
   const std::vector<InputArtifact>& inputs() const override { return inputs_; }
   std::filesystem::path param_file(std::string_view param) const override;
+  const fileio::FileSource& files() const override { return *files_; }
   std::string read_input(const ArtifactFile& f) const override;
   std::string read_param_file(std::string_view param, const std::filesystem::path& relative = {},
                               std::uint64_t max_bytes = UINT64_MAX) const override;
@@ -70,9 +72,10 @@ class FakeStageContext : public StageContext {
  private:
   std::unique_ptr<FileSystem> own_fs_;
   FileSystem* fs_;
+  std::unique_ptr<DeclaredFiles> files_;
   Value::Object params_;
   std::vector<InputArtifact> inputs_;
-  std::map<std::string, std::filesystem::path> files_;
+  std::map<std::string, std::filesystem::path> file_params_;
   std::filesystem::path out_, scratch_;
 };
 

@@ -146,7 +146,7 @@ TEST(Instances, ReadsRegularFilesOnly) {
   ASSERT_EQ(::mkfifo((dir / "instances.json").c_str(), 0600), 0);
   EXPECT_EQ(error(), (dir / "instances.json").string() + ": error: not a regular file");
   std::filesystem::remove(dir / "instances.json");
-  EXPECT_EQ(error(), (dir / "instances.json").string() + ": error: no such file");
+  EXPECT_EQ(error(), (dir / "instances.json").string() + ": error: No such file or directory");
   std::filesystem::remove_all(dir);
 }
 

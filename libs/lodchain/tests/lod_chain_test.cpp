@@ -146,7 +146,7 @@ TEST(LodChain, NotJsonOrNotAnObject) {
     read_lod_chain("/nonexistent/lod.json");
     FAIL();
   } catch (const LodChainFormatError& e) {
-    EXPECT_STREQ(e.what(), "/nonexistent/lod.json: error: cannot open file");
+    EXPECT_STREQ(e.what(), "/nonexistent/lod.json: error: No such file or directory");
   }
 }
 

@@ -169,7 +169,7 @@ TEST(CameraSet, SyntaxErrorAndMissingFile) {
     load_camera_set("no/such/cameras.yaml");
     FAIL();
   } catch (const CameraSetError& err) {
-    EXPECT_STREQ(err.what(), "no/such/cameras.yaml: error: cannot open camera set");
+    EXPECT_STREQ(err.what(), "no/such/cameras.yaml: error: No such file or directory");
   }
   EXPECT_EQ(errors_of(""), "cams.yaml:1:1: error: camera set is empty");
 }

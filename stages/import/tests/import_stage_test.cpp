@@ -128,7 +128,8 @@ TEST(ImportStage, MissingFile) {
     stage->run(ctx);
     FAIL() << "no error";
   } catch (const StageError& e) {
-    EXPECT_EQ(std::string(e.what()), (dir / "nope.csv").string() + ": cannot open the file");
+    EXPECT_EQ(std::string(e.what()), "cannot read '" + (dir / "nope.csv").string() +
+                                         "' (parameter 'file'): No such file or directory");
   }
 }
 
