@@ -144,6 +144,198 @@ class Reader {
   std::string source_;
 };
 
+// ---- instances.json, section by section ---------------------------------------------------------
+
+// The file's format, version, extent, tiling, method, seed and ground.
+void parse_header(const Reader& r, const json& j, Forest& f) {
+  if (r.string(j, "format", "the file") != kFormat) r.fail("format is not '" + std::string(kFormat) + "'");
+  if (r.uint(j, "version", "the file", 1000) != kVersion) r.fail("unsupported version (this reader knows 1)");
+  const json& ext = r.at(j, "extent_m", "the file");
+  const json& emin = r.array(ext, "min", "extent_m");
+  const json& emax = r.array(ext, "max", "extent_m");
+  if (emin.size() != 2 || emax.size() != 2 || !emin[0].is_number() || !emin[1].is_number() ||
+      !emax[0].is_number() || !emax[1].is_number())
+    r.fail("extent_m.min and .max must be [x, z]");
+  f.extent_min = {emin[0].get<double>(), emin[1].get<double>()};
+  f.extent_max = {emax[0].get<double>(), emax[1].get<double>()};
+  f.tile_size_m = r.real(j, "tile_size_m", "the file", 0);
+  f.nodes_per_node = int(r.uint(j, "nodes_per_node", "the file", 1u << 20));
+  f.method = r.string(j, "method", "the file");
+  f.seed = r.uint(j, "seed", "the file", UINT64_MAX);
+  if (j.contains("ground")) {
+    f.ground = r.string(j, "ground", "the file");
+    if (f.ground.empty() || f.ground.find_first_of("/\\") != std::string::npos || f.ground[0] == '.')
+      r.fail("ground must be a file name of this artifact");
+  }
+}
+
+// One entry of a species' levels; `lw` names it in messages.
+Level parse_level(const Reader& r, const json& lj, const std::string& lw) {
+  Level lv;
+  lv.file = r.string(lj, "file", lw);
+  if (lv.file.empty() || lv.file.find_first_of("/\\") != std::string::npos || lv.file[0] == '.')
+    r.fail(lw + ".file must be a file name of this artifact");
+  lv.epsilon_m = r.real(lj, "epsilon_m", lw, 0);
+  // Not necessarily increasing: an impostor proven nearer than the last mesh level's switch
+  // distance takes over from there, and that mesh level is never drawn.
+  lv.switch_distance_m = r.real(lj, "switch_distance_m", lw, 0);
+  lv.primitives = r.uint(lj, "primitives", lw, UINT64_MAX);
+  lv.impostor = r.boolean(lj, "impostor", lw);
+  if (lj.contains("octahedral")) {
+    lv.octahedral = r.string(lj, "octahedral", lw);
+    if (!lv.impostor || lv.octahedral.empty() || lv.octahedral.find_first_of("/\\") != std::string::npos ||
+        lv.octahedral[0] == '.')
+      r.fail(lw + ".octahedral must be a file name of this artifact, on the impostor level only");
+  }
+  if (lj.contains("parallax")) {
+    if (lv.octahedral.empty()) r.fail(lw + ".parallax is for an octahedral impostor level only");
+    const json& rows = r.array(lj, "parallax", lw);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const std::string pw = lw + ".parallax[" + std::to_string(k) + "]";
+      ParallaxStep p;
+      p.from_m = r.real(rows[k], "from_m", pw, 0);
+      p.steps = int(r.uint(rows[k], "steps", pw, 64));
+      if (!lv.parallax.empty() && !(p.from_m > lv.parallax.back().from_m))
+        r.fail(pw + ".from_m must be greater than the row before's");
+      lv.parallax.push_back(p);
+    }
+  }
+  return lv;
+}
+
+// One entry of species (its stats aside); `w` names it in messages.
+Species parse_species(const Reader& r, const json& sj, const std::string& w) {
+  Species sp;
+  sp.name = r.string(sj, "name", w);
+  sp.source = r.string(sj, "source", w);
+  sp.bounds = r.box(sj, "bounds", w);
+  sp.base_rotation_deg = r.vec3(sj, "base_rotation_deg", w);
+  sp.base_translation_y_m = r.real(sj, "base_translation_y_m", w);
+  const json& cam = r.at(sj, "camera", w);
+  sp.fov_y_deg = r.real(cam, "fov_y_deg", w + ".camera", 1e-6, 179.999);
+  sp.height_px = int(r.uint(cam, "height_px", w + ".camera", 1u << 20));
+  if (sp.height_px < 1) r.fail(w + ".camera.height_px is out of range");
+  sp.pixel_error_px = r.real(sj, "pixel_error_px", w, 1e-9);
+  const json& levels = r.array(sj, "levels", w);
+  if (levels.empty()) r.fail(w + ".levels is empty");
+  for (std::size_t l = 0; l < levels.size(); ++l)
+    sp.levels.push_back(parse_level(r, levels[l], w + ".levels[" + std::to_string(l) + "]"));
+  return sp;
+}
+
+// Every species and its stats.
+void parse_species_list(const Reader& r, const json& j, Forest& f) {
+  const json& species = r.array(j, "species", "the file");
+  for (std::size_t s = 0; s < species.size(); ++s) {
+    const std::string w = "species[" + std::to_string(s) + "]";
+    const json& sj = species[s];
+    Species sp = parse_species(r, sj, w);
+    const json& st = r.at(sj, "stats", w);
+    f.stats.push_back({r.uint(st, "requested", w + ".stats", UINT64_MAX),
+                       r.uint(st, "placed", w + ".stats", UINT64_MAX),
+                       r.uint(st, "dropped", w + ".stats", UINT64_MAX)});
+    f.species.push_back(std::move(sp));
+  }
+}
+
+// The instances as a binary table in `bin` (instances is {file, record_bytes}).
+void parse_instance_table(const Reader& r, const json& inst, const std::string& bin, std::size_t count,
+                          Forest& f) {
+  f.binary_table = true;
+  if (r.uint(inst, "record_bytes", "instances", 1u << 20) != kRecordBytes)
+    r.fail("instances.record_bytes is not " + std::to_string(kRecordBytes));
+  if (bin.size() != count * kRecordBytes)
+    r.fail(std::string(kInstancesBin) + " holds " + std::to_string(bin.size()) + " bytes, expected " +
+           std::to_string(count * kRecordBytes) + " (" + std::to_string(count) + " records)");
+  const auto* p = reinterpret_cast<const unsigned char*>(bin.data());
+  f.instances.resize(count);
+  for (std::size_t i = 0; i < count; ++i, p += kRecordBytes) {
+    Instance& in = f.instances[i];
+    in.id = get_u32(p);
+    in.species = get_u32(p + 4);
+    in.tile = get_u32(p + 8);
+    for (int k = 0; k < 3; ++k) in.position[std::size_t(k)] = get_f64(p + 12 + 8 * k);
+    in.yaw_rad = get_f64(p + 36);
+    for (int k = 0; k < 3; ++k) in.scale[std::size_t(k)] = get_f64(p + 44 + 8 * k);
+  }
+}
+
+// The instances as a JSON array.
+void parse_instance_array(const Reader& r, const json& inst, std::size_t count, Forest& f) {
+  if (!inst.is_array()) r.fail("instances is neither an array nor a binary table reference");
+  if (inst.size() != count)
+    r.fail("instances has " + std::to_string(inst.size()) + " entries, instance_count says " +
+           std::to_string(count));
+  f.instances.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::string w = "instances[" + std::to_string(i) + "]";
+    Instance& in = f.instances[i];
+    in.id = std::uint32_t(r.uint(inst[i], "id", w, UINT32_MAX));
+    in.species = std::uint32_t(r.uint(inst[i], "species", w, UINT32_MAX));
+    in.tile = std::uint32_t(r.uint(inst[i], "tile", w, UINT32_MAX));
+    in.position = r.vec3(inst[i], "position", w);
+    in.yaw_rad = r.real(inst[i], "yaw_rad", w);
+    in.scale = r.vec3(inst[i], "scale", w);
+  }
+}
+
+// The tiles; their instance indices must be below `count`.
+void parse_tiles(const Reader& r, const json& j, std::size_t count, Forest& f) {
+  const json& tiles = r.array(j, "tiles", "the file");
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    const std::string w = "tiles[" + std::to_string(t) + "]";
+    Tile tile;
+    const json& ix = r.at(tiles[t], "ix", w);
+    const json& iz = r.at(tiles[t], "iz", w);
+    if (!ix.is_number_integer() || !iz.is_number_integer()) r.fail(w + ".ix/.iz are not integers");
+    tile.ix = ix.get<int>();
+    tile.iz = iz.get<int>();
+    tile.bounds = r.box(tiles[t], "bounds", w);
+    for (const json& v : r.array(tiles[t], "instances", w)) {
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= count)
+        r.fail(w + ".instances has an index out of range");
+      tile.instances.push_back(v.get<std::uint32_t>());
+    }
+    f.tiles.push_back(std::move(tile));
+  }
+}
+
+// The hierarchy: a leaf's children are instances (below `count`), an inner node's are nodes.
+void parse_hierarchy(const Reader& r, const json& j, std::size_t count, Forest& f) {
+  const json& nodes = r.array(j, "hierarchy", "the file");
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const std::string w = "hierarchy[" + std::to_string(n) + "]";
+    HierarchyNode node;
+    node.bounds = r.box(nodes[n], "bounds", w);
+    node.leaf = r.boolean(nodes[n], "leaf", w);
+    const std::size_t limit = node.leaf ? count : nodes.size();
+    for (const json& v : r.array(nodes[n], "children", w)) {
+      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= limit)
+        r.fail(w + ".children has an index out of range");
+      node.children.push_back(v.get<std::uint32_t>());
+    }
+    f.hierarchy.push_back(std::move(node));
+  }
+}
+
+// Every instance: its id is its index, its species and tile exist, its numbers are finite.
+void check_instances(const Reader& r, const Forest& f) {
+  for (std::size_t i = 0; i < f.instances.size(); ++i) {
+    const Instance& in = f.instances[i];
+    const std::string w = "instance " + std::to_string(i);
+    if (in.id != i) r.fail(w + " has id " + std::to_string(in.id) + " (ids are the instances' indices)");
+    if (in.species >= f.species.size())
+      r.fail(w + " names species " + std::to_string(in.species) + ", which does not exist");
+    if (in.tile >= f.tiles.size())
+      r.fail(w + " names tile " + std::to_string(in.tile) + ", which does not exist");
+    for (double d : in.position)
+      if (!std::isfinite(d)) r.fail(w + " has a non-finite position");
+    for (double d : in.scale)
+      if (!(d > 0) || !std::isfinite(d)) r.fail(w + " has a scale that is not positive");
+    if (!std::isfinite(in.yaw_rad)) r.fail(w + " has a non-finite yaw");
+  }
+}
+
 }  // namespace
 
 EncodedForest write_instances(const Forest& f) {
@@ -202,164 +394,18 @@ Forest parse_instances(const std::string& text, const std::string& bin, const st
   } catch (const json::exception& e) {  // a syntax error, or a number beyond a double (1e999)
     r.fail(std::string("not JSON: ") + e.what());
   }
-  if (r.string(j, "format", "the file") != kFormat) r.fail("format is not '" + std::string(kFormat) + "'");
-  if (r.uint(j, "version", "the file", 1000) != kVersion) r.fail("unsupported version (this reader knows 1)");
   Forest f;
-  const json& ext = r.at(j, "extent_m", "the file");
-  const json& emin = r.array(ext, "min", "extent_m");
-  const json& emax = r.array(ext, "max", "extent_m");
-  if (emin.size() != 2 || emax.size() != 2 || !emin[0].is_number() || !emin[1].is_number() ||
-      !emax[0].is_number() || !emax[1].is_number())
-    r.fail("extent_m.min and .max must be [x, z]");
-  f.extent_min = {emin[0].get<double>(), emin[1].get<double>()};
-  f.extent_max = {emax[0].get<double>(), emax[1].get<double>()};
-  f.tile_size_m = r.real(j, "tile_size_m", "the file", 0);
-  f.nodes_per_node = int(r.uint(j, "nodes_per_node", "the file", 1u << 20));
-  f.method = r.string(j, "method", "the file");
-  f.seed = r.uint(j, "seed", "the file", UINT64_MAX);
-  if (j.contains("ground")) {
-    f.ground = r.string(j, "ground", "the file");
-    if (f.ground.empty() || f.ground.find_first_of("/\\") != std::string::npos || f.ground[0] == '.')
-      r.fail("ground must be a file name of this artifact");
-  }
-  const json& species = r.array(j, "species", "the file");
-  for (std::size_t s = 0; s < species.size(); ++s) {
-    const std::string w = "species[" + std::to_string(s) + "]";
-    const json& sj = species[s];
-    Species sp;
-    sp.name = r.string(sj, "name", w);
-    sp.source = r.string(sj, "source", w);
-    sp.bounds = r.box(sj, "bounds", w);
-    sp.base_rotation_deg = r.vec3(sj, "base_rotation_deg", w);
-    sp.base_translation_y_m = r.real(sj, "base_translation_y_m", w);
-    const json& cam = r.at(sj, "camera", w);
-    sp.fov_y_deg = r.real(cam, "fov_y_deg", w + ".camera", 1e-6, 179.999);
-    sp.height_px = int(r.uint(cam, "height_px", w + ".camera", 1u << 20));
-    if (sp.height_px < 1) r.fail(w + ".camera.height_px is out of range");
-    sp.pixel_error_px = r.real(sj, "pixel_error_px", w, 1e-9);
-    const json& levels = r.array(sj, "levels", w);
-    if (levels.empty()) r.fail(w + ".levels is empty");
-    for (std::size_t l = 0; l < levels.size(); ++l) {
-      const std::string lw = w + ".levels[" + std::to_string(l) + "]";
-      Level lv;
-      lv.file = r.string(levels[l], "file", lw);
-      if (lv.file.empty() || lv.file.find_first_of("/\\") != std::string::npos || lv.file[0] == '.')
-        r.fail(lw + ".file must be a file name of this artifact");
-      lv.epsilon_m = r.real(levels[l], "epsilon_m", lw, 0);
-      // Not necessarily increasing: an impostor proven nearer than the last mesh level's switch
-      // distance takes over from there, and that mesh level is never drawn.
-      lv.switch_distance_m = r.real(levels[l], "switch_distance_m", lw, 0);
-      lv.primitives = r.uint(levels[l], "primitives", lw, UINT64_MAX);
-      lv.impostor = r.boolean(levels[l], "impostor", lw);
-      if (levels[l].contains("octahedral")) {
-        lv.octahedral = r.string(levels[l], "octahedral", lw);
-        if (!lv.impostor || lv.octahedral.empty() ||
-            lv.octahedral.find_first_of("/\\") != std::string::npos || lv.octahedral[0] == '.')
-          r.fail(lw + ".octahedral must be a file name of this artifact, on the impostor level only");
-      }
-      if (levels[l].contains("parallax")) {
-        if (lv.octahedral.empty()) r.fail(lw + ".parallax is for an octahedral impostor level only");
-        const json& rows = r.array(levels[l], "parallax", lw);
-        for (std::size_t k = 0; k < rows.size(); ++k) {
-          const std::string pw = lw + ".parallax[" + std::to_string(k) + "]";
-          ParallaxStep p;
-          p.from_m = r.real(rows[k], "from_m", pw, 0);
-          p.steps = int(r.uint(rows[k], "steps", pw, 64));
-          if (!lv.parallax.empty() && !(p.from_m > lv.parallax.back().from_m))
-            r.fail(pw + ".from_m must be greater than the row before's");
-          lv.parallax.push_back(p);
-        }
-      }
-      sp.levels.push_back(std::move(lv));
-    }
-    const json& st = r.at(sj, "stats", w);
-    f.stats.push_back({r.uint(st, "requested", w + ".stats", UINT64_MAX),
-                       r.uint(st, "placed", w + ".stats", UINT64_MAX),
-                       r.uint(st, "dropped", w + ".stats", UINT64_MAX)});
-    f.species.push_back(std::move(sp));
-  }
+  parse_header(r, j, f);
+  parse_species_list(r, j, f);
   const std::size_t count = r.uint(j, "instance_count", "the file", UINT32_MAX);
   const json& inst = r.at(j, "instances", "the file");
-  if (inst.is_object()) {
-    f.binary_table = true;
-    if (r.uint(inst, "record_bytes", "instances", 1u << 20) != kRecordBytes)
-      r.fail("instances.record_bytes is not " + std::to_string(kRecordBytes));
-    if (bin.size() != count * kRecordBytes)
-      r.fail(std::string(kInstancesBin) + " holds " + std::to_string(bin.size()) + " bytes, expected " +
-             std::to_string(count * kRecordBytes) + " (" + std::to_string(count) + " records)");
-    const auto* p = reinterpret_cast<const unsigned char*>(bin.data());
-    f.instances.resize(count);
-    for (std::size_t i = 0; i < count; ++i, p += kRecordBytes) {
-      Instance& in = f.instances[i];
-      in.id = get_u32(p);
-      in.species = get_u32(p + 4);
-      in.tile = get_u32(p + 8);
-      for (int k = 0; k < 3; ++k) in.position[std::size_t(k)] = get_f64(p + 12 + 8 * k);
-      in.yaw_rad = get_f64(p + 36);
-      for (int k = 0; k < 3; ++k) in.scale[std::size_t(k)] = get_f64(p + 44 + 8 * k);
-    }
-  } else {
-    if (!inst.is_array()) r.fail("instances is neither an array nor a binary table reference");
-    if (inst.size() != count)
-      r.fail("instances has " + std::to_string(inst.size()) + " entries, instance_count says " +
-             std::to_string(count));
-    f.instances.resize(count);
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::string w = "instances[" + std::to_string(i) + "]";
-      Instance& in = f.instances[i];
-      in.id = std::uint32_t(r.uint(inst[i], "id", w, UINT32_MAX));
-      in.species = std::uint32_t(r.uint(inst[i], "species", w, UINT32_MAX));
-      in.tile = std::uint32_t(r.uint(inst[i], "tile", w, UINT32_MAX));
-      in.position = r.vec3(inst[i], "position", w);
-      in.yaw_rad = r.real(inst[i], "yaw_rad", w);
-      in.scale = r.vec3(inst[i], "scale", w);
-    }
-  }
-  const json& tiles = r.array(j, "tiles", "the file");
-  for (std::size_t t = 0; t < tiles.size(); ++t) {
-    const std::string w = "tiles[" + std::to_string(t) + "]";
-    Tile tile;
-    const json& ix = r.at(tiles[t], "ix", w);
-    const json& iz = r.at(tiles[t], "iz", w);
-    if (!ix.is_number_integer() || !iz.is_number_integer()) r.fail(w + ".ix/.iz are not integers");
-    tile.ix = ix.get<int>();
-    tile.iz = iz.get<int>();
-    tile.bounds = r.box(tiles[t], "bounds", w);
-    for (const json& v : r.array(tiles[t], "instances", w)) {
-      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= count)
-        r.fail(w + ".instances has an index out of range");
-      tile.instances.push_back(v.get<std::uint32_t>());
-    }
-    f.tiles.push_back(std::move(tile));
-  }
-  const json& nodes = r.array(j, "hierarchy", "the file");
-  for (std::size_t n = 0; n < nodes.size(); ++n) {
-    const std::string w = "hierarchy[" + std::to_string(n) + "]";
-    HierarchyNode node;
-    node.bounds = r.box(nodes[n], "bounds", w);
-    node.leaf = r.boolean(nodes[n], "leaf", w);
-    const std::size_t limit = node.leaf ? count : nodes.size();
-    for (const json& v : r.array(nodes[n], "children", w)) {
-      if (!v.is_number_unsigned() || v.get<std::uint64_t>() >= limit)
-        r.fail(w + ".children has an index out of range");
-      node.children.push_back(v.get<std::uint32_t>());
-    }
-    f.hierarchy.push_back(std::move(node));
-  }
-  for (std::size_t i = 0; i < count; ++i) {
-    const Instance& in = f.instances[i];
-    const std::string w = "instance " + std::to_string(i);
-    if (in.id != i) r.fail(w + " has id " + std::to_string(in.id) + " (ids are the instances' indices)");
-    if (in.species >= f.species.size())
-      r.fail(w + " names species " + std::to_string(in.species) + ", which does not exist");
-    if (in.tile >= f.tiles.size())
-      r.fail(w + " names tile " + std::to_string(in.tile) + ", which does not exist");
-    for (double d : in.position)
-      if (!std::isfinite(d)) r.fail(w + " has a non-finite position");
-    for (double d : in.scale)
-      if (!(d > 0) || !std::isfinite(d)) r.fail(w + " has a scale that is not positive");
-    if (!std::isfinite(in.yaw_rad)) r.fail(w + " has a non-finite yaw");
-  }
+  if (inst.is_object())
+    parse_instance_table(r, inst, bin, count, f);
+  else
+    parse_instance_array(r, inst, count, f);
+  parse_tiles(r, j, count, f);
+  parse_hierarchy(r, j, count, f);
+  check_instances(r, f);
   return f;
 }
 

@@ -136,9 +136,10 @@ struct Placement {
   std::size_t offset = 0, length = 0;  // in the new .bin
 };
 
-}  // namespace
+// Every .bin range some view covers, and how it is placed; by .bin uri.
+using Ranges = std::map<std::string, std::map<Range, Placement>>;
 
-GltfFileSet meshopt_compress_files(const GltfFileSet& in, MeshoptFilesStats* stats) {
+std::map<std::string, json> parse_files(const GltfFileSet& in) {
   std::map<std::string, json> parsed;
   for (const auto& [name, text] : in.gltf) {
     try {
@@ -148,8 +149,13 @@ GltfFileSet meshopt_compress_files(const GltfFileSet& in, MeshoptFilesStats* sta
     }
     if (!parsed[name].is_object()) throw GltfError(name + ": not a glTF object");
   }
-  // Files left as they are, and the .bin files they pin (to a fixed point: a file naming a
-  // pinned .bin is left as it is too).
+  return parsed;
+}
+
+// Files left as they are (already compressed, or with a buffer that is embedded, unnamed or
+// pinned), and the .bin files they pin, to a fixed point: a file naming a pinned .bin is left as
+// it is too.
+std::set<std::string> kept_files(const std::map<std::string, json>& parsed) {
   std::set<std::string> kept, pinned;
   for (bool grew = true; grew;) {
     grew = false;
@@ -167,9 +173,13 @@ GltfFileSet meshopt_compress_files(const GltfFileSet& in, MeshoptFilesStats* sta
       grew = true;
     }
   }
+  return kept;
+}
 
-  // Every range each .bin is viewed by, and how.
-  std::map<std::string, std::map<Range, Placement>> ranges;
+// Every range each .bin is viewed by, and how; a range two files use differently is a conflict.
+Ranges view_ranges(const GltfFileSet& in, const std::map<std::string, json>& parsed,
+                   const std::set<std::string>& kept) {
+  Ranges ranges;
   std::map<std::string, std::vector<Use>> uses;
   for (const auto& [name, g] : parsed) {
     if (kept.count(name)) continue;
@@ -190,90 +200,111 @@ GltfFileSet meshopt_compress_files(const GltfFileSet& in, MeshoptFilesStats* sta
       if (!fresh && !(it->second.use == uses[name][v])) it->second.conflict = true;
     }
   }
+  return ranges;
+}
 
-  // The new .bin files: ranges in offset order, compressed or raw, 4-byte aligned.
+// The new .bin for `src`: its ranges in offset order, compressed or raw, 4-byte aligned; each
+// range's placement is filled in (overlapping ranges are conflicts and stay raw).
+std::string pack_bin(const std::string& src, std::map<Range, Placement>& placed, MeshoptFilesStats& st) {
+  std::string bin;
+  std::size_t end = 0;  // the furthest byte a range before this one reaches
+  for (auto it = placed.begin(); it != placed.end(); ++it) {
+    Placement& p = it->second;
+    const Range& r = it->first;
+    const auto next = std::next(it);
+    if (r.first < end || (next != placed.end() && next->first.first < r.first + r.second)) p.conflict = true;
+    end = std::max(end, r.first + r.second);
+    if (p.conflict) p.use = Use{};
+    while (bin.size() % 4 != 0) bin.push_back('\0');
+    p.offset = bin.size();
+    const auto* data = reinterpret_cast<const unsigned char*>(src.data()) + r.first;
+    // A view the codec would not shrink (a tile's few instances: the codec's block headers
+    // outweigh them) is stored raw.
+    std::string encoded;
+    if (p.use.mode) encoded = detail::encode_meshopt_view(data, *p.use.mode, p.use.count, p.use.stride);
+    if (p.use.mode && encoded.size() >= r.second) p.use = Use{};
+    if (p.use.mode) {
+      bin += encoded;
+      ++st.views_compressed;
+    } else {
+      bin.append(src, r.first, r.second);
+      ++st.views_raw;
+    }
+    p.length = bin.size() - p.offset;
+  }
+  while (bin.size() % 4 != 0) bin.push_back('\0');
+  return bin;
+}
+
+// File `g`'s views and buffers pointed at the new .bin files (`new_bins`): a compressed view
+// reads its range through EXT_meshopt_compression, with a fallback buffer of the old size.
+// Returns the file's new text.
+std::string repoint(json& g, const GltfFileSet& in, const Ranges& ranges,
+                    const std::map<std::string, std::string>& new_bins) {
+  json& buffers = g["buffers"];
+  const std::size_t original_buffers = buffers.size();
+  std::map<std::size_t, std::size_t> fallback;  // buffer -> its fallback buffer
+  json& views = g["bufferViews"];
+  bool any = false;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    json& view = views[v];
+    const std::size_t b = uint_of(view, "buffer");
+    const std::string uri = buffers[b].value("uri", "");
+    const Placement& p = ranges.at(uri).at(Range{uint_of(view, "byteOffset"), uint_of(view, "byteLength")});
+    if (!p.use.mode) {
+      view["byteOffset"] = p.offset;
+      continue;
+    }
+    auto [fb, fresh] = fallback.try_emplace(b, buffers.size());
+    if (fresh)
+      buffers.push_back(
+          {{"byteLength", in.bins.at(uri).size()}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
+    view["buffer"] = fb->second;
+    if (*p.use.mode == detail::MeshoptMode::kAttributes) view["byteStride"] = p.use.stride;
+    view["extensions"][kMeshopt] = {{"buffer", b},
+                                    {"byteOffset", p.offset},
+                                    {"byteLength", p.length},
+                                    {"byteStride", p.use.stride},
+                                    {"count", p.use.count},
+                                    {"mode", mode_name(*p.use.mode)}};
+    any = true;
+  }
+  for (std::size_t b = 0; b < original_buffers; ++b)
+    buffers[b]["byteLength"] = new_bins.at(buffers[b].value("uri", "")).size();
+  if (any)
+    for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+      std::vector<std::string> names = g.value(list, std::vector<std::string>{});
+      if (std::find(names.begin(), names.end(), kMeshopt) == names.end()) names.push_back(kMeshopt);
+      g[list] = names;
+    }
+  return g.dump(1) + "\n";
+}
+
+}  // namespace
+
+GltfFileSet meshopt_compress_files(const GltfFileSet& in, MeshoptFilesStats* stats) {
+  // 1. Parse every file; decide which stay as they are.
+  std::map<std::string, json> parsed = parse_files(in);
+  const std::set<std::string> kept = kept_files(parsed);
+
+  // 2. Every range each .bin is viewed by, and how.
+  Ranges ranges = view_ranges(in, parsed, kept);
+
+  // 3. The new .bin files.
   GltfFileSet out;
   out.bins = in.bins;
   MeshoptFilesStats st;
   for (auto& [uri, placed] : ranges) {
     const std::string& src = in.bins.at(uri);
-    std::string bin;
-    std::size_t end = 0;  // the furthest byte a range before this one reaches
-    for (auto it = placed.begin(); it != placed.end(); ++it) {
-      Placement& p = it->second;
-      const Range& r = it->first;
-      const auto next = std::next(it);
-      if (r.first < end || (next != placed.end() && next->first.first < r.first + r.second))
-        p.conflict = true;
-      end = std::max(end, r.first + r.second);
-      if (p.conflict) p.use = Use{};
-      while (bin.size() % 4 != 0) bin.push_back('\0');
-      p.offset = bin.size();
-      const auto* data = reinterpret_cast<const unsigned char*>(src.data()) + r.first;
-      // A view the codec would not shrink (a tile's few instances: the codec's block headers
-      // outweigh them) is stored raw.
-      std::string encoded;
-      if (p.use.mode) encoded = detail::encode_meshopt_view(data, *p.use.mode, p.use.count, p.use.stride);
-      if (p.use.mode && encoded.size() >= r.second) p.use = Use{};
-      if (p.use.mode) {
-        bin += encoded;
-        ++st.views_compressed;
-      } else {
-        bin.append(src, r.first, r.second);
-        ++st.views_raw;
-      }
-      p.length = bin.size() - p.offset;
-    }
-    while (bin.size() % 4 != 0) bin.push_back('\0');
+    std::string bin = pack_bin(src, placed, st);
     st.bin_bytes_before += src.size();
     st.bin_bytes_after += bin.size();
     out.bins[uri] = std::move(bin);
   }
 
-  // Each file's views and buffers pointed at the new .bin files.
-  for (auto& [name, g] : parsed) {
-    if (kept.count(name)) {
-      out.gltf[name] = in.gltf.at(name);
-      continue;
-    }
-    json& buffers = g["buffers"];
-    const std::size_t original_buffers = buffers.size();
-    std::map<std::size_t, std::size_t> fallback;  // buffer -> its fallback buffer
-    json& views = g["bufferViews"];
-    bool any = false;
-    for (std::size_t v = 0; v < views.size(); ++v) {
-      json& view = views[v];
-      const std::size_t b = uint_of(view, "buffer");
-      const std::string uri = buffers[b].value("uri", "");
-      const Placement& p = ranges.at(uri).at(Range{uint_of(view, "byteOffset"), uint_of(view, "byteLength")});
-      if (!p.use.mode) {
-        view["byteOffset"] = p.offset;
-        continue;
-      }
-      auto [fb, fresh] = fallback.try_emplace(b, buffers.size());
-      if (fresh)
-        buffers.push_back(
-            {{"byteLength", in.bins.at(uri).size()}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
-      view["buffer"] = fb->second;
-      if (*p.use.mode == detail::MeshoptMode::kAttributes) view["byteStride"] = p.use.stride;
-      view["extensions"][kMeshopt] = {{"buffer", b},
-                                      {"byteOffset", p.offset},
-                                      {"byteLength", p.length},
-                                      {"byteStride", p.use.stride},
-                                      {"count", p.use.count},
-                                      {"mode", mode_name(*p.use.mode)}};
-      any = true;
-    }
-    for (std::size_t b = 0; b < original_buffers; ++b)
-      buffers[b]["byteLength"] = out.bins.at(buffers[b].value("uri", "")).size();
-    if (any)
-      for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
-        std::vector<std::string> names = g.value(list, std::vector<std::string>{});
-        if (std::find(names.begin(), names.end(), kMeshopt) == names.end()) names.push_back(kMeshopt);
-        g[list] = names;
-      }
-    out.gltf[name] = g.dump(1) + "\n";
-  }
+  // 4. Each file's views and buffers pointed at the new .bin files.
+  for (auto& [name, g] : parsed)
+    out.gltf[name] = kept.count(name) ? in.gltf.at(name) : repoint(g, in, ranges, out.bins);
   if (stats) *stats = st;
   return out;
 }

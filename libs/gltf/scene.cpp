@@ -136,10 +136,9 @@ bool plain_file_name(const std::string& n) {
   return true;
 }
 
-}  // namespace
-
-std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) {
-  Checker c(max_errors);
+// Images: bytes, a supported mime type, and a plain file name as uri; no uri (image or buffer)
+// used twice.
+void check_images(Checker& c, const Scene& s) {
   for (std::size_t i = 0; i < s.images.size() && !c.full(); ++i) {
     const Image& im = s.images[i];
     const std::string where = "images[" + std::to_string(i) + "]";
@@ -149,19 +148,19 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
     if (!im.uri.empty() && !plain_file_name(im.uri))
       c.fail(where, "uri '" + im.uri + "' is not a plain file name (letters, digits, '.', '_', '-')");
   }
-  {
-    std::set<std::string> uris;
-    for (const Image& im : s.images)
-      if (!im.uri.empty() && !uris.insert(im.uri).second)
-        c.fail("images", "uri '" + im.uri + "' is used twice");
-    for (std::size_t b = 0; b < s.buffer_uris.size(); ++b) {
-      const std::string& u = s.buffer_uris[b];
-      if (!plain_file_name(u))
-        c.fail("buffer_uris[" + std::to_string(b) + "]", "'" + u + "' is not a plain file name");
-      if (!uris.insert(u).second)
-        c.fail("buffer_uris[" + std::to_string(b) + "]", "'" + u + "' is used twice");
-    }
+  std::set<std::string> uris;
+  for (const Image& im : s.images)
+    if (!im.uri.empty() && !uris.insert(im.uri).second)
+      c.fail("images", "uri '" + im.uri + "' is used twice");
+  for (std::size_t b = 0; b < s.buffer_uris.size(); ++b) {
+    const std::string& u = s.buffer_uris[b];
+    if (!plain_file_name(u))
+      c.fail("buffer_uris[" + std::to_string(b) + "]", "'" + u + "' is not a plain file name");
+    if (!uris.insert(u).second) c.fail("buffer_uris[" + std::to_string(b) + "]", "'" + u + "' is used twice");
   }
+}
+
+void check_materials(Checker& c, const Scene& s) {
   for (std::size_t i = 0; i < s.materials.size() && !c.full(); ++i) {
     const Material& m = s.materials[i];
     const std::string where = "materials[" + std::to_string(i) + "]";
@@ -175,6 +174,9 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
         c.fail(where, "texture image " + std::to_string(t) + " does not exist");
     if (!m.extras.is_null() && !m.extras.is_object()) c.fail(where, "extras must be a JSON object");
   }
+}
+
+void check_meshes(Checker& c, const Scene& s) {
   for (std::size_t i = 0; i < s.meshes.size() && !c.full(); ++i) {
     const Mesh& m = s.meshes[i];
     const std::string where = "meshes[" + std::to_string(i) + "]";
@@ -185,66 +187,72 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
       check_primitive(c, s, m.primitives[j], where + ".primitives[" + std::to_string(j) + "]");
     if (!m.extras.is_null() && !m.extras.is_object()) c.fail(where, "extras must be a JSON object");
   }
-  // Nodes: indices in range, every node has at most one parent, no cycles.
-  const int node_count = static_cast<int>(s.nodes.size());
-  std::vector<int> parents(s.nodes.size(), 0);
-  for (int i = 0; i < node_count && !c.full(); ++i) {
-    const Node& n = s.nodes[static_cast<std::size_t>(i)];
-    const std::string where = "nodes[" + std::to_string(i) + "]";
-    if (n.mesh < -1 || n.mesh >= static_cast<int>(s.meshes.size()))
-      c.fail(where, "mesh " + std::to_string(n.mesh) + " does not exist");
-    for (int ch : n.children) {
-      if (ch < 0 || ch >= node_count || ch == i) {
-        c.fail(where, "child " + std::to_string(ch) + " is not another node");
-      } else {
-        ++parents[static_cast<std::size_t>(ch)];
-      }
+}
+
+// A node's instances: a mesh to instance, arrays of whole finite values that agree on the
+// instance count, unit rotations.
+void check_instances(Checker& c, const Node& n, const std::string& where) {
+  const Instances& in = n.instances;
+  if (n.mesh < 0) c.fail(where, "instances need a mesh");
+  std::size_t count = 0;
+  auto per_instance = [&](const std::vector<float>& v, std::size_t comps, const char* name) {
+    if (v.empty()) return;
+    if (v.size() % comps != 0 || !all_finite(v)) {
+      c.fail(where, std::string("instance ") + name + " must hold " + std::to_string(comps) +
+                        " finite values per instance");
+      return;
     }
-    const auto& q = n.rotation;
-    const double qlen = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (std::abs(qlen - 1.0) > kUnitTolerance) c.fail(where, "rotation is not a unit quaternion");
-    for (double x : n.translation)
-      if (!std::isfinite(x)) c.fail(where, "translation is not finite");
-    for (double x : n.scale)
-      if (!std::isfinite(x)) c.fail(where, "scale is not finite");
-    const Instances& in = n.instances;
-    if (!in.empty()) {
-      if (n.mesh < 0) c.fail(where, "instances need a mesh");
-      std::size_t count = 0;
-      auto per_instance = [&](const std::vector<float>& v, std::size_t comps, const char* name) {
-        if (v.empty()) return;
-        if (v.size() % comps != 0 || !all_finite(v)) {
-          c.fail(where, std::string("instance ") + name + " must hold " + std::to_string(comps) +
-                            " finite values per instance");
-          return;
-        }
-        const std::size_t k = v.size() / comps;
-        if (count != 0 && k != count) c.fail(where, "instance arrays disagree on the instance count");
-        count = k;
-      };
-      per_instance(in.translations, 3, "translations");
-      per_instance(in.rotations, 4, "rotations");
-      per_instance(in.scales, 3, "scales");
-      for (std::size_t k = 0; k + 3 < in.rotations.size(); k += 4) {
-        const double l = std::sqrt(double(in.rotations[k]) * in.rotations[k] +
-                                   double(in.rotations[k + 1]) * in.rotations[k + 1] +
-                                   double(in.rotations[k + 2]) * in.rotations[k + 2] +
-                                   double(in.rotations[k + 3]) * in.rotations[k + 3]);
-        if (std::abs(l - 1.0) > kUnitTolerance) {
-          c.fail(where, "instance rotation " + std::to_string(k / 4) + " is not a unit quaternion");
-          break;
-        }
-      }
+    const std::size_t k = v.size() / comps;
+    if (count != 0 && k != count) c.fail(where, "instance arrays disagree on the instance count");
+    count = k;
+  };
+  per_instance(in.translations, 3, "translations");
+  per_instance(in.rotations, 4, "rotations");
+  per_instance(in.scales, 3, "scales");
+  for (std::size_t k = 0; k + 3 < in.rotations.size(); k += 4) {
+    const double l = std::sqrt(double(in.rotations[k]) * in.rotations[k] +
+                               double(in.rotations[k + 1]) * in.rotations[k + 1] +
+                               double(in.rotations[k + 2]) * in.rotations[k + 2] +
+                               double(in.rotations[k + 3]) * in.rotations[k + 3]);
+    if (std::abs(l - 1.0) > kUnitTolerance) {
+      c.fail(where, "instance rotation " + std::to_string(k / 4) + " is not a unit quaternion");
+      break;
     }
-    if (!n.extras.is_null() && !n.extras.is_object()) c.fail(where, "extras must be a JSON object");
-    if (!n.extensions.is_null() && !n.extensions.is_object())
-      c.fail(where, "extensions must be a JSON object");
-    if (n.extensions.is_object() && n.extensions.contains("EXT_mesh_gpu_instancing"))
-      c.fail(where, "EXT_mesh_gpu_instancing is written from `instances`, not `extensions`");
   }
-  for (int i = 0; i < node_count; ++i)
-    if (parents[static_cast<std::size_t>(i)] > 1)
-      c.fail("nodes[" + std::to_string(i) + "]", "has more than one parent");
+}
+
+// Node i: its mesh exists, its children are other nodes (counted into `parents`), its
+// transform is finite with a unit rotation, its instances and JSON members are well formed.
+void check_node(Checker& c, const Scene& s, int i, std::vector<int>& parents) {
+  const int node_count = static_cast<int>(s.nodes.size());
+  const Node& n = s.nodes[static_cast<std::size_t>(i)];
+  const std::string where = "nodes[" + std::to_string(i) + "]";
+  if (n.mesh < -1 || n.mesh >= static_cast<int>(s.meshes.size()))
+    c.fail(where, "mesh " + std::to_string(n.mesh) + " does not exist");
+  for (int ch : n.children) {
+    if (ch < 0 || ch >= node_count || ch == i) {
+      c.fail(where, "child " + std::to_string(ch) + " is not another node");
+    } else {
+      ++parents[static_cast<std::size_t>(ch)];
+    }
+  }
+  const auto& q = n.rotation;
+  const double qlen = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (std::abs(qlen - 1.0) > kUnitTolerance) c.fail(where, "rotation is not a unit quaternion");
+  for (double x : n.translation)
+    if (!std::isfinite(x)) c.fail(where, "translation is not finite");
+  for (double x : n.scale)
+    if (!std::isfinite(x)) c.fail(where, "scale is not finite");
+  if (!n.instances.empty()) check_instances(c, n, where);
+  if (!n.extras.is_null() && !n.extras.is_object()) c.fail(where, "extras must be a JSON object");
+  if (!n.extensions.is_null() && !n.extensions.is_object()) c.fail(where, "extensions must be a JSON object");
+  if (n.extensions.is_object() && n.extensions.contains("EXT_mesh_gpu_instancing"))
+    c.fail(where, "EXT_mesh_gpu_instancing is written from `instances`, not `extensions`");
+}
+
+// Roots exist, have no parent and are listed once.
+void check_roots(Checker& c, const Scene& s, const std::vector<int>& parents) {
+  const int node_count = static_cast<int>(s.nodes.size());
   std::vector<char> is_root(s.nodes.size(), 0);
   for (int r : s.roots) {
     if (r < 0 || r >= node_count) {
@@ -255,26 +263,46 @@ std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) 
       c.fail("roots", "node " + std::to_string(r) + " is listed twice");
     }
   }
-  // Cycles: with at most one parent each, a node is on a cycle iff no walk down from a
-  // parent-less node reaches it.
-  {
-    std::vector<char> reached(s.nodes.size(), 0);
-    std::vector<int> stack;
-    for (int i = 0; i < node_count; ++i)
-      if (parents[static_cast<std::size_t>(i)] == 0) stack.push_back(i);
-    while (!stack.empty()) {
-      const int i = stack.back();
-      stack.pop_back();
-      if (reached[static_cast<std::size_t>(i)]++) continue;
-      for (int ch : s.nodes[static_cast<std::size_t>(i)].children)
-        if (ch >= 0 && ch < node_count) stack.push_back(ch);
-    }
-    for (int i = 0; i < node_count; ++i)
-      if (!reached[static_cast<std::size_t>(i)]) {
-        c.fail("nodes[" + std::to_string(i) + "]", "is part of a cycle");
-        break;
-      }
+}
+
+// Cycles: with at most one parent each, a node is on a cycle iff no walk down from a
+// parent-less node reaches it. Reports the first such node.
+void check_cycles(Checker& c, const Scene& s, const std::vector<int>& parents) {
+  const int node_count = static_cast<int>(s.nodes.size());
+  std::vector<char> reached(s.nodes.size(), 0);
+  std::vector<int> stack;
+  for (int i = 0; i < node_count; ++i)
+    if (parents[static_cast<std::size_t>(i)] == 0) stack.push_back(i);
+  while (!stack.empty()) {
+    const int i = stack.back();
+    stack.pop_back();
+    if (reached[static_cast<std::size_t>(i)]++) continue;
+    for (int ch : s.nodes[static_cast<std::size_t>(i)].children)
+      if (ch >= 0 && ch < node_count) stack.push_back(ch);
   }
+  for (int i = 0; i < node_count; ++i)
+    if (!reached[static_cast<std::size_t>(i)]) {
+      c.fail("nodes[" + std::to_string(i) + "]", "is part of a cycle");
+      break;
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> validate_scene(const Scene& s, std::size_t max_errors) {
+  Checker c(max_errors);
+  check_images(c, s);
+  check_materials(c, s);
+  check_meshes(c, s);
+  // Nodes: indices in range, every node has at most one parent, no cycles.
+  const int node_count = static_cast<int>(s.nodes.size());
+  std::vector<int> parents(s.nodes.size(), 0);
+  for (int i = 0; i < node_count && !c.full(); ++i) check_node(c, s, i, parents);
+  for (int i = 0; i < node_count; ++i)
+    if (parents[static_cast<std::size_t>(i)] > 1)
+      c.fail("nodes[" + std::to_string(i) + "]", "has more than one parent");
+  check_roots(c, s, parents);
+  check_cycles(c, s, parents);
   if (!s.extras.is_null() && !s.extras.is_object()) c.fail("scene", "extras must be a JSON object");
   return c.take();
 }

@@ -77,12 +77,72 @@ std::string show(const T& v) {
     return std::to_string(v);
 }
 
-}  // namespace
+// One node line's fields, each checked on its own.
+struct NodeLine {
+  std::int64_t id = 0, parent = -1;
+  tree::Node node;
+  std::optional<std::int64_t> parent_node, level;
+  std::optional<double> parent_t;
+};
 
-tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
-  // 1. Lines -> raw branches, in order of first appearance.
+NodeLine parse_node_line(const LineParser& p, const std::vector<std::string_view>& fields) {
+  NodeLine l;
+  l.id = p.integer(0, 0);
+  l.parent = p.integer(1, -1);
+  if (l.parent == l.id) p.fail(1, "branch " + std::to_string(l.id) + " is its own parent");
+  l.node = tree::Node{{p.real(2), p.real(3), p.real(4)}, p.real(5)};
+  if (l.node.radius < 0) p.fail(5, "radius must be >= 0, got " + text::format_real(l.node.radius));
+  if (l.node.radius > kMaxRadiusM)
+    p.fail(5, "radius " + text::format_real(l.node.radius) + " m is larger than " +
+                  std::to_string(static_cast<long long>(kMaxRadiusM)) + " m");
+  for (std::size_t f = 2; f <= 4; ++f)
+    if (std::fabs(p.real(f)) > kMaxCoordinateM)
+      p.fail(f, "coordinate " + text::format_real(p.real(f)) + " m is farther than " +
+                    std::to_string(static_cast<long long>(kMaxCoordinateM)) + " m from the origin");
+  if (fields.size() > 6) l.parent_node = p.integer(6, 0);
+  if (fields.size() > 7) {
+    l.parent_t = p.real(7);
+    if (!(*l.parent_t >= 0 && *l.parent_t <= 1))
+      p.fail(7, "must be in [0, 1], got " + text::format_real(*l.parent_t));
+  }
+  if (fields.size() > 8) l.level = p.integer(8, 0);
+  if (l.parent < 0 && fields.size() > 6) p.fail(6, "a root branch (parent -1) has no attachment fields");
+  return l;
+}
+
+// A further line of branch `b`: it must follow the branch's earlier lines, name the same parent
+// and repeat attachment fields only with the first line's values.
+void check_continuation(const LineParser& p, const NodeLine& l, const RawBranch& b, bool consecutive,
+                        std::string_view source, int ln) {
+  if (!consecutive)
+    throw ImportError(source, ln,
+                      "branch " + std::to_string(l.id) +
+                          " continues here after other branches; "
+                          "a branch's lines must be consecutive (it started on line " +
+                          std::to_string(b.first_line) + ")");
+  const std::string first = "the branch's first line (line " + std::to_string(b.first_line) + ")";
+  if (l.parent != b.parent)
+    p.fail(1,
+           "parent " + std::to_string(l.parent) + " here but " + std::to_string(b.parent) + " on " + first);
+  auto same = [&](std::size_t f, const auto& here, const auto& there) {
+    if (!here) return;
+    if (!there) p.fail(f, "attachment fields go on " + first);
+    if (*here != *there) p.fail(f, show(*here) + " here but " + show(*there) + " on " + first);
+  };
+  same(6, l.parent_node, b.parent_node);
+  same(7, l.parent_t, b.parent_t);
+  same(8, l.level, b.level);
+}
+
+// The file's branches in order of first appearance, and where each id sits among them.
+struct RawSkeleton {
   std::vector<RawBranch> raw;
   std::unordered_map<std::int64_t, std::size_t> by_id;
+};
+
+// Phase 1: lines -> raw branches, every field checked.
+RawSkeleton read_branches(std::string_view text, std::string_view source) {
+  RawSkeleton sk;
   text::LineReader reader(text);
   std::string_view line;
   std::vector<std::string_view> fields;
@@ -99,78 +159,65 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
                         "[parent_t [level]]]), got " +
                             std::to_string(fields.size()));
     const LineParser p(source, ln, fields);
-    const std::int64_t id = p.integer(0, 0);
-    const std::int64_t parent = p.integer(1, -1);
-    if (parent == id) p.fail(1, "branch " + std::to_string(id) + " is its own parent");
-    tree::Node node{{p.real(2), p.real(3), p.real(4)}, p.real(5)};
-    if (node.radius < 0) p.fail(5, "radius must be >= 0, got " + text::format_real(node.radius));
-    if (node.radius > kMaxRadiusM)
-      p.fail(5, "radius " + text::format_real(node.radius) + " m is larger than " +
-                    std::to_string(static_cast<long long>(kMaxRadiusM)) + " m");
-    for (std::size_t f = 2; f <= 4; ++f)
-      if (std::fabs(p.real(f)) > kMaxCoordinateM)
-        p.fail(f, "coordinate " + text::format_real(p.real(f)) + " m is farther than " +
-                      std::to_string(static_cast<long long>(kMaxCoordinateM)) + " m from the origin");
-    std::optional<std::int64_t> parent_node, level;
-    std::optional<double> parent_t;
-    if (fields.size() > 6) parent_node = p.integer(6, 0);
-    if (fields.size() > 7) {
-      parent_t = p.real(7);
-      if (!(*parent_t >= 0 && *parent_t <= 1))
-        p.fail(7, "must be in [0, 1], got " + text::format_real(*parent_t));
-    }
-    if (fields.size() > 8) level = p.integer(8, 0);
-    if (parent < 0 && fields.size() > 6) p.fail(6, "a root branch (parent -1) has no attachment fields");
-
-    const auto [it, inserted] = by_id.emplace(id, raw.size());
+    const NodeLine l = parse_node_line(p, fields);
+    const auto [it, inserted] = sk.by_id.emplace(l.id, sk.raw.size());
     if (inserted) {
       RawBranch b;
-      b.id = id;
-      b.parent = parent;
+      b.id = l.id;
+      b.parent = l.parent;
       b.first_line = ln;
-      b.parent_node = parent_node;
-      b.parent_t = parent_t;
-      b.level = level;
-      raw.push_back(std::move(b));
+      b.parent_node = l.parent_node;
+      b.parent_t = l.parent_t;
+      b.level = l.level;
+      sk.raw.push_back(std::move(b));
       current = it->second;
     } else {
-      RawBranch& b = raw[it->second];
-      if (it->second != current)
-        throw ImportError(source, ln,
-                          "branch " + std::to_string(id) +
-                              " continues here after other branches; "
-                              "a branch's lines must be consecutive (it started on line " +
-                              std::to_string(b.first_line) + ")");
-      const std::string first = "the branch's first line (line " + std::to_string(b.first_line) + ")";
-      if (parent != b.parent)
-        p.fail(1,
-               "parent " + std::to_string(parent) + " here but " + std::to_string(b.parent) + " on " + first);
-      auto same = [&](std::size_t f, const auto& here, const auto& there) {
-        if (!here) return;
-        if (!there) p.fail(f, "attachment fields go on " + first);
-        if (*here != *there) p.fail(f, show(*here) + " here but " + show(*there) + " on " + first);
-      };
-      same(6, parent_node, b.parent_node);
-      same(7, parent_t, b.parent_t);
-      same(8, level, b.level);
+      check_continuation(p, l, sk.raw[it->second], it->second == current, source, ln);
     }
-    raw[current].nodes.push_back(node);
+    sk.raw[current].nodes.push_back(l.node);
   }
-  if (raw.empty())
+  if (sk.raw.empty())
     throw ImportError(source, std::max(1, reader.line_number()), "empty skeleton: no node lines");
+  return sk;
+}
 
-  // 2. Checks per branch, then a stable parents-first order (Kahn, smallest appearance first).
+// Climbs parents from the first branch `order` leaves out until one repeats: it lies on a cycle,
+// which is reported from its smallest branch.
+[[noreturn]] void throw_parent_cycle(const RawSkeleton& sk, const std::vector<std::size_t>& order,
+                                     std::string_view source) {
+  const std::vector<RawBranch>& raw = sk.raw;
   const std::size_t n = raw.size();
+  std::vector<char> placed(n, 0), seen(n, 0);
+  for (const std::size_t i : order) placed[i] = 1;
+  std::size_t c = static_cast<std::size_t>(std::find(placed.begin(), placed.end(), 0) - placed.begin());
+  while (!seen[c]) {
+    seen[c] = 1;
+    c = sk.by_id.at(raw[c].parent);
+  }
+  std::vector<std::size_t> cycle{c};
+  for (std::size_t p = sk.by_id.at(raw[c].parent); p != c; p = sk.by_id.at(raw[p].parent)) cycle.push_back(p);
+  std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end()), cycle.end());
+  std::string path;
+  for (const std::size_t m : cycle) path += std::to_string(raw[m].id) + " -> ";
+  path += std::to_string(raw[cycle.front()].id);
+  throw ImportError(
+      source, raw[cycle.front()].first_line,
+      "field 2 (parent): branch " + std::to_string(raw[cycle.front()].id) + " is in a parent cycle: " + path);
+}
+
+// Phase 2: checks per branch, then a stable parents-first order (Kahn, smallest appearance first).
+std::vector<std::size_t> parents_first(const RawSkeleton& sk, std::string_view source) {
+  const std::size_t n = sk.raw.size();
   std::vector<std::vector<std::size_t>> kids(n);
   std::vector<int> pending(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const RawBranch& b = raw[i];
+    const RawBranch& b = sk.raw[i];
     if (b.nodes.size() < 2)
       throw ImportError(source, b.first_line,
                         "branch " + std::to_string(b.id) + " has 1 node; a branch needs at least 2");
     if (b.parent < 0) continue;
-    const auto it = by_id.find(b.parent);
-    if (it == by_id.end())
+    const auto it = sk.by_id.find(b.parent);
+    if (it == sk.by_id.end())
       throw ImportError(
           source, b.first_line,
           "field 2 (parent): parent branch " + std::to_string(b.parent) + " is not in this file");
@@ -189,63 +236,60 @@ tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
     for (const std::size_t k : kids[i])
       if (--pending[k] == 0) ready.push(k);
   }
-  if (order.size() < n) {
-    // Climb parents from the first unordered branch until one repeats: it lies on a cycle.
-    std::vector<char> placed(n, 0), seen(n, 0);
-    for (const std::size_t i : order) placed[i] = 1;
-    std::size_t c = static_cast<std::size_t>(std::find(placed.begin(), placed.end(), 0) - placed.begin());
-    while (!seen[c]) {
-      seen[c] = 1;
-      c = by_id.at(raw[c].parent);
+  if (order.size() < n) throw_parent_cycle(sk, order, source);
+  return order;
+}
+
+// Phase 3 for a child: where it hangs on `parent` (the given fields, else the defaults), checked.
+void attach(const RawBranch& r, const tree::Branch& parent, tree::Branch& b, std::string_view source) {
+  auto fail = [&](std::size_t f, const std::string& message) {
+    throw ImportError(source, r.first_line,
+                      "field " + std::to_string(f + 1) + " (" + kFieldNames[f] + "): " + message);
+  };
+  if (r.parent_node) {
+    if (static_cast<std::size_t>(*r.parent_node) >= parent.nodes.size())
+      fail(6, "node " + std::to_string(*r.parent_node) + " is out of range (parent branch " +
+                  std::to_string(r.parent) + " has " + std::to_string(parent.nodes.size()) + " nodes)");
+    b.parent_node = static_cast<std::uint32_t>(*r.parent_node);
+  } else {
+    double best = 0;
+    for (std::size_t k = 0; k < parent.nodes.size(); ++k) {
+      const tree::Vec3 d = parent.nodes[k].position - r.nodes.front().position;
+      if (k == 0 || tree::dot(d, d) < best) {
+        best = tree::dot(d, d);
+        b.parent_node = static_cast<std::uint32_t>(k);
+      }
     }
-    std::vector<std::size_t> cycle{c};
-    for (std::size_t p = by_id.at(raw[c].parent); p != c; p = by_id.at(raw[p].parent)) cycle.push_back(p);
-    std::rotate(cycle.begin(), std::min_element(cycle.begin(), cycle.end()), cycle.end());
-    std::string path;
-    for (const std::size_t m : cycle) path += std::to_string(raw[m].id) + " -> ";
-    path += std::to_string(raw[cycle.front()].id);
-    throw ImportError(source, raw[cycle.front()].first_line,
-                      "field 2 (parent): branch " + std::to_string(raw[cycle.front()].id) +
-                          " is in a parent cycle: " + path);
   }
+  b.parent_t = r.parent_t.value_or(0.0);
+  if (b.parent_t != 0 && b.parent_node + 1 >= parent.nodes.size())
+    fail(7, "must be 0 at the parent's last node (node " + std::to_string(b.parent_node) + ")");
+  const std::int64_t level = r.level.value_or(parent.level + 1);
+  if (level != parent.level && level != parent.level + 1)
+    fail(8, "level " + std::to_string(level) + " must be the parent's level (" +
+                std::to_string(parent.level) + ") or one more");
+  b.level = static_cast<std::uint32_t>(level);
+}
+
+}  // namespace
+
+tree::Tree parse_skeleton_text(std::string_view text, std::string_view source) {
+  // 1. Lines -> raw branches, in order of first appearance.
+  RawSkeleton sk = read_branches(text, source);
+
+  // 2. Checks per branch, then a stable parents-first order.
+  const std::vector<std::size_t> order = parents_first(sk, source);
 
   // 3. Build, parents first.
   tree::Tree result;
   result.name = "text skeleton";
-  std::vector<std::int32_t> index_of(n, -1);
+  std::vector<std::int32_t> index_of(sk.raw.size(), -1);
   for (const std::size_t i : order) {
-    RawBranch& r = raw[i];
+    RawBranch& r = sk.raw[i];
     tree::Branch b;
     if (r.parent >= 0) {
-      b.parent = index_of[by_id.at(r.parent)];
-      const tree::Branch& parent = result.branches[static_cast<std::size_t>(b.parent)];
-      auto fail = [&](std::size_t f, const std::string& message) {
-        throw ImportError(source, r.first_line,
-                          "field " + std::to_string(f + 1) + " (" + kFieldNames[f] + "): " + message);
-      };
-      if (r.parent_node) {
-        if (static_cast<std::size_t>(*r.parent_node) >= parent.nodes.size())
-          fail(6, "node " + std::to_string(*r.parent_node) + " is out of range (parent branch " +
-                      std::to_string(r.parent) + " has " + std::to_string(parent.nodes.size()) + " nodes)");
-        b.parent_node = static_cast<std::uint32_t>(*r.parent_node);
-      } else {
-        double best = 0;
-        for (std::size_t k = 0; k < parent.nodes.size(); ++k) {
-          const tree::Vec3 d = parent.nodes[k].position - r.nodes.front().position;
-          if (k == 0 || tree::dot(d, d) < best) {
-            best = tree::dot(d, d);
-            b.parent_node = static_cast<std::uint32_t>(k);
-          }
-        }
-      }
-      b.parent_t = r.parent_t.value_or(0.0);
-      if (b.parent_t != 0 && b.parent_node + 1 >= parent.nodes.size())
-        fail(7, "must be 0 at the parent's last node (node " + std::to_string(b.parent_node) + ")");
-      const std::int64_t level = r.level.value_or(parent.level + 1);
-      if (level != parent.level && level != parent.level + 1)
-        fail(8, "level " + std::to_string(level) + " must be the parent's level (" +
-                    std::to_string(parent.level) + ") or one more");
-      b.level = static_cast<std::uint32_t>(level);
+      b.parent = index_of[sk.by_id.at(r.parent)];
+      attach(r, result.branches[static_cast<std::size_t>(b.parent)], b, source);
     }
     b.nodes = std::move(r.nodes);
     index_of[i] = static_cast<std::int32_t>(result.branches.size());

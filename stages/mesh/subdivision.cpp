@@ -91,103 +91,143 @@ std::vector<std::uint32_t> opposite_halfedges(const QuadMesh& in) {
 
 namespace {
 
-// One native Catmull–Clark step. `opp` holds the input's opposite half-edges and is replaced by
-// the output's, derived from the refinement itself (no search), so the next level is cheaper.
-QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
-  const std::size_t nv = in.positions.size();
-  const std::size_t nf = in.quads.size();
-  const std::size_t nh = 4 * nf;
-  constexpr std::uint32_t kNone = detail::kNoHalfedge;
-  auto from = [&](std::size_t h) { return in.quads[h / 4][h % 4]; };
-  auto to = [&](std::size_t h) { return in.quads[h / 4][(h + 1) % 4]; };
+// Half-edge h of quad h / 4 runs from corner h % 4 to the next corner.
+std::uint32_t from(const QuadMesh& in, std::size_t h) { return in.quads[h / 4][h % 4]; }
+std::uint32_t to(const QuadMesh& in, std::size_t h) { return in.quads[h / 4][(h + 1) % 4]; }
 
-  // Edge numbering: an edge takes the number of its first half-edge in (face, corner) order.
-  std::vector<std::uint32_t> edge(nh);
-  std::vector<std::uint32_t> edge_half;  // a half-edge of every edge
-  edge_half.reserve(nh / 2 + 16);
+// Creases (Hoppe et al. 1994's sharp edges, as OpenSubdiv's infinitely sharp crease): an edge
+// between two crease vertices is subdivided as a boundary — edge point at its midpoint, a crease
+// vertex with two crease edges by the cubic B-spline curve rule.
+bool creased(const QuadMesh& in) { return in.crease.size() == in.positions.size(); }
+bool is_crease(const QuadMesh& in, std::size_t h) {
+  return creased(in) && in.crease[from(in, h)] && in.crease[to(in, h)];
+}
+
+// Edge numbering: an edge takes the number of its first half-edge in (face, corner) order.
+struct Edges {
+  std::vector<std::uint32_t> of_half;  // half-edge -> edge
+  std::vector<std::uint32_t> half;     // edge -> a half-edge of it
+};
+
+Edges number_edges(std::size_t nh, const std::vector<std::uint32_t>& opp) {
+  Edges edges;
+  edges.of_half.resize(nh);
+  edges.half.reserve(nh / 2 + 16);
   for (std::size_t h = 0; h < nh; ++h) {
-    if (opp[h] == kNone || opp[h] > h) {
-      edge[h] = static_cast<std::uint32_t>(edge_half.size());
-      edge_half.push_back(static_cast<std::uint32_t>(h));
+    if (opp[h] == detail::kNoHalfedge || opp[h] > h) {
+      edges.of_half[h] = static_cast<std::uint32_t>(edges.half.size());
+      edges.half.push_back(static_cast<std::uint32_t>(h));
     } else {
-      edge[h] = edge[opp[h]];
+      edges.of_half[h] = edges.of_half[opp[h]];
     }
   }
-  const std::size_t ne = edge_half.size();
+  return edges;
+}
 
-  QuadMesh outm;
-  outm.positions.resize(nv + ne + nf);
-  Vec3* vp = outm.positions.data();
-  Vec3* ep = vp + nv;
-  Vec3* fp = ep + ne;
+// Face points (the quad's centroid) into fp, then edge points into ep.
+void face_and_edge_points(const QuadMesh& in, const std::vector<std::uint32_t>& opp, const Edges& edges,
+                          Vec3* fp, Vec3* ep) {
+  constexpr std::uint32_t kNone = detail::kNoHalfedge;
   const auto& P = in.positions;
-  parallel_for(nf, [&](std::size_t f) {
+  parallel_for(in.quads.size(), [&](std::size_t f) {
     const Quad& q = in.quads[f];
     fp[f] = (P[q[0]] + P[q[1]] + P[q[2]] + P[q[3]]) * 0.25;
   });
-  // Creases (Hoppe et al. 1994's sharp edges, as OpenSubdiv's infinitely sharp crease): an edge
-  // between two crease vertices is subdivided as a boundary — edge point at its midpoint, a crease
-  // vertex with two crease edges by the cubic B-spline curve rule.
-  const bool creased = in.crease.size() == nv;
-  auto is_crease = [&](std::size_t h) { return creased && in.crease[from(h)] && in.crease[to(h)]; };
-  parallel_for(ne, [&](std::size_t e) {
-    const std::uint32_t h = edge_half[e];
-    const Vec3 s = P[from(h)] + P[to(h)];
-    ep[e] = opp[h] == kNone || is_crease(h) ? s * 0.5 : (s + fp[h / 4] + fp[opp[h] / 4]) * 0.25;
+  parallel_for(edges.half.size(), [&](std::size_t e) {
+    const std::uint32_t h = edges.half[e];
+    const Vec3 s = P[from(in, h)] + P[to(in, h)];
+    ep[e] = opp[h] == kNone || is_crease(in, h) ? s * 0.5 : (s + fp[h / 4] + fp[opp[h] / 4]) * 0.25;
   });
-  // Vertex points. Every outgoing half-edge of a vertex belongs to one of its quads and leads to
-  // one of its neighbours, so one pass over the half-edges sums both (in half-edge order).
-  // A half-edge without opposite runs along the boundary.
-  std::vector<Vec3> fsum(nv, Vec3{}), nsum(nv, Vec3{});
-  std::vector<std::uint32_t> valence(nv, 0);
-  std::vector<std::uint32_t> bnd_next(nv, kNone), bnd_prev(nv, kNone);
-  std::vector<std::uint8_t> bnd_count(nv, 0);
+}
+
+// What the vertex rule needs of each vertex's one-ring.
+struct VertexRings {
+  std::vector<Vec3> fsum, nsum;  // sums of the adjacent face points and of the neighbours
+  std::vector<std::uint32_t> valence;
+  std::vector<std::uint32_t> bnd_next, bnd_prev;  // neighbours along the boundary
+  std::vector<std::uint8_t> bnd_count;            // boundary half-edges touching the vertex
   // Crease neighbours of a crease vertex (its outgoing crease half-edges lead to both of them).
-  std::vector<std::array<std::uint32_t, 2>> crease_nb(creased ? nv : 0, {kNone, kNone});
-  std::vector<std::uint8_t> crease_count(creased ? nv : 0, 0);
+  std::vector<std::array<std::uint32_t, 2>> crease_nb;
+  std::vector<std::uint8_t> crease_count;
+};
+
+// Every outgoing half-edge of a vertex belongs to one of its quads and leads to one of its
+// neighbours, so one pass over the half-edges sums both (in half-edge order). A half-edge without
+// opposite runs along the boundary.
+VertexRings vertex_rings(const QuadMesh& in, const std::vector<std::uint32_t>& opp, const Vec3* fp) {
+  constexpr std::uint32_t kNone = detail::kNoHalfedge;
+  const std::size_t nv = in.positions.size();
+  const std::size_t nh = 4 * in.quads.size();
+  const bool has_creases = creased(in);
+  VertexRings r;
+  r.fsum.assign(nv, Vec3{});
+  r.nsum.assign(nv, Vec3{});
+  r.valence.assign(nv, 0);
+  r.bnd_next.assign(nv, kNone);
+  r.bnd_prev.assign(nv, kNone);
+  r.bnd_count.assign(nv, 0);
+  r.crease_nb.assign(has_creases ? nv : 0, {kNone, kNone});
+  r.crease_count.assign(has_creases ? nv : 0, 0);
   for (std::size_t h = 0; h < nh; ++h) {
-    const std::uint32_t a = from(h), b = to(h);
-    fsum[a] += fp[h / 4];
-    nsum[a] += P[b];
-    ++valence[a];
+    const std::uint32_t a = from(in, h), b = to(in, h);
+    r.fsum[a] += fp[h / 4];
+    r.nsum[a] += in.positions[b];
+    ++r.valence[a];
     if (opp[h] == kNone) {
-      bnd_next[a] = b;
-      bnd_prev[b] = a;
-      ++bnd_count[a];
-      ++bnd_count[b];
+      r.bnd_next[a] = b;
+      r.bnd_prev[b] = a;
+      ++r.bnd_count[a];
+      ++r.bnd_count[b];
     }
-    if (is_crease(h) && crease_nb[a][0] != b && crease_nb[a][1] != b) {
-      if (crease_count[a] < 2) crease_nb[a][crease_count[a]] = b;
-      ++crease_count[a];
+    if (is_crease(in, h) && r.crease_nb[a][0] != b && r.crease_nb[a][1] != b) {
+      if (r.crease_count[a] < 2) r.crease_nb[a][r.crease_count[a]] = b;
+      ++r.crease_count[a];
     }
   }
-  parallel_for(nv, [&](std::size_t v) {
-    const std::uint32_t n = valence[v];
-    if (creased && in.crease[v] && crease_count[v] == 2 && bnd_count[v] == 0) {
-      vp[v] = P[v] * 0.75 + (P[crease_nb[v][0]] + P[crease_nb[v][1]]) * 0.125;
-    } else if (creased && in.crease[v] && crease_count[v] > 2) {
+  return r;
+}
+
+// Vertex points into vp: the crease curve rule, Catmull–Clark's interior rule, the boundary
+// curve rule, or the vertex kept.
+void vertex_points(const QuadMesh& in, const VertexRings& r, Vec3* vp) {
+  constexpr std::uint32_t kNone = detail::kNoHalfedge;
+  const auto& P = in.positions;
+  const bool has_creases = creased(in);
+  parallel_for(in.positions.size(), [&](std::size_t v) {
+    const std::uint32_t n = r.valence[v];
+    if (has_creases && in.crease[v] && r.crease_count[v] == 2 && r.bnd_count[v] == 0) {
+      vp[v] = P[v] * 0.75 + (P[r.crease_nb[v][0]] + P[r.crease_nb[v][1]]) * 0.125;
+    } else if (has_creases && in.crease[v] && r.crease_count[v] > 2) {
       vp[v] = P[v];  // a corner of several creases
-    } else if (bnd_count[v] == 0 && n > 0) {
+    } else if (r.bnd_count[v] == 0 && n > 0) {
       // (F + 2R + (n - 3) P) / n with R = (P + mean neighbour) / 2.
       const double dn = n;
-      vp[v] = fsum[v] / (dn * dn) + nsum[v] / (dn * dn) + P[v] * ((dn - 2) / dn);
-    } else if (bnd_count[v] == 2 && bnd_next[v] != kNone && bnd_prev[v] != kNone) {
-      vp[v] = P[v] * 0.75 + (P[bnd_next[v]] + P[bnd_prev[v]]) * 0.125;
+      vp[v] = r.fsum[v] / (dn * dn) + r.nsum[v] / (dn * dn) + P[v] * ((dn - 2) / dn);
+    } else if (r.bnd_count[v] == 2 && r.bnd_next[v] != kNone && r.bnd_prev[v] != kNone) {
+      vp[v] = P[v] * 0.75 + (P[r.bnd_next[v]] + P[r.bnd_prev[v]]) * 0.125;
     } else {
       vp[v] = P[v];  // isolated, or a corner where the boundary is not a simple curve
     }
   });
+}
 
-  // Crease flags of the next level: old crease vertices and the edge points of crease edges.
-  if (creased) {
-    outm.crease.assign(nv + ne + nf, 0);
-    for (std::size_t v = 0; v < nv; ++v) outm.crease[v] = in.crease[v];
-    for (std::size_t e = 0; e < ne; ++e) outm.crease[nv + e] = is_crease(edge_half[e]) ? 1 : 0;
-  }
+// Crease flags of the next level: old crease vertices and the edge points of crease edges.
+void next_creases(const QuadMesh& in, const Edges& edges, QuadMesh& outm) {
+  const std::size_t nv = in.positions.size(), ne = edges.half.size();
+  outm.crease.assign(nv + ne + in.quads.size(), 0);
+  for (std::size_t v = 0; v < nv; ++v) outm.crease[v] = in.crease[v];
+  for (std::size_t e = 0; e < ne; ++e) outm.crease[nv + e] = is_crease(in, edges.half[e]) ? 1 : 0;
+}
+
+// The four children of every quad, with Nystad's uvs (corner, edge midpoints, centre) and the
+// parent's kind.
+void child_quads(const QuadMesh& in, const Edges& edges, QuadMesh& outm) {
+  const std::size_t nv = in.positions.size(), ne = edges.half.size(), nf = in.quads.size();
   outm.quads.resize(4 * nf);
   outm.uvs.resize(4 * nf);
   outm.kinds.resize(in.kinds.size() == nf ? 4 * nf : 0);
   const std::uint32_t ebase = static_cast<std::uint32_t>(nv), fbase = static_cast<std::uint32_t>(nv + ne);
+  const std::vector<std::uint32_t>& edge = edges.of_half;
   parallel_for(nf, [&](std::size_t f) {
     const Quad& q = in.quads[f];
     const auto& uv = in.uvs[f];
@@ -200,11 +240,14 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
       if (!outm.kinds.empty()) outm.kinds[4 * f + i] = in.kinds[f];
     }
   });
-  // Opposites of the children's half-edges. Child c = 4 f + i has corners (q_i, E_i, F, E_i-1):
-  // half-edges 1 and 2 are inside f and pair with the neighbouring children; 0 and 3 are halves
-  // of f's edges and pair with the children of the face across.
-  if (last) return outm;  // no further level needs them
-  std::vector<std::uint32_t> child_opp(4 * outm.quads.size());
+}
+
+// Opposites of the children's half-edges. Child c = 4 f + i has corners (q_i, E_i, F, E_i-1):
+// half-edges 1 and 2 are inside f and pair with the neighbouring children; 0 and 3 are halves
+// of f's edges and pair with the children of the face across.
+std::vector<std::uint32_t> child_opposites(std::size_t nf, const std::vector<std::uint32_t>& opp) {
+  constexpr std::uint32_t kNone = detail::kNoHalfedge;
+  std::vector<std::uint32_t> child_opp(4 * 4 * nf);
   parallel_for(nf, [&](std::size_t f) {
     for (std::size_t i = 0; i < 4; ++i) {
       const std::size_t base = 4 * (4 * f + i);
@@ -217,7 +260,33 @@ QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
       child_opp[base + 3] = op == kNone ? kNone : static_cast<std::uint32_t>(4 * (4 * (op / 4) + op % 4) + 0);
     }
   });
-  opp = std::move(child_opp);
+  return child_opp;
+}
+
+// One native Catmull–Clark step. `opp` holds the input's opposite half-edges and is replaced by
+// the output's, derived from the refinement itself (no search), so the next level is cheaper.
+QuadMesh step(const QuadMesh& in, std::vector<std::uint32_t>& opp, bool last) {
+  const std::size_t nv = in.positions.size();
+  const std::size_t nf = in.quads.size();
+
+  // 1. Topology: edge numbering.
+  const Edges edges = number_edges(4 * nf, opp);
+  const std::size_t ne = edges.half.size();
+
+  // 2. Points: old vertices, then one per edge, then one per face.
+  QuadMesh outm;
+  outm.positions.resize(nv + ne + nf);
+  Vec3* vp = outm.positions.data();
+  Vec3* ep = vp + nv;
+  Vec3* fp = ep + ne;
+  face_and_edge_points(in, opp, edges, fp, ep);
+  vertex_points(in, vertex_rings(in, opp, fp), vp);
+
+  // 3. Face-varying data and topology of the next level.
+  if (creased(in)) next_creases(in, edges, outm);
+  child_quads(in, edges, outm);
+  if (last) return outm;  // no further level needs the opposites
+  opp = child_opposites(nf, opp);
   return outm;
 }
 
