@@ -18,8 +18,8 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 

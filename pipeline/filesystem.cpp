@@ -6,8 +6,6 @@
 // forever or streaming /dev/zero.
 #include "pipeline/filesystem.h"
 
-#include "libs/fileio/read_file.h"
-
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +21,8 @@
 #include <chrono>
 #include <cstring>
 #include <system_error>
+
+#include "libs/fileio/read_file.h"
 
 namespace sylva {
 

@@ -287,7 +287,8 @@ TEST_F(HardeningTest, ResultsAreWrittenOnlyAfterTheirBlobsAreDurable) {
       EXPECT_EQ(e.rfind("sync /c", 0), 0u) << "synced what this build did not write: " << e;
     }
   }
-  EXPECT_EQ(std::count(fake.events.begin(), fake.events.end(), "syncfs"), 0) << "a two-node build waited for syncfs";
+  EXPECT_EQ(std::count(fake.events.begin(), fake.events.end(), "syncfs"), 0)
+      << "a two-node build waited for syncfs";
 }
 
 // Item 14, at scale: a build whose batches hold more than kSyncEachMaxFiles files makes them
@@ -296,7 +297,8 @@ TEST_F(HardeningTest, LargeBatchesAreMadeDurableWithOneSyncPerBatch) {
   test::FakeFileSystem fake;
   std::string yaml = "version: 1\nname: r\nnodes:\n";
   for (int i = 0; i < 40; ++i)
-    yaml += "  n" + std::to_string(i) + ":\n    stage: text\n    with: { text: T" + std::to_string(i) + " }\n";
+    yaml +=
+        "  n" + std::to_string(i) + ":\n    stage: text\n    with: { text: T" + std::to_string(i) + " }\n";
   Recipe r = load(yaml, fake);
   std::vector<std::string> results;
   fake.on_write = [&](const std::string& path) {
@@ -313,7 +315,8 @@ TEST_F(HardeningTest, LargeBatchesAreMadeDurableWithOneSyncPerBatch) {
   one_at_a_time.jobs = 1;
   ASSERT_TRUE(build(r, fake, "/o", "/c", one_at_a_time).ok());
   ASSERT_EQ(results.size(), 40u);
-  for (const auto& path : results) EXPECT_TRUE(fake.durable(path)) << path << " is not durable after the build";
+  for (const auto& path : results)
+    EXPECT_TRUE(fake.durable(path)) << path << " is not durable after the build";
   // The results are made durable together at the end: 40 files, one syncfs.
   EXPECT_GE(std::count(fake.events.begin(), fake.events.end(), "syncfs"), 1);
 }
