@@ -5,10 +5,9 @@
 // Writes out/oak.glb, out/oak_front.png, out/oak_side.png, out/oak_close.png.
 #include <chrono>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "libs/fileio/read_file.h"
 #include "libs/gltf/writer.h"
 #include "libs/image/image_io.h"
 #include "libs/render/camera.h"
@@ -27,18 +26,11 @@ using namespace sylva;
 
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 std::string png_of(const generate::Rgba8& px, const std::string& path) {
   image::Image img(px.width, px.height);
   img.bytes() = px.pixels;
   image::write_png(img, path);
-  return slurp(path);
+  return fileio::read_file(path);
 }
 
 // The command line: mesh_preview preset|file PATH AGE SEED OUT_PREFIX [SUBDIVISION] [MAX_LEVEL],
@@ -199,7 +191,7 @@ int main(int argc, char** argv) {
       t = preset_tree(a, bark, leaves);
     } else {
       import::ImportOptions io;
-      t = import::import_tree(slurp(a.path), a.path, io);
+      t = import::import_tree(fileio::read_file(a.path), a.path, io);
     }
     // 2. Mesh it and write OUT.glb.
     const auto t0 = std::chrono::steady_clock::now();
