@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "libs/fileio/read_file.h"
+
 namespace sylva::clients {
 
 namespace fs = std::filesystem;
@@ -158,13 +160,6 @@ namespace {
 
 nlohmann::json vec(const render::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 }  // namespace
 
 ClientResult run_threejs(const std::vector<ClientRender>& renders, const std::vector<LodCheck>& lod_checks,
@@ -208,14 +203,14 @@ ClientResult run_threejs(const std::vector<ClientRender>& renders, const std::ve
                           result_file.string() + "' 2> '" + err_file.string() + "'";
   const int status = std::system(cmd.c_str());
   ClientResult out;
-  out.message = read_all(err_file);
+  out.message = fileio::read_file(err_file);
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
   if (code == 3 || code == 127) {
     out.unavailable = true;
     if (out.message.empty()) out.message = "node is not installed";
     return out;
   }
-  if (fs::exists(result_file)) out.result = nlohmann::json::parse(read_all(result_file));
+  if (fs::exists(result_file)) out.result = nlohmann::json::parse(fileio::read_file(result_file));
   out.ok = code == 0;
   if (!out.ok && out.message.empty()) out.message = "threejs_render.mjs exited with " + std::to_string(code);
   return out;

@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "libs/fileio/read_file.h"
 #include "libs/forest/instances.h"
 #include "libs/image/image_io.h"
 #include "libs/lodchain/lod_chain.h"
@@ -42,14 +43,6 @@ using clients::Kind;
 
 namespace {
 
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw std::runtime_error(p.string() + ": cannot read");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 void write_all(const fs::path& p, const std::string& bytes) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);
   out.write(bytes.data(), std::streamsize(bytes.size()));
@@ -57,7 +50,7 @@ void write_all(const fs::path& p, const std::string& bytes) {
 
 // The JSON of a .glb or .gltf.
 nlohmann::json gltf_json(const fs::path& p) {
-  const std::string b = read_all(p);
+  const std::string b = fileio::read_file(p);
   if (b.size() >= 20 && b.compare(0, 4, "glTF") == 0) {
     std::uint32_t len = 0;
     std::memcpy(&len, b.data() + 12, 4);
@@ -164,12 +157,12 @@ std::vector<Subject> subjects(const fs::path& out_dir) {
 // leaf triangle (leaves wound against their normals, issue 10 finding 1); "black-bark" sets the
 // bark colour to black (finding 2). Returns the copy's path or empty when `src` has no such part.
 fs::path make_control(const fs::path& src, const fs::path& dir, const std::string& defect) {
-  nlohmann::json j = nlohmann::json::parse(read_all(src));
+  nlohmann::json j = nlohmann::json::parse(fileio::read_file(src));
   fs::create_directories(dir);
   bool changed = false;
   std::vector<std::string> bins;
   for (const auto& b : j["buffers"])
-    bins.push_back(read_all(src.parent_path() / b["uri"].get<std::string>()));
+    bins.push_back(fileio::read_file(src.parent_path() / b["uri"].get<std::string>()));
   for (const auto& m : j["meshes"])
     for (const auto& p : m["primitives"]) {
       const std::string mat = j["materials"][p["material"].get<int>()]["name"];
@@ -246,7 +239,7 @@ std::vector<Load> pack_loads(const fs::path& out_dir) {
   std::sort(nodes.begin(), nodes.end());
   for (const fs::path& n : nodes)
     for (const auto& sp : pack::read_manifest(n / "manifest.json").species) {
-      const nlohmann::json lod = nlohmann::json::parse(read_all(n / sp.lod_json));
+      const nlohmann::json lod = nlohmann::json::parse(fileio::read_file(n / sp.lod_json));
       nlohmann::json all = nlohmann::json::array();
       for (const auto& l : lod["levels"])
         all.push_back({{"triangles", l["triangles"]}, {"lines", l["lines"]}});

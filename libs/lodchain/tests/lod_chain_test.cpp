@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "tests/support/test_support.h"
+
 namespace sylva::lodchain {
 namespace {
 
@@ -55,13 +57,6 @@ LodChain sample_chain() {
   return c;
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 TEST(LodChain, RoundTripsBitForBit) {
   const LodChain c = sample_chain();
   const std::string text = write_lod_chain(c);
@@ -97,7 +92,7 @@ TEST(LodChain, RealFilesOfTheDefaultRecipeParseAndRewriteByteForByte) {
   for (const char* name :
        {"libs/lodchain/tests/data/lod_oak.json", "libs/lodchain/tests/data/lod_qsm_small.json"}) {
     SCOPED_TRACE(name);
-    const std::string text = read_file(name);
+    const std::string text = test::read_file(name);
     ASSERT_FALSE(text.empty());
     const LodChain c = read_lod_chain(name);
     EXPECT_EQ(c.levels.size(), 6u);
