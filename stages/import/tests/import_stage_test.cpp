@@ -1,5 +1,6 @@
 // The adapter: parameters declared, the file read, tree.sylt written; bad input is a
-// StageError that names the file and line, with no output declared.
+// StageError that names the file and line, with no output declared. All but the real QSM run on
+// the in-memory file system: the stage reads and writes only through its context.
 #include "stages/import/import_stage.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include "libs/tree/stats.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/import/import_file.h"
+#include "tests/support/fake_filesystem.h"
 #include "tests/support/fake_stage_context.h"
 #include "tests/support/test_support.h"
 
@@ -17,10 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A StageContext over a temporary directory that records the outputs a stage declares.
+// The stage's context with its file parameter, on the real disk or (given `fsys`) on the
+// in-memory file system.
 struct FakeContext : test::FakeStageContext {
-  FakeContext(const Stage& stage, const fs::path& file, fs::path out, const Value::Object& overrides = {})
-      : FakeStageContext(stage, {}, std::move(out), overrides) {
+  FakeContext(const Stage& stage, const fs::path& file, fs::path out, const Value::Object& overrides = {},
+              FileSystem* fsys = nullptr)
+      : FakeStageContext(stage, {}, std::move(out), overrides, fsys) {
     name = "imp";
     set_file("file", file);
   }
@@ -62,35 +66,34 @@ TEST(ImportStage, WritesTreeSylt) {
 
 // Parameters reach the core: scale 1000 (as if the file were in km) and no recentring.
 TEST(ImportStage, ParametersApply) {
-  test::TempDir dir;
-  const fs::path file = dir / "t.csv";
-  test::write_file(file,
-                   "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
-                   "0,-1,1,2,3,1,2,4,0.001\n");
+  test::FakeFileSystem fake;
+  fake.put("/t/t.csv",
+           "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
+           "0,-1,1,2,3,1,2,4,0.001\n");
   const auto stage = make_import_stage();
-  FakeContext ctx(*stage, file, dir.path(), {{"scale", 1000.0}, {"recenter", false}});
+  FakeContext ctx(*stage, "/t/t.csv", "/t/out", {{"scale", 1000.0}, {"recenter", false}}, &fake);
   stage->run(ctx);
-  const tree::Tree t = tree::read_sylt(dir / "tree.sylt");
+  const tree::Tree t = tree::decode_sylt(ctx.output("tree.sylt"));
   EXPECT_EQ(t.branches[0].nodes[0].position, (tree::Vec3{1000, 3000, -2000}));
   EXPECT_DOUBLE_EQ(t.branches[0].nodes[0].radius, 1.0);
 }
 
+// The stage's error for a file of `content`, on the in-memory file system, with the file's
+// directory written "DIR".
 std::string stage_error(const std::string& content, const char* name = "bad.csv",
                         Value::Object overrides = {}) {
-  test::TempDir dir;
-  const fs::path file = dir / name;
-  test::write_file(file, content);
+  test::FakeFileSystem fake;
+  const fs::path file = fs::path("/t") / name;
+  fake.put(file.string(), content);
   const auto stage = make_import_stage();
-  FakeContext ctx(*stage, file, dir.path(), std::move(overrides));
+  FakeContext ctx(*stage, file, "/t/out", std::move(overrides), &fake);
   try {
     stage->run(ctx);
   } catch (const StageError& e) {
     EXPECT_TRUE(ctx.declared.empty()) << "an output was declared before failing";
-    EXPECT_FALSE(fs::exists(dir / "tree.sylt"));
+    EXPECT_FALSE(fake.stat("/t/out/tree.sylt"));
     const std::string msg = e.what();
-    // Replace the temporary directory by "DIR" so messages compare exactly.
-    const std::string prefix = dir.path().string();
-    return msg.rfind(prefix, 0) == 0 ? "DIR" + msg.substr(prefix.size()) : msg;
+    return msg.rfind("/t/", 0) == 0 ? "DIR" + msg.substr(2) : msg;
   }
   return "";
 }
@@ -121,15 +124,15 @@ TEST(ImportStage, BadInputFailsCleanly) {
 }
 
 TEST(ImportStage, MissingFile) {
-  test::TempDir dir;
+  test::FakeFileSystem fake;
   const auto stage = make_import_stage();
-  FakeContext ctx(*stage, dir / "nope.csv", dir.path());
+  FakeContext ctx(*stage, "/t/nope.csv", "/t/out", {}, &fake);
   try {
     stage->run(ctx);
     FAIL() << "no error";
   } catch (const StageError& e) {
-    EXPECT_EQ(std::string(e.what()), "cannot read '" + (dir / "nope.csv").string() +
-                                         "' (parameter 'file'): No such file or directory");
+    EXPECT_EQ(std::string(e.what()),
+              "cannot read '/t/nope.csv' (parameter 'file'): No such file or directory");
   }
 }
 
