@@ -75,7 +75,39 @@ class RenderCommand final : public CliCommand {
       return kExitUsage;
     }
 
-    // 2. The views: --view names, in the order given; unknown names are usage errors.
+    // 2. The views, 3. one file or a directory.
+    bool single = false;
+    if (const int rc = choose_views(ctx, set, single); rc != kExitOk) return rc;
+
+    // 4. The asset, 5. the renderer, 6. the pictures.
+    const double start = ctx.clock.now_seconds();
+    std::vector<render::RenderedView> images;
+    try {
+      const int rc = forest ? render_forest(ctx, set, start, images) : render_asset(ctx, set, images);
+      if (rc != kExitOk) return rc;
+      if (cancelled(io)) return report_interrupted(io, "sylva render");
+    } catch (const std::exception& e) {  // SceneLoadError, RenderUnavailableError, RenderError: one line each
+      print_error(io.err, e.what());
+      return kExitBuildFailed;
+    }
+
+    // 7. Write.
+    if (const int rc = write_images(ctx, images, single); rc != kExitOk) return rc;
+    const double seconds = seconds_since(ctx.clock, start);
+    const std::string aa = "MSAA " + std::to_string(set.msaa) + "x" +
+                           (set.supersample > 1 ? ", supersampled " + std::to_string(set.supersample) + "x" +
+                                                      std::to_string(set.supersample)
+                                                : std::string());
+    std::fprintf(io.err, "sylva: rendered %zu view%s of %s at %dx%d (%s) in %.2f s\n", images.size(),
+                 images.size() == 1 ? "" : "s", file_.c_str(), set.width, set.height, aa.c_str(), seconds);
+    return kExitOk;
+  }
+
+ private:
+  // The views: --view names, in the order given (unknown names are usage errors), else every
+  // view, or the first for -o FILE.png; `single`: -o names one image. Leaves them in set.views.
+  int choose_views(CommandContext& ctx, render::CameraSet& set, bool& single) const {
+    const CliIo& io = ctx.io;
     std::vector<render::CameraView> chosen;
     for (const auto& name : views_) {
       auto it =
@@ -90,10 +122,8 @@ class RenderCommand final : public CliCommand {
       if (std::none_of(chosen.begin(), chosen.end(), [&](const auto& v) { return v.name == name; }))
         chosen.push_back(*it);
     }
-
-    // 3. One file or a directory.
     const auto out_stat = ctx.fs.stat(output_);
-    const bool single = has_png_extension(output_) && !(out_stat && out_stat->is_dir);
+    single = has_png_extension(output_) && !(out_stat && out_stat->is_dir);
     if (chosen.empty()) {
       if (single)
         chosen.push_back(set.views.front());
@@ -107,70 +137,81 @@ class RenderCommand final : public CliCommand {
       return kExitUsage;
     }
     set.views = chosen;
+    return kExitOk;
+  }
 
-    // 4. The asset, 5. the renderer, 6. the pictures.
-    const double start = ctx.clock.now_seconds();
-    std::vector<render::RenderedView> images;
-    try {
-      if (forest) {
-        render::ForestView fv = render::ForestView::load(file_);
-        const double load_s = seconds_since(ctx.clock, start);
-        auto renderer = render::Renderer::create_headless();
-        const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
-        render::ForestViewOptions fo;
-        fo.pixel_error_px = pixel_error_;
-        // Every level and impostor map the views draw is uploaded before the first view (the
-        // loading step), so each view's time below is its drawing.
-        const double upload_start = ctx.clock.now_seconds();
-        fv.prepare(*renderer, cams, render::options_for(set), fo);
-        std::fprintf(io.err, "sylva: forest loaded in %.2f s, uploaded in %.2f s\n", load_s,
-                     seconds_since(ctx.clock, upload_start));
-        // One view at a time: Ctrl-C or SIGTERM stops between views, before anything is written.
-        for (std::size_t i = 0; i < cams.size(); ++i) {
-          if (cancelled(io)) return report_interrupted(io, "sylva render");
-          const double view_start = ctx.clock.now_seconds();
-          std::vector<render::ForestViewStats> stats;
-          std::vector<image::Image> imgs = fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1),
-                                                     render::options_for(set), fo, &stats);
-          std::fprintf(io.err,
-                       "sylva: view %s: %zu of %zu trees drawn (%zu as impostors), %zu primitives, %.2f s\n",
-                       cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].impostors,
-                       stats[0].primitives, seconds_since(ctx.clock, view_start));
-          // Per species: trees at each level (level index: count), impostors by parallax steps.
-          for (std::size_t s = 0; s < stats[0].species_trees.size(); ++s) {
-            std::string line;
-            for (std::size_t l = 0; l < stats[0].species_trees[s].size(); ++l)
-              if (stats[0].species_trees[s][l] > 0)
-                line += " L" + std::to_string(l) + ": " + std::to_string(stats[0].species_trees[s][l]);
-            if (!line.empty())
-              std::fprintf(io.err, "sylva:   %s:%s\n", fv.forest().species[s].name.c_str(), line.c_str());
-          }
-          if (!stats[0].impostor_steps.empty()) {
-            std::string line;
-            for (const auto& [steps, n] : stats[0].impostor_steps)
-              line += " " + std::to_string(n) + " with " + std::to_string(steps) + " steps";
-            std::fprintf(io.err, "sylva:   impostors:%s\n", line.c_str());
-          }
-          images.push_back({cams[i], std::move(imgs[0])});
-        }
-      } else {
-        const render::Scene scene = render::load_gltf_scene(file_);
-        for (const auto& w : scene.warnings) std::fprintf(io.err, "%s\n", w.c_str());
-        auto renderer = render::Renderer::create_headless();
-        for (const auto& view : set.views) {
-          if (cancelled(io)) return report_interrupted(io, "sylva render");
-          render::CameraSet one = set;
-          one.views = {view};
-          for (auto& v : render::render_camera_set(*renderer, scene, one)) images.push_back(std::move(v));
-        }
-      }
+  // A forest: its levels and impostor maps uploaded first, then each view with what it drew.
+  // `start`: when loading began (clock seconds).
+  int render_forest(CommandContext& ctx, const render::CameraSet& set, double start,
+                    std::vector<render::RenderedView>& images) const {
+    const CliIo& io = ctx.io;
+    render::ForestView fv = render::ForestView::load(file_);
+    const double load_s = seconds_since(ctx.clock, start);
+    auto renderer = render::Renderer::create_headless();
+    const std::vector<render::Camera> cams = render::forest_cameras(set, fv.bounds());
+    render::ForestViewOptions fo;
+    fo.pixel_error_px = pixel_error_;
+    // Every level and impostor map the views draw is uploaded before the first view (the
+    // loading step), so each view's time below is its drawing.
+    const double upload_start = ctx.clock.now_seconds();
+    fv.prepare(*renderer, cams, render::options_for(set), fo);
+    std::fprintf(io.err, "sylva: forest loaded in %.2f s, uploaded in %.2f s\n", load_s,
+                 seconds_since(ctx.clock, upload_start));
+    // One view at a time: Ctrl-C or SIGTERM stops between views, before anything is written.
+    for (std::size_t i = 0; i < cams.size(); ++i) {
       if (cancelled(io)) return report_interrupted(io, "sylva render");
-    } catch (const std::exception& e) {  // SceneLoadError, RenderUnavailableError, RenderError: one line each
-      print_error(io.err, e.what());
-      return kExitBuildFailed;
+      const double view_start = ctx.clock.now_seconds();
+      std::vector<render::ForestViewStats> stats;
+      std::vector<image::Image> imgs = fv.render(*renderer, std::span<const render::Camera>(&cams[i], 1),
+                                                 render::options_for(set), fo, &stats);
+      std::fprintf(io.err,
+                   "sylva: view %s: %zu of %zu trees drawn (%zu as impostors), %zu primitives, %.2f s\n",
+                   cams[i].name.c_str(), stats[0].trees_drawn, stats[0].trees, stats[0].impostors,
+                   stats[0].primitives, seconds_since(ctx.clock, view_start));
+      print_forest_view_levels(io, fv, stats[0]);
+      images.push_back({cams[i], std::move(imgs[0])});
     }
+    return kExitOk;
+  }
 
-    // 7. Write.
+  // Per species: trees at each level (level index: count), impostors by parallax steps.
+  static void print_forest_view_levels(const CliIo& io, const render::ForestView& fv,
+                                       const render::ForestViewStats& stats) {
+    for (std::size_t s = 0; s < stats.species_trees.size(); ++s) {
+      std::string line;
+      for (std::size_t l = 0; l < stats.species_trees[s].size(); ++l)
+        if (stats.species_trees[s][l] > 0)
+          line += " L" + std::to_string(l) + ": " + std::to_string(stats.species_trees[s][l]);
+      if (!line.empty())
+        std::fprintf(io.err, "sylva:   %s:%s\n", fv.forest().species[s].name.c_str(), line.c_str());
+    }
+    if (!stats.impostor_steps.empty()) {
+      std::string line;
+      for (const auto& [steps, n] : stats.impostor_steps)
+        line += " " + std::to_string(n) + " with " + std::to_string(steps) + " steps";
+      std::fprintf(io.err, "sylva:   impostors:%s\n", line.c_str());
+    }
+  }
+
+  // A glTF asset: its warnings, then one view at a time.
+  int render_asset(CommandContext& ctx, const render::CameraSet& set,
+                   std::vector<render::RenderedView>& images) const {
+    const CliIo& io = ctx.io;
+    const render::Scene scene = render::load_gltf_scene(file_);
+    for (const auto& w : scene.warnings) std::fprintf(io.err, "%s\n", w.c_str());
+    auto renderer = render::Renderer::create_headless();
+    for (const auto& view : set.views) {
+      if (cancelled(io)) return report_interrupted(io, "sylva render");
+      render::CameraSet one = set;
+      one.views = {view};
+      for (auto& v : render::render_camera_set(*renderer, scene, one)) images.push_back(std::move(v));
+    }
+    return kExitOk;
+  }
+
+  // -o FILE.png, or one <view>.png per view in the directory -o (made when missing).
+  int write_images(CommandContext& ctx, const std::vector<render::RenderedView>& images, bool single) const {
+    const CliIo& io = ctx.io;
     try {
       if (!single) {
         std::string why;
@@ -188,17 +229,9 @@ class RenderCommand final : public CliCommand {
       print_error(io.err, e.what());
       return kExitBuildFailed;
     }
-    const double seconds = seconds_since(ctx.clock, start);
-    const std::string aa = "MSAA " + std::to_string(set.msaa) + "x" +
-                           (set.supersample > 1 ? ", supersampled " + std::to_string(set.supersample) + "x" +
-                                                      std::to_string(set.supersample)
-                                                : std::string());
-    std::fprintf(io.err, "sylva: rendered %zu view%s of %s at %dx%d (%s) in %.2f s\n", images.size(),
-                 images.size() == 1 ? "" : "s", file_.c_str(), set.width, set.height, aa.c_str(), seconds);
     return kExitOk;
   }
 
- private:
   static constexpr const char* kDefaultCameras = "configs/cameras/default.yaml";
   std::string file_;
   std::string camera_ = kDefaultCameras;

@@ -2,6 +2,7 @@
 #include "libs/render/gl_util.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "libs/render/renderer.h"
 
@@ -82,6 +83,15 @@ GLuint compile(GLenum type, const char* source, const std::string& name) {
 }
 
 }  // namespace
+
+DeviceLimits query_device_limits() {
+  DeviceLimits d;
+  glGetIntegerv(GL_MAX_SAMPLES, &d.max_samples);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &d.max_renderbuffer_size);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &d.max_texture_size);
+  glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, d.line_width_range);
+  return d;
+}
 
 void check_gl(const char* where) {
   const GLenum e = glGetError();
@@ -172,6 +182,28 @@ GLuint upload_texture(GlObjects& gl, const Texture& t) {
   }
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min);
   return id;
+}
+
+image::Image read_rgba8(GLuint fbo, int width, int height, bool unpremultiply) {
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  std::vector<std::uint8_t> raw(std::size_t(width) * std::size_t(height) * 4);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+  image::Image img(width, height);
+  const std::size_t row = std::size_t(width) * 4;
+  for (int y = 0; y < height; ++y)  // GL's first row is the bottom one
+    std::memcpy(&img.bytes()[std::size_t(y) * row], &raw[std::size_t(height - 1 - y) * row], row);
+  if (unpremultiply) {
+    auto& px = img.bytes();
+    for (std::size_t i = 0; i < px.size(); i += 4) {
+      const int a = px[i + 3];
+      if (a == 0 || a == 255) continue;
+      for (int c = 0; c < 3; ++c)
+        px[i + std::size_t(c)] = std::uint8_t(std::min(255, (px[i + std::size_t(c)] * 255 + a / 2) / a));
+    }
+  }
+  return img;
 }
 
 }  // namespace sylva::render::detail

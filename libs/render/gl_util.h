@@ -1,6 +1,6 @@
-// Private: the OpenGL plumbing every drawing path of libs/render shares (the scene renderer in
-// gl_renderer.cpp, the impostor baker and drawer in impostor_renderer.cpp): ownership of GL
-// names, a scoped current context, error checks, shader programs and texture upload.
+// Private: the OpenGL plumbing every drawing path of libs/render shares (the scene renderer, the
+// impostor baker and drawers): ownership of GL names, a scoped current context, the device's
+// limits, error checks, shader programs, texture upload and colour read-back.
 //
 // Every function expects the context to be current on the calling thread.
 #pragma once
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/image/image.h"
 #include "libs/render/gl_context.h"
 #include "libs/render/scene.h"
 
@@ -44,6 +45,15 @@ class CurrentContext {
  private:
   GlContext& ctx_;
 };
+
+// What the device allows (queried once per context).
+struct DeviceLimits {
+  GLint max_samples = 1;                   // GL_MAX_SAMPLES
+  GLint max_renderbuffer_size = 4096;      // GL_MAX_RENDERBUFFER_SIZE: pixels per side of a target
+  GLint max_texture_size = 4096;           // GL_MAX_TEXTURE_SIZE
+  float line_width_range[2] = {1.f, 1.f};  // GL_ALIASED_LINE_WIDTH_RANGE, pixels
+};
+DeviceLimits query_device_limits();
 
 // Throws RenderError("OpenGL error during <where>: GL_...") if glGetError() reports one.
 void check_gl(const char* where);
@@ -79,5 +89,10 @@ void upload_mipmapped_rgba8(const std::uint8_t* rgba, int width, int height, boo
 // state; mipmaps are generated when the texture asks for them. Throws RenderError for
 // inconsistent sizes.
 GLuint upload_texture(GlObjects& gl, const Texture& t);
+
+// Colour attachment 0 of `fbo` (single-sampled RGBA8, at least width x height) as an Image, top
+// row first. With `unpremultiply` (drawn over a transparent background, so the framebuffer holds
+// premultiplied colour) each colour is divided by its alpha, so the image holds straight alpha.
+image::Image read_rgba8(GLuint fbo, int width, int height, bool unpremultiply);
 
 }  // namespace sylva::render::detail

@@ -20,7 +20,7 @@ ImpostorGeometry impostor_geometry(const impostor::ImpostorInfo& info);
 // Premultiplies an impostor's maps in place, the reference shader's contract: colour rgb =
 // sRGB(linear(rgb) * a), normal rgb = round(rgb * a / 255), alpha and depth unchanged. Both are
 // RGBA8 rows of the same size (color's alpha = coverage). Used by the scene renderer's atlases and
-// by impostor_renderer.cpp.
+// by ImpostorRenderer::render_octahedral (octahedral_render.cpp).
 void premultiply_impostor_maps(std::vector<std::uint8_t>& color, std::vector<std::uint8_t>& normal_depth);
 
 // The reference shader's optional SYLVA_EMPTY_DISTANCE cull map of `atlas`: per cell of

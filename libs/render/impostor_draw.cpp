@@ -10,7 +10,7 @@
 #include <string_view>
 
 #include "libs/render/impostor_atlas.h"
-#include "libs/render/impostor_renderer.h"
+#include "libs/render/shaders.h"
 
 namespace sylva::render::detail {
 
@@ -103,20 +103,18 @@ GLuint ImpostorDrawer::program(int steps, bool scene_depth) {
   steps = std::clamp(steps, 0, 64);
   if (const auto it = programs_.find({steps, scene_depth}); it != programs_.end()) return it->second;
   static constexpr std::string_view kUniform = "uniform int u_parallax_steps;";
-  std::string fragment = octahedral_impostor_fragment_shader();
+  std::string fragment = kOctahedralImpostorFrag;
   const std::size_t at = fragment.find(kUniform);
   if (at == std::string::npos)
     throw RenderError("the impostor fragment shader declares no 'uniform int u_parallax_steps;'");
   fragment.replace(at, kUniform.size(), "const int u_parallax_steps = " + std::to_string(steps) + ";");
   // Both of the shader's exact options: one fetch per march step, the cull of fragments that
   // would read nothing stored.
-  const std::size_t line = fragment.find('\n');
-  if (line == std::string::npos || fragment.compare(0, 9, "#version ") != 0)
-    throw RenderError("the impostor fragment shader does not start with a #version line");
-  fragment.insert(line + 1, std::string("#define SYLVA_DEPTH_COVERAGE\n#define SYLVA_EMPTY_DISTANCE\n") +
-                                (scene_depth ? "#define SYLVA_SCENE_DEPTH\n" : ""));
-  const GLuint id =
-      link_program(octahedral_impostor_vertex_shader(), fragment.c_str(), "octahedral impostor");
+  fragment = with_prelude(fragment,
+                          std::string("#define SYLVA_DEPTH_COVERAGE\n#define SYLVA_EMPTY_DISTANCE\n") +
+                              (scene_depth ? "#define SYLVA_SCENE_DEPTH\n" : ""),
+                          "impostor fragment");
+  const GLuint id = link_program(kOctahedralImpostorVert, fragment.c_str(), "octahedral impostor");
   programs_.emplace(std::pair{steps, scene_depth}, id);
   return id;
 }

@@ -40,7 +40,7 @@ struct MergedLines {
 // an odd index count; indices must be in range (the caller checks them).
 MergedLines merge_coincident_lines(const Primitive& p);
 
-// The scene renderer draws LINES unlit (gl_renderer.cpp), so a LOD level's three coincident
+// The scene renderer draws LINES unlit (scene_programs.cpp), so a LOD level's three coincident
 // lines per internode differ only in normals it does not use: k copies of colour c and alpha a
 // "over" what is behind them as one line of alpha 1 - (1 - a)^k. For every LINES primitive of
 // `scene` with a BLEND material, each run of coincident copies becomes that one line

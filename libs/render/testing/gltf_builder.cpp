@@ -7,7 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "libs/image/image_io.h"
+#include "libs/image/png.h"
 
 namespace sylva::render::testing {
 
