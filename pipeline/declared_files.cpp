@@ -21,7 +21,7 @@ std::string DeclaredFiles::read(const fs::path& path) const {
     throw std::logic_error("the stage read '" + path.string() + "', which is not one of its declared inputs");
   std::string why;
   auto bytes = fs_.read(normal, &why);
-  if (!bytes) throw fileio::FileReadError(path.string() + ": error: " + why);
+  if (!bytes) throw fileio::FileReadError(path, why);
   return std::move(*bytes);
 }
 

@@ -71,7 +71,7 @@ std::optional<std::string> read_regular_file(const std::filesystem::path& path, 
 std::string read_file(const std::filesystem::path& path, std::uint64_t max_bytes) {
   std::string why;
   auto bytes = read_regular_file(path, &why, max_bytes);
-  if (!bytes) throw FileReadError(path.string() + ": error: " + why);
+  if (!bytes) throw FileReadError(path, why);
   return std::move(*bytes);
 }
 

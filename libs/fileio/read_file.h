@@ -21,10 +21,15 @@ inline constexpr std::uint64_t kMaxFileBytes = std::uint64_t{1} << 34;  // 16 Gi
 std::optional<std::string> read_regular_file(const std::filesystem::path& path, std::string* why = nullptr,
                                              std::uint64_t max_bytes = kMaxFileBytes);
 
-// what(): "<path>: error: <reason>" (the reasons above).
+// what(): "<path>: error: <reason>" (the reasons above); reason() the reason alone.
 class FileReadError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  FileReadError(const std::filesystem::path& path, std::string reason)
+      : std::runtime_error(path.string() + ": error: " + reason), reason_(std::move(reason)) {}
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
 };
 
 // read_regular_file, throwing FileReadError.

@@ -110,7 +110,8 @@ UvTransform texture_transform(const tinygltf::TextureInfo& info, int& texcoord_s
 
 }  // namespace
 
-void check_images(const GltfModel& in, const std::string& warnings, const std::filesystem::path& base_dir) {
+void check_images(const GltfModel& in, const std::string& warnings, const std::filesystem::path& base_dir,
+                  const fileio::FileSource& files) {
   const tinygltf::Model& model = in.model();
   std::string problems;
   for (std::size_t i = 0; i < model.images.size(); ++i) {
@@ -120,8 +121,7 @@ void check_images(const GltfModel& in, const std::string& warnings, const std::f
     std::string why = warnings_for(warnings, i);
     if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) {
       const std::filesystem::path file = base_dir / decode_uri(img.uri);
-      std::error_code ec;
-      if (!std::filesystem::exists(file, ec)) why = "no such file " + file.string();
+      if (!files.exists(file)) why = "no such file " + file.string();
     }
     if (!problems.empty()) problems += "; ";
     problems += "texture '" + label + "' (image " + std::to_string(i) + ") could not be loaded" +

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/fileio/file_source.h"
 #include "libs/render/gltf_model.h"
 #include "libs/render/scene.h"
 
@@ -36,7 +37,8 @@ struct MaterialUv {
 // Every image must have decoded (tinygltf loads them with the file); all the missing ones are
 // named in one message, with tinygltf's `warnings` about each, or "no such file <path>" for an
 // external image (a URI relative to `base_dir`) that is not there.
-void check_images(const GltfModel& in, const std::string& warnings, const std::filesystem::path& base_dir);
+void check_images(const GltfModel& in, const std::string& warnings, const std::filesystem::path& base_dir,
+                  const fileio::FileSource& files);
 
 // Appends the glTF's materials to scene.materials and the base-colour textures they use (each
 // once, 8-bit RGBA, with its sampler state) to scene.textures; returns each material's MaterialUv.

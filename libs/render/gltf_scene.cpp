@@ -11,13 +11,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
 
+#include "libs/gltf/tinygltf_files.h"
 #include "libs/render/gltf_draco.h"
 #include "libs/render/gltf_materials.h"
 #include "libs/render/gltf_model.h"
@@ -69,12 +68,17 @@ std::string one_line(std::string s) {
 
 class Loader {
  public:
-  Loader(const tinygltf::Model& model, std::string file, std::filesystem::path base_dir)
-      : in_(model, std::move(file)), m_(model), file_(in_.file()), base_dir_(std::move(base_dir)) {}
+  Loader(const tinygltf::Model& model, std::string file, std::filesystem::path base_dir,
+         const fileio::FileSource& files)
+      : in_(model, std::move(file)),
+        m_(model),
+        file_(in_.file()),
+        base_dir_(std::move(base_dir)),
+        files_(files) {}
 
   Scene load() {
     check_extensions();
-    detail::check_images(in_, warnings, base_dir_);
+    detail::check_images(in_, warnings, base_dir_, files_);
     scene_.source = file_;
     scene_.warnings = ignored_extensions();
     uv_ = detail::load_materials(in_, scene_);
@@ -359,72 +363,27 @@ class Loader {
   const tinygltf::Model& m_;
   const std::string& file_;
   std::filesystem::path base_dir_;
+  const fileio::FileSource& files_;
   Scene scene_;
   std::vector<detail::MaterialUv> uv_;    // per material: where its base colour texture reads
   std::map<int, std::size_t> mesh_slot_;  // glTF mesh -> Scene::meshes index
 };
 
-// The bytes of `path` if it is a regular file (a directory, FIFO or device has no size to read);
-// else nullopt and `why`: "no such file", "not a regular file" or "cannot open file".
-std::optional<std::string> regular_file_bytes(const std::filesystem::path& path, std::string* why) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
-    *why = "no such file";
-    return std::nullopt;
-  }
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    *why = "not a regular file";
-    return std::nullopt;
-  }
-  std::ifstream f(path, std::ios::binary);
-  if (!f) {
-    *why = "cannot open file";
-    return std::nullopt;
-  }
-  std::ostringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 }  // namespace
 
-Scene load_gltf_scene(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  auto fail = [&](const std::string& why) -> SceneLoadError {
-    return SceneLoadError(file + ": error: " + why);
-  };
-  std::string why;
-  auto bytes = regular_file_bytes(path, &why);
-  if (!bytes) throw fail(why);
-  return load_gltf_scene_from_memory(std::move(*bytes), file, path.parent_path());
-}
-
-namespace {
-
-// tinygltf's file-exists test for external uris. Its own fopen()s the path, which blocks on a
-// FIFO until a writer comes.
-bool exists_without_opening(const std::string& path, void*) {
-  std::error_code ec;
-  return std::filesystem::exists(path, ec);
-}
-
-// tinygltf's file reader for external uris. Its own sizes its buffer from tellg(), which is -1
-// for a directory that a uri may name (an allocation of 2^63 bytes).
-bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  std::string why;
-  auto bytes = regular_file_bytes(path, &why);
-  if (!bytes) {
-    if (err) *err += "cannot read '" + path + "' (" + why + ")\n";
-    return false;
+Scene load_gltf_scene(const std::filesystem::path& path, const fileio::FileSource& files) {
+  std::string bytes;
+  try {
+    bytes = files.read(path);
+  } catch (const fileio::FileReadError& e) {
+    throw SceneLoadError(e.what());
   }
-  out->assign(bytes->begin(), bytes->end());
-  return true;
+  return load_gltf_scene_from_memory(std::move(bytes), path.string(), path.parent_path(), files);
 }
-
-}  // namespace
 
 Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
-                                  const std::filesystem::path& base_dir_path) {
+                                  const std::filesystem::path& base_dir_path,
+                                  const fileio::FileSource& files) {
   const std::string& file = name;
   auto fail = [&](const std::string& why) -> SceneLoadError {
     return SceneLoadError(file + ": error: " + why);
@@ -433,10 +392,11 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
   if (!binary) {
     // EXT_meshopt_compression over external buffers: read as the GLB of the same asset.
     const auto read_uri = [&](const std::string& uri) {
-      std::string why;
-      auto b = regular_file_bytes(base_dir_path / detail::decode_uri(uri), &why);
-      if (!b) throw std::runtime_error("cannot read buffer '" + uri + "' (" + why + ")");
-      return std::move(*b);
+      try {
+        return files.read(base_dir_path / detail::decode_uri(uri));
+      } catch (const fileio::FileReadError& e) {
+        throw std::runtime_error("cannot read buffer '" + uri + "' (" + e.reason() + ")");
+      }
     };
     try {
       if (auto glb = meshopt_gltf_as_glb(bytes, read_uri)) {
@@ -461,8 +421,7 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
 
   tinygltf::Model model;
   tinygltf::TinyGLTF reader;
-  reader.SetFsCallbacks({&exists_without_opening, &tinygltf::ExpandFilePath, &read_regular_file,
-                         &tinygltf::WriteWholeFile, nullptr});
+  reader.SetFsCallbacks(gltf::file_callbacks(files));
   std::string err, warn;
   const std::string base_dir = base_dir_path.string();
   bool ok = false;
@@ -476,7 +435,7 @@ Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
   }
   if (!ok) throw fail("invalid glTF: " + one_line(err.empty() ? warn : err));
 
-  Loader loader(model, file, base_dir_path);
+  Loader loader(model, file, base_dir_path, files);
   loader.warnings = warn;
   try {
     return loader.load();

@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "libs/fileio/file_source.h"
 #include "libs/render/scene.h"
 
 namespace sylva::render {
@@ -41,11 +42,14 @@ class SceneLoadError : public std::runtime_error {
 // Loads a .gltf or .glb file (detected by content, not extension). Throws SceneLoadError for
 // unreadable files, invalid glTF, missing or undecodable textures, out-of-range indices or
 // accessors, and undecodable Draco data; never crashes on bad input.
-Scene load_gltf_scene(const std::filesystem::path& path);
+// The file and the files it names are read from `files`: the disk, or a stage's declared inputs.
+Scene load_gltf_scene(const std::filesystem::path& path,
+                      const fileio::FileSource& files = fileio::disk_files());
 
 // The same from the bytes of a .glb or .gltf held in memory (a file just encoded, say). `name`
 // stands for the file in messages; external uris resolve against `base_dir`.
 Scene load_gltf_scene_from_memory(std::string bytes, const std::string& name,
-                                  const std::filesystem::path& base_dir = {});
+                                  const std::filesystem::path& base_dir = {},
+                                  const fileio::FileSource& files = fileio::disk_files());
 
 }  // namespace sylva::render

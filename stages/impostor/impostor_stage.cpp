@@ -18,9 +18,9 @@ namespace sylva {
 
 namespace {
 
-render::Scene load(const ArtifactFile& f) {
+render::Scene load(const StageContext& ctx, const ArtifactFile& f) {
   try {
-    return render::load_gltf_scene(f.path);
+    return render::load_gltf_scene(f.path, ctx.files());
   } catch (const render::SceneLoadError& e) {
     throw StageError(e.what());
   }
@@ -76,14 +76,14 @@ class ImpostorStage final : public Stage {
       };
       // The coarsest level within one atlas texel (source.h).
       try {
-        src = impostor::choose_source(levels, load(level_file(levels.size() - 1)), params.layout);
+        src = impostor::choose_source(levels, load(ctx, level_file(levels.size() - 1)), params.layout);
       } catch (const std::invalid_argument& e) {
         throw StageError(e.what());
       }
-      scene = load(level_file(std::size_t(src.level)));
+      scene = load(ctx, level_file(std::size_t(src.level)));
     } else {
       const ArtifactFile& f = mesh_file(in);
-      scene = load(f);
+      scene = load(ctx, f);
       src.type = "mesh";
       src.file = f.name;
     }

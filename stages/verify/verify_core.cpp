@@ -176,6 +176,7 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
   for (const auto& v : cameras.views) report.views.push_back(v.name);
   for (const auto& a : assets) report.assets.push_back(a.name);
 
+  const fileio::FileSource& files = env.files ? *env.files : fileio::disk_files();
   auto write = [&](const std::string& name, const std::string& bytes) {
     write_bytes(env.output_path(name), bytes);
   };
@@ -192,7 +193,7 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
           if (std::find(report.views.begin(), report.views.end(), rv.camera.name) == report.views.end())
             report.views.push_back(rv.camera.name);
       } else {
-        scene = render::load_gltf_scene(asset.file);
+        scene = render::load_gltf_scene(asset.file, files);
       }
     } catch (const render::RenderUnavailableError&) {
       throw;
@@ -234,7 +235,7 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
       const fs::path ref_path = references_dir / file;
       std::error_code ec;
       CaseResult c;
-      if (!fs::exists(ref_path, ec)) {
+      if (!files.exists(ref_path)) {
         c = judge_view(asset.name, view, nullptr, rv.image, thresholds);
       } else {
         image::Image ref;
@@ -242,7 +243,7 @@ Report run_verification(const std::vector<Asset>& assets, const render::CameraSe
         std::optional<std::string> unreadable;
         try {
           ref = image::read_image(ref_path);
-          ref_png = fileio::read_file(ref_path);
+          ref_png = files.read(ref_path);
         } catch (const image::ImageError& e) {
           unreadable = e.what();
         } catch (const fileio::FileReadError& e) {

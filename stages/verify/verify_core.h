@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/fileio/file_source.h"
 #include "libs/image/compare.h"
 #include "libs/image/image.h"
 #include "libs/render/camera.h"
@@ -108,6 +109,9 @@ struct RunEnv {
   // the command to a directory). Called once per file written.
   std::function<std::filesystem::path(const std::string& name)> output_path;
   std::function<void()> check_cancelled;  // may be empty; may throw to stop the run
+  // Where the assets and references are read from (the stage: its declared inputs); nullptr:
+  // the disk.
+  const fileio::FileSource* files = nullptr;
 };
 
 // Renders every view of `cameras` for every asset (one upload per asset), writes

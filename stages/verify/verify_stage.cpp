@@ -31,7 +31,7 @@ class VerifyStage final : public Stage {
     // 1. The camera set and the assets.
     render::CameraSet cameras;
     try {
-      cameras = render::load_camera_set(ctx.param_file("cameras"));
+      cameras = render::parse_camera_set(ctx.read_param_file("cameras"), ctx.param_file("cameras").string());
     } catch (const render::CameraSetError& e) {
       throw StageError(e.what());
     }
@@ -43,7 +43,7 @@ class VerifyStage final : public Stage {
     try {
       render::Renderer& renderer = renderer_();
       const verify::RunEnv env{renderer, [&](const std::string& name) { return ctx.output_path(name); },
-                               [&] { ctx.check_cancelled(); }};
+                               [&] { ctx.check_cancelled(); }, &ctx.files()};
       report = verify::run_verification(assets, cameras, ctx.param_file("references"), thresholds, env);
       ctx.check_cancelled();
       // A failing run publishes nothing, so its reports would be thrown away: write them only

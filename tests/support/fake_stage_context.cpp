@@ -32,7 +32,8 @@ class BufferedOutput final : public OutputStream {
 
 FakeStageContext::FakeStageContext(const Stage& stage, const std::vector<Input>& inputs, fs::path out,
                                    const Value::Object& overrides, FileSystem* fsys)
-    : own_fs_(fsys ? nullptr : std::make_unique<RealFileSystem>()),
+    : stage_(stage),
+      own_fs_(fsys ? nullptr : std::make_unique<RealFileSystem>()),
       fs_(fsys ? fsys : own_fs_.get()),
       files_(std::make_unique<DeclaredFiles>(*fs_)),
       out_(std::move(out)),
@@ -68,9 +69,12 @@ void FakeStageContext::add_input(InputArtifact artifact) {
   inputs_.push_back(std::move(artifact));
 }
 
-void FakeStageContext::set_file(const std::string& param, const fs::path& path, bool is_dir) {
+void FakeStageContext::set_file(const std::string& param, const fs::path& path) {
   file_params_[param] = path;
   params_[param] = Value(path.string());
+  bool is_dir = false;
+  for (const ParamSpec& p : stage_.info().params)
+    if (p.name == param) is_dir = p.type == ParamType::kDir;
   if (is_dir)
     files_->allow_dir(path);
   else

@@ -39,9 +39,9 @@ class FakeStageContext : public StageContext {
                  const std::map<std::string, std::filesystem::path>& files);
   // Adds an input artifact as given (its digests and sizes are not checked).
   void add_input(InputArtifact artifact);
-  // Names the file (kPath) or directory (kDir) behind a file parameter; its value in params()
-  // becomes the path, as the recipe loader resolves it.
-  void set_file(const std::string& param, const std::filesystem::path& path, bool is_dir = false);
+  // Names the file (kPath) or directory (kDir, by the stage's schema) behind a file parameter;
+  // its value in params() becomes the path, as the recipe loader resolves it.
+  void set_file(const std::string& param, const std::filesystem::path& path);
 
   const std::string& node_name() const override { return name; }
   const Value::Object& params() const override { return params_; }
@@ -70,6 +70,7 @@ class FakeStageContext : public StageContext {
   std::vector<std::string> outputs;           // the same, in the order declared (repeats kept)
 
  private:
+  const Stage& stage_;
   std::unique_ptr<FileSystem> own_fs_;
   FileSystem* fs_;
   std::unique_ptr<DeclaredFiles> files_;

@@ -138,7 +138,7 @@ TEST_F(RenderCli, BadAssetsExitOne) {
   r = sylva(dir_,
             "render " + (dir_ / "none.glb").string() + " --camera " + cams_.string() + " -o " + png.string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_EQ(r.err, (dir_ / "none.glb").string() + ": error: no such file\n");
+  EXPECT_EQ(r.err, (dir_ / "none.glb").string() + ": error: No such file or directory\n");
   EXPECT_FALSE(fs::exists(png));
 }
 
