@@ -244,67 +244,82 @@ class Parser {
       return std::nullopt;
     }
     if (orbit) {
-      const YAML::Node o = node["orbit"];
-      const std::string owhat = "orbit of " + what;
-      if (!check_map(o, owhat, {"azimuth_deg", "elevation_deg", "distance_factor", "distance_m"}))
-        return std::nullopt;
-      OrbitView ov;
-      if (auto v = number(o, "azimuth_deg", owhat)) ov.azimuth_deg = float(*v);
-      if (auto v = number(o, "elevation_deg", owhat)) {
-        if (*v < -90 || *v > 90) {
-          error(o["elevation_deg"].Mark(), "'elevation_deg' must be between -90 and 90");
-          ok = false;
-        }
-        ov.elevation_deg = float(*v);
-      }
-      if (o["distance_factor"] && o["distance_m"]) {
-        error(o["distance_m"].Mark(), owhat + " has both 'distance_factor' and 'distance_m'; use one");
-        ok = false;
-      }
-      if (auto v = number(o, "distance_factor", owhat)) {
-        if (*v <= 0) {
-          error(o["distance_factor"].Mark(), "'distance_factor' must be positive");
-          ok = false;
-        }
-        ov.distance_factor = float(*v);
-      }
-      if (auto v = number(o, "distance_m", owhat)) {
-        if (*v <= 0) {
-          error(o["distance_m"].Mark(), "'distance_m' must be positive");
-          ok = false;
-        }
-        ov.distance_m = float(*v);
-      }
-      view.placement = ov;
+      const std::optional<OrbitView> ov = parse_orbit(node["orbit"], what, ok);
+      if (!ov) return std::nullopt;
+      view.placement = *ov;
     } else if (look) {
-      LookAtView lv;
-      const auto eye = vec3(node, "eye", what);
-      const auto target = vec3(node, "target", what);
-      const auto up = vec3(node, "up", what);
-      if (!node["eye"]) error(node.Mark(), what + " has 'target' but no 'eye'");
-      if (!node["target"]) error(node.Mark(), what + " has 'eye' but no 'target'");
-      if (!eye || !target || (node["up"] && !up)) return std::nullopt;
-      lv.eye = *eye;
-      lv.target = *target;
-      if (up) lv.up = *up;
-      // Judged as the renderer will see the view: in floats.
-      const Vec3 dir = lv.target.cast<float>() - lv.eye.cast<float>();
-      const Vec3 up_f = lv.up.cast<float>();
-      if (dir.norm() < 1e-6f) {
-        error(node["eye"].Mark(), what + ": 'eye' and 'target' are the same point");
-        ok = false;
-      } else if (up_f.norm() < 1e-6f || dir.normalized().cross(up_f.normalized()).norm() < 1e-4f) {
-        error((node["up"] ? node["up"] : node["eye"]).Mark(),
-              what + ": 'up' is parallel to the viewing direction");
-        ok = false;
-      }
-      view.placement = lv;
+      const std::optional<LookAtView> lv = parse_look_at(node, what, ok);
+      if (!lv) return std::nullopt;
+      view.placement = *lv;
     } else {
       error(node.Mark(), what + " needs either 'orbit' or 'eye' and 'target'");
       return std::nullopt;
     }
     if (!ok) return std::nullopt;
     return view;
+  }
+
+  // A view's `orbit` map `o` (`what` names the view); `ok` turns false on a value out of range.
+  // nullopt after an error that leaves no orbit to check further.
+  std::optional<OrbitView> parse_orbit(const YAML::Node& o, const std::string& what, bool& ok) {
+    const std::string owhat = "orbit of " + what;
+    if (!check_map(o, owhat, {"azimuth_deg", "elevation_deg", "distance_factor", "distance_m"}))
+      return std::nullopt;
+    OrbitView ov;
+    if (auto v = number(o, "azimuth_deg", owhat)) ov.azimuth_deg = float(*v);
+    if (auto v = number(o, "elevation_deg", owhat)) {
+      if (*v < -90 || *v > 90) {
+        error(o["elevation_deg"].Mark(), "'elevation_deg' must be between -90 and 90");
+        ok = false;
+      }
+      ov.elevation_deg = float(*v);
+    }
+    if (o["distance_factor"] && o["distance_m"]) {
+      error(o["distance_m"].Mark(), owhat + " has both 'distance_factor' and 'distance_m'; use one");
+      ok = false;
+    }
+    if (auto v = number(o, "distance_factor", owhat)) {
+      if (*v <= 0) {
+        error(o["distance_factor"].Mark(), "'distance_factor' must be positive");
+        ok = false;
+      }
+      ov.distance_factor = float(*v);
+    }
+    if (auto v = number(o, "distance_m", owhat)) {
+      if (*v <= 0) {
+        error(o["distance_m"].Mark(), "'distance_m' must be positive");
+        ok = false;
+      }
+      ov.distance_m = float(*v);
+    }
+    return ov;
+  }
+
+  // A view's eye, target and up (`what` names the view); `ok` turns false on a degenerate view.
+  // nullopt when eye or target is missing or a vector does not parse.
+  std::optional<LookAtView> parse_look_at(const YAML::Node& node, const std::string& what, bool& ok) {
+    LookAtView lv;
+    const auto eye = vec3(node, "eye", what);
+    const auto target = vec3(node, "target", what);
+    const auto up = vec3(node, "up", what);
+    if (!node["eye"]) error(node.Mark(), what + " has 'target' but no 'eye'");
+    if (!node["target"]) error(node.Mark(), what + " has 'eye' but no 'target'");
+    if (!eye || !target || (node["up"] && !up)) return std::nullopt;
+    lv.eye = *eye;
+    lv.target = *target;
+    if (up) lv.up = *up;
+    // Judged as the renderer will see the view: in floats.
+    const Vec3 dir = lv.target.cast<float>() - lv.eye.cast<float>();
+    const Vec3 up_f = lv.up.cast<float>();
+    if (dir.norm() < 1e-6f) {
+      error(node["eye"].Mark(), what + ": 'eye' and 'target' are the same point");
+      ok = false;
+    } else if (up_f.norm() < 1e-6f || dir.normalized().cross(up_f.normalized()).norm() < 1e-4f) {
+      error((node["up"] ? node["up"] : node["eye"]).Mark(),
+            what + ": 'up' is parallel to the viewing direction");
+      ok = false;
+    }
+    return lv;
   }
 
   std::string source_;

@@ -188,54 +188,89 @@ ImpostorDrawer::Uploaded ImpostorDrawer::upload(GlObjects& gl, const std::vector
   return up;
 }
 
-void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& up, const Camera& cam,
-                          float aspect, const Lighting& lighting, GLuint scene_depth) {
-  if (sets.empty()) return;
-  // Far to near over all sets (more negative view z = farther).
-  struct Key {
-    float z;
-    std::uint32_t set, instance;
-  };
-  std::vector<Key> keys;
-  const Mat4 view = cam.view_matrix();
+namespace {
+
+// One instance of one set, by its centre's view-space z (more negative = farther).
+struct DrawKey {
+  float z;
+  std::uint32_t set, instance;
+};
+
+// Every instance of every set, far to near (stable: equal depths keep set and instance order).
+std::vector<DrawKey> far_to_near(const std::vector<ImpostorSet>& sets, const Mat4& view) {
+  std::vector<DrawKey> keys;
   for (std::size_t s = 0; s < sets.size(); ++s)
     for (std::size_t i = 0; i < sets[s].instances.size(); ++i) {
       const Vec3 w = (sets[s].instances[i] * sets[s].atlas->geometry.center.homogeneous()).hnormalized();
       keys.push_back({(view * w.homogeneous())(2), std::uint32_t(s), std::uint32_t(i)});
     }
-  if (keys.empty()) return;
-  std::stable_sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) { return a.z < b.z; });
+  std::stable_sort(keys.begin(), keys.end(), [](const DrawKey& a, const DrawKey& b) { return a.z < b.z; });
+  return keys;
+}
+
+// The instances' model matrices in draw order into the instance buffer (vao bound).
+void upload_models(const std::vector<DrawKey>& keys, const std::vector<ImpostorSet>& sets,
+                   const ImpostorDrawer::Uploaded& up) {
   std::vector<float> models;
   models.reserve(keys.size() * 16);
-  for (const Key& k : keys) {
+  for (const DrawKey& k : keys) {
     const Mat4& m = sets[k.set].instances[k.instance];
     models.insert(models.end(), m.data(), m.data() + 16);
   }
   glBindVertexArray(up.vao);
   glBindBuffer(GL_ARRAY_BUFFER, up.instances);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(models.size() * sizeof(float)), models.data(), GL_STREAM_DRAW);
+}
+
+// The view's uniforms and the texture units of program `id` (in use).
+void set_view_uniforms(GLuint id, const Mat4& view, const Mat4& proj, const Camera& cam,
+                       const Lighting& lighting, bool scene_depth) {
+  const Vec3 l =
+      lighting.direction_to_light.norm() > 0 ? lighting.direction_to_light.normalized() : Vec3::UnitY();
+  auto u = [&](const char* n) { return glGetUniformLocation(id, n); };
+  glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, view.data());
+  glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, proj.data());
+  glUniform3fv(u("u_eye"), 1, cam.eye.data());
+  glUniform3fv(u("u_ambient"), 1, lighting.ambient.data());
+  glUniform3fv(u("u_light_color"), 1, lighting.light_color.data());
+  glUniform3fv(u("u_light_dir"), 1, l.data());
+  glUniform1i(u("u_color"), 0);
+  glUniform1i(u("u_normal_depth"), 1);
+  glUniform1i(u("u_empty_distance"), 2);
+  glUniform1i(u("u_depth_coverage"), 3);
+  if (scene_depth) glUniform1i(u("u_scene_depth"), 4);
+}
+
+// Set s's four maps on texture units 0..3.
+void bind_set_maps(const ImpostorDrawer::Uploaded& up, std::size_t s) {
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, up.color[s]);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, up.normal_depth[s]);
+  glActiveTexture(GL_TEXTURE2);
+  glBindTexture(GL_TEXTURE_2D, up.empty_distance[s]);
+  glActiveTexture(GL_TEXTURE3);
+  glBindTexture(GL_TEXTURE_2D, up.depth_coverage[s]);
+}
+
+}  // namespace
+
+void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& up, const Camera& cam,
+                          float aspect, const Lighting& lighting, GLuint scene_depth) {
+  if (sets.empty()) return;
+  // Far to near over all sets.
+  const Mat4 view = cam.view_matrix();
+  const std::vector<DrawKey> keys = far_to_near(sets, view);
+  if (keys.empty()) return;
+  upload_models(keys, sets, up);
 
   // The view's uniforms, set on each program once (before its first run).
   const Mat4 proj = cam.projection_matrix(aspect);
-  const Vec3 l =
-      lighting.direction_to_light.norm() > 0 ? lighting.direction_to_light.normalized() : Vec3::UnitY();
   std::set<GLuint> viewed;  // programs holding this view's uniforms
   auto use = [&](int steps) {
     const GLuint id = program(steps, scene_depth != 0);
     glUseProgram(id);
-    if (!viewed.insert(id).second) return id;
-    auto u = [&](const char* n) { return glGetUniformLocation(id, n); };
-    glUniformMatrix4fv(u("u_view"), 1, GL_FALSE, view.data());
-    glUniformMatrix4fv(u("u_proj"), 1, GL_FALSE, proj.data());
-    glUniform3fv(u("u_eye"), 1, cam.eye.data());
-    glUniform3fv(u("u_ambient"), 1, lighting.ambient.data());
-    glUniform3fv(u("u_light_color"), 1, lighting.light_color.data());
-    glUniform3fv(u("u_light_dir"), 1, l.data());
-    glUniform1i(u("u_color"), 0);
-    glUniform1i(u("u_normal_depth"), 1);
-    glUniform1i(u("u_empty_distance"), 2);
-    glUniform1i(u("u_depth_coverage"), 3);
-    if (scene_depth) glUniform1i(u("u_scene_depth"), 4);
+    if (viewed.insert(id).second) set_view_uniforms(id, view, proj, cam, lighting, scene_depth != 0);
     return id;
   };
   glEnable(GL_DEPTH_TEST);
@@ -248,6 +283,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     glActiveTexture(GL_TEXTURE4);
     glBindTexture(GL_TEXTURE_2D, scene_depth);
   }
+  // One instanced draw per run of instances of the same set.
   std::size_t current = sets.size();
   for (std::size_t begin = 0; begin < keys.size();) {
     std::size_t end = begin + 1;
@@ -256,14 +292,7 @@ void ImpostorDrawer::draw(const std::vector<ImpostorSet>& sets, const Uploaded& 
     if (s != current) {
       current = s;
       set_impostor_uniforms(use(sets[s].parallax_steps), sets[s].atlas->geometry, sets[s].parallax_steps);
-      glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, up.color[s]);
-      glActiveTexture(GL_TEXTURE1);
-      glBindTexture(GL_TEXTURE_2D, up.normal_depth[s]);
-      glActiveTexture(GL_TEXTURE2);
-      glBindTexture(GL_TEXTURE_2D, up.empty_distance[s]);
-      glActiveTexture(GL_TEXTURE3);
-      glBindTexture(GL_TEXTURE_2D, up.depth_coverage[s]);
+      bind_set_maps(up, s);
     }
     // The run's matrices start at instance `begin` of the sorted buffer.
     for (GLuint c = 0; c < 4; ++c)

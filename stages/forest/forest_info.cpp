@@ -122,21 +122,11 @@ std::vector<ParamProblem> forest_input_problems(const Value::Object& params,
                " lod inputs (one entry per lod input, in the order of 'needs')"}};
 }
 
-StageInfo forest_stage_info() {
-  StageInfo info;
-  info.name = "forest";
-  info.version = kVersion;
-  info.summary =
-      "Celba Alg. 8 forest layout (+ yaw, terrain, density map, exclusions, rows, CSV, Poisson), "
-      "instanced glTF tiles per LOD level, 3D Tiles tileset, forest cameras";
-  info.inputs = InputSpec{{"lod", "impostor"},
-                          1,
-                          -1,
-                          "species: the i-th lod input is species[i] (with the i-th impostor input, if any)"};
-  info.output_type = "forest";
-  info.check = forest_param_problems;
-  info.check_inputs = forest_input_problems;
-  info.params = {
+namespace {
+
+// The layout's parameters: seed, area and Celba's placement method.
+std::vector<ParamSpec> layout_params() {
+  return {
       Param::integer("seed", 1)
           .range(0, 4294967295.0)
           .describe("random seed: same recipe -> byte-identical forest"),
@@ -154,6 +144,12 @@ StageInfo forest_stage_info() {
       Param::integer("retries", 10)
           .range(0, 10000)
           .describe("Celba's NumberOfRetries (poisson: candidates per active sample, Bridson's k)"),
+  };
+}
+
+// How the forest is grouped for streaming: the hierarchy and the tiles.
+std::vector<ParamSpec> tiling_params() {
+  return {
       Param::integer("nodes_per_node", 64)
           .range(2, 100000)
           .describe("Celba's NodesPerNode: children per hierarchy node"),
@@ -164,42 +160,50 @@ StageInfo forest_stage_info() {
           .describe("gpu: a tile draws each species' triangles with EXT_mesh_gpu_instancing (required), its "
                     "lines with one node per tree; nodes: one plain node per tree, no extension (for clients "
                     "without it: Blender, Godot, Unreal)"),
-      Param::object_list(
-          "species",
-          {Param::string("name").describe("species name ([A-Za-z0-9_-]+), in instances.json and file names"),
-           Param::real("density_per_ha", 10).range(0, 1e6).describe("Celba's Density: trees per 10 000 m^2"),
-           Param::real_list("scale_x", Value::List{1.0, 1.0})
-               .items(2, 2)
-               .range(1e-3, 1e3)
-               .describe("Celba's SizeDeviationXMin/Max"),
-           Param::real_list("scale_y", Value::List{1.0, 1.0})
-               .items(2, 2)
-               .range(1e-3, 1e3)
-               .describe("Celba's SizeDeviationYMin/Max (height)"),
-           Param::real_list("scale_z", Value::List{1.0, 1.0})
-               .items(2, 2)
-               .range(1e-3, 1e3)
-               .describe("Celba's SizeDeviationZMin/Max"),
-           Param::real_list("base_rotation_deg", Value::List{0.0, 0.0, 0.0})
-               .items(3, 3)
-               .range(-360, 360)
-               .describe("Celba's BaseRotationX/Y/Z (applied X, then Y, then Z)"),
-           Param::real("base_translation_y_m", 0).range(-1e4, 1e4).describe("Celba's BaseTranslationY"),
-           Param::boolean("random_yaw", true).describe("yaw uniform in [0, 360) deg (Celba §4.5.4)"),
-           Param::real("max_slope_deg", 90)
-               .range(0, 90)
-               .describe("terrain: no tree where the ground is steeper"),
-           Param::real("min_altitude_m", -1e9).range(-1e9, 1e9).describe("terrain: lowest ground height"),
-           Param::real("max_altitude_m", 1e9).range(-1e9, 1e9).describe("terrain: highest ground height"),
-           Param::real("min_spacing_m", 0)
-               .range(0, 1e4)
-               .describe("poisson: minimum distance to any tree (0 = half the footprint's diagonal)"),
-           Param::real_list("impostor_parallax", Value::List{})
-               .range(0, 1e9)
-               .describe(
-                   "pairs [from_m, steps, ...]: from from_m on (impostor.json's terms) forest views draw "
-                   "the octahedral impostor with `steps` parallax steps instead of 16 (0 = flat), each "
-                   "distance proven by `sylva impostorcheck --parallax-steps N --search-distance`")}),
+  };
+}
+
+// `species`: one entry per lod input, Celba's per-type parameters and the Poisson spacing.
+ParamSpec species_param() {
+  return Param::object_list(
+      "species",
+      {Param::string("name").describe("species name ([A-Za-z0-9_-]+), in instances.json and file names"),
+       Param::real("density_per_ha", 10).range(0, 1e6).describe("Celba's Density: trees per 10 000 m^2"),
+       Param::real_list("scale_x", Value::List{1.0, 1.0})
+           .items(2, 2)
+           .range(1e-3, 1e3)
+           .describe("Celba's SizeDeviationXMin/Max"),
+       Param::real_list("scale_y", Value::List{1.0, 1.0})
+           .items(2, 2)
+           .range(1e-3, 1e3)
+           .describe("Celba's SizeDeviationYMin/Max (height)"),
+       Param::real_list("scale_z", Value::List{1.0, 1.0})
+           .items(2, 2)
+           .range(1e-3, 1e3)
+           .describe("Celba's SizeDeviationZMin/Max"),
+       Param::real_list("base_rotation_deg", Value::List{0.0, 0.0, 0.0})
+           .items(3, 3)
+           .range(-360, 360)
+           .describe("Celba's BaseRotationX/Y/Z (applied X, then Y, then Z)"),
+       Param::real("base_translation_y_m", 0).range(-1e4, 1e4).describe("Celba's BaseTranslationY"),
+       Param::boolean("random_yaw", true).describe("yaw uniform in [0, 360) deg (Celba §4.5.4)"),
+       Param::real("max_slope_deg", 90).range(0, 90).describe("terrain: no tree where the ground is steeper"),
+       Param::real("min_altitude_m", -1e9).range(-1e9, 1e9).describe("terrain: lowest ground height"),
+       Param::real("max_altitude_m", 1e9).range(-1e9, 1e9).describe("terrain: highest ground height"),
+       Param::real("min_spacing_m", 0)
+           .range(0, 1e4)
+           .describe("poisson: minimum distance to any tree (0 = half the footprint's diagonal)"),
+       Param::real_list("impostor_parallax", Value::List{})
+           .range(0, 1e9)
+           .describe("pairs [from_m, steps, ...]: from from_m on (impostor.json's terms) forest views draw "
+                     "the octahedral impostor with `steps` parallax steps instead of 16 (0 = flat), each "
+                     "distance proven by `sylva impostorcheck --parallax-steps N --search-distance`")});
+}
+
+// Where trees may stand and where the user puts them: terrain, density map, exclusions, rows,
+// explicit positions.
+std::vector<ParamSpec> placement_params() {
+  return {
       optional_path("height_map", "terrain height map (16-bit PNG, EXR, ...; grey 0..1 -> height_range_m)"),
       Param::real_list("height_range_m", Value::List{0.0, 10.0})
           .items(2, 2)
@@ -215,18 +219,24 @@ StageInfo forest_stage_info() {
                               .items(6, std::nullopt)
                               .range(-1e7, 1e7)
                               .describe("polygon x0, z0, x1, z1, ... (>= 3 points): glade, road")}),
-      Param::object_list("rows", {Param::string("species").describe("species name"),
-                                  Param::real_list("points")
-                                      .items(4, std::nullopt)
-                                      .range(-1e7, 1e7)
-                                      .describe("polyline x0, z0, x1, z1, ... (>= 2 points)"),
-                                  Param::real("spacing_m", 5)
-                                      .range(0.01, 1e5)
-                                      .describe("distance between trees along the line"),
-                                  Param::real("jitter_m", 0)
-                                      .range(0, 1e4)
-                                      .describe("each tree moved uniformly within this radius")}),
+      Param::object_list(
+          "rows",
+          {Param::string("species").describe("species name"),
+           Param::real_list("points")
+               .items(4, std::nullopt)
+               .range(-1e7, 1e7)
+               .describe("polyline x0, z0, x1, z1, ... (>= 2 points)"),
+           Param::real("spacing_m", 5).range(0.01, 1e5).describe("distance between trees along the line"),
+           Param::real("jitter_m", 0)
+               .range(0, 1e4)
+               .describe("each tree moved uniformly within this radius")}),
       optional_path("positions", "CSV of explicit trees: species,x,z[,yaw_deg][,scale]"),
+  };
+}
+
+// The outputs' options: the instance table's form, the tileset's georeference, the cameras.
+std::vector<ParamSpec> output_params() {
+  return {
       Param::integer("binary_table_from", 100000)
           .range(0, 4294967295.0)
           .describe("instances go to instances.bin from this many trees on (0 = always)"),
@@ -242,6 +252,38 @@ StageInfo forest_stage_info() {
                .describe("2: meshes drawn 2 x 2 supersampled, impostors with 4x MSAA "
                          "(4 samples per pixel either way); 1: everything with 4x MSAA")}),
   };
+}
+
+// Every parameter, in the order the CLI lists them (docs/stages/forest.md explains each).
+std::vector<ParamSpec> forest_params() {
+  std::vector<ParamSpec> params = layout_params();
+  auto append = [&](std::vector<ParamSpec> group) {
+    params.insert(params.end(), group.begin(), group.end());
+  };
+  append(tiling_params());
+  params.push_back(species_param());
+  append(placement_params());
+  append(output_params());
+  return params;
+}
+
+}  // namespace
+
+StageInfo forest_stage_info() {
+  StageInfo info;
+  info.name = "forest";
+  info.version = kVersion;
+  info.summary =
+      "Celba Alg. 8 forest layout (+ yaw, terrain, density map, exclusions, rows, CSV, Poisson), "
+      "instanced glTF tiles per LOD level, 3D Tiles tileset, forest cameras";
+  info.inputs = InputSpec{{"lod", "impostor"},
+                          1,
+                          -1,
+                          "species: the i-th lod input is species[i] (with the i-th impostor input, if any)"};
+  info.output_type = "forest";
+  info.check = forest_param_problems;
+  info.check_inputs = forest_input_problems;
+  info.params = forest_params();
   return info;
 }
 

@@ -22,6 +22,8 @@
 #include "stages/forest/hierarchy.h"
 #include "stages/forest/impostor_level.h"
 #include "stages/forest/layout.h"
+#include "stages/forest/positions_csv.h"
+#include "stages/forest/species_input.h"
 #include "stages/forest/tile_gltf.h"
 #include "stages/forest/tileset.h"
 
@@ -47,31 +49,6 @@ std::vector<Point2> points_of(const Value& v) {
   return out;
 }
 
-// One species' lod artifact as the stage reads it.
-struct SpeciesInput {
-  std::string node;
-  lodchain::LodChain chain;  // lod.json
-  std::vector<LevelSource> levels;
-  std::vector<const ArtifactFile*> level_bins, images;
-  Box3 bounds;
-  std::vector<std::size_t> primitives;
-  // The impostor level (when the species has an impostor input): its source, buffer, epsilon and
-  // impostor.json's recorded switch distance with the delta and camera it is valid for.
-  bool has_impostor = false;
-  ImpostorLevel impostor;
-  double impostor_epsilon_m = 0;
-  double impostor_switch_distance_m = 0;
-  double impostor_pixel_error_px = 0;
-  lodmodel::Camera impostor_camera;
-  // A (hemi-)octahedral impostor: its impostor.json (maps renamed to the forest's copies) and maps.
-  bool octahedral = false;
-  impostor::ImpostorInfo impostor_info;
-  const ArtifactFile* color_map = nullptr;
-  const ArtifactFile* normal_depth_map = nullptr;
-  // species[i].impostor_parallax: (from_m in impostor.json's terms, steps).
-  std::vector<ParallaxStep> parallax;
-};
-
 // species[i].impostor_parallax (checked by forest_param_problems: pairs, distances increasing,
 // steps integers 0..64), for an octahedral impostor only.
 std::vector<ParallaxStep> parallax_table(const Value& v, const std::string& species, bool octahedral) {
@@ -85,124 +62,225 @@ std::vector<ParallaxStep> parallax_table(const Value& v, const std::string& spec
   return out;
 }
 
-std::size_t primitive_count(const json& g) {
-  std::size_t n = 0;
-  for (const auto& p : g.at("meshes").at(0).at("primitives")) {
-    const int mode = p.value("mode", 4);
-    const std::size_t per = mode == 4 ? 3 : mode == 1 ? 2 : 1;
-    const std::size_t count =
-        p.contains("indices")
-            ? g.at("accessors").at(p["indices"].get<std::size_t>()).at("count").get<std::size_t>()
-            : g.at("accessors")
-                  .at(p.at("attributes").at("POSITION").get<std::size_t>())
-                  .at("count")
-                  .get<std::size_t>();
-    n += count / per;
-  }
-  return n;
+// The node's lod and impostor inputs, in `needs` order, checked against the parameters: the
+// checks a recipe's loader ran already (StageInfo::check, check_inputs), for nodes run another way.
+struct ForestInputs {
+  std::vector<const InputArtifact*> lods, impostors;
+};
+ForestInputs check_inputs(const StageContext& ctx) {
+  if (const auto problems = forest_param_problems(ctx.params()); !problems.empty())
+    throw StageError(param_problem_text(problems.front()));
+  ForestInputs in;
+  for (const InputArtifact& a : ctx.inputs()) (a.type == "lod" ? in.lods : in.impostors).push_back(&a);
+  if (!in.impostors.empty() && in.impostors.size() != in.lods.size())
+    throw StageError("the node needs " + std::to_string(in.lods.size()) + " lod inputs and " +
+                     std::to_string(in.impostors.size()) +
+                     " impostor inputs: give every species an impostor (the i-th impostor input is the "
+                     "i-th lod input's species) or none");
+  std::vector<std::string> types;
+  for (const InputArtifact& a : ctx.inputs()) types.push_back(a.type);
+  if (const auto problems = forest_input_problems(ctx.params(), types); !problems.empty())
+    throw StageError(param_problem_text(problems.front()));
+  return in;
 }
 
-Box3 position_bounds(const json& g, const std::string& what) {
-  Box3 b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-  for (const auto& p : g.at("meshes").at(0).at("primitives")) {
-    const json& a = g.at("accessors").at(p.at("attributes").at("POSITION").get<std::size_t>());
-    if (!a.contains("min") || !a.contains("max"))
-      throw StageError(what + ": a POSITION accessor has no min/max");
-    for (std::size_t k = 0; k < 3; ++k) {
-      b.min[k] = std::min(b.min[k], a["min"][k].get<double>());
-      b.max[k] = std::max(b.max[k], a["max"][k].get<double>());
-    }
-  }
-  if (!(b.min[0] <= b.max[0])) throw StageError(what + ": the level mesh has no positions");
-  return b;
+// The layout rule of one species: its `species` entry `sp` and the box of its level 0 (`bounds`).
+SpeciesRule species_rule(const Value::Object& sp, const Box3& bounds) {
+  SpeciesRule r;
+  r.name = sp.at("name").as_string();
+  r.bounds = bounds;
+  r.density_per_ha = sp.at("density_per_ha").as_real();
+  auto range = [&](const char* key) {
+    const auto v = reals(sp.at(key));
+    return Point2{v[0], v[1]};
+  };
+  r.scale_x = range("scale_x");
+  r.scale_y = range("scale_y");
+  r.scale_z = range("scale_z");
+  const auto rot = reals(sp.at("base_rotation_deg"));
+  r.base_rotation_deg = {rot[0], rot[1], rot[2]};
+  r.base_translation_y_m = sp.at("base_translation_y_m").as_real();
+  r.random_yaw = sp.at("random_yaw").as_bool();
+  r.max_slope_deg = sp.at("max_slope_deg").as_real();
+  r.min_altitude_m = sp.at("min_altitude_m").as_real();
+  r.max_altitude_m = sp.at("max_altitude_m").as_real();
+  r.min_spacing_m = sp.at("min_spacing_m").as_real();
+  return r;
 }
 
-SpeciesInput read_species(const StageContext& ctx, const InputArtifact& in, const std::string& name) {
-  SpeciesInput s;
-  s.node = in.node;
-  const ArtifactFile* lj = in.file(lodchain::kSummaryFile);
-  if (!lj) throw StageError("input '" + in.node + "' has no lod.json");
+// The terrain (height_map over terrain_extent_m, height_range_m) and the density map, when given.
+void read_maps(StageContext& ctx, LayoutParams& lp) {
   try {
-    s.chain = lodchain::parse_lod_chain(ctx.read_input(*lj), lj->path.string());  // at least one level
-  } catch (const lodchain::LodChainFormatError& e) {
-    throw StageError("input '" + in.node + "': " + e.what());
-  }
-  try {
-    for (std::size_t i = 0; i < s.chain.levels.size(); ++i) {
-      const std::string& file = s.chain.levels[i].file;
-      const ArtifactFile* f = in.file(file);
-      if (!f) throw StageError("input '" + in.node + "' has no " + file + " though lod.json lists it");
-      // The level file through libs/lodchain: its one buffer and its images, each checked here
-      // to be in the artifact as it is named.
-      lodchain::LevelFile level = lodchain::parse_level_file(
-          ctx.read_input(*f), file, [&](const std::string& uri, lodchain::LevelResource kind) {
-            const ArtifactFile* a = in.file(uri);
-            if (kind == lodchain::LevelResource::kBuffer) {
-              if (!a)
-                throw StageError("input '" + in.node + "' has no " + uri + " though " + file + " uses it");
-              s.level_bins.push_back(a);
-            } else {
-              if (!a) throw StageError("input '" + in.node + "' has no image " + uri);
-              if (std::find(s.images.begin(), s.images.end(), a) == s.images.end()) s.images.push_back(a);
-            }
-          });
-      LevelSource src;
-      src.gltf = std::move(level.gltf);
-      src.bin_name = name + "_" + level.buffer_uri;
-      src.bin_bytes = level.buffer_bytes;
-      src.image_prefix = name + "_";
-      s.primitives.push_back(primitive_count(src.gltf));
-      if (i == 0) s.bounds = position_bounds(src.gltf, "input '" + in.node + "': " + file);
-      s.levels.push_back(std::move(src));
+    if (!ctx.string("height_map").empty()) {
+      std::vector<double> e = reals(ctx.param("terrain_extent_m"));
+      if (e.empty()) e = {-0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m};
+      lp.terrain.field = read_field(ctx.read_param_file("height_map"), ctx.param_file("height_map").string(),
+                                    e[0], e[1], e[2], e[3]);
+      const auto hr = reals(ctx.param("height_range_m"));
+      lp.terrain.height_min = hr[0];
+      lp.terrain.height_max = hr[1];
     }
-  } catch (const lodchain::ChainGltfError& e) {
-    throw StageError("input '" + in.node + "': " + e.what());
-  } catch (const json::exception& e) {
-    throw StageError("input '" + in.node + "': unreadable lod output: " + e.what());
-  }
-  return s;
-}
-
-// The species' impostor artifact: impostor.json (libs/impostor's reader: its epsilon) and
-// impostor.glb, which becomes the species' last level; for the (hemi-)octahedral kinds also the
-// two maps, which renderers with the reference shader draw (impostor.glb is then their fallback).
-void read_impostor(const StageContext& ctx, const InputArtifact& in, const std::string& name,
-                   SpeciesInput& s) {
-  const ArtifactFile* ij = in.file(impostor::kImpostorJsonFile);
-  const ArtifactFile* glb = in.file(impostor::kImpostorGlbFile);
-  if (!ij || !glb)
-    throw StageError("input '" + in.node + "' (impostor) has no impostor.json and impostor.glb");
-  try {
-    const impostor::ImpostorInfo info =
-        impostor::parse_impostor_json(ctx.read_input(*ij), in.node + "/impostor.json");
-    s.impostor_epsilon_m = info.error.epsilon_m();
-    if (!(info.switch_distance_m > 0))
-      throw StageError("input '" + in.node +
-                       "' (impostor): impostor.json records no switch distance (switch_distance_m 0)");
-    s.impostor_switch_distance_m = info.switch_distance_m;
-    s.impostor_pixel_error_px = info.pixel_error_px;
-    s.impostor_camera = info.camera;
-    if (info.kind != impostor::Kind::kBillboards) {
-      s.octahedral = true;
-      s.color_map = in.file(info.color_map);
-      s.normal_depth_map = in.file(info.normal_depth_map);
-      if (!s.color_map || !s.normal_depth_map)
-        throw StageError("input '" + in.node + "' (impostor) has no " + info.color_map + " and " +
-                         info.normal_depth_map + " though impostor.json names them");
-      s.impostor_info = info;
-      s.impostor_info.color_map = name + "_impostor_color.png";
-      s.impostor_info.normal_depth_map = name + "_impostor_normal_depth.png";
-    }
-  } catch (const impostor::ImpostorFormatError& e) {
+    if (!ctx.string("density_map").empty())
+      lp.density = read_field(ctx.read_param_file("density_map"), ctx.param_file("density_map").string(),
+                              -0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m);
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const StageError*>(&e)) throw;
     throw StageError(e.what());
   }
-  try {
-    s.impostor = impostor_level_source(ctx.read_input(*glb), name, "input '" + in.node + "': impostor.glb");
-  } catch (const std::invalid_argument& e) {
-    throw StageError(e.what());
+}
+
+// The user's placements: exclusion polygons, rows (species by name among `names`) and the
+// explicit positions' CSV.
+void read_placements(StageContext& ctx, const std::vector<std::string>& names, LayoutParams& lp) {
+  const Value::List& ex = ctx.param("exclusions").as_list();
+  for (std::size_t i = 0; i < ex.size(); ++i)
+    lp.exclusions.push_back(points_of(ex[i].as_object().at("points")));
+  const Value::List& rows = ctx.param("rows").as_list();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Value::Object& r = rows[i].as_object();
+    const std::string& sp = r.at("species").as_string();
+    const auto it = std::find(names.begin(), names.end(), sp);
+    lp.rows.push_back({std::uint32_t(it - names.begin()), points_of(r.at("points")),
+                       r.at("spacing_m").as_real(), r.at("jitter_m").as_real()});
   }
-  s.primitives.push_back(primitive_count(s.impostor.source.gltf));
-  s.has_impostor = true;
+  if (!ctx.string("positions").empty()) {
+    const fs::path p = ctx.param_file("positions");
+    try {
+      lp.explicit_trees = parse_positions_csv(ctx.read_param_file("positions"), names, p.filename().string());
+    } catch (const std::invalid_argument& e) {
+      throw StageError(e.what());
+    }
+  }
+}
+
+// Species `name` as instances.json states it: its chain's levels (files named <name>_lod<l>.gltf)
+// and, with an impostor, the impostor level last, its distances moved into the chain's terms.
+Species forest_species(const std::string& name, const SpeciesInput& in, const SpeciesRule& rule) {
+  Species sp;
+  sp.name = name;
+  sp.source = in.chain.tree;
+  sp.bounds = in.bounds;
+  sp.base_rotation_deg = rule.base_rotation_deg;
+  sp.base_translation_y_m = rule.base_translation_y_m;
+  sp.pixel_error_px = in.chain.pixel_error_px;
+  sp.fov_y_deg = in.chain.camera_fov_y_deg;
+  sp.height_px = in.chain.camera_height_px;
+  for (std::size_t l = 0; l < in.chain.levels.size(); ++l)
+    sp.levels.push_back({name + "_lod" + std::to_string(l) + ".gltf",
+                         in.chain.levels[l].epsilon_m,
+                         in.chain.levels[l].switch_distance_m,
+                         in.primitives[l],
+                         false,
+                         "",
+                         {}});
+  if (in.has_impostor) {
+    // Distances in impostor.json's terms (its delta and camera) move into the chain's.
+    auto chain_terms = [&](double d) {
+      return impostor_switch_distance_m(d, in.impostor_camera, in.impostor_pixel_error_px,
+                                        lodmodel::camera_from_degrees(sp.fov_y_deg, sp.height_px),
+                                        sp.pixel_error_px);
+    };
+    sp.levels.push_back({name + "_impostor.gltf",
+                         in.impostor_epsilon_m,
+                         chain_terms(in.impostor_switch_distance_m),
+                         in.primitives.back(),
+                         true,
+                         in.octahedral ? name + "_impostor.json" : "",
+                         {}});
+    for (const ParallaxStep& p : in.parallax)
+      sp.levels.back().parallax.push_back({chain_terms(p.from_m), p.steps});
+  }
+  return sp;
+}
+
+// The placed trees as instances, grouped into tiles and the spatial hierarchy by the boxes of
+// the drawn trees (the asset's own box transformed).
+void add_instances(Forest& f, const LayoutResult& layout, StageContext& ctx) {
+  std::vector<Box3> boxes;
+  for (std::size_t i = 0; i < layout.trees.size(); ++i) {
+    const PlacedTree& t = layout.trees[i];
+    f.instances.push_back({std::uint32_t(i), t.species, 0, t.position, t.yaw_rad, t.scale});
+    boxes.push_back(transform_box(instance_matrix(f.species[t.species], f.instances.back()),
+                                  f.species[t.species].bounds));
+  }
+  ctx.check_cancelled();
+  f.tiles = build_tiles(f.instances, boxes, f.extent_min, f.tile_size_m);
+  f.hierarchy = build_hierarchy(boxes, f.nodes_per_node);
+}
+
+// ground.glb over the forest's extent; returns its bounds (for the tileset's root).
+Box3 write_ground(StageContext& ctx, const Forest& f, const Terrain& terrain) {
+  const gltf::Scene ground = ground_scene(terrain, f.extent_min, f.extent_max);
+  ctx.write_output(f.ground, gltf::encode(ground));
+  Box3 ground_bounds{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  const std::vector<float>& gp = ground.meshes[0].primitives[0].positions;
+  for (std::size_t i = 0; i < gp.size(); ++i) {
+    ground_bounds.min[i % 3] = std::min(ground_bounds.min[i % 3], double(gp[i]));
+    ground_bounds.max[i % 3] = std::max(ground_bounds.max[i % 3], double(gp[i]));
+  }
+  return ground_bounds;
+}
+
+// Each species' level files (glTF rewritten, buffers and images passed on under the species'
+// prefix) and impostor files; returns the most levels a species has.
+int write_species_files(StageContext& ctx, const Forest& f, const std::vector<SpeciesInput>& inputs,
+                        const std::vector<std::string>& names) {
+  int level_count = 0;
+  for (std::size_t s = 0; s < inputs.size(); ++s) {
+    const SpeciesInput& in = inputs[s];
+    level_count = std::max(level_count, int(f.species[s].levels.size()));
+    for (std::size_t l = 0; l < in.levels.size(); ++l) {
+      ctx.write_output(f.species[s].levels[l].file, species_level_gltf(in.levels[l]));
+      ctx.link_output(in.levels[l].bin_name, *in.level_bins[l]);
+    }
+    if (in.has_impostor) {
+      ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
+      ctx.write_output(in.impostor.source.bin_name, in.impostor.bin);
+      if (in.octahedral) {
+        impostor::ImpostorInfo info = in.impostor_info;
+        info.glb_file = f.species[s].levels.back().file;  // its cards' glTF here
+        ctx.write_output(f.species[s].levels.back().octahedral, impostor::write_impostor_json(info));
+        ctx.link_output(in.impostor_info.color_map, *in.color_map);
+        ctx.link_output(in.impostor_info.normal_depth_map, *in.normal_depth_map);
+      }
+    }
+    for (const ArtifactFile* im : in.images) ctx.link_output(names[s] + "_" + im->name, *im);
+  }
+  return level_count;
+}
+
+// Tile t's file names: tile_<ix>_<iz>.bin and tile_<ix>_<iz>_lod<l>.gltf.
+std::string tile_stem(const Forest& f, std::size_t t) {
+  return "tile_" + std::to_string(f.tiles[t].ix) + "_" + std::to_string(f.tiles[t].iz);
+}
+std::string tile_file(const Forest& f, std::size_t t, int l) {
+  return tile_stem(f, t) + "_lod" + std::to_string(l) + ".gltf";
+}
+
+// One glTF per tile and level (each species' level l of level_count, species_level), and with
+// GPU instancing the tile's one buffer, which all its levels share.
+void write_tiles(StageContext& ctx, const Forest& f, const std::vector<SpeciesInput>& inputs, int level_count,
+                 TileInstancing instancing) {
+  for (std::size_t t = 0; t < f.tiles.size(); ++t) {
+    ctx.check_cancelled();
+    std::string bin;
+    for (int l = 0; l < level_count; ++l) {
+      std::vector<const LevelSource*> srcs;
+      for (std::size_t s = 0; s < inputs.size(); ++s) {
+        const std::size_t sl = species_level(f.species[s], l, level_count);
+        srcs.push_back(sl < inputs[s].levels.size() ? &inputs[s].levels[sl] : &inputs[s].impostor.source);
+      }
+      TileFiles tf;
+      try {
+        tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(f, t) + ".bin", instancing);
+      } catch (const std::invalid_argument& e) {
+        throw StageError(e.what());
+      }
+      ctx.write_output(tile_file(f, t, l), tf.gltf);
+      bin = std::move(tf.bin);
+    }
+    if (instancing == TileInstancing::kGpu) ctx.write_output(tile_stem(f, t) + ".bin", bin);
+  }
 }
 
 class ForestStage final : public Stage {
@@ -211,22 +289,9 @@ class ForestStage final : public Stage {
   const StageInfo& info() const override { return info_; }
 
   void run(StageContext& ctx) const override {
-    // The checks a recipe's loader ran already (StageInfo::check), for nodes run another way.
-    if (const auto problems = forest_param_problems(ctx.params()); !problems.empty())
-      throw StageError(param_problem_text(problems.front()));
     // 1. Species: the i-th lod input with species[i].
-    std::vector<const InputArtifact*> lods, impostors;
-    for (const InputArtifact& in : ctx.inputs()) (in.type == "lod" ? lods : impostors).push_back(&in);
-    if (!impostors.empty() && impostors.size() != lods.size())
-      throw StageError("the node needs " + std::to_string(lods.size()) + " lod inputs and " +
-                       std::to_string(impostors.size()) +
-                       " impostor inputs: give every species an impostor (the i-th impostor input is the "
-                       "i-th lod input's species) or none");
+    const ForestInputs io = check_inputs(ctx);
     const Value::List& species_params = ctx.param("species").as_list();
-    std::vector<std::string> types;
-    for (const InputArtifact& in : ctx.inputs()) types.push_back(in.type);
-    if (const auto problems = forest_input_problems(ctx.params(), types); !problems.empty())
-      throw StageError(param_problem_text(problems.front()));
     LayoutParams lp;
     const std::vector<double> size = reals(ctx.param("size_m"));
     lp.width_m = size[0];
@@ -236,72 +301,19 @@ class ForestStage final : public Stage {
     lp.retries = int(ctx.integer("retries"));
     std::vector<std::string> names;
     std::vector<SpeciesInput> inputs;
-    for (std::size_t i = 0; i < lods.size(); ++i) {
+    for (std::size_t i = 0; i < io.lods.size(); ++i) {
       const Value::Object& sp = species_params[i].as_object();
-      SpeciesRule r;
-      r.name = sp.at("name").as_string();
-      names.push_back(r.name);
-      inputs.push_back(read_species(ctx, *lods[i], r.name));
-      if (!impostors.empty()) read_impostor(ctx, *impostors[i], r.name, inputs.back());
-      inputs.back().parallax = parallax_table(sp.at("impostor_parallax"), r.name, inputs.back().octahedral);
-      r.bounds = inputs.back().bounds;
-      r.density_per_ha = sp.at("density_per_ha").as_real();
-      auto range = [&](const char* key) {
-        const auto v = reals(sp.at(key));
-        return Point2{v[0], v[1]};
-      };
-      r.scale_x = range("scale_x");
-      r.scale_y = range("scale_y");
-      r.scale_z = range("scale_z");
-      const auto rot = reals(sp.at("base_rotation_deg"));
-      r.base_rotation_deg = {rot[0], rot[1], rot[2]};
-      r.base_translation_y_m = sp.at("base_translation_y_m").as_real();
-      r.random_yaw = sp.at("random_yaw").as_bool();
-      r.max_slope_deg = sp.at("max_slope_deg").as_real();
-      r.min_altitude_m = sp.at("min_altitude_m").as_real();
-      r.max_altitude_m = sp.at("max_altitude_m").as_real();
-      r.min_spacing_m = sp.at("min_spacing_m").as_real();
-      lp.species.push_back(r);
+      const std::string& name = sp.at("name").as_string();
+      names.push_back(name);
+      inputs.push_back(read_species(ctx, *io.lods[i], name));
+      if (!io.impostors.empty()) read_impostor(ctx, *io.impostors[i], name, inputs.back());
+      inputs.back().parallax = parallax_table(sp.at("impostor_parallax"), name, inputs.back().octahedral);
+      lp.species.push_back(species_rule(sp, inputs.back().bounds));
     }
 
     // 2. Terrain, density map, exclusions, rows, explicit positions.
-    try {
-      if (!ctx.string("height_map").empty()) {
-        std::vector<double> e = reals(ctx.param("terrain_extent_m"));
-        if (e.empty()) e = {-0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m};
-        lp.terrain.field = read_field(ctx.read_param_file("height_map"),
-                                      ctx.param_file("height_map").string(), e[0], e[1], e[2], e[3]);
-        const auto hr = reals(ctx.param("height_range_m"));
-        lp.terrain.height_min = hr[0];
-        lp.terrain.height_max = hr[1];
-      }
-      if (!ctx.string("density_map").empty())
-        lp.density = read_field(ctx.read_param_file("density_map"), ctx.param_file("density_map").string(),
-                                -0.5 * lp.width_m, -0.5 * lp.depth_m, 0.5 * lp.width_m, 0.5 * lp.depth_m);
-    } catch (const std::runtime_error& e) {
-      if (dynamic_cast<const StageError*>(&e)) throw;
-      throw StageError(e.what());
-    }
-    const Value::List& ex = ctx.param("exclusions").as_list();
-    for (std::size_t i = 0; i < ex.size(); ++i)
-      lp.exclusions.push_back(points_of(ex[i].as_object().at("points")));
-    const Value::List& rows = ctx.param("rows").as_list();
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      const Value::Object& r = rows[i].as_object();
-      const std::string& sp = r.at("species").as_string();
-      const auto it = std::find(names.begin(), names.end(), sp);
-      lp.rows.push_back({std::uint32_t(it - names.begin()), points_of(r.at("points")),
-                         r.at("spacing_m").as_real(), r.at("jitter_m").as_real()});
-    }
-    if (!ctx.string("positions").empty()) {
-      const fs::path p = ctx.param_file("positions");
-      try {
-        lp.explicit_trees =
-            parse_positions_csv(ctx.read_param_file("positions"), names, p.filename().string());
-      } catch (const std::invalid_argument& e) {
-        throw StageError(e.what());
-      }
-    }
+    read_maps(ctx, lp);
+    read_placements(ctx, names, lp);
 
     // 3. Layout, hierarchy, tiles.
     Rng rng = ctx.rng("layout");
@@ -320,123 +332,26 @@ class ForestStage final : public Stage {
     f.seed = std::uint64_t(ctx.integer("seed"));
     f.ground = "ground.glb";
     f.stats = layout.stats;
-    for (std::size_t s = 0; s < lp.species.size(); ++s) {
-      const SpeciesInput& in = inputs[s];
-      Species sp;
-      sp.name = names[s];
-      sp.source = in.chain.tree;
-      sp.bounds = in.bounds;
-      sp.base_rotation_deg = lp.species[s].base_rotation_deg;
-      sp.base_translation_y_m = lp.species[s].base_translation_y_m;
-      sp.pixel_error_px = in.chain.pixel_error_px;
-      sp.fov_y_deg = in.chain.camera_fov_y_deg;
-      sp.height_px = in.chain.camera_height_px;
-      for (std::size_t l = 0; l < in.chain.levels.size(); ++l)
-        sp.levels.push_back({names[s] + "_lod" + std::to_string(l) + ".gltf",
-                             in.chain.levels[l].epsilon_m,
-                             in.chain.levels[l].switch_distance_m,
-                             in.primitives[l],
-                             false,
-                             "",
-                             {}});
-      if (in.has_impostor) {
-        // Distances in impostor.json's terms (its delta and camera) move into the chain's.
-        auto chain_terms = [&](double d) {
-          return impostor_switch_distance_m(d, in.impostor_camera, in.impostor_pixel_error_px,
-                                            lodmodel::camera_from_degrees(sp.fov_y_deg, sp.height_px),
-                                            sp.pixel_error_px);
-        };
-        sp.levels.push_back({names[s] + "_impostor.gltf",
-                             in.impostor_epsilon_m,
-                             chain_terms(in.impostor_switch_distance_m),
-                             in.primitives.back(),
-                             true,
-                             in.octahedral ? names[s] + "_impostor.json" : "",
-                             {}});
-        for (const ParallaxStep& p : in.parallax)
-          sp.levels.back().parallax.push_back({chain_terms(p.from_m), p.steps});
-      }
-      f.species.push_back(std::move(sp));
-    }
-    std::vector<Box3> boxes;
-    for (std::size_t i = 0; i < layout.trees.size(); ++i) {
-      const PlacedTree& t = layout.trees[i];
-      f.instances.push_back({std::uint32_t(i), t.species, 0, t.position, t.yaw_rad, t.scale});
-      // The drawn tree's box (the asset's own box transformed), for tiles and the hierarchy.
-      boxes.push_back(transform_box(instance_matrix(f.species[t.species], f.instances.back()),
-                                    f.species[t.species].bounds));
-    }
-    ctx.check_cancelled();
-    f.tiles = build_tiles(f.instances, boxes, f.extent_min, f.tile_size_m);
-    f.hierarchy = build_hierarchy(boxes, f.nodes_per_node);
+    for (std::size_t s = 0; s < lp.species.size(); ++s)
+      f.species.push_back(forest_species(names[s], inputs[s], lp.species[s]));
+    add_instances(f, layout, ctx);
     const auto binary_from = std::size_t(ctx.integer("binary_table_from"));
     f.binary_table = f.instances.size() >= binary_from;
 
     // 4. Outputs.
-    const gltf::Scene ground = ground_scene(lp.terrain, f.extent_min, f.extent_max);
-    ctx.write_output(f.ground, gltf::encode(ground));
-    Box3 ground_bounds{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
-    const std::vector<float>& gp = ground.meshes[0].primitives[0].positions;
-    for (std::size_t i = 0; i < gp.size(); ++i) {
-      ground_bounds.min[i % 3] = std::min(ground_bounds.min[i % 3], double(gp[i]));
-      ground_bounds.max[i % 3] = std::max(ground_bounds.max[i % 3], double(gp[i]));
-    }
+    const Box3 ground_bounds = write_ground(ctx, f, lp.terrain);
     const EncodedForest enc = write_instances(f);
     ctx.write_output(kInstancesJson, enc.json);
     if (f.binary_table) ctx.write_output(kInstancesBin, enc.bin);
-    int level_count = 0;
-    for (std::size_t s = 0; s < inputs.size(); ++s) {
-      const SpeciesInput& in = inputs[s];
-      level_count = std::max(level_count, int(f.species[s].levels.size()));
-      for (std::size_t l = 0; l < in.levels.size(); ++l) {
-        ctx.write_output(f.species[s].levels[l].file, species_level_gltf(in.levels[l]));
-        ctx.link_output(in.levels[l].bin_name, *in.level_bins[l]);
-      }
-      if (in.has_impostor) {
-        ctx.write_output(f.species[s].levels.back().file, species_level_gltf(in.impostor.source));
-        ctx.write_output(in.impostor.source.bin_name, in.impostor.bin);
-        if (in.octahedral) {
-          impostor::ImpostorInfo info = in.impostor_info;
-          info.glb_file = f.species[s].levels.back().file;  // its cards' glTF here
-          ctx.write_output(f.species[s].levels.back().octahedral, impostor::write_impostor_json(info));
-          ctx.link_output(in.impostor_info.color_map, *in.color_map);
-          ctx.link_output(in.impostor_info.normal_depth_map, *in.normal_depth_map);
-        }
-      }
-      for (const ArtifactFile* im : in.images) ctx.link_output(names[s] + "_" + im->name, *im);
-    }
-    auto tile_stem = [&](std::size_t t) {
-      return "tile_" + std::to_string(f.tiles[t].ix) + "_" + std::to_string(f.tiles[t].iz);
-    };
-    auto tile_file = [&](std::size_t t, int l) {
-      return tile_stem(t) + "_lod" + std::to_string(l) + ".gltf";
-    };
+    const int level_count = write_species_files(ctx, f, inputs, names);
     const TileInstancing instancing =
         ctx.param("tile_instancing").as_string() == "nodes" ? TileInstancing::kNodes : TileInstancing::kGpu;
-    for (std::size_t t = 0; t < f.tiles.size(); ++t) {
-      ctx.check_cancelled();
-      std::string bin;
-      for (int l = 0; l < level_count; ++l) {
-        std::vector<const LevelSource*> srcs;
-        for (std::size_t s = 0; s < inputs.size(); ++s) {
-          const std::size_t sl = species_level(f.species[s], l, level_count);
-          srcs.push_back(sl < inputs[s].levels.size() ? &inputs[s].levels[sl] : &inputs[s].impostor.source);
-        }
-        TileFiles tf;
-        try {
-          tf = tile_gltf(f, f.tiles[t], srcs, tile_stem(t) + ".bin", instancing);
-        } catch (const std::invalid_argument& e) {
-          throw StageError(e.what());
-        }
-        ctx.write_output(tile_file(t, l), tf.gltf);
-        bin = std::move(tf.bin);
-      }
-      if (instancing == TileInstancing::kGpu) ctx.write_output(tile_stem(t) + ".bin", bin);
-    }
+    write_tiles(ctx, f, inputs, level_count, instancing);
     const Value::Object& geo = ctx.param("georeference").as_object();
     const Georeference g{geo.at("longitude_deg").as_real(), geo.at("latitude_deg").as_real(),
                          geo.at("height_m").as_real()};
-    ctx.write_output(kTilesetJson, tileset_json(f, level_count, g, tile_file, ground_bounds));
+    auto tile_name = [&](std::size_t t, int l) { return tile_file(f, t, l); };
+    ctx.write_output(kTilesetJson, tileset_json(f, level_count, g, tile_name, ground_bounds));
     const Value::Object& cams = ctx.param("cameras").as_object();
     ForestCameraOptions co;
     co.width_px = int(cams.at("width_px").as_int());

@@ -25,10 +25,10 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 
 #include "stages/forest/box_grid.h"
+#include "stages/forest/poisson_grid.h"
 
 namespace sylva::forest {
 
@@ -217,6 +217,12 @@ class Placer {
     }
   }
 
+  // Species s's expected count of random-fill trees: density x area x allowed_fraction, rounded.
+  std::size_t expected_count(std::uint32_t s) const {
+    const SpeciesRule& sp = p_.species[s];
+    return std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_[s]));
+  }
+
   LayoutResult celba() {
     const double size = std::max(p_.width_m, p_.depth_m);
     // Cells two footprints wide (twice the ground diagonal of the largest scaled box; measured
@@ -236,9 +242,7 @@ class Placer {
     std::vector<std::size_t> counts;
     std::size_t total = out_.trees.size();
     for (std::uint32_t s = 0; s < p_.species.size(); ++s) {
-      const SpeciesRule& sp = p_.species[s];
-      counts.push_back(
-          std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_[s])));
+      counts.push_back(expected_count(s));
       total += counts.back();
     }
     out_.trees.reserve(total);
@@ -281,10 +285,12 @@ class Placer {
     return 0.5 * std::hypot((b.max[0] - b.min[0]) * sx, (b.max[2] - b.min[2]) * sz);
   }
 
-  LayoutResult poisson() {
+  // Every species' Poisson radius (spacing); r_min and r_max receive the smallest and largest.
+  std::vector<double> poisson_radii(double& r_min, double& r_max) const {
     const std::size_t ns = p_.species.size();
     std::vector<double> radius(ns);
-    double r_min = INFINITY, r_max = 0;
+    r_min = INFINITY;
+    r_max = 0;
     for (std::uint32_t s = 0; s < ns; ++s) {
       radius[s] = spacing(s);
       if (!(radius[s] > 0))
@@ -292,51 +298,28 @@ class Placer {
       r_min = std::min(r_min, radius[s]);
       r_max = std::max(r_max, radius[s]);
     }
-    const double cell = r_min / std::sqrt(2.0);
+    return radius;
+  }
+
+  LayoutResult poisson() {
+    const std::size_t ns = p_.species.size();
+    double r_min = 0, r_max = 0;
+    const std::vector<double> radius = poisson_radii(r_min, r_max);
     const double x0 = -0.5 * p_.width_m, z0 = -0.5 * p_.depth_m;
-    const auto gx = std::size_t(std::ceil(p_.width_m / cell)) + 1,
-               gz = std::size_t(std::ceil(p_.depth_m / cell)) + 1;
-    // 24 bytes a cell (an empty vector): 1e8 cells are 2.4 GB before any tree.
-    if (double(gx) * double(gz) > 1e8)
-      throw std::invalid_argument("the Poisson grid would need more than 1e8 cells: raise min_spacing_m");
-    std::vector<std::vector<std::uint32_t>> grid(gx * gz);
-    std::vector<double> r_of;  // radius per placed tree
-    auto cell_of = [&](const Point2& q) {
-      const auto cx = std::size_t(std::clamp((q[0] - x0) / cell, 0.0, double(gx - 1)));
-      const auto cz = std::size_t(std::clamp((q[1] - z0) / cell, 0.0, double(gz - 1)));
-      return std::pair(cx, cz);
-    };
+    PoissonGrid grid(p_.width_m, p_.depth_m, r_min, r_max);
     auto insert = [&](PlacedTree t) {
-      const auto [cx, cz] = cell_of({t.position[0], t.position[2]});
-      grid[cz * gx + cx].push_back(std::uint32_t(out_.trees.size()));
-      r_of.push_back(radius[t.species]);
+      grid.insert({t.position[0], t.position[2]}, std::uint32_t(out_.trees.size()), radius[t.species]);
       out_.trees.push_back(std::move(t));
-    };
-    auto conflict = [&](const Point2& q, double r) {
-      const int reach = int(std::ceil(std::max(r, r_max) / cell));
-      const auto [cx, cz] = cell_of(q);
-      for (int dz = -reach; dz <= reach; ++dz)
-        for (int dx = -reach; dx <= reach; ++dx) {
-          const long x = long(cx) + dx, z = long(cz) + dz;
-          if (x < 0 || z < 0 || x >= long(gx) || z >= long(gz)) continue;
-          for (std::uint32_t i : grid[std::size_t(z) * gx + std::size_t(x)]) {
-            const PlacedTree& t = out_.trees[i];
-            const double need = std::max(r, r_of[i]);
-            const double ddx = t.position[0] - q[0], ddz = t.position[2] - q[1];
-            if (ddx * ddx + ddz * ddz < need * need) return true;
-          }
-        }
-      return false;
     };
     place_given(insert);
     std::vector<std::size_t> target(ns), placed(ns);
     std::size_t missing = 0;
     for (std::uint32_t s = 0; s < ns; ++s) {
-      const SpeciesRule& sp = p_.species[s];
-      target[s] = std::size_t(std::llround(sp.density_per_ha * p_.width_m * p_.depth_m / 1e4 * allowed_[s]));
+      target[s] = expected_count(s);
       out_.stats[s].requested += target[s];
       missing += target[s];
     }
+    // The species of the next candidate, in proportion to what is still missing of each.
     auto pick_species = [&]() {
       std::uint64_t k = rng_.below(missing);
       for (std::uint32_t s = 0; s < ns; ++s) {
@@ -351,7 +334,7 @@ class Placer {
       if (!inside_area(p_, q)) return false;
       if (!p_.density.empty() && rng_.uniform() >= p_.density.sample(q[0], q[1])) return false;
       if (!spot_allowed(p_, p_.species[s], q)) return false;
-      if (conflict(q, radius[s])) return false;
+      if (grid.conflict(out_.trees, q, radius[s])) return false;
       const Vec3d scale = draw_scale(rng_, p_.species[s]);
       insert(make_tree(s, q, draw_yaw(s), scale));
       ++placed[s];
@@ -371,10 +354,12 @@ class Placer {
         continue;
       }
       if ((++steps & 4095) == 0 && cancelled_) cancelled_();
+      // Up to k candidates in the annulus [r, 2r] around a random active sample; a sample
+      // without a place around it is no longer active.
       const std::size_t ai = std::size_t(rng_.below(active.size()));
       const PlacedTree& p = out_.trees[active[ai]];
       const Point2 centre{p.position[0], p.position[2]};
-      const double rp = r_of[active[ai]];
+      const double rp = radius[p.species];
       bool found = false;
       for (int attempt = 0; attempt < k && missing > 0; ++attempt) {
         const std::uint32_t s = pick_species();
@@ -479,104 +464,6 @@ LayoutResult lay_out(const LayoutParams& p, Rng& rng, const std::function<void()
   }
   Placer placer(p, std::move(allowed), rng, cancelled);
   return p.method == Method::kPoisson ? placer.poisson() : placer.celba();
-}
-
-std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std::vector<std::string>& names,
-                                              const std::string& source) {
-  std::vector<ExplicitTree> out;
-  std::istringstream in(text);
-  std::string line;
-  int lineno = 0;
-  int col_species = -1, col_x = -1, col_z = -1, col_yaw = -1, col_scale = -1;
-  std::size_t columns = 0;
-  auto split = [](const std::string& l) {
-    std::vector<std::string> cells;
-    std::string cell;
-    std::istringstream ls(l);
-    while (std::getline(ls, cell, ',')) {
-      const auto b = cell.find_first_not_of(" \t\r"), e = cell.find_last_not_of(" \t\r");
-      cells.push_back(b == std::string::npos ? "" : cell.substr(b, e - b + 1));
-    }
-    if (!l.empty() && l.back() == ',') cells.emplace_back();
-    return cells;
-  };
-  auto fail = [&](const std::string& what) {
-    throw std::invalid_argument(source + (lineno > 0 ? ":" + std::to_string(lineno) : std::string()) + ": " +
-                                what);
-  };
-  // A cell quoted in a message: at most 40 characters, bytes outside printable ASCII as \xHH.
-  auto quoted = [](const std::string& c) {
-    std::string q;
-    for (std::size_t i = 0; i < c.size() && i < 40; ++i) {
-      const auto u = static_cast<unsigned char>(c[i]);
-      if (u >= 0x20 && u < 0x7f) {
-        q += c[i];
-      } else {
-        char hex[8];
-        std::snprintf(hex, sizeof hex, "\\x%02X", unsigned(u));
-        q += hex;
-      }
-    }
-    return "'" + q + (c.size() > 40 ? "...'" : "'");
-  };
-  while (std::getline(in, line)) {
-    ++lineno;
-    // A UTF-8 byte order mark (spreadsheets write one) is not part of the first column's name.
-    if (lineno == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
-    if (line.find_first_not_of(" \t\r") == std::string::npos || line[line.find_first_not_of(" \t")] == '#')
-      continue;
-    const auto cells = split(line);
-    if (col_species < 0) {
-      for (std::size_t c = 0; c < cells.size(); ++c) {
-        const std::string& h = cells[c];
-        int* slot = h == "species"   ? &col_species
-                    : h == "x"       ? &col_x
-                    : h == "z"       ? &col_z
-                    : h == "yaw_deg" ? &col_yaw
-                    : h == "scale"   ? &col_scale
-                                     : nullptr;
-        if (!slot) fail("unknown column " + quoted(h) + " (expected species, x, z, yaw_deg, scale)");
-        if (*slot >= 0) fail("column " + quoted(h) + " appears twice");
-        *slot = int(c);
-      }
-      if (col_species < 0 || col_x < 0 || col_z < 0)
-        fail("the header must name the columns species, x and z");
-      columns = cells.size();
-      continue;
-    }
-    if (cells.size() != columns)
-      fail("expected " + std::to_string(columns) + " values, got " + std::to_string(cells.size()));
-    ExplicitTree t;
-    t.line = lineno;
-    const auto it = std::find(names.begin(), names.end(), cells[std::size_t(col_species)]);
-    if (it == names.end()) fail("unknown species " + quoted(cells[std::size_t(col_species)]));
-    t.species = std::uint32_t(it - names.begin());
-    auto number = [&](int col, const char* what) {
-      const std::string& c = cells[std::size_t(col)];
-      char* end = nullptr;
-      const double v = std::strtod(c.c_str(), &end);
-      if (c.empty() || *end != '\0' || end != c.c_str() + c.size() || !std::isfinite(v) ||
-          c.find_first_of("xX") != std::string::npos)
-        fail(std::string(what) + " " + quoted(c) + " is not a number");
-      return v;
-    };
-    t.position = {number(col_x, "x"), number(col_z, "z")};
-    if (col_yaw >= 0) {
-      t.yaw_deg = std::fmod(number(col_yaw, "yaw_deg"), 360.0);
-      if (t.yaw_deg < 0) t.yaw_deg += 360;
-    }
-    if (col_scale >= 0) {
-      t.scale = number(col_scale, "scale");
-      // The range of the species' scale_x/y/z parameters.
-      if (!(t.scale >= 0.001 && t.scale <= 1000)) fail("scale must lie in 0.001..1000");
-    }
-    out.push_back(t);
-  }
-  if (col_species < 0) {
-    lineno = 0;
-    fail("no header line (species,x,z[,yaw_deg][,scale]): the file is empty or holds only comments");
-  }
-  return out;
 }
 
 }  // namespace sylva::forest

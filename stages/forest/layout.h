@@ -14,8 +14,8 @@
 // positions"); a random yaw (the box tested is then the
 // axis-aligned box of the yawed box); terrain (trees stand on the height field; per-species slope
 // and altitude limits); a density map multiplying every density; exclusion polygons; rows and
-// alleys (polylines with spacing and jitter); explicit positions; and `poisson`, a Bridson-style
-// variable-radius Poisson-disk sampler with a minimum spacing per species, in place of Celba's
+// alleys (polylines with spacing and jitter); explicit positions (positions_csv.h); and `poisson`, a
+// Bridson-style variable-radius Poisson-disk sampler with a minimum spacing per species, in place of Celba's
 // method. docs/stages/forest.md maps every parameter to its source.
 //
 // Placement order (and so the ids): explicit positions, then rows, then the random fill (types in
@@ -120,11 +120,5 @@ LayoutResult lay_out(const LayoutParams& p, Rng& rng, const std::function<void()
 
 // Point in polygon, even-odd rule.
 bool inside_polygon(const std::vector<Point2>& polygon, const Point2& p);
-
-// Parses explicit positions: CSV with a header naming the columns `species`, `x`, `z` and
-// optionally `yaw_deg` and `scale` (any order); species by name among `names`. Throws
-// std::invalid_argument("<source>:<line>: <what>").
-std::vector<ExplicitTree> parse_positions_csv(const std::string& text, const std::vector<std::string>& names,
-                                              const std::string& source);
 
 }  // namespace sylva::forest

@@ -134,51 +134,125 @@ std::string species_level_gltf(const LevelSource& level) {
   return g.dump(1) + "\n";
 }
 
-TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<const LevelSource*>& levels,
-                    const std::string& tile_bin_name, TileInstancing instancing) {
-  const bool gpu = instancing == TileInstancing::kGpu;
-  json out;
-  out["asset"] = {{"version", "2.0"}, {"generator", "sylva"}};
-  json buffers = json::array(), views = json::array(), accessors = json::array(), materials = json::array(),
-       textures = json::array(), samplers = json::array(), images = json::array(), meshes = json::array(),
-       nodes = json::array(), roots = json::array();
-  std::vector<std::string> used, required;
-  bool instanced = false;
-  TileFiles files;
-  const Vec3d origin = tile_origin(forest, tile);
-  // Instances of the tile by species, in instance order.
-  std::vector<std::vector<std::uint32_t>> by_species(forest.species.size());
-  for (std::uint32_t i : tile.instances) by_species[forest.instances[i].species].push_back(i);
-  const std::size_t tile_buffer_slot = 0;  // gpu: the tile's bin is buffer 0; species' bins follow
-  if (gpu) buffers.push_back({{"uri", tile_bin_name}, {"byteLength", 0}});
-  for (std::size_t s = 0; s < forest.species.size(); ++s) {
-    if (by_species[s].empty()) continue;
-    const LevelSource* src = levels.at(s);
-    if (!src)
-      throw std::invalid_argument("species '" + forest.species[s].name + "' has no level for this tile");
-    const json& g = src->gltf;
-    const std::size_t buf0 = buffers.size(), view0 = views.size(), acc0 = accessors.size(),
-                      mat0 = materials.size(), tex0 = textures.size(), samp0 = samplers.size(),
-                      img0 = images.size();
-    buffers.push_back({{"uri", src->bin_name}, {"byteLength", src->bin_bytes}});
+namespace {
+
+// One species' instances in a tile as the tile stores them: the float streams of the instanced
+// node's attributes (TRANSLATION relative to the tile origin, ROTATION, SCALE, _ID; little-endian
+// f32), TRANSLATION's bounds, and the per-tree nodes.
+struct TileInstances {
+  std::string t, r, sc, id;
+  double tmin[3] = {INFINITY, INFINITY, INFINITY}, tmax[3] = {-INFINITY, -INFINITY, -INFINITY};
+  json tree_nodes = json::array();
+};
+
+// A tile's glTF while it is composed: every species' level resources appended with their indices
+// offset, then its instances; `finish` writes the file.
+class TileBuilder {
+ public:
+  TileBuilder(const Forest& forest, const Tile& tile, const std::string& tile_bin_name,
+              TileInstancing instancing)
+      : forest_(forest), gpu_(instancing == TileInstancing::kGpu), origin_(tile_origin(forest, tile)) {
+    if (gpu_) buffers_.push_back({{"uri", tile_bin_name}, {"byteLength", 0}});
+  }
+
+  // Species s's level `src` and its instances `ids` (in instance order).
+  void add_species(std::size_t s, const LevelSource& src, const std::vector<std::uint32_t>& ids) {
+    const auto [mesh_index, loose_index] = append_level(src);
+    const TileInstances in = encode_instances(s, ids, mesh_index, loose_index);
+    if (gpu_ && mesh_index) add_instanced_node(s, in, ids.size(), *mesh_index);
+    if (!in.tree_nodes.empty()) add_tree_nodes(s, in);
+  }
+
+  TileFiles finish() {
+    if (gpu_) buffers_[kTileBufferSlot]["byteLength"] = files_.bin.size();
+    if (instanced_) {
+      used_.insert(used_.begin(), "EXT_mesh_gpu_instancing");
+      required_.insert(required_.begin(), "EXT_mesh_gpu_instancing");
+    }
+    json out;
+    out["asset"] = {{"version", "2.0"}, {"generator", "sylva"}};
+    out["buffers"] = buffers_;
+    out["bufferViews"] = views_;
+    out["accessors"] = accessors_;
+    if (!materials_.empty()) out["materials"] = materials_;
+    if (!textures_.empty()) out["textures"] = textures_;
+    if (!samplers_.empty()) out["samplers"] = samplers_;
+    if (!images_.empty()) out["images"] = images_;
+    out["meshes"] = meshes_;
+    out["nodes"] = nodes_;
+    out["scenes"] = json::array({{{"nodes", roots_}}});
+    out["scene"] = 0;
+    if (!used_.empty()) out["extensionsUsed"] = used_;
+    if (!required_.empty()) out["extensionsRequired"] = required_;
+    files_.gltf = out.dump(1) + "\n";
+    return std::move(files_);
+  }
+
+ private:
+  static constexpr std::size_t kTileBufferSlot = 0;  // gpu: the tile's bin is buffer 0; species' bins follow
+
+  // The level's buffer, views, accessors, samplers, images, textures and materials appended
+  // (indices offset), then its mesh split by kind: triangles go to the instanced mesh, lines and
+  // points to a mesh each instance's own node draws (see tile_gltf.h); returns the indices of the
+  // two meshes, when they have primitives.
+  std::pair<std::optional<std::size_t>, std::optional<std::size_t>> append_level(const LevelSource& src) {
+    const json& g = src.gltf;
+    const std::size_t acc0 = accessors_.size(), mat0 = materials_.size();
+    append_resources(src);
+    json mesh = g.at("meshes").at(0), loose = json::array();
+    json& prims = mesh["primitives"];
+    for (auto& p : prims) {
+      for (auto& [name, acc] : p["attributes"].items()) acc = offset_index(acc, acc0);
+      if (p.contains("indices")) p["indices"] = offset_index(p["indices"], acc0);
+      if (p.contains("material")) p["material"] = offset_index(p["material"], mat0);
+    }
+    json triangles = json::array();
+    for (auto& p : prims) (!gpu_ || triangle_mode(p) ? triangles : loose).push_back(std::move(p));
+    std::optional<std::size_t> mesh_index, loose_index;
+    if (!triangles.empty()) {
+      prims = std::move(triangles);
+      mesh_index = meshes_.size();
+      meshes_.push_back(mesh);
+    }
+    if (!loose.empty()) {
+      json m = {{"primitives", std::move(loose)}};
+      if (mesh.contains("name")) m["name"] = mesh["name"].get<std::string>() + "_lines";
+      loose_index = meshes_.size();
+      meshes_.push_back(std::move(m));
+    }
+    for (const auto& e : g.value("extensionsUsed", json::array()))
+      if (std::find(used_.begin(), used_.end(), e.get<std::string>()) == used_.end())
+        used_.push_back(e.get<std::string>());
+    for (const auto& e : g.value("extensionsRequired", json::array()))
+      if (std::find(required_.begin(), required_.end(), e.get<std::string>()) == required_.end())
+        required_.push_back(e.get<std::string>());
+    return {mesh_index, loose_index};
+  }
+
+  // Everything of the level but its mesh, each index offset past what the tile holds already.
+  void append_resources(const LevelSource& src) {
+    const json& g = src.gltf;
+    const std::size_t buf0 = buffers_.size(), view0 = views_.size(), tex0 = textures_.size(),
+                      samp0 = samplers_.size(), img0 = images_.size();
+    buffers_.push_back({{"uri", src.bin_name}, {"byteLength", src.bin_bytes}});
     for (json v : g.value("bufferViews", json::array())) {
       v["buffer"] = buf0;
-      views.push_back(std::move(v));
+      views_.push_back(std::move(v));
     }
     for (json a : g.value("accessors", json::array())) {
       if (a.contains("bufferView")) a["bufferView"] = offset_index(a["bufferView"], view0);
-      accessors.push_back(std::move(a));
+      accessors_.push_back(std::move(a));
     }
-    for (json smp : g.value("samplers", json::array())) samplers.push_back(std::move(smp));
+    for (json smp : g.value("samplers", json::array())) samplers_.push_back(std::move(smp));
     for (json im : g.value("images", json::array())) {
-      if (im.contains("uri")) im["uri"] = src->image_prefix + im["uri"].get<std::string>();
+      if (im.contains("uri")) im["uri"] = src.image_prefix + im["uri"].get<std::string>();
       if (im.contains("bufferView")) im["bufferView"] = offset_index(im["bufferView"], view0);
-      images.push_back(std::move(im));
+      images_.push_back(std::move(im));
     }
     for (json t : g.value("textures", json::array())) {
       if (t.contains("sampler")) t["sampler"] = offset_index(t["sampler"], samp0);
       if (t.contains("source")) t["source"] = offset_index(t["source"], img0);
-      textures.push_back(std::move(t));
+      textures_.push_back(std::move(t));
     }
     for (json m : g.value("materials", json::array())) {
       std::function<void(json&)> fix = [&](json& j) {
@@ -194,132 +268,120 @@ TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<co
         }
       };
       fix(m);  // every textureInfo's "index" (baseColorTexture, normalTexture, ...)
-      materials.push_back(std::move(m));
+      materials_.push_back(std::move(m));
     }
-    // The level's primitives split by kind: triangles go to the instanced mesh, lines and points
-    // to a mesh each instance's own node draws (see tile_gltf.h).
-    json mesh = g.at("meshes").at(0), loose = json::array();
-    json& prims = mesh["primitives"];
-    for (auto& p : prims) {
-      for (auto& [name, acc] : p["attributes"].items()) acc = offset_index(acc, acc0);
-      if (p.contains("indices")) p["indices"] = offset_index(p["indices"], acc0);
-      if (p.contains("material")) p["material"] = offset_index(p["material"], mat0);
-    }
-    json triangles = json::array();
-    for (auto& p : prims) (!gpu || triangle_mode(p) ? triangles : loose).push_back(std::move(p));
-    std::optional<std::size_t> mesh_index, loose_index;
-    if (!triangles.empty()) {
-      prims = std::move(triangles);
-      mesh_index = meshes.size();
-      meshes.push_back(mesh);
-    }
-    if (!loose.empty()) {
-      json m = {{"primitives", std::move(loose)}};
-      if (mesh.contains("name")) m["name"] = mesh["name"].get<std::string>() + "_lines";
-      loose_index = meshes.size();
-      meshes.push_back(std::move(m));
-    }
-    for (const auto& e : g.value("extensionsUsed", json::array()))
-      if (std::find(used.begin(), used.end(), e.get<std::string>()) == used.end())
-        used.push_back(e.get<std::string>());
-    for (const auto& e : g.value("extensionsRequired", json::array()))
-      if (std::find(required.begin(), required.end(), e.get<std::string>()) == required.end())
-        required.push_back(e.get<std::string>());
+  }
 
-    // The instances (gpu): TRANSLATION, ROTATION, SCALE, _ID, each its own view in the tile's
-    // bin. The per-tree nodes (the loose primitives' with gpu, the whole mesh's with nodes) carry
-    // the same float values (printed as the shortest decimal of the float, gltf::float_json),
-    // under a parent at the tile origin: both parts of a tree get one transform in every client.
-    const auto& ids = by_species[s];
-    std::string t, r, sc, id;
-    json tree_nodes = json::array();
-    double tmin[3] = {INFINITY, INFINITY, INFINITY}, tmax[3] = {-INFINITY, -INFINITY, -INFINITY};
+  // The instances (gpu): TRANSLATION, ROTATION, SCALE, _ID streams. The per-tree nodes (the loose
+  // primitives' with gpu, the whole mesh's with nodes) carry the same float values (printed as
+  // the shortest decimal of the float, gltf::float_json), under a parent at the tile origin: both
+  // parts of a tree get one transform in every client.
+  TileInstances encode_instances(std::size_t s, const std::vector<std::uint32_t>& ids,
+                                 std::optional<std::size_t> mesh_index,
+                                 std::optional<std::size_t> loose_index) {
+    TileInstances out;
     for (std::uint32_t i : ids) {
-      const Trs trs = instance_trs(forest.species[s], forest.instances[i]);
+      const Trs trs = instance_trs(forest_.species[s], forest_.instances[i]);
       json tj = json::array(), rj = json::array(), sj = json::array();
       for (int k = 0; k < 3; ++k) {
-        const double v = trs.t[std::size_t(k)] - origin[std::size_t(k)];
-        put_f32(t, v);
+        const double v = trs.t[std::size_t(k)] - origin_[std::size_t(k)];
+        put_f32(out.t, v);
         const double fv = double(float(v));
-        tmin[k] = std::min(tmin[k], fv);
-        tmax[k] = std::max(tmax[k], fv);
+        out.tmin[k] = std::min(out.tmin[k], fv);
+        out.tmax[k] = std::max(out.tmax[k], fv);
         tj.push_back(gltf::float_json(fv));
       }
       for (double q : trs.r) {
-        put_f32(r, q);
+        put_f32(out.r, q);
         rj.push_back(gltf::float_json(q));
       }
       for (double v : trs.s) {
-        put_f32(sc, v);
+        put_f32(out.sc, v);
         sj.push_back(gltf::float_json(v));
       }
-      if (gpu && forest.instances[i].id >= (1u << 24))
+      if (gpu_ && forest_.instances[i].id >= (1u << 24))
         throw std::invalid_argument("instance ids from 2^24 on do not fit _ID (FLOAT)");
-      put_f32(id, double(forest.instances[i].id));
-      if (!gpu || loose_index)
-        tree_nodes.push_back({{"mesh", gpu ? *loose_index : *mesh_index},
-                              {"translation", tj},
-                              {"rotation", rj},
-                              {"scale", sj},
-                              {"extras", {{"instance_id", forest.instances[i].id}}}});
+      put_f32(out.id, double(forest_.instances[i].id));
+      if (!gpu_ || loose_index)
+        out.tree_nodes.push_back({{"mesh", gpu_ ? *loose_index : *mesh_index},
+                                  {"translation", tj},
+                                  {"rotation", rj},
+                                  {"scale", sj},
+                                  {"extras", {{"instance_id", forest_.instances[i].id}}}});
     }
-    auto add = [&](const std::string& data, const char* type, bool minmax) {
-      const std::size_t offset = files.bin.size();
-      files.bin += data;
-      views.push_back({{"buffer", tile_buffer_slot}, {"byteOffset", offset}, {"byteLength", data.size()}});
-      json a = {
-          {"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", ids.size()}, {"type", type}};
-      if (minmax) {
-        a["min"] = {tmin[0], tmin[1], tmin[2]};
-        a["max"] = {tmax[0], tmax[1], tmax[2]};
-      }
-      accessors.push_back(std::move(a));
-      return accessors.size() - 1;
-    };
-    if (gpu && mesh_index) {
-      json attrs;
-      attrs["TRANSLATION"] = add(t, "VEC3", true);
-      attrs["ROTATION"] = add(r, "VEC4", false);
-      attrs["SCALE"] = add(sc, "VEC3", false);
-      attrs["_ID"] = add(id, "SCALAR", false);
-      instanced = true;
-      roots.push_back(nodes.size());
-      nodes.push_back({{"name", forest.species[s].name},
-                       {"mesh", *mesh_index},
-                       {"translation", {origin[0], origin[1], origin[2]}},
-                       {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}}});
-    }
-    if (!tree_nodes.empty()) {
-      const std::size_t parent = nodes.size();
-      json children = json::array();
-      for (std::size_t k = 0; k < tree_nodes.size(); ++k) children.push_back(parent + 1 + k);
-      roots.push_back(parent);
-      nodes.push_back({{"name", forest.species[s].name + (gpu ? "_lines" : "")},
-                       {"translation", {origin[0], origin[1], origin[2]}},
-                       {"children", std::move(children)}});
-      for (json& n : tree_nodes) nodes.push_back(std::move(n));
-    }
+    return out;
   }
-  if (gpu) buffers[tile_buffer_slot]["byteLength"] = files.bin.size();
-  if (instanced) {
-    used.insert(used.begin(), "EXT_mesh_gpu_instancing");
-    required.insert(required.begin(), "EXT_mesh_gpu_instancing");
+
+  // One stream of `count` floats of `type` as a view of the tile's bin and its accessor (with
+  // TRANSLATION's bounds when `in` is given); returns the accessor's index.
+  std::size_t add_stream(const std::string& data, const char* type, std::size_t count,
+                         const TileInstances* in) {
+    const std::size_t offset = files_.bin.size();
+    files_.bin += data;
+    views_.push_back({{"buffer", kTileBufferSlot}, {"byteOffset", offset}, {"byteLength", data.size()}});
+    json a = {{"bufferView", views_.size() - 1}, {"componentType", 5126}, {"count", count}, {"type", type}};
+    if (in) {
+      a["min"] = {in->tmin[0], in->tmin[1], in->tmin[2]};
+      a["max"] = {in->tmax[0], in->tmax[1], in->tmax[2]};
+    }
+    accessors_.push_back(std::move(a));
+    return accessors_.size() - 1;
   }
-  out["buffers"] = buffers;
-  out["bufferViews"] = views;
-  out["accessors"] = accessors;
-  if (!materials.empty()) out["materials"] = materials;
-  if (!textures.empty()) out["textures"] = textures;
-  if (!samplers.empty()) out["samplers"] = samplers;
-  if (!images.empty()) out["images"] = images;
-  out["meshes"] = meshes;
-  out["nodes"] = nodes;
-  out["scenes"] = json::array({{{"nodes", roots}}});
-  out["scene"] = 0;
-  if (!used.empty()) out["extensionsUsed"] = used;
-  if (!required.empty()) out["extensionsRequired"] = required;
-  files.gltf = out.dump(1) + "\n";
-  return files;
+
+  // The species' node at the tile origin drawing its triangle mesh once per instance.
+  void add_instanced_node(std::size_t s, const TileInstances& in, std::size_t count, std::size_t mesh_index) {
+    json attrs;
+    attrs["TRANSLATION"] = add_stream(in.t, "VEC3", count, &in);
+    attrs["ROTATION"] = add_stream(in.r, "VEC4", count, nullptr);
+    attrs["SCALE"] = add_stream(in.sc, "VEC3", count, nullptr);
+    attrs["_ID"] = add_stream(in.id, "SCALAR", count, nullptr);
+    instanced_ = true;
+    roots_.push_back(nodes_.size());
+    nodes_.push_back({{"name", forest_.species[s].name},
+                      {"mesh", mesh_index},
+                      {"translation", {origin_[0], origin_[1], origin_[2]}},
+                      {"extensions", {{"EXT_mesh_gpu_instancing", {{"attributes", attrs}}}}}});
+  }
+
+  // The per-tree nodes under one parent at the tile origin.
+  void add_tree_nodes(std::size_t s, const TileInstances& in) {
+    const std::size_t parent = nodes_.size();
+    json children = json::array();
+    for (std::size_t k = 0; k < in.tree_nodes.size(); ++k) children.push_back(parent + 1 + k);
+    roots_.push_back(parent);
+    nodes_.push_back({{"name", forest_.species[s].name + (gpu_ ? "_lines" : "")},
+                      {"translation", {origin_[0], origin_[1], origin_[2]}},
+                      {"children", std::move(children)}});
+    for (const json& n : in.tree_nodes) nodes_.push_back(n);
+  }
+
+  const Forest& forest_;
+  const bool gpu_;
+  const Vec3d origin_;
+  json buffers_ = json::array(), views_ = json::array(), accessors_ = json::array(),
+       materials_ = json::array(), textures_ = json::array(), samplers_ = json::array(),
+       images_ = json::array(), meshes_ = json::array(), nodes_ = json::array(), roots_ = json::array();
+  std::vector<std::string> used_, required_;
+  bool instanced_ = false;
+  TileFiles files_;
+};
+
+}  // namespace
+
+TileFiles tile_gltf(const Forest& forest, const Tile& tile, const std::vector<const LevelSource*>& levels,
+                    const std::string& tile_bin_name, TileInstancing instancing) {
+  // Instances of the tile by species, in instance order.
+  std::vector<std::vector<std::uint32_t>> by_species(forest.species.size());
+  for (std::uint32_t i : tile.instances) by_species[forest.instances[i].species].push_back(i);
+  TileBuilder b(forest, tile, tile_bin_name, instancing);
+  for (std::size_t s = 0; s < forest.species.size(); ++s) {
+    if (by_species[s].empty()) continue;
+    const LevelSource* src = levels.at(s);
+    if (!src)
+      throw std::invalid_argument("species '" + forest.species[s].name + "' has no level for this tile");
+    b.add_species(s, *src, by_species[s]);
+  }
+  return b.finish();
 }
 
 }  // namespace sylva::forest

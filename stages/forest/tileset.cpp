@@ -65,42 +65,58 @@ std::size_t species_level(const Species& s, int tile_level, int level_count) {
   return std::min<std::size_t>(std::size_t(std::max(tile_level, 0)), lods - 1);
 }
 
-std::string tileset_json(const Forest& forest, int level_count, const Georeference& geo,
-                         const std::function<std::string(std::size_t, int)>& content_uri,
-                         const Box3& ground_bounds) {
-  // The error of drawing none of a subtree's trees: the tallest tree's height.
+namespace {
+
+using ContentUri = std::function<std::string(std::size_t, int)>;
+
+// The error of drawing none of a subtree's trees: the tallest tree's height (at least 1 m).
+double empty_error_of(const Forest& forest) {
   double empty_error = 0;
   for (const Instance& in : forest.instances) {
     const Species& s = forest.species[in.species];
     empty_error = std::max(empty_error, (s.bounds.max[1] - s.bounds.min[1]) * in.scale[1]);
   }
-  empty_error = std::max(empty_error, 1.0);
-  auto level_error = [&](const Tile& t, int level) {
-    double e = 0;
-    for (std::uint32_t i : t.instances) {
-      const Species& s = forest.species[forest.instances[i].species];
-      e = std::max(e, tile_error(s, s.levels[species_level(s, level, level_count)]));
-    }
-    return e;
-  };
-  auto chain = [&](std::size_t t) {
-    const Tile& tile = forest.tiles[t];
-    json node;
-    double error = 0;  // non-decreasing from the finest level up
-    for (int level = 0; level < level_count; ++level) {
-      error = std::max(error, level_error(tile, level));
-      json n = {{"boundingVolume", box_volume(tile.bounds)},
-                {"geometricError", error},
-                {"refine", "REPLACE"},
-                {"content", {{"uri", content_uri(t, level)}}}};
-      if (level > 0) n["children"] = json::array({std::move(node)});
-      node = std::move(n);
-    }
-    return node;
-  };
-  // Quadtree over the tile grid: split the index rectangle until one tile is left.
-  std::function<json(int, int, int, int, Box3&, bool&)> build = [&](int x0, int z0, int x1, int z1,
-                                                                    Box3& bounds, bool& any) -> json {
+  return std::max(empty_error, 1.0);
+}
+
+// The error of drawing tile t's trees at tile level `level`: the largest of its species' levels.
+double level_error(const Forest& forest, const Tile& t, int level, int level_count) {
+  double e = 0;
+  for (std::uint32_t i : t.instances) {
+    const Species& s = forest.species[forest.instances[i].species];
+    e = std::max(e, tile_error(s, s.levels[species_level(s, level, level_count)]));
+  }
+  return e;
+}
+
+// Tile t's chain: one node per level, the coarsest outermost, each the parent of the next finer
+// (REPLACE refinement), with non-decreasing errors from the finest level up.
+json tile_chain(const Forest& forest, std::size_t t, int level_count, const ContentUri& content_uri) {
+  const Tile& tile = forest.tiles[t];
+  json node;
+  double error = 0;  // non-decreasing from the finest level up
+  for (int level = 0; level < level_count; ++level) {
+    error = std::max(error, level_error(forest, tile, level, level_count));
+    json n = {{"boundingVolume", box_volume(tile.bounds)},
+              {"geometricError", error},
+              {"refine", "REPLACE"},
+              {"content", {{"uri", content_uri(t, level)}}}};
+    if (level > 0) n["children"] = json::array({std::move(node)});
+    node = std::move(n);
+  }
+  return node;
+}
+
+// Quadtree over the tile grid: split the index rectangle until one tile is left.
+struct TileQuadtree {
+  const Forest& forest;
+  int level_count;
+  const ContentUri& content_uri;
+  double empty_error;
+
+  // The subtree over tile indices [x0, x1) x [z0, z1): `any` tells whether it holds a tile,
+  // `bounds` receives its box (when it does).
+  json build(int x0, int z0, int x1, int z1, Box3& bounds, bool& any) const {
     std::vector<std::size_t> inside;
     for (std::size_t t = 0; t < forest.tiles.size(); ++t) {
       const Tile& tile = forest.tiles[t];
@@ -110,7 +126,7 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
     if (!any) return {};
     if (x1 - x0 <= 1 && z1 - z0 <= 1) {  // one grid cell: one tile
       bounds = forest.tiles[inside[0]].bounds;
-      return chain(inside[0]);
+      return tile_chain(forest, inside[0], level_count, content_uri);
     }
     const int mx = x1 - x0 > 1 ? (x0 + x1) / 2 : x1, mz = z1 - z0 > 1 ? (z0 + z1) / 2 : z1;
     json children = json::array();
@@ -132,7 +148,14 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
             {"geometricError", empty_error},
             {"refine", "REPLACE"},
             {"children", std::move(children)}};
-  };
+  }
+};
+
+}  // namespace
+
+std::string tileset_json(const Forest& forest, int level_count, const Georeference& geo,
+                         const ContentUri& content_uri, const Box3& ground_bounds) {
+  const double empty_error = empty_error_of(forest);
   int x0 = 0, z0 = 0, x1 = 1, z1 = 1;
   for (const Tile& t : forest.tiles) {
     x0 = std::min(x0, t.ix);
@@ -142,7 +165,7 @@ std::string tileset_json(const Forest& forest, int level_count, const Georeferen
   }
   Box3 bounds;
   bool any = false;
-  json root = build(x0, z0, x1, z1, bounds, any);
+  json root = TileQuadtree{forest, level_count, content_uri, empty_error}.build(x0, z0, x1, z1, bounds, any);
   if (!any) {
     Box3 b{{forest.extent_min[0], 0, forest.extent_min[1]}, {forest.extent_max[0], 1, forest.extent_max[1]}};
     root = {{"boundingVolume", box_volume(b)}, {"geometricError", 0.0}, {"refine", "REPLACE"}};

@@ -134,62 +134,57 @@ std::array<double, 2> trunk_foot(const image::Image& color, const Layout& layout
   return {(c * rx - b * rz) / det, (a * rz - b * rx) / det};
 }
 
-}  // namespace
-
-BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& p,
-                         const SourceDesc& source) {
-  if (p.cutout_vertices < 4 || p.cutout_vertices > 8)
-    throw std::invalid_argument("cutout_vertices must be in 4..8");
-  // 1-2. Measure and plan.
-  const SourceGeometry geo = measure(scene);
-  Layout layout = plan_layout(p.layout, geo);
-  const bool billboards = p.layout.kind == Kind::kBillboards;
-  const double texel = 2 * layout.frame_half_extent / p.layout.frame_px;
-
-  // 3. Bake.
+// 3. The bake's options: the atlas, MSAA and threads, and lines as wide as the pixel their alpha
+// is for; thinner than a texel, one texel wide with their alpha scaled by how much of the texel
+// they cover.
+render::BakeOptions bake_options(const Layout& layout, const BakeParams& p, const SourceDesc& source,
+                                 double texel) {
   render::BakeOptions bo;
   bo.atlas_width = layout.atlas_width;
   bo.atlas_height = layout.atlas_height;
   bo.msaa = p.msaa;
   bo.threads = p.threads;
-  // Lines: as wide as the pixel their alpha is for; thinner than a texel, one texel wide with
-  // their alpha scaled by how much of the texel they cover.
   const double line_texels = source.line_pixel_m > 0 ? source.line_pixel_m / texel : 1.0;
   bo.line_width_px = float(std::max(1.0, line_texels));
   bo.line_alpha_scale = float(std::min(1.0, line_texels));
-  render::BakedMaps maps = renderer.bake(scene, layout.views, bo);
+  return bo;
+}
 
-  // 4. Dilate.
-  std::vector<PixelRect> rects;
-  for (const render::BakeView& v : layout.views) rects.push_back(rect_of(v));
-  dilate_frames(maps.color, maps.normal_depth, rects, layout.padding_px);
-
-  // 5a. Billboards: half of the vertical cards face any viewer near the horizon and all of them
-  // show the whole crown, so over each other they would cover 1 - (1 - c)^(K/2) where the tree
-  // covers c. Each vertical card's alpha becomes 1 - (1 - c)^(2/K), so that the K/2 together
-  // cover c (the lod stage's rule for its three lines per internode, docs/stages/lod.md).
-  if (billboards && p.layout.cards >= 2) {
-    const double m = 0.5 * p.layout.cards;
-    std::array<std::uint8_t, 256> lut{};
-    for (int a = 0; a < 256; ++a)
-      lut[std::size_t(a)] = std::uint8_t(std::lround(255.0 * (1 - std::pow(1 - a / 255.0, 1 / m))));
-    for (int k = 0; k < p.layout.cards; ++k) {
-      const render::BakeView& v = layout.views[std::size_t(k)];
-      for (int y = v.y; y < v.y + v.h; ++y)
-        for (int x = v.x; x < v.x + v.w; ++x) {
-          std::uint8_t& a =
-              maps.color.bytes()[(std::size_t(y) * std::size_t(maps.color.width()) + std::size_t(x)) * 4 + 3];
-          a = lut[a];
-        }
-    }
+// 5a. Billboards: half of the vertical cards face any viewer near the horizon and all of them
+// show the whole crown, so over each other they would cover 1 - (1 - c)^(K/2) where the tree
+// covers c. Each vertical card's alpha becomes 1 - (1 - c)^(2/K), so that the K/2 together
+// cover c (the lod stage's rule for its three lines per internode, docs/stages/lod.md). The
+// first `cards` views are the vertical cards'.
+void share_card_coverage(image::Image& color, const Layout& layout, int cards) {
+  const double m = 0.5 * cards;
+  std::array<std::uint8_t, 256> lut{};
+  for (int a = 0; a < 256; ++a)
+    lut[std::size_t(a)] = std::uint8_t(std::lround(255.0 * (1 - std::pow(1 - a / 255.0, 1 / m))));
+  for (int k = 0; k < cards; ++k) {
+    const render::BakeView& v = layout.views[std::size_t(k)];
+    for (int y = v.y; y < v.y + v.h; ++y)
+      for (int x = v.x; x < v.x + v.w; ++x) {
+        std::uint8_t& a =
+            color.bytes()[(std::size_t(y) * std::size_t(color.width()) + std::size_t(x)) * 4 + 3];
+        a = lut[a];
+      }
   }
+}
 
-  // 5-6. Cards: top-card height, normals, cutouts. Vertical cards stand through the trunk's foot
-  // rather than the box centre: moving a card along its own direction moves nothing of what its
-  // orthographic frame shows, and through the foot the trunk is drawn where it stands, so a card
-  // seen from aside, or edge-on as a line, puts the trunk on the tree's own trunk.
+// The cards as impostor.glb draws them, and the mean fraction of their frames their cutouts cover.
+struct FittedCards {
+  std::vector<GlbCard> cards;
+  double cutout_fill = 1;
+};
+
+// 5-6. Cards: top-card height, normals, cutouts (layout.cards updated). Vertical cards stand
+// through the trunk's foot rather than the box centre: moving a card along its own direction
+// moves nothing of what its orthographic frame shows, and through the foot the trunk is drawn
+// where it stands, so a card seen from aside, or edge-on as a line, puts the trunk on the tree's
+// own trunk.
+FittedCards fit_cards(const render::BakedMaps& maps, Layout& layout, const BakeParams& p, bool billboards) {
   const std::array<double, 2> foot = trunk_foot(maps.color, layout);
-  std::vector<GlbCard> glb_cards;
+  FittedCards out;
   double fill = 0;
   for (std::size_t c = 0; c < layout.cards.size(); ++c) {
     Card& card = layout.cards[c];
@@ -218,11 +213,16 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
     Vec3 n = means.normal.norm() > 1e-6 ? means.normal.normalized() : dir;
     if (n.dot(dir) <= 0.05) n = dir;  // a card must face its own viewer
     g.normal = {n.x(), n.y(), n.z()};
-    glb_cards.push_back(std::move(g));
+    out.cards.push_back(std::move(g));
   }
-  const double cutout_fill = layout.cards.empty() ? 1.0 : fill / double(layout.cards.size());
+  out.cutout_fill = layout.cards.empty() ? 1.0 : fill / double(layout.cards.size());
+  return out;
+}
 
-  // 7. Error terms and switch distance.
+// 7. impostor.json's numbers: the atlas, the bounds, the error terms and the switch distance.
+ImpostorInfo impostor_info(const BakeParams& p, const SourceGeometry& geo, const Layout& layout,
+                           const SourceDesc& source, double texel, const std::vector<GlbCard>& glb_cards) {
+  const bool billboards = p.layout.kind == Kind::kBillboards;
   ImpostorInfo info;
   info.kind = p.layout.kind;
   info.hemi = p.layout.kind == Kind::kHemiOctahedral;
@@ -255,10 +255,14 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
   info.source_level = source.level;
   info.cards = layout.cards;
   info.glb_triangles = card_triangles(glb_cards);
+  return info;
+}
 
-  // 8. impostor.glb: unlit cards showing the colour map lit as the verifier lights the tree (so
-  // every viewer shows what sylva verifies); billboards embed the whole (small) atlas, the
-  // octahedral kinds a crop of their card frames, side by side.
+// 8. impostor.glb's image: the colour map lit as the verifier lights the tree (so every viewer
+// shows what sylva verifies); billboards embed the whole (small) atlas, the octahedral kinds a
+// crop of their card frames, side by side (each card's image_x, image_y set).
+GlbImage glb_image(const render::BakedMaps& maps, std::vector<GlbCard>& glb_cards, const BakeParams& p,
+                   bool billboards) {
   GlbImage img;
   if (billboards) {
     const image::Image lit = prelit(maps.color, maps.normal_depth);
@@ -282,17 +286,49 @@ BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene
     img.width = sheet.width();
     img.height = sheet.height();
   }
+  return img;
+}
+
+}  // namespace
+
+BakeOutput bake_impostor(render::ImpostorRenderer& renderer, const render::Scene& scene, const BakeParams& p,
+                         const SourceDesc& source) {
+  if (p.cutout_vertices < 4 || p.cutout_vertices > 8)
+    throw std::invalid_argument("cutout_vertices must be in 4..8");
+  // 1-2. Measure and plan.
+  const SourceGeometry geo = measure(scene);
+  Layout layout = plan_layout(p.layout, geo);
+  const bool billboards = p.layout.kind == Kind::kBillboards;
+  const double texel = 2 * layout.frame_half_extent / p.layout.frame_px;
+
+  // 3. Bake.
+  render::BakedMaps maps = renderer.bake(scene, layout.views, bake_options(layout, p, source, texel));
+
+  // 4. Dilate.
+  std::vector<PixelRect> rects;
+  for (const render::BakeView& v : layout.views) rects.push_back(rect_of(v));
+  dilate_frames(maps.color, maps.normal_depth, rects, layout.padding_px);
+
+  // 5-6. Billboards' coverage shared among their cards; every card fitted.
+  if (billboards && p.layout.cards >= 2) share_card_coverage(maps.color, layout, p.layout.cards);
+  FittedCards fitted = fit_cards(maps, layout, p, billboards);
+
+  // 7. Error terms and switch distance.
+  ImpostorInfo info = impostor_info(p, geo, layout, source, texel, fitted.cards);
+
+  // 8. impostor.glb.
+  const GlbImage img = glb_image(maps, fitted.cards, p, billboards);
   const nlohmann::json extras = {{"sylva_impostor_kind", kind_name(info.kind)},
                                  {"switch_distance_m", info.switch_distance_m},
                                  {"epsilon_m", info.error.epsilon_m()},
                                  {"impostor_json", kImpostorJsonFile}};
 
   BakeOutput out;
-  out.glb = encode_impostor_glb(glb_cards, img, p.glb_alpha, extras);
+  out.glb = encode_impostor_glb(fitted.cards, img, p.glb_alpha, extras);
   out.info = std::move(info);
   out.color = std::move(maps.color);
   out.normal_depth = std::move(maps.normal_depth);
-  out.cutout_fill = cutout_fill;
+  out.cutout_fill = fitted.cutout_fill;
   return out;
 }
 

@@ -75,60 +75,53 @@ SourceGeometry measure(const render::Scene& scene) {
   return g;
 }
 
-Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
-  check(p.frame_px >= 16 && p.frame_px <= 8192, "frame_px must be in 16..8192");
-  check(p.mip_levels >= 0 && p.mip_levels <= 12, "mip_levels must be in 0..12");
-  Layout out;
-  out.padding_px = 1 << p.mip_levels;
-  check(4 * out.padding_px < p.frame_px, "mip_levels " + std::to_string(p.mip_levels) +
-                                             " needs a padding of " + std::to_string(out.padding_px) +
-                                             " texels, more than a quarter of frame_px " +
-                                             std::to_string(p.frame_px));
-  // The sphere's disc spans frame_px - 2 padding texels: W = R F / (F - 2 p).
-  const double fill = double(p.frame_px) / double(p.frame_px - 2 * out.padding_px);
-  const Vec3 c(g.center[0], g.center[1], g.center[2]);
+namespace {
+
+// The (hemi-)octahedral kinds: frames_per_side^2 frames over the (hemi)sphere of directions, and
+// the fallback cross of cards. `c` is the sphere's centre, `fill` the frame's extent over the
+// sphere's radius; `out` has its padding.
+void plan_octahedral(const LayoutParams& p, const SourceGeometry& g, const Vec3& c, double fill,
+                     Layout& out) {
   const int f = p.frame_px;
-
-  if (p.kind != Kind::kBillboards) {
-    const bool hemi = p.kind == Kind::kHemiOctahedral;
-    const int n = p.frames_per_side;
-    check(n >= 2 && n <= 64, "frames_per_side must be in 2..64");
-    check(std::int64_t(n) * f <= 16384, "the atlas (frames_per_side x frame_px = " + std::to_string(n * f) +
-                                            " px) is larger than 16384 px");
-    out.atlas_width = out.atlas_height = n * f;
-    out.frame_half_extent = g.radius * fill;
-    const double depth = g.radius * 1.001;
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        out.views.push_back(view_for(c, frame_direction(i, j, n, hemi), out.frame_half_extent,
-                                     out.frame_half_extent, depth, i * f, j * f, f, f));
-    // The fallback cross: the frames nearest the four cardinal horizon directions, two planes
-    // through the centre. No horizontal card: seen from the side it would be a dense stripe
-    // across the crown (the whole top view squeezed into a sliver), and far trees are seen
-    // from the side.
-    struct Target {
-      const char* name;
-      Vec3 dir;
-    };
-    const std::vector<Target> targets = {{"az0", Vec3::UnitZ()},
-                                         {"az90", Vec3::UnitX()},
-                                         {"az180", -Vec3::UnitZ()},
-                                         {"az270", -Vec3::UnitX()}};
-    for (const Target& t : targets) {
-      int best = 0;
-      double best_dot = -2;
-      for (int v = 0; v < int(out.views.size()); ++v) {
-        const double d = out.views[std::size_t(v)].dir.cast<double>().dot(t.dir);
-        if (d > best_dot + 1e-12) best_dot = d, best = v;
-      }
-      out.cards.push_back(card_for(out.views[std::size_t(best)], t.name));
-      out.card_view.push_back(best);
+  const bool hemi = p.kind == Kind::kHemiOctahedral;
+  const int n = p.frames_per_side;
+  check(n >= 2 && n <= 64, "frames_per_side must be in 2..64");
+  check(std::int64_t(n) * f <= 16384,
+        "the atlas (frames_per_side x frame_px = " + std::to_string(n * f) + " px) is larger than 16384 px");
+  out.atlas_width = out.atlas_height = n * f;
+  out.frame_half_extent = g.radius * fill;
+  const double depth = g.radius * 1.001;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      out.views.push_back(view_for(c, frame_direction(i, j, n, hemi), out.frame_half_extent,
+                                   out.frame_half_extent, depth, i * f, j * f, f, f));
+  // The fallback cross: the frames nearest the four cardinal horizon directions, two planes
+  // through the centre. No horizontal card: seen from the side it would be a dense stripe
+  // across the crown (the whole top view squeezed into a sliver), and far trees are seen
+  // from the side.
+  struct Target {
+    const char* name;
+    Vec3 dir;
+  };
+  const std::vector<Target> targets = {
+      {"az0", Vec3::UnitZ()}, {"az90", Vec3::UnitX()}, {"az180", -Vec3::UnitZ()}, {"az270", -Vec3::UnitX()}};
+  for (const Target& t : targets) {
+    int best = 0;
+    double best_dot = -2;
+    for (int v = 0; v < int(out.views.size()); ++v) {
+      const double d = out.views[std::size_t(v)].dir.cast<double>().dot(t.dir);
+      if (d > best_dot + 1e-12) best_dot = d, best = v;
     }
-    return out;
+    out.cards.push_back(card_for(out.views[std::size_t(best)], t.name));
+    out.card_view.push_back(best);
   }
+}
 
-  // Billboards: `cards` vertical views around the vertical axis, then the top view, in a grid of
-  // square frames.
+// Billboards: `cards` vertical views around the vertical axis, then the top view, in a grid of
+// square frames. Arguments as plan_octahedral's.
+void plan_billboards(const LayoutParams& p, const SourceGeometry& g, const Vec3& c, double fill,
+                     Layout& out) {
+  const int f = p.frame_px;
   check(p.cards >= 3 && p.cards <= 64, "cards must be in 3..64");
   const int count = p.cards + (p.top_card ? 1 : 0);
   const int cols = int(std::ceil(std::sqrt(double(count))));
@@ -154,6 +147,26 @@ Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
     out.cards.push_back(card_for(out.views.back(), "top"));
     out.card_view.push_back(k);
   }
+}
+
+}  // namespace
+
+Layout plan_layout(const LayoutParams& p, const SourceGeometry& g) {
+  check(p.frame_px >= 16 && p.frame_px <= 8192, "frame_px must be in 16..8192");
+  check(p.mip_levels >= 0 && p.mip_levels <= 12, "mip_levels must be in 0..12");
+  Layout out;
+  out.padding_px = 1 << p.mip_levels;
+  check(4 * out.padding_px < p.frame_px, "mip_levels " + std::to_string(p.mip_levels) +
+                                             " needs a padding of " + std::to_string(out.padding_px) +
+                                             " texels, more than a quarter of frame_px " +
+                                             std::to_string(p.frame_px));
+  // The sphere's disc spans frame_px - 2 padding texels: W = R F / (F - 2 p).
+  const double fill = double(p.frame_px) / double(p.frame_px - 2 * out.padding_px);
+  const Vec3 c(g.center[0], g.center[1], g.center[2]);
+  if (p.kind != Kind::kBillboards)
+    plan_octahedral(p, g, c, fill, out);
+  else
+    plan_billboards(p, g, c, fill, out);
   return out;
 }
 

@@ -33,6 +33,7 @@
 #include "libs/gltf/scene.h"
 #include "libs/lodmodel/lod_model.h"
 #include "libs/pack/lod_json.h"
+#include "stages/pack/position_grid.h"
 
 namespace sylva::pack {
 
@@ -83,18 +84,6 @@ struct ImpostorLevelInput {
   lodmodel::Camera camera;          // the camera its switch distance is for
   std::vector<std::string> inputs;  // input files (impostor.json, impostor.glb)
 };
-
-// The position grid for a mesh at a level of spatial error `epsilon` (m): the fewest bits B
-// (1..16) whose step extent / (2^B - 1) rounds every coordinate by at most
-// sqrt(3)/2 step <= fraction x epsilon, extent the mesh's largest axis extent; when 16 bits are
-// not enough for that, 16 bits if they round by at most max_fraction x epsilon (`relaxed`), else
-// 0 (float; also when epsilon <= 0). max_error_m is sqrt(3)/2 step (0 for float positions).
-struct PositionGrid {
-  int bits = 0;
-  double max_error_m = 0;
-  bool relaxed = false;  // 16 bits within max_fraction, not fraction, x epsilon
-};
-PositionGrid position_grid(const gltf::Mesh& mesh, double epsilon, double fraction, double max_fraction = 0);
 
 // One output file and the input files it was made from (names in the lod artifact).
 struct PackedFile {

@@ -2,32 +2,12 @@
 
 namespace sylva {
 
-StageInfo pack_stage_info() {
-  StageInfo info;
-  info.name = "pack";
-  // 8: levels chosen by measured image error (measure: true), measured numbers in lod.json and
-  // the manifest (version 4); a level drawn from another band start states that switch distance.
-  // 9: a level drawn from nearer than its own switch distance gets the position grid of that
-  // distance (epsilon x d / switch distance), searched from position_bits_min there; an impostor
-  // failing at its own distance is kept from the first farther distance (x 1.25 steps) where it
-  // passes; lines keep their vertex order (smaller files).
-  // 10: with nearer_line_coverage, a level drawn from nearer than its own switch distance draws
-  // its blended lines with the alpha of that distance; the files' JSON prints numbers as short as their
-  // floats and leaves out a primitive's default mode; a mesh level's own file carries no node or mesh extras
-  // (lod.json has them); embedded PNGs re-deflated at zlib level 9 (same pixels).
-  info.version = 10;
-  info.summary =
-      "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
-      "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
-  info.output_type = "pack";
-  // The pack's own files, and a forest's (any name the forest stage writes: it is copied as is).
-  info.outputs = {};
-  info.inputs = {{"lod", "impostor", "forest", "pack"},
-                 1,
-                 -1,
-                 "one lod chain per species, in `species` order; optionally one impostor per species (same "
-                 "order: the chain's last level); forests (in `forests` order); other packs, merged whole"};
-  info.params = {
+namespace {
+
+// Every parameter of the stage with its default, range and description, in the order the CLI
+// lists them (docs/stages/pack.md explains each).
+std::vector<ParamSpec> pack_params() {
+  return {
       Param::string_list("species", Value::List{})
           .describe("the species name of each lod input, in `needs` order ([a-z0-9_-]+, unique): file names"),
       Param::choice("compression", {"none", "meshopt", "draco"}, "meshopt")
@@ -87,6 +67,36 @@ StageInfo pack_stage_info() {
           .range(8, 16)
           .describe("bits per texture coordinate (uvs in [0, 1])"),
   };
+}
+
+}  // namespace
+
+StageInfo pack_stage_info() {
+  StageInfo info;
+  info.name = "pack";
+  // 8: levels chosen by measured image error (measure: true), measured numbers in lod.json and
+  // the manifest (version 4); a level drawn from another band start states that switch distance.
+  // 9: a level drawn from nearer than its own switch distance gets the position grid of that
+  // distance (epsilon x d / switch distance), searched from position_bits_min there; an impostor
+  // failing at its own distance is kept from the first farther distance (x 1.25 steps) where it
+  // passes; lines keep their vertex order (smaller files).
+  // 10: with nearer_line_coverage, a level drawn from nearer than its own switch distance draws
+  // its blended lines with the alpha of that distance; the files' JSON prints numbers as short as their
+  // floats and leaves out a primitive's default mode; a mesh level's own file carries no node or mesh extras
+  // (lod.json has them); embedded PNGs re-deflated at zlib level 9 (same pixels).
+  info.version = 10;
+  info.summary =
+      "game-ready asset pack: per species an MSFT_lod GLB (mesh levels, impostor last), one GLB per "
+      "level and lod.json, compressed; forests' tiles and tileset; manifest.json";
+  info.output_type = "pack";
+  // The pack's own files, and a forest's (any name the forest stage writes: it is copied as is).
+  info.outputs = {};
+  info.inputs = {{"lod", "impostor", "forest", "pack"},
+                 1,
+                 -1,
+                 "one lod chain per species, in `species` order; optionally one impostor per species (same "
+                 "order: the chain's last level); forests (in `forests` order); other packs, merged whole"};
+  info.params = pack_params();
   return info;
 }
 

@@ -43,26 +43,69 @@ class PackStage : public Stage {
   void run(StageContext& ctx) const override {
     const Value::List& names = ctx.param("species").as_list();
     const Value::List& forest_names = ctx.param("forests").as_list();
+    const Inputs in = group_inputs(ctx, names.size(), forest_names.size());
+    const pack::PackOptions options = pack_options(ctx);
+    const std::optional<check::ViewCheckOptions> view_options = measure_options(ctx);
+
+    std::set<std::string> seen, forests_seen;    // species and forest names
+    std::map<std::string, std::string> written;  // output name -> what wrote it (collisions)
+    auto claim = [&](const std::string& name, const std::string& what) {
+      const auto [it, fresh] = written.emplace(name, what);
+      if (!fresh)
+        throw StageError("two files of the pack are named '" + name + "': " + it->second + " and " + what);
+    };
+    pack::Manifest manifest;
+    for (std::size_t k = 0; k < in.lods.size(); ++k) {
+      const std::string& species = names[k].as_string();
+      check_name("species", species, seen);
+      const InputArtifact* imp = in.impostors.empty() ? nullptr : in.impostors[k];
+      pack_one_species(ctx, *in.lods[k], imp, species, options, view_options, claim, manifest);
+    }
+    for (std::size_t k = 0; k < in.forests.size(); ++k) {
+      const std::string& name = forest_names[k].as_string();
+      check_name("forests", name, forests_seen);
+      manifest.forests.push_back(copy_forest(ctx, *in.forests[k], name,
+                                             ctx.string("forest_compression") == "meshopt", claim, manifest));
+    }
+    for (const InputArtifact* p : in.packs) merge_pack(ctx, *p, claim, seen, forests_seen, manifest);
+    ctx.write_output(pack::kManifestFile, pack::write_manifest(manifest));
+  }
+
+ private:
+  // The node's inputs by type; lod inputs are every input of another type.
+  struct Inputs {
     std::vector<const InputArtifact*> lods, impostors, forests, packs;
+  };
+
+  // The inputs grouped by type, checked against the `species` (`species` names) and `forests`
+  // (`forests` names) lists: one name per lod and per forest input, and no impostor input or one
+  // per lod input.
+  static Inputs group_inputs(const StageContext& ctx, std::size_t species, std::size_t forest_names) {
+    Inputs g;
     for (const InputArtifact& in : ctx.inputs())
-      (in.type == "impostor" ? impostors
-       : in.type == "forest" ? forests
-       : in.type == "pack"   ? packs
-                             : lods)
+      (in.type == "impostor" ? g.impostors
+       : in.type == "forest" ? g.forests
+       : in.type == "pack"   ? g.packs
+                             : g.lods)
           .push_back(&in);
-    if (names.size() != lods.size())
-      throw StageError("`species` names " + std::to_string(names.size()) + " species but the node has " +
-                       std::to_string(lods.size()) +
+    if (species != g.lods.size())
+      throw StageError("`species` names " + std::to_string(species) + " species but the node has " +
+                       std::to_string(g.lods.size()) +
                        " lod inputs (one name per lod input, in `needs` order)");
-    if (!impostors.empty() && impostors.size() != lods.size())
+    if (!g.impostors.empty() && g.impostors.size() != g.lods.size())
       throw StageError(
-          "the node has " + std::to_string(impostors.size()) + " impostor inputs for " +
-          std::to_string(lods.size()) +
+          "the node has " + std::to_string(g.impostors.size()) + " impostor inputs for " +
+          std::to_string(g.lods.size()) +
           " lod inputs (none, or one per species: the i-th impostor input ends species[i]'s chain)");
-    if (forest_names.size() != forests.size())
-      throw StageError("`forests` names " + std::to_string(forest_names.size()) +
-                       " forests but the node has " + std::to_string(forests.size()) +
+    if (forest_names != g.forests.size())
+      throw StageError("`forests` names " + std::to_string(forest_names) + " forests but the node has " +
+                       std::to_string(g.forests.size()) +
                        " forest inputs (one name per forest input, in `needs` order)");
+    return g;
+  }
+
+  // The core's options from the node's parameters.
+  static pack::PackOptions pack_options(StageContext& ctx) {
     pack::PackOptions options;
     const std::string& c = ctx.string("compression");
     options.compression = c == "none"    ? pack::Compression::kNone
@@ -82,82 +125,75 @@ class PackStage : public Stage {
     options.min_saving = ctx.real("min_saving");
     options.position_bits_min = static_cast<int>(ctx.integer("position_bits_min"));
     options.nearer_line_coverage = ctx.boolean("nearer_line_coverage");
-    const bool measure = ctx.boolean("measure");
-    check::ViewCheckOptions view_options;
-    if (measure) {
-      view_options.azimuths_deg.clear();
-      // The schema holds the azimuths to [-360, 360] and at least one (pack_info.cpp).
-      for (const Value& a : ctx.param("measure_azimuths_deg").as_list())
-        view_options.azimuths_deg.push_back(a.as_real());
-      view_options.supersample = static_cast<int>(ctx.integer("measure_supersample"));
-      view_options.max_failing_fraction = ctx.real("measure_max_failing_fraction");
-      view_options.max_coverage_error = ctx.real("measure_max_coverage_error");
-    }
-
-    static const std::regex kName("[a-z0-9_-]+");
-    std::set<std::string> seen, forests_seen;    // species and forest names
-    std::map<std::string, std::string> written;  // output name -> what wrote it (collisions)
-    auto claim = [&](const std::string& name, const std::string& what) {
-      const auto [it, fresh] = written.emplace(name, what);
-      if (!fresh)
-        throw StageError("two files of the pack are named '" + name + "': " + it->second + " and " + what);
-    };
-    pack::Manifest manifest;
-    for (std::size_t k = 0; k < lods.size(); ++k) {
-      const std::string& species = names[k].as_string();
-      if (!std::regex_match(species, kName))
-        throw StageError("`species` entry '" + species.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
-      if (!seen.insert(species).second) throw StageError("`species` names '" + species + "' twice");
-      const InputArtifact& in = *lods[k];
-      const InputArtifact* imp = impostors.empty() ? nullptr : impostors[k];
-      ctx.check_cancelled();
-      pack::SpeciesInput s = read_species(ctx, in, species);
-      if (imp) s.impostor = read_impostor(ctx, *imp);
-      std::vector<pack::PackedFile> files;
-      pack::LodDescription described;
-      const std::string which = "species '" + species + "' (input '" + in.node + "'" +
-                                (imp ? ", impostor '" + imp->node + "'" : std::string()) + "): ";
-      std::optional<pack::RenderedLevelMeter> meter;
-      if (measure) meter.emplace(make_meter(ctx, in, view_options));
-      try {
-        files = pack::pack_species(s, options, &described, meter ? &*meter : nullptr);
-      } catch (const std::invalid_argument& e) {
-        throw StageError(which + e.what());
-      } catch (const Cancelled&) {
-        throw;
-      } catch (const std::runtime_error& e) {  // the measurement: a file the loader refuses, rendering
-        throw StageError(which + "measuring its levels: " + e.what());
-      }
-      ctx.check_cancelled();
-      pack::SpeciesEntry entry{
-          species, files.front().name, files.back().name, std::move(described.levels), {}};
-      if (imp && entry.levels.back().kind == "impostor") entry.impostor = entry.levels.back().file;
-      for (const pack::PackedFile& f : files) {
-        claim(f.name, "species '" + species + "'");
-        pack::Producer producer{info_.name, info_.version, {}};
-        for (const std::string& name : f.inputs) {
-          const InputArtifact& from = name.rfind("impostor/", 0) == 0 ? *imp : in;
-          const std::string file = name.rfind("impostor/", 0) == 0 ? name.substr(9) : name;
-          producer.inputs.emplace(from.type + "/" + file, from.file(file)->digest);
-        }
-        manifest.files.push_back(pack::describe_file(f.name, f.bytes, std::move(producer)));
-        ctx.write_output(f.name, f.bytes);
-      }
-      manifest.species.push_back(std::move(entry));
-    }
-    for (std::size_t k = 0; k < forests.size(); ++k) {
-      const std::string& name = forest_names[k].as_string();
-      if (!std::regex_match(name, kName))
-        throw StageError("`forests` entry '" + name.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
-      if (!forests_seen.insert(name).second) throw StageError("`forests` names '" + name + "' twice");
-      manifest.forests.push_back(copy_forest(ctx, *forests[k], name,
-                                             ctx.string("forest_compression") == "meshopt", claim, manifest));
-    }
-    for (const InputArtifact* in : packs) merge_pack(ctx, *in, claim, seen, forests_seen, manifest);
-    ctx.write_output(pack::kManifestFile, pack::write_manifest(manifest));
+    return options;
   }
 
- private:
+  // With `measure`, the views of the measured level choice (lodcheck's, with the node's
+  // azimuths, supersampling and thresholds); without, nullopt (the error model's choice).
+  static std::optional<check::ViewCheckOptions> measure_options(StageContext& ctx) {
+    if (!ctx.boolean("measure")) return std::nullopt;
+    check::ViewCheckOptions view_options;
+    view_options.azimuths_deg.clear();
+    // The schema holds the azimuths to [-360, 360] and at least one (pack_info.cpp).
+    for (const Value& a : ctx.param("measure_azimuths_deg").as_list())
+      view_options.azimuths_deg.push_back(a.as_real());
+    view_options.supersample = static_cast<int>(ctx.integer("measure_supersample"));
+    view_options.max_failing_fraction = ctx.real("measure_max_failing_fraction");
+    view_options.max_coverage_error = ctx.real("measure_max_coverage_error");
+    return view_options;
+  }
+
+  // A `species` or `forests` entry: a plain name ([a-z0-9_-]+), not named before (`seen`).
+  static void check_name(const std::string& list, const std::string& name, std::set<std::string>& seen) {
+    static const std::regex kName("[a-z0-9_-]+");
+    if (!std::regex_match(name, kName))
+      throw StageError("`" + list + "` entry '" + name.substr(0, 64) + "' is not a plain name ([a-z0-9_-]+)");
+    if (!seen.insert(name).second) throw StageError("`" + list + "` names '" + name + "' twice");
+  }
+
+  // One species: its lod input `in` (and impostor input `imp`, when given) packed by the core,
+  // each file written and listed in the manifest with the input files it is made from, and the
+  // species' entry.
+  template <class Claim>
+  void pack_one_species(StageContext& ctx, const InputArtifact& in, const InputArtifact* imp,
+                        const std::string& species, const pack::PackOptions& options,
+                        const std::optional<check::ViewCheckOptions>& view_options, Claim& claim,
+                        pack::Manifest& manifest) const {
+    ctx.check_cancelled();
+    pack::SpeciesInput s = read_species(ctx, in, species);
+    if (imp) s.impostor = read_impostor(ctx, *imp);
+    std::vector<pack::PackedFile> files;
+    pack::LodDescription described;
+    const std::string which = "species '" + species + "' (input '" + in.node + "'" +
+                              (imp ? ", impostor '" + imp->node + "'" : std::string()) + "): ";
+    std::optional<pack::RenderedLevelMeter> meter;
+    if (view_options) meter.emplace(make_meter(ctx, in, *view_options));
+    try {
+      files = pack::pack_species(s, options, &described, meter ? &*meter : nullptr);
+    } catch (const std::invalid_argument& e) {
+      throw StageError(which + e.what());
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::runtime_error& e) {  // the measurement: a file the loader refuses, rendering
+      throw StageError(which + "measuring its levels: " + e.what());
+    }
+    ctx.check_cancelled();
+    pack::SpeciesEntry entry{species, files.front().name, files.back().name, std::move(described.levels), {}};
+    if (imp && entry.levels.back().kind == "impostor") entry.impostor = entry.levels.back().file;
+    for (const pack::PackedFile& f : files) {
+      claim(f.name, "species '" + species + "'");
+      pack::Producer producer{info_.name, info_.version, {}};
+      for (const std::string& name : f.inputs) {
+        const InputArtifact& from = name.rfind("impostor/", 0) == 0 ? *imp : in;
+        const std::string file = name.rfind("impostor/", 0) == 0 ? name.substr(9) : name;
+        producer.inputs.emplace(from.type + "/" + file, from.file(file)->digest);
+      }
+      manifest.files.push_back(pack::describe_file(f.name, f.bytes, std::move(producer)));
+      ctx.write_output(f.name, f.bytes);
+    }
+    manifest.species.push_back(std::move(entry));
+  }
+
   // The measured level choice's meter for lod input `in`: its full-detail model (full.glb), the
   // camera and pixel error its chain is for (lod.json), the process's headless renderer.
   pack::RenderedLevelMeter make_meter(StageContext& ctx, const InputArtifact& in,

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "stages/forest/hierarchy.h"
+#include "stages/forest/positions_csv.h"
 
 namespace sylva::forest {
 namespace {
