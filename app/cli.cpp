@@ -310,14 +310,11 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const
   return std::nullopt;
 }
 
-int run_cli(int argc, const char* const* argv, CommandContext& ctx, const std::vector<CliCommand*>& extra) {
-  const CliIo& io = ctx.io;
-  FileSystem& fsys = ctx.fs;
-  CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
-  app.require_subcommand(1);
-  add_global_options(app, ctx.options);
+namespace {
 
-  BuildArgs build;
+// The engine's subcommands, each: its options (filled by parsing), then what it runs.
+
+CLI::App* add_build_command(CLI::App& app, BuildArgs& build) {
   auto* b = app.add_subcommand("build", "build a recipe (default: configs/default.yaml)");
   b->add_option("recipe", build.recipe, "recipe file");
   b->add_option("-j,--jobs", build.jobs, "parallel nodes (default: all cores)")->check(CLI::Range(1, 1024));
@@ -331,89 +328,143 @@ int run_cli(int argc, const char* const* argv, CommandContext& ctx, const std::v
   b->add_option("--cache-max-size", build.cache_max,
                 "evict least recently used results above this size after the build (e.g. 20G; 0: never; "
                 "default: $SYLVA_CACHE_MAX_SIZE, else a quarter of free disk plus the cache)");
+  return b;
+}
 
-  std::string graph_recipe;
+struct GraphArgs {
+  std::string recipe;
   bool dot = false;
+};
+
+CLI::App* add_graph_command(CLI::App& app, GraphArgs& graph) {
   auto* g = app.add_subcommand("graph", "print the recipe's node graph in build order");
-  g->add_option("recipe", graph_recipe, "recipe file")->required();
-  g->add_flag("--dot", dot, "Graphviz dot output");
+  g->add_option("recipe", graph.recipe, "recipe file")->required();
+  g->add_flag("--dot", graph.dot, "Graphviz dot output");
+  return g;
+}
 
-  std::string explain_recipe, explain_target;
+struct ExplainArgs {
+  std::string recipe, node;
+};
+
+CLI::App* add_explain_command(CLI::App& app, ExplainArgs& explain) {
   auto* e = app.add_subcommand("explain", "say why a node will rebuild");
-  e->add_option("recipe", explain_recipe, "recipe file")->required();
-  e->add_option("node", explain_target, "node name")->required();
+  e->add_option("recipe", explain.recipe, "recipe file")->required();
+  e->add_option("node", explain.node, "node name")->required();
+  return e;
+}
 
-  auto* st = app.add_subcommand("stages", "list stages and their parameters");
+// `sylva cache stats|gc|verify`.
+struct CacheCommands {
+  CLI::App* stats = nullptr;
+  CLI::App* gc = nullptr;
+  CLI::App* verify = nullptr;
+  double max_gib = 0;  // gc --max-size-gib
+};
 
+void add_cache_commands(CLI::App& app, CacheCommands& cache) {
   auto* cache_cmd = app.add_subcommand("cache", "inspect or trim the cache");
   cache_cmd->require_subcommand(1);
-  auto* cs = cache_cmd->add_subcommand("stats", "count blobs, bytes and action results");
-  double max_gib = 0;
-  auto* cg = cache_cmd->add_subcommand("gc", "delete unreferenced blobs and stale temp files");
-  cg->add_option("--max-size-gib", max_gib, "also evict least recently used results above this size")
+  cache.stats = cache_cmd->add_subcommand("stats", "count blobs, bytes and action results");
+  cache.gc = cache_cmd->add_subcommand("gc", "delete unreferenced blobs and stale temp files");
+  cache.gc
+      ->add_option("--max-size-gib", cache.max_gib, "also evict least recently used results above this size")
       ->check(CLI::NonNegativeNumber);
-  auto* cv = cache_cmd->add_subcommand("verify", "re-hash every blob, delete corrupt ones");
+  cache.verify = cache_cmd->add_subcommand("verify", "re-hash every blob, delete corrupt ones");
+}
 
-  std::string clean_recipe;
-  bool clean_all = false;
+int cmd_cache_stats(CommandContext& ctx) {
+  Cache cache(ctx.fs, ctx.cache_root());
+  const CacheStats s = cache.stats();
+  std::fprintf(ctx.io.out, "cache %s: %llu blobs (%s), %llu action results, %llu temp entries\n",
+               cache.root().c_str(), static_cast<unsigned long long>(s.blobs),
+               human_bytes(s.blob_bytes).c_str(), static_cast<unsigned long long>(s.actions),
+               static_cast<unsigned long long>(s.tmp_entries));
+  return kExitOk;
+}
+
+int cmd_cache_gc(double max_gib, CommandContext& ctx) {
+  Cache cache(ctx.fs, ctx.cache_root());
+  auto gc_lock = cache.lock_for_gc();  // waits for running builds; they wait for it
+  const GcResult r = cache.gc(static_cast<std::uint64_t>(max_gib * (1ull << 30)));
+  std::fprintf(ctx.io.out, "removed %llu action results, %llu blobs (%s), %llu temp entries\n",
+               static_cast<unsigned long long>(r.actions_removed),
+               static_cast<unsigned long long>(r.blobs_removed), human_bytes(r.bytes_freed).c_str(),
+               static_cast<unsigned long long>(r.tmp_removed));
+  return kExitOk;
+}
+
+int cmd_cache_verify(CommandContext& ctx) {
+  Cache cache(ctx.fs, ctx.cache_root());
+  auto gc_lock = cache.lock_for_gc();
+  const VerifyResult v = cache.verify_all();
+  std::fprintf(ctx.io.out, "%llu corrupt blob%s removed, %llu invalid action result%s removed\n",
+               static_cast<unsigned long long>(v.blobs_removed), v.blobs_removed == 1 ? "" : "s",
+               static_cast<unsigned long long>(v.actions_removed), v.actions_removed == 1 ? "" : "s");
+  return v.blobs_removed + v.actions_removed ? kExitBuildFailed : kExitOk;
+}
+
+struct CleanArgs {
+  std::string recipe;
+  bool all = false;
+};
+
+CLI::App* add_clean_command(CLI::App& app, CleanArgs& clean) {
   auto* cl = app.add_subcommand("clean", "delete a recipe's outputs (or, with --all, out/ and the cache)");
-  cl->add_option("recipe", clean_recipe, "recipe whose out/<name>/ to delete");
-  cl->add_flag("--all", clean_all, "delete every output and the cache");
+  cl->add_option("recipe", clean.recipe, "recipe whose out/<name>/ to delete");
+  cl->add_flag("--all", clean.all, "delete every output and the cache");
+  return cl;
+}
 
+int cmd_clean(const CleanArgs& clean, CommandContext& ctx) {
+  if (clean.all) return cmd_clean_all(ctx);
+  if (clean.recipe.empty()) {
+    std::fprintf(ctx.io.err, "error: 'sylva clean' needs a recipe or --all\n");
+    return kExitUsage;
+  }
+  auto recipe = load_recipe_or_report(clean.recipe, ctx);
+  if (!recipe) return kExitUsage;
+  ctx.fs.remove_all(ctx.out_root() / recipe->name);
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_cli(int argc, const char* const* argv, CommandContext& ctx, const std::vector<CliCommand*>& extra) {
+  CLI::App app{"sylva: a headless batch asset pipeline for trees and forests"};
+  app.require_subcommand(1);
+  add_global_options(app, ctx.options);
+  // Registration order is the order `sylva --help` lists the subcommands in.
+  BuildArgs build;
+  CLI::App* build_cmd = add_build_command(app, build);
+  GraphArgs graph;
+  CLI::App* graph_cmd = add_graph_command(app, graph);
+  ExplainArgs explain;
+  CLI::App* explain_cmd = add_explain_command(app, explain);
+  CLI::App* stages_cmd = app.add_subcommand("stages", "list stages and their parameters");
+  CacheCommands cache;
+  add_cache_commands(app, cache);
+  CleanArgs clean;
+  CLI::App* clean_cmd = add_clean_command(app, clean);
   std::vector<std::pair<CLI::App*, CliCommand*>> extra_apps;
   for (CliCommand* c : extra) extra_apps.emplace_back(c->add_to(app), c);
 
-  if (auto code = parse_command_line(app, argc, argv, io)) return *code;
+  if (auto code = parse_command_line(app, argc, argv, ctx.io)) return *code;
 
   try {
-    if (b->parsed()) return cmd_build(build, ctx);
-    if (g->parsed()) return cmd_graph(graph_recipe, dot, ctx);
-    if (e->parsed()) return cmd_explain(explain_recipe, explain_target, ctx);
-    if (st->parsed()) return cmd_stages(ctx.registry, io);
+    if (build_cmd->parsed()) return cmd_build(build, ctx);
+    if (graph_cmd->parsed()) return cmd_graph(graph.recipe, graph.dot, ctx);
+    if (explain_cmd->parsed()) return cmd_explain(explain.recipe, explain.node, ctx);
+    if (stages_cmd->parsed()) return cmd_stages(ctx.registry, ctx.io);
     for (auto& [sub, cmd] : extra_apps)
       if (sub->parsed()) return cmd->run(ctx);
-    if (cs->parsed()) {
-      Cache cache(fsys, ctx.cache_root());
-      const CacheStats s = cache.stats();
-      std::fprintf(io.out, "cache %s: %llu blobs (%s), %llu action results, %llu temp entries\n",
-                   cache.root().c_str(), static_cast<unsigned long long>(s.blobs),
-                   human_bytes(s.blob_bytes).c_str(), static_cast<unsigned long long>(s.actions),
-                   static_cast<unsigned long long>(s.tmp_entries));
-      return kExitOk;
-    }
-    if (cg->parsed()) {
-      Cache cache(fsys, ctx.cache_root());
-      auto gc_lock = cache.lock_for_gc();  // waits for running builds; they wait for it
-      const GcResult r = cache.gc(static_cast<std::uint64_t>(max_gib * (1ull << 30)));
-      std::fprintf(io.out, "removed %llu action results, %llu blobs (%s), %llu temp entries\n",
-                   static_cast<unsigned long long>(r.actions_removed),
-                   static_cast<unsigned long long>(r.blobs_removed), human_bytes(r.bytes_freed).c_str(),
-                   static_cast<unsigned long long>(r.tmp_removed));
-      return kExitOk;
-    }
-    if (cv->parsed()) {
-      Cache cache(fsys, ctx.cache_root());
-      auto gc_lock = cache.lock_for_gc();
-      const VerifyResult v = cache.verify_all();
-      std::fprintf(io.out, "%llu corrupt blob%s removed, %llu invalid action result%s removed\n",
-                   static_cast<unsigned long long>(v.blobs_removed), v.blobs_removed == 1 ? "" : "s",
-                   static_cast<unsigned long long>(v.actions_removed), v.actions_removed == 1 ? "" : "s");
-      return v.blobs_removed + v.actions_removed ? kExitBuildFailed : kExitOk;
-    }
-    if (cl->parsed()) {
-      if (clean_all) return cmd_clean_all(ctx);
-      if (clean_recipe.empty()) {
-        std::fprintf(io.err, "error: 'sylva clean' needs a recipe or --all\n");
-        return kExitUsage;
-      }
-      auto recipe = load_recipe_or_report(clean_recipe, ctx);
-      if (!recipe) return kExitUsage;
-      fsys.remove_all(ctx.out_root() / recipe->name);
-      return kExitOk;
-    }
+    if (cache.stats->parsed()) return cmd_cache_stats(ctx);
+    if (cache.gc->parsed()) return cmd_cache_gc(cache.max_gib, ctx);
+    if (cache.verify->parsed()) return cmd_cache_verify(ctx);
+    if (clean_cmd->parsed()) return cmd_clean(clean, ctx);
   } catch (const std::exception& ex) {
     // Last line of defence: a clear message, never a stack trace.
-    std::fprintf(io.err, "error: %s\n", ex.what());
+    std::fprintf(ctx.io.err, "error: %s\n", ex.what());
     return kExitBuildFailed;
   }
   return kExitUsage;

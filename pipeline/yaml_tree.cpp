@@ -128,6 +128,93 @@ struct TreeReader {
   }
 };
 
+// yaml-cpp's tree -> RawNode, bounded. yaml-cpp keeps an alias as a reference to its anchor;
+// converting copies it, so counting the converted nodes stops an alias bomb (9 levels of 9
+// aliases: 387 million nodes) at the limit. Every later pass over the tree (variables, includes,
+// the parse cache) recurses too, so the nesting is bounded once, here, far below what any
+// thread's stack holds. `!include` values are marked, and replaced by resolve_includes().
+class YamlConverter {
+ public:
+  YamlConverter(std::shared_ptr<const std::string> file, std::uint64_t max_nodes, const SourceFiles& sources,
+                Diagnostics& diags)
+      : file_(std::move(file)), max_nodes_(max_nodes), sources_(sources), diags_(diags) {}
+
+  // `n` as a RawNode; a node without a mark of its own is located at `fallback`.
+  RawNode convert(const YAML::Node& n, const SourceLoc& fallback) {
+    RawNode r;
+    if (too_big_ || too_deep_) return r;
+    if (++converted_ > max_nodes_) {
+      too_big_ = true;
+      ok_ = false;
+      return r;
+    }
+    r.loc = n.Mark().line >= 0 ? loc_of(file_, n.Mark()) : fallback;
+    if (depth_ >= kMaxYamlDepth) {
+      sources_.error(diags_, r.loc, "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
+      too_deep_ = true;
+      ok_ = false;
+      return r;
+    }
+    ++depth_;
+    if (n.Tag() == "!include")
+      convert_include(n, r);
+    else
+      convert_value(n, r);
+    --depth_;
+    return r;
+  }
+
+  // False when anything was refused (each reported, except too_big()).
+  bool ok() const { return ok_; }
+  // More than `max_nodes` nodes: reported by the caller, which names the file.
+  bool too_big() const { return too_big_; }
+
+ private:
+  void convert_include(const YAML::Node& n, RawNode& r) {
+    if (!n.IsScalar()) {
+      sources_.error(diags_, r.loc, "!include needs a file name");
+      ok_ = false;
+      return;
+    }
+    r.kind = RawNode::Kind::kScalar;
+    r.text = n.Scalar();
+    r.include = true;
+  }
+
+  void convert_value(const YAML::Node& n, RawNode& r) {
+    switch (n.Type()) {
+      case YAML::NodeType::Scalar:
+        r.kind = RawNode::Kind::kScalar;
+        r.text = n.Scalar();
+        break;
+      case YAML::NodeType::Sequence:
+        r.kind = RawNode::Kind::kSeq;
+        for (const auto& item : n) r.items.push_back(convert(item, r.loc));
+        break;
+      case YAML::NodeType::Map:
+        r.kind = RawNode::Kind::kMap;
+        for (auto it = n.begin(); it != n.end(); ++it) {
+          RawNode k = convert(it->first, r.loc);
+          RawNode v = convert(it->second, k.loc);
+          // A null value (`key:`) has no useful mark of its own: point at the key.
+          if (v.is_null()) v.loc = k.loc;
+          r.entries.emplace_back(std::move(k), std::move(v));
+        }
+        break;
+      default:
+        r.kind = RawNode::Kind::kNull;
+    }
+  }
+
+  std::shared_ptr<const std::string> file_;
+  std::uint64_t max_nodes_;
+  const SourceFiles& sources_;
+  Diagnostics& diags_;
+  std::uint64_t converted_ = 0;
+  int depth_ = 0;
+  bool ok_ = true, too_big_ = false, too_deep_ = false;
+};
+
 }  // namespace
 
 std::optional<RawNode> YamlReader::parse(const std::string& name, const std::string& text) {
@@ -143,80 +230,14 @@ std::optional<RawNode> YamlReader::parse(const std::string& name, const std::str
     sources_.error(diags_, at, "malformed YAML: " + e.msg + hint);
     return std::nullopt;
   }
-  bool ok = true;
   const auto file = std::make_shared<const std::string>(name);
-  // yaml-cpp keeps an alias as a reference to its anchor; converting copies it. Counting the
-  // converted nodes stops an alias bomb (9 levels of 9 aliases: 387 million nodes) at the limit.
-  std::uint64_t converted = 0;
-  bool too_big = false;
-  // Every later pass over the tree (variables, includes, the parse cache) recurses too, so the
-  // nesting is bounded once, here, far below what any thread's stack holds.
-  int depth = 0;
-  bool too_deep = false;
-  // Converts recursively; `!include` values are marked, and replaced by resolve_includes().
-  auto convert = [&](auto&& self, const YAML::Node& n, const SourceLoc& fallback) -> RawNode {
-    RawNode r;
-    if (too_big || too_deep) return r;
-    if (++converted > limits_.yaml_nodes) {
-      too_big = true;
-      ok = false;
-      return r;
-    }
-    r.loc = n.Mark().line >= 0 ? loc_of(file, n.Mark()) : fallback;
-    if (depth >= kMaxYamlDepth) {
-      sources_.error(diags_, r.loc, "YAML nested deeper than " + std::to_string(kMaxYamlDepth) + " levels");
-      too_deep = true;
-      ok = false;
-      return r;
-    }
-    struct Nest {
-      int& level;
-      explicit Nest(int& l) : level(++l) {}
-      ~Nest() { --level; }
-      Nest(const Nest&) = delete;
-      Nest& operator=(const Nest&) = delete;
-    } nest(depth);
-    if (n.Tag() == "!include") {
-      if (!n.IsScalar()) {
-        sources_.error(diags_, r.loc, "!include needs a file name");
-        ok = false;
-        return r;
-      }
-      r.kind = RawNode::Kind::kScalar;
-      r.text = n.Scalar();
-      r.include = true;
-      return r;
-    }
-    switch (n.Type()) {
-      case YAML::NodeType::Scalar:
-        r.kind = RawNode::Kind::kScalar;
-        r.text = n.Scalar();
-        break;
-      case YAML::NodeType::Sequence:
-        r.kind = RawNode::Kind::kSeq;
-        for (const auto& item : n) r.items.push_back(self(self, item, r.loc));
-        break;
-      case YAML::NodeType::Map:
-        r.kind = RawNode::Kind::kMap;
-        for (auto it = n.begin(); it != n.end(); ++it) {
-          RawNode k = self(self, it->first, r.loc);
-          RawNode v = self(self, it->second, k.loc);
-          // A null value (`key:`) has no useful mark of its own: point at the key.
-          if (v.is_null()) v.loc = k.loc;
-          r.entries.emplace_back(std::move(k), std::move(v));
-        }
-        break;
-      default:
-        r.kind = RawNode::Kind::kNull;
-    }
-    return r;
-  };
-  RawNode out = convert(convert, root, SourceLoc{file, 1, 1});
-  if (too_big)
+  YamlConverter converter(file, limits_.yaml_nodes, sources_, diags_);
+  RawNode out = converter.convert(root, SourceLoc{file, 1, 1});
+  if (converter.too_big())
     sources_.error(diags_, SourceLoc{file, 1, 1},
                    "'" + excerpt(name, 200) + "' expands to more than " + std::to_string(limits_.yaml_nodes) +
                        " YAML nodes (aliases count once per use); raise the limit with --limit yaml-nodes=N");
-  if (!ok) return std::nullopt;
+  if (!converter.ok()) return std::nullopt;
   return out;
 }
 

@@ -211,24 +211,34 @@ std::string encode_meshopt_view(const unsigned char* data, MeshoptMode mode, std
   return std::string(reinterpret_cast<const char*>(out.data()), n);
 }
 
-std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& view_filters,
-                               bool merge) {
-  std::vector<ViewUse> uses = classify(model);
-  std::map<int, std::string> filters = view_filters;
-  if (merge) merge_views(model, uses, filters);
-  std::vector<unsigned char> source;
-  if (!model.buffers.empty()) source.swap(model.buffers[0].data);
-  // Serialise the JSON without the data (tinygltf would base64 it); buffers are rewritten below.
+namespace {
+
+// The model's JSON as tinygltf writes it, without the buffers' data (tinygltf would base64 it);
+// the buffers are rewritten afterwards.
+nlohmann::json json_without_data(tinygltf::Model& model) {
   for (auto& b : model.buffers) b.data.assign(4, 0);
   tinygltf::TinyGLTF writer;
   std::ostringstream text;
   if (!writer.WriteGltfSceneToStream(&model, text, /*prettyPrint=*/false, /*writeBinary=*/false))
     throw GltfError("tinygltf could not serialise the scene");
-  nlohmann::json j = nlohmann::json::parse(std::move(text).str());
+  return nlohmann::json::parse(std::move(text).str());
+}
 
+// The binary chunk: each view's bytes, compressed unless kRaw; and the fallback buffer's size.
+struct BinaryChunk {
   std::string bin;
   std::size_t fallback = 0;
-  bool any = false;
+  bool any = false;  // a view was compressed
+};
+
+// Writes every view into the chunk, in view order, and points its JSON (j["bufferViews"]) at it:
+// a raw view at its offset in buffer 0, a compressed one at the fallback buffer, with the
+// extension's object naming the compressed bytes.
+BinaryChunk compress_views(const tinygltf::Model& model, const std::vector<ViewUse>& uses,
+                           const std::map<int, std::string>& filters,
+                           const std::vector<unsigned char>& source, nlohmann::json& j) {
+  BinaryChunk out;
+  std::string& bin = out.bin;
   for (std::size_t v = 0; v < model.bufferViews.size(); ++v) {
     const tinygltf::BufferView& view = model.bufferViews[v];
     nlohmann::json& jv = j["bufferViews"][v];
@@ -258,16 +268,23 @@ std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::
     if (filter != filters.end()) jv["extensions"][kMeshopt]["filter"] = filter->second;
     bin += enc;
     jv["buffer"] = 1;
-    jv["byteOffset"] = fallback;
+    jv["byteOffset"] = out.fallback;
     if (uses[v].kind == Kind::kAttributes) jv["byteStride"] = uses[v].stride;
-    fallback += (view.byteLength + 3) / 4 * 4;
-    any = true;
+    out.fallback += (view.byteLength + 3) / 4 * 4;
+    out.any = true;
   }
   pad4(bin, '\0');
+  return out;
+}
+
+// The JSON's buffers: the chunk (when not empty), then the fallback buffer (when a view was
+// compressed, which also lists the extension as used and required).
+void list_buffers(nlohmann::json& j, const BinaryChunk& chunk) {
   j["buffers"] = nlohmann::json::array();
-  if (!bin.empty()) j["buffers"].push_back({{"byteLength", bin.size()}});
-  if (any) {
-    j["buffers"].push_back({{"byteLength", fallback}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
+  if (!chunk.bin.empty()) j["buffers"].push_back({{"byteLength", chunk.bin.size()}});
+  if (chunk.any) {
+    j["buffers"].push_back(
+        {{"byteLength", chunk.fallback}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
     for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
       std::vector<std::string> names = j.value(list, std::vector<std::string>{});
       names.push_back(kMeshopt);
@@ -276,10 +293,11 @@ std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::
       j[list] = names;
     }
   }
-  if (bin.empty() && !any) j.erase("buffers");
-  compact_gltf_numbers(j);  // floats printed as floats (json_numbers.h)
+  if (chunk.bin.empty() && !chunk.any) j.erase("buffers");
+}
 
-  std::string json_text = j.dump();
+// GLB framing: header, JSON chunk (space padded), BIN chunk when there are bytes.
+std::string glb_file(std::string json_text, const std::string& bin) {
   pad4(json_text, ' ');
   std::string glb;
   const std::size_t total = 12 + 8 + json_text.size() + (bin.empty() ? 0 : 8 + bin.size());
@@ -297,6 +315,22 @@ std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::
     glb += bin;
   }
   return glb;
+}
+
+}  // namespace
+
+std::string encode_meshopt_glb(tinygltf::Model& model, const std::map<int, std::string>& view_filters,
+                               bool merge) {
+  std::vector<ViewUse> uses = classify(model);
+  std::map<int, std::string> filters = view_filters;
+  if (merge) merge_views(model, uses, filters);
+  std::vector<unsigned char> source;
+  if (!model.buffers.empty()) source.swap(model.buffers[0].data);
+  nlohmann::json j = json_without_data(model);
+  const BinaryChunk chunk = compress_views(model, uses, filters, source, j);
+  list_buffers(j, chunk);
+  compact_gltf_numbers(j);  // floats printed as floats (json_numbers.h)
+  return glb_file(j.dump(), chunk.bin);
 }
 
 }  // namespace sylva::gltf::detail

@@ -188,6 +188,98 @@ std::string write_impostor_json(const ImpostorInfo& info) {
   return j.dump(2) + "\n";
 }
 
+namespace {
+
+// "atlas": sizes, which must agree with the frame grid (kinds other than billboards).
+void read_atlas(const Reader& r, const Json& j, ImpostorInfo& info) {
+  const Json& a = r.at(j, "atlas", "");
+  info.atlas_width_px = r.integer(a, "width_px", "atlas", 1, 16384);
+  info.atlas_height_px = r.integer(a, "height_px", "atlas", 1, 16384);
+  const bool grid = info.kind != Kind::kBillboards;
+  info.frames_per_side = r.integer(a, "frames_per_side", "atlas", grid ? 2 : 0, 64);
+  info.frame_px = r.integer(a, "frame_px", "atlas", 1, 16384);
+  info.padding_px = r.integer(a, "padding_px", "atlas", 0, 8192);
+  info.mip_levels = r.integer(a, "mip_levels", "atlas", 0, 14);
+  info.color_map = r.string(a, "color", "atlas");
+  info.normal_depth_map = r.string(a, "normal_depth", "atlas");
+  if (grid && (info.frames_per_side * info.frame_px != info.atlas_width_px ||
+               info.frames_per_side * info.frame_px != info.atlas_height_px))
+    r.fail("'atlas': width_px and height_px must be frames_per_side * frame_px");
+  if (2 * info.padding_px >= info.frame_px) r.fail("'atlas.padding_px' must be less than half of frame_px");
+}
+
+// "error": the camera and the error budget the switch distance was chosen with.
+void read_error(const Reader& r, const Json& j, ImpostorInfo& info) {
+  const Json& e = r.at(j, "error", "");
+  const Json& cam = r.at(e, "camera", "error");
+  info.camera.fov_y_rad = lodmodel::radians(r.real(cam, "fov_y_deg", "error.camera", 1e-6, 179.999));
+  info.camera.height_px = r.integer(cam, "height_px", "error.camera", 1, 1 << 20);
+  info.pixel_error_px = r.real(e, "pixel_error_px", "error", 1e-9, 1e9);
+  info.error.source_m = r.real(e, "source_epsilon_m", "error", 0, 1e9);
+  info.error.texel_m = r.real(e, "texel_m", "error", 0, 1e9);
+  info.error.view_m = r.real(e, "view_epsilon_m", "error", 0, 1e9);
+}
+
+// A card's cutout polygon `poly` (its `key` at `path`): 3..16 points in [0, 1]^2.
+void read_cutout(const Reader& r, const Json& poly, const std::string& path, const std::string& key,
+                 std::vector<Vec2d>& out) {
+  if (!poly.is_array() || poly.size() < 3 || poly.size() > 16)
+    r.fail("'" + path + "." + key + "' must list 3..16 points");
+  for (const Json& p : poly) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+      r.fail("'" + path + "." + key + "' points must be [u, v]");
+    const double u = p[0].get<double>(), w = p[1].get<double>();
+    if (!(u >= -1e-9 && u <= 1 + 1e-9 && w >= -1e-9 && w <= 1 + 1e-9))
+      r.fail("'" + path + "." + key + "' points must lie in [0, 1]^2");
+    out.push_back({u, w});
+  }
+}
+
+// One of "glb.cards" at `path`: a unit-vector frame, a size, a rectangle inside the atlas.
+Card read_card(const Reader& r, const Json& cj, const std::string& path, const ImpostorInfo& info) {
+  Card c;
+  c.name = r.string(cj, "name", path);
+  c.dir = r.vec3(cj, "dir", path);
+  c.right = r.vec3(cj, "right", path);
+  c.up = r.vec3(cj, "up", path);
+  unit_check(r, c.dir, path + ".dir");
+  unit_check(r, c.right, path + ".right");
+  unit_check(r, c.up, path + ".up");
+  c.center = r.vec3(cj, "center", path);
+  c.half_width = r.real(cj, "half_width_m", path, 1e-9, 1e9);
+  c.half_height = r.real(cj, "half_height_m", path, 1e-9, 1e9);
+  const Json& rect = r.at(cj, "rect_px", path);
+  if (!rect.is_array() || rect.size() != 4) r.fail("'" + path + ".rect_px' must be [x, y, w, h]");
+  int v[4];
+  for (int q = 0; q < 4; ++q) {
+    if (!rect[q].is_number_integer()) r.fail("'" + path + ".rect_px' must be four integers");
+    v[q] = rect[q].get<int>();
+  }
+  c.x = v[0], c.y = v[1], c.w = v[2], c.h = v[3];
+  if (c.x < 0 || c.y < 0 || c.w < 1 || c.h < 1 || c.x + c.w > info.atlas_width_px ||
+      c.y + c.h > info.atlas_height_px)
+    r.fail("'" + path + ".rect_px' lies outside the atlas");
+  read_cutout(r, r.at(cj, "cutout_uv", path), path, "cutout_uv", c.cutout);
+  if (cj.contains("lower_cutout_uv"))
+    read_cutout(r, cj.at("lower_cutout_uv"), path, "lower_cutout_uv", c.lower_cutout);
+  return c;
+}
+
+// "glb": the file, its triangle count and its cards.
+void read_glb(const Reader& r, const Json& j, ImpostorInfo& info) {
+  const Json& glb = r.at(j, "glb", "");
+  info.glb_file = r.string(glb, "file", "glb");
+  const Json& tri = r.at(glb, "triangles", "glb");
+  if (!tri.is_number_unsigned()) r.fail("'glb.triangles' must be a non-negative integer");
+  info.glb_triangles = tri.get<std::size_t>();
+  const Json& cards = r.at(glb, "cards", "glb");
+  if (!cards.is_array()) r.fail("'glb.cards' must be a list");
+  for (std::size_t k = 0; k < cards.size(); ++k)
+    info.cards.push_back(read_card(r, cards[k], "glb.cards[" + std::to_string(k) + "]", info));
+}
+
+}  // namespace
+
 ImpostorInfo parse_impostor_json(const std::string& text, const std::string& source_name) {
   const Reader r(source_name);
   Json j;
@@ -208,20 +300,7 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
   info.hemi = r.boolean(j, "hemi", "");
   if (info.hemi != (info.kind == Kind::kHemiOctahedral))
     r.fail("'hemi' must be true exactly for kind hemi_octahedral");
-  const Json& a = r.at(j, "atlas", "");
-  info.atlas_width_px = r.integer(a, "width_px", "atlas", 1, 16384);
-  info.atlas_height_px = r.integer(a, "height_px", "atlas", 1, 16384);
-  const bool grid = info.kind != Kind::kBillboards;
-  info.frames_per_side = r.integer(a, "frames_per_side", "atlas", grid ? 2 : 0, 64);
-  info.frame_px = r.integer(a, "frame_px", "atlas", 1, 16384);
-  info.padding_px = r.integer(a, "padding_px", "atlas", 0, 8192);
-  info.mip_levels = r.integer(a, "mip_levels", "atlas", 0, 14);
-  info.color_map = r.string(a, "color", "atlas");
-  info.normal_depth_map = r.string(a, "normal_depth", "atlas");
-  if (grid && (info.frames_per_side * info.frame_px != info.atlas_width_px ||
-               info.frames_per_side * info.frame_px != info.atlas_height_px))
-    r.fail("'atlas': width_px and height_px must be frames_per_side * frame_px");
-  if (2 * info.padding_px >= info.frame_px) r.fail("'atlas.padding_px' must be less than half of frame_px");
+  read_atlas(r, j, info);
   const Json& b = r.at(j, "bounds", "");
   info.bounds_min = r.vec3(b, "min", "bounds");
   info.bounds_max = r.vec3(b, "max", "bounds");
@@ -229,14 +308,7 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
   info.sphere_center = r.vec3(s, "center", "sphere");
   info.sphere_radius = r.real(s, "radius_m", "sphere", 1e-9, 1e9);
   info.frame_half_extent = r.real(j, "frame_half_extent_m", "", 1e-9, 1e9);
-  const Json& e = r.at(j, "error", "");
-  const Json& cam = r.at(e, "camera", "error");
-  info.camera.fov_y_rad = lodmodel::radians(r.real(cam, "fov_y_deg", "error.camera", 1e-6, 179.999));
-  info.camera.height_px = r.integer(cam, "height_px", "error.camera", 1, 1 << 20);
-  info.pixel_error_px = r.real(e, "pixel_error_px", "error", 1e-9, 1e9);
-  info.error.source_m = r.real(e, "source_epsilon_m", "error", 0, 1e9);
-  info.error.texel_m = r.real(e, "texel_m", "error", 0, 1e9);
-  info.error.view_m = r.real(e, "view_epsilon_m", "error", 0, 1e9);
+  read_error(r, j, info);
   info.switch_distance_m = r.real(j, "switch_distance_m", "", 0, 1e12);
   const Json& src = r.at(j, "source", "");
   info.source_type = r.string(src, "type", "source");
@@ -244,54 +316,7 @@ ImpostorInfo parse_impostor_json(const std::string& text, const std::string& sou
     r.fail("'source.type' must be \"mesh\" or \"lod\"");
   info.source_file = r.string(src, "file", "source");
   info.source_level = r.integer(src, "level", "source", -1, 64);
-  const Json& glb = r.at(j, "glb", "");
-  info.glb_file = r.string(glb, "file", "glb");
-  const Json& tri = r.at(glb, "triangles", "glb");
-  if (!tri.is_number_unsigned()) r.fail("'glb.triangles' must be a non-negative integer");
-  info.glb_triangles = tri.get<std::size_t>();
-  const Json& cards = r.at(glb, "cards", "glb");
-  if (!cards.is_array()) r.fail("'glb.cards' must be a list");
-  for (std::size_t k = 0; k < cards.size(); ++k) {
-    const std::string path = "glb.cards[" + std::to_string(k) + "]";
-    const Json& cj = cards[k];
-    Card c;
-    c.name = r.string(cj, "name", path);
-    c.dir = r.vec3(cj, "dir", path);
-    c.right = r.vec3(cj, "right", path);
-    c.up = r.vec3(cj, "up", path);
-    unit_check(r, c.dir, path + ".dir");
-    unit_check(r, c.right, path + ".right");
-    unit_check(r, c.up, path + ".up");
-    c.center = r.vec3(cj, "center", path);
-    c.half_width = r.real(cj, "half_width_m", path, 1e-9, 1e9);
-    c.half_height = r.real(cj, "half_height_m", path, 1e-9, 1e9);
-    const Json& rect = r.at(cj, "rect_px", path);
-    if (!rect.is_array() || rect.size() != 4) r.fail("'" + path + ".rect_px' must be [x, y, w, h]");
-    int v[4];
-    for (int q = 0; q < 4; ++q) {
-      if (!rect[q].is_number_integer()) r.fail("'" + path + ".rect_px' must be four integers");
-      v[q] = rect[q].get<int>();
-    }
-    c.x = v[0], c.y = v[1], c.w = v[2], c.h = v[3];
-    if (c.x < 0 || c.y < 0 || c.w < 1 || c.h < 1 || c.x + c.w > info.atlas_width_px ||
-        c.y + c.h > info.atlas_height_px)
-      r.fail("'" + path + ".rect_px' lies outside the atlas");
-    auto polygon = [&](const Json& poly, const std::string& key, std::vector<Vec2d>& out) {
-      if (!poly.is_array() || poly.size() < 3 || poly.size() > 16)
-        r.fail("'" + path + "." + key + "' must list 3..16 points");
-      for (const Json& p : poly) {
-        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-          r.fail("'" + path + "." + key + "' points must be [u, v]");
-        const double u = p[0].get<double>(), w = p[1].get<double>();
-        if (!(u >= -1e-9 && u <= 1 + 1e-9 && w >= -1e-9 && w <= 1 + 1e-9))
-          r.fail("'" + path + "." + key + "' points must lie in [0, 1]^2");
-        out.push_back({u, w});
-      }
-    };
-    polygon(r.at(cj, "cutout_uv", path), "cutout_uv", c.cutout);
-    if (cj.contains("lower_cutout_uv")) polygon(cj.at("lower_cutout_uv"), "lower_cutout_uv", c.lower_cutout);
-    info.cards.push_back(std::move(c));
-  }
+  read_glb(r, j, info);
   return info;
 }
 

@@ -237,11 +237,12 @@ std::string write_manifest(const Manifest& manifest) {
   return j.dump(2) + "\n";
 }
 
-Manifest parse_manifest(std::string_view text, const std::string& source) {
-  const Reader r(source);
-  json j;
+namespace {
+
+// `text` as JSON; a syntax error is named by its line:column in `source`.
+json parse_json(std::string_view text, const std::string& source) {
   try {
-    j = json::parse(text);
+    return json::parse(text);
   } catch (const json::parse_error& e) {
     // e.byte is the offset of the error; name it as line:column.
     std::size_t line = 1, col = 1;
@@ -257,15 +258,17 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
   } catch (const json::exception&) {  // a number beyond a double (1e999)
     throw ManifestError(source + ": not valid JSON (a number out of range)");
   }
-  if (!j.is_object()) r.fail("(root)", "expected an object");
-  if (r.string(j, "(root)", "format") != "sylva-pack-manifest")
-    r.fail("format", "expected \"sylva-pack-manifest\"");
-  const std::uint64_t version = r.unsigned_integer(j, "(root)", "version");
-  if (version < 1 || version > std::uint64_t(kManifestVersion))
-    r.fail("version", std::to_string(version) + " is not supported (this sylva reads versions 1 to " +
-                          std::to_string(kManifestVersion) + ")");
-  Manifest m;
-  m.version = static_cast<int>(version);
+}
+
+// A path a species or forest names, at JSON path `at`, must be one of the files (`paths`).
+std::string listed(const Reader& r, const std::set<std::string>& paths, const std::string& p,
+                   const std::string& at) {
+  if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
+  return p;
+}
+
+// "files": into m.files; returns their paths (each listed once).
+std::set<std::string> read_files(const Reader& r, const json& j, Manifest& m) {
   std::set<std::string> paths;
   const json& files = r.array(j, "(root)", "files");
   for (std::size_t i = 0; i < files.size(); ++i) {
@@ -289,60 +292,86 @@ Manifest parse_manifest(std::string_view text, const std::string& source) {
     }
     m.files.push_back(std::move(e));
   }
-  // A path a species or forest names, at JSON path `at`, must be one of the files above.
-  auto listed = [&](const std::string& p, const std::string& at) {
-    if (!paths.count(p)) r.fail(at, "'" + p + "' is not in files");
-    return p;
-  };
+  return paths;
+}
+
+// One of a species' "levels" at `at`: a file name before version 3, then an object whose bytes
+// must be the file's size.
+LodLevel read_level(const Reader& r, const json& level, const std::string& at, std::uint64_t version,
+                    const Manifest& m, const std::set<std::string>& paths) {
+  LodLevel l;
+  if (version < 3) {
+    if (!level.is_string()) r.fail(at, "expected a string");
+    l.file = listed(r, paths, level.get<std::string>(), at);
+  } else {
+    l = r.level(level, at);
+    listed(r, paths, l.file, at + ".file");
+    if (l.bytes != m.file(l.file)->size)
+      r.fail(at + ".bytes", std::to_string(l.bytes) + " is not the size of '" + l.file + "' (" +
+                                std::to_string(m.file(l.file)->size) + ")");
+  }
+  return l;
+}
+
+void read_species(const Reader& r, const json& j, std::uint64_t version, const std::set<std::string>& paths,
+                  Manifest& m) {
   const json& species = r.array(j, "(root)", "species");
   for (std::size_t i = 0; i < species.size(); ++i) {
     const std::string where = "species[" + std::to_string(i) + "]";
     const json& s = species[i];
     SpeciesEntry e;
     e.name = r.string(s, where, "name");
-    e.chain = listed(r.path(s, where, "chain"), where + ".chain");
-    e.lod_json = listed(r.path(s, where, "lod_json"), where + ".lod_json");
+    e.chain = listed(r, paths, r.path(s, where, "chain"), where + ".chain");
+    e.lod_json = listed(r, paths, r.path(s, where, "lod_json"), where + ".lod_json");
     const json& levels = r.array(s, where, "levels");
-    for (std::size_t k = 0; k < levels.size(); ++k) {
-      const std::string at = where + ".levels[" + std::to_string(k) + "]";
-      LodLevel l;
-      if (version < 3) {
-        if (!levels[k].is_string()) r.fail(at, "expected a string");
-        l.file = listed(levels[k].get<std::string>(), at);
-      } else {
-        l = r.level(levels[k], at);
-        listed(l.file, at + ".file");
-        if (l.bytes != m.file(l.file)->size)
-          r.fail(at + ".bytes", std::to_string(l.bytes) + " is not the size of '" + l.file + "' (" +
-                                    std::to_string(m.file(l.file)->size) + ")");
-      }
-      e.levels.push_back(std::move(l));
-    }
+    for (std::size_t k = 0; k < levels.size(); ++k)
+      e.levels.push_back(
+          read_level(r, levels[k], where + ".levels[" + std::to_string(k) + "]", version, m, paths));
     if (s.is_object() && s.contains("impostor"))
-      e.impostor = listed(r.path(s, where, "impostor"), where + ".impostor");
+      e.impostor = listed(r, paths, r.path(s, where, "impostor"), where + ".impostor");
     m.species.push_back(std::move(e));
   }
-  if (version >= 2) {
-    const json& forests = r.array(j, "(root)", "forests");
-    for (std::size_t i = 0; i < forests.size(); ++i) {
-      const std::string where = "forests[" + std::to_string(i) + "]";
-      const json& f = forests[i];
-      ForestEntry e;
-      e.name = r.string(f, where, "name");
-      e.tileset = listed(r.path(f, where, "tileset"), where + ".tileset");
-      e.instances = listed(r.path(f, where, "instances"), where + ".instances");
-      for (const char* key : {"tiles", "files"}) {
-        const json& list = r.array(f, where, key);
-        std::vector<std::string>& into = std::string(key) == "tiles" ? e.tiles : e.files;
-        for (std::size_t k = 0; k < list.size(); ++k) {
-          const std::string at = where + "." + key + "[" + std::to_string(k) + "]";
-          if (!list[k].is_string()) r.fail(at, "expected a string");
-          into.push_back(listed(list[k].get<std::string>(), at));
-        }
+}
+
+void read_forests(const Reader& r, const json& j, const std::set<std::string>& paths, Manifest& m) {
+  const json& forests = r.array(j, "(root)", "forests");
+  for (std::size_t i = 0; i < forests.size(); ++i) {
+    const std::string where = "forests[" + std::to_string(i) + "]";
+    const json& f = forests[i];
+    ForestEntry e;
+    e.name = r.string(f, where, "name");
+    e.tileset = listed(r, paths, r.path(f, where, "tileset"), where + ".tileset");
+    e.instances = listed(r, paths, r.path(f, where, "instances"), where + ".instances");
+    for (const char* key : {"tiles", "files"}) {
+      const json& list = r.array(f, where, key);
+      std::vector<std::string>& into = std::string(key) == "tiles" ? e.tiles : e.files;
+      for (std::size_t k = 0; k < list.size(); ++k) {
+        const std::string at = where + "." + key + "[" + std::to_string(k) + "]";
+        if (!list[k].is_string()) r.fail(at, "expected a string");
+        into.push_back(listed(r, paths, list[k].get<std::string>(), at));
       }
-      m.forests.push_back(std::move(e));
     }
+    m.forests.push_back(std::move(e));
   }
+}
+
+}  // namespace
+
+Manifest parse_manifest(std::string_view text, const std::string& source) {
+  const Reader r(source);
+  const json j = parse_json(text, source);
+  if (!j.is_object()) r.fail("(root)", "expected an object");
+  if (r.string(j, "(root)", "format") != "sylva-pack-manifest")
+    r.fail("format", "expected \"sylva-pack-manifest\"");
+  const std::uint64_t version = r.unsigned_integer(j, "(root)", "version");
+  if (version < 1 || version > std::uint64_t(kManifestVersion))
+    r.fail("version", std::to_string(version) + " is not supported (this sylva reads versions 1 to " +
+                          std::to_string(kManifestVersion) + ")");
+  Manifest m;
+  m.version = static_cast<int>(version);
+  const std::set<std::string> paths = read_files(r, j, m);
+  read_species(r, j, version, paths, m);
+  if (version >= 2) read_forests(r, j, paths, m);
   const std::uint64_t total = r.unsigned_integer(j, "(root)", "total_bytes");
   if (total != m.total_bytes())
     r.fail("total_bytes", std::to_string(total) + " is not the sum of the files' sizes (" +

@@ -102,85 +102,62 @@ std::optional<std::string> meshopt_gltf_as_glb(
   return glb_of(j.dump(), bin);
 }
 
-bool decode_meshopt_glb(std::string& bytes) {
-  if (bytes.size() < 20 || le32(bytes, 16) != 0x4E4F534Au) return false;
-  const std::size_t json_len = le32(bytes, 12);
-  if (20 + json_len > bytes.size()) return false;
-  const std::string json_text = bytes.substr(20, json_len);
-  if (json_text.find(kExt) == std::string::npos) return false;
-  nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return false;
-  std::string bin;
-  const std::size_t bin_at = 20 + json_len;
+namespace {
+
+// The GLB's BIN chunk (empty when it has none); the JSON chunk ends at `bin_at`.
+std::string binary_chunk(const std::string& bytes, std::size_t bin_at) {
   if (bin_at + 8 <= bytes.size() && le32(bytes, bin_at + 4) == 0x004E4942u) {
     const std::size_t n = le32(bytes, bin_at);
     if (bin_at + 8 + n > bytes.size())
       throw std::runtime_error("EXT_meshopt_compression: truncated binary chunk");
-    bin = bytes.substr(bin_at + 8, n);
+    return bytes.substr(bin_at + 8, n);
   }
-  if (!j.contains("buffers") || !j["buffers"].is_array())
-    throw std::runtime_error("EXT_meshopt_compression: no buffers");
+  return {};
+}
+
+// The decoded bytes of view `v`, whose extension object is `e`: the codec its mode names, then
+// the filter. Only buffer 0 (the binary chunk `bin`) may hold data here: the decoder reads
+// compressed bytes from it.
+std::string decode_view(const nlohmann::json& e, const std::string& bin, std::size_t v) {
+  const std::size_t count = e.value("count", std::size_t(0)), stride = e.value("byteStride", std::size_t(0));
+  const std::size_t size = e.value("byteLength", std::size_t(0));
+  const std::string mode = e.value("mode", std::string()), filter = e.value("filter", std::string("NONE"));
+  if (count == 0 || stride == 0 || stride > 256)
+    throw std::runtime_error("EXT_meshopt_compression: bad count or stride");
+  std::string out(count * stride, '\0');
+  const std::size_t b = e.value("buffer", std::size_t(0)), off = e.value("byteOffset", std::size_t(0)),
+                    len = e.value("byteLength", std::size_t(0));
+  if (b != 0 || off + len > bin.size())
+    throw std::runtime_error("EXT_meshopt_compression: data outside the binary chunk");
+  const unsigned char* src = reinterpret_cast<const unsigned char*>(bin.data()) + off;
+  int rc = -1;
+  if (mode == "ATTRIBUTES")
+    rc = meshopt_decodeVertexBuffer(out.data(), count, stride, src, size);
+  else if (mode == "TRIANGLES")
+    rc = meshopt_decodeIndexBuffer(out.data(), count, stride, src, size);
+  else if (mode == "INDICES")
+    rc = meshopt_decodeIndexSequence(out.data(), count, stride, src, size);
+  else
+    throw std::runtime_error("EXT_meshopt_compression: unknown mode '" + mode.substr(0, 32) + "'");
+  if (rc != 0)
+    throw std::runtime_error("EXT_meshopt_compression: buffer view " + std::to_string(v) +
+                             " does not decode");
+  if (filter == "OCTAHEDRAL")
+    meshopt_decodeFilterOct(out.data(), count, stride);
+  else if (filter == "QUATERNION")
+    meshopt_decodeFilterQuat(out.data(), count, stride);
+  else if (filter == "EXPONENTIAL")
+    meshopt_decodeFilterExp(out.data(), count, stride);
+  else if (filter != "NONE")
+    throw std::runtime_error("EXT_meshopt_compression: unknown filter '" + filter.substr(0, 32) + "'");
+  return out;
+}
+
+// Fallback buffers (no data) go, every view of them having been decoded; buffer 0 (the binary
+// chunk) gets `bin_length` bytes and the views are renumbered.
+void drop_fallback_buffers(nlohmann::json& j, std::size_t bin_length) {
   nlohmann::json& buffers = j["buffers"];
-  // Only buffer 0 (the binary chunk) may hold data here: the decoder reads compressed bytes from it.
-  auto source = [&](const nlohmann::json& e) -> const unsigned char* {
-    const std::size_t b = e.value("buffer", std::size_t(0)), off = e.value("byteOffset", std::size_t(0)),
-                      len = e.value("byteLength", std::size_t(0));
-    if (b != 0 || off + len > bin.size())
-      throw std::runtime_error("EXT_meshopt_compression: data outside the binary chunk");
-    return reinterpret_cast<const unsigned char*>(bin.data()) + off;
-  };
-  std::string decoded_all;
-  std::vector<std::pair<std::size_t, std::size_t>> placed;  // (view, offset in decoded_all)
   nlohmann::json& views = j["bufferViews"];
-  for (std::size_t v = 0; v < views.size(); ++v) {
-    nlohmann::json& view = views[v];
-    if (!view.contains("extensions") || !view["extensions"].contains(kExt)) continue;
-    const nlohmann::json& e = view["extensions"][kExt];
-    const std::size_t count = e.value("count", std::size_t(0)),
-                      stride = e.value("byteStride", std::size_t(0));
-    const std::size_t size = e.value("byteLength", std::size_t(0));
-    const std::string mode = e.value("mode", std::string()), filter = e.value("filter", std::string("NONE"));
-    if (count == 0 || stride == 0 || stride > 256)
-      throw std::runtime_error("EXT_meshopt_compression: bad count or stride");
-    std::string out(count * stride, '\0');
-    const unsigned char* src = source(e);
-    int rc = -1;
-    if (mode == "ATTRIBUTES")
-      rc = meshopt_decodeVertexBuffer(out.data(), count, stride, src, size);
-    else if (mode == "TRIANGLES")
-      rc = meshopt_decodeIndexBuffer(out.data(), count, stride, src, size);
-    else if (mode == "INDICES")
-      rc = meshopt_decodeIndexSequence(out.data(), count, stride, src, size);
-    else
-      throw std::runtime_error("EXT_meshopt_compression: unknown mode '" + mode.substr(0, 32) + "'");
-    if (rc != 0)
-      throw std::runtime_error("EXT_meshopt_compression: buffer view " + std::to_string(v) +
-                               " does not decode");
-    if (filter == "OCTAHEDRAL")
-      meshopt_decodeFilterOct(out.data(), count, stride);
-    else if (filter == "QUATERNION")
-      meshopt_decodeFilterQuat(out.data(), count, stride);
-    else if (filter == "EXPONENTIAL")
-      meshopt_decodeFilterExp(out.data(), count, stride);
-    else if (filter != "NONE")
-      throw std::runtime_error("EXT_meshopt_compression: unknown filter '" + filter.substr(0, 32) + "'");
-    while (decoded_all.size() % 4) decoded_all.push_back('\0');
-    placed.emplace_back(v, decoded_all.size());
-    decoded_all += out;
-    view["byteLength"] = out.size();
-    view["extensions"].erase(kExt);
-    if (view["extensions"].empty()) view.erase("extensions");
-  }
-  while (bin.size() % 4) bin.push_back('\0');
-  const std::size_t base = bin.size();
-  for (const auto& [v, off] : placed) {
-    views[v]["buffer"] = 0;
-    views[v]["byteOffset"] = base + off;
-  }
-  bin += decoded_all;
-  const std::size_t bin_length = bin.size();
-  while (bin.size() % 4) bin.push_back('\0');  // a GLB chunk ends on a 4-byte boundary
-  // Fallback buffers (no data) go; every view of them was decoded above.
   std::vector<int> remap(buffers.size(), -1);
   nlohmann::json kept = nlohmann::json::array();
   for (std::size_t b = 0; b < buffers.size(); ++b) {
@@ -199,6 +176,46 @@ bool decode_meshopt_glb(std::string& bytes) {
     view["buffer"] = remap[b];
   }
   j["buffers"] = kept;
+}
+
+}  // namespace
+
+bool decode_meshopt_glb(std::string& bytes) {
+  if (bytes.size() < 20 || le32(bytes, 16) != 0x4E4F534Au) return false;
+  const std::size_t json_len = le32(bytes, 12);
+  if (20 + json_len > bytes.size()) return false;
+  const std::string json_text = bytes.substr(20, json_len);
+  if (json_text.find(kExt) == std::string::npos) return false;
+  nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return false;
+  std::string bin = binary_chunk(bytes, 20 + json_len);
+  if (!j.contains("buffers") || !j["buffers"].is_array())
+    throw std::runtime_error("EXT_meshopt_compression: no buffers");
+  // Each compressed view decodes into one run of bytes appended to the binary chunk.
+  std::string decoded_all;
+  std::vector<std::pair<std::size_t, std::size_t>> placed;  // (view, offset in decoded_all)
+  nlohmann::json& views = j["bufferViews"];
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    nlohmann::json& view = views[v];
+    if (!view.contains("extensions") || !view["extensions"].contains(kExt)) continue;
+    const std::string out = decode_view(view["extensions"][kExt], bin, v);
+    while (decoded_all.size() % 4) decoded_all.push_back('\0');
+    placed.emplace_back(v, decoded_all.size());
+    decoded_all += out;
+    view["byteLength"] = out.size();
+    view["extensions"].erase(kExt);
+    if (view["extensions"].empty()) view.erase("extensions");
+  }
+  while (bin.size() % 4) bin.push_back('\0');
+  const std::size_t base = bin.size();
+  for (const auto& [v, off] : placed) {
+    views[v]["buffer"] = 0;
+    views[v]["byteOffset"] = base + off;
+  }
+  bin += decoded_all;
+  const std::size_t bin_length = bin.size();
+  while (bin.size() % 4) bin.push_back('\0');  // a GLB chunk ends on a 4-byte boundary
+  drop_fallback_buffers(j, bin_length);
   for (const char* list : {"extensionsUsed", "extensionsRequired"})
     if (j.contains(list) && j[list].is_array()) {
       nlohmann::json names = nlohmann::json::array();

@@ -225,6 +225,69 @@ std::string encode_sylt(const Tree& tree) {
   return std::move(w.out);
 }
 
+namespace {
+
+// The body's sections, in file order (encode_sylt writes them so); every read bounds-checked.
+void read_materials(Reader& r, Materials& m) {
+  m.bark_texture = r.string("bark texture");
+  m.leaf_texture = r.string("leaf texture");
+  m.bark_color = r.color("bark colour");
+  m.leaf_color = r.color("leaf colour");
+  const auto kind = r.get<std::uint8_t>("leaf kind");
+  if (kind > 2) r.fail("unknown leaf kind " + std::to_string(kind));
+  m.leaf_kind = static_cast<LeafKind>(kind);
+  m.atlas_columns = r.get<std::uint8_t>("atlas columns");
+  m.atlas_rows = r.get<std::uint8_t>("atlas rows");
+  const auto nc = r.count(4, "cell coverage count");
+  if (nc > 256) r.fail("cell coverage count " + std::to_string(nc) + " exceeds 256");
+  m.cell_coverage.resize(nc);
+  for (float& c : m.cell_coverage) c = r.get<float>("cell coverage");
+  m.bark_tint = r.color("bark tint");
+  m.bark_tint_from_m = r.get<float>("bark tint from");
+  m.bark_tint_to_m = r.get<float>("bark tint to");
+}
+
+void read_skeleton(Reader& r, Tree& t) {
+  const auto nb = r.count(kBranchHeader, "branch count");
+  t.branches.resize(nb);
+  for (auto& b : t.branches) {
+    b.parent = r.get<std::int32_t>("branch parent");
+    b.parent_node = r.get<std::uint32_t>("branch parent node");
+    b.parent_t = r.get<double>("branch parent t");
+    b.level = r.get<std::uint32_t>("branch level");
+    const auto nn = r.count(kNodeSize, "node count");
+    b.nodes.resize(nn);
+    for (auto& n : b.nodes) {
+      n.position = r.vec3("node position");
+      n.radius = r.get<double>("node radius");
+    }
+  }
+}
+
+void read_foliage(Reader& r, Tree& t) {
+  const auto nl = r.count(kLeafSize, "leaf count");
+  t.leaves.resize(nl);
+  for (auto& l : t.leaves) {
+    l.branch = r.get<std::uint32_t>("leaf branch");
+    l.position = r.vec3f("leaf position");
+    l.direction = r.vec3f("leaf direction");
+    l.normal = r.vec3f("leaf normal");
+    l.length = r.get<float>("leaf length");
+    l.width = r.get<float>("leaf width");
+    l.variant = r.get<std::uint8_t>("leaf variant");
+  }
+  const auto nd = r.count(kNeedleSize, "needle count");
+  t.needles.resize(nd);
+  for (auto& n : t.needles) {
+    n.branch = r.get<std::uint32_t>("needle branch");
+    n.base = r.vec3f("needle base");
+    n.tip = r.vec3f("needle tip");
+    n.radius = r.get<float>("needle radius");
+  }
+}
+
+}  // namespace
+
 Tree decode_sylt(std::string_view bytes, std::string_view source) {
   const std::string src(source);
   // 1. Header: magic and version first, so a wrong file type or a newer file says so.
@@ -251,55 +314,9 @@ Tree decode_sylt(std::string_view bytes, std::string_view source) {
   Tree t;
   if (r.get<std::uint32_t>("flags") != 0) r.fail("reserved flags must be 0");
   t.name = r.string("name");
-  t.materials.bark_texture = r.string("bark texture");
-  t.materials.leaf_texture = r.string("leaf texture");
-  t.materials.bark_color = r.color("bark colour");
-  t.materials.leaf_color = r.color("leaf colour");
-  const auto kind = r.get<std::uint8_t>("leaf kind");
-  if (kind > 2) r.fail("unknown leaf kind " + std::to_string(kind));
-  t.materials.leaf_kind = static_cast<LeafKind>(kind);
-  t.materials.atlas_columns = r.get<std::uint8_t>("atlas columns");
-  t.materials.atlas_rows = r.get<std::uint8_t>("atlas rows");
-  const auto nc = r.count(4, "cell coverage count");
-  if (nc > 256) r.fail("cell coverage count " + std::to_string(nc) + " exceeds 256");
-  t.materials.cell_coverage.resize(nc);
-  for (float& c : t.materials.cell_coverage) c = r.get<float>("cell coverage");
-  t.materials.bark_tint = r.color("bark tint");
-  t.materials.bark_tint_from_m = r.get<float>("bark tint from");
-  t.materials.bark_tint_to_m = r.get<float>("bark tint to");
-  const auto nb = r.count(kBranchHeader, "branch count");
-  t.branches.resize(nb);
-  for (auto& b : t.branches) {
-    b.parent = r.get<std::int32_t>("branch parent");
-    b.parent_node = r.get<std::uint32_t>("branch parent node");
-    b.parent_t = r.get<double>("branch parent t");
-    b.level = r.get<std::uint32_t>("branch level");
-    const auto nn = r.count(kNodeSize, "node count");
-    b.nodes.resize(nn);
-    for (auto& n : b.nodes) {
-      n.position = r.vec3("node position");
-      n.radius = r.get<double>("node radius");
-    }
-  }
-  const auto nl = r.count(kLeafSize, "leaf count");
-  t.leaves.resize(nl);
-  for (auto& l : t.leaves) {
-    l.branch = r.get<std::uint32_t>("leaf branch");
-    l.position = r.vec3f("leaf position");
-    l.direction = r.vec3f("leaf direction");
-    l.normal = r.vec3f("leaf normal");
-    l.length = r.get<float>("leaf length");
-    l.width = r.get<float>("leaf width");
-    l.variant = r.get<std::uint8_t>("leaf variant");
-  }
-  const auto nd = r.count(kNeedleSize, "needle count");
-  t.needles.resize(nd);
-  for (auto& n : t.needles) {
-    n.branch = r.get<std::uint32_t>("needle branch");
-    n.base = r.vec3f("needle base");
-    n.tip = r.vec3f("needle tip");
-    n.radius = r.get<float>("needle radius");
-  }
+  read_materials(r, t.materials);
+  read_skeleton(r, t);
+  read_foliage(r, t);
   if (r.left() != 0) r.fail(std::to_string(r.left()) + " unexpected bytes before the checksum");
   // 4. Semantic invariants.
   if (auto errors = validate_tree(t, 1); !errors.empty())
