@@ -62,6 +62,15 @@ nlohmann::json footprint_json(const image::FootprintStats& s) {
           {"colour_mean_error", s.colour_mean_error}};
 }
 
+// One view's entry in lodcheck.json: `fields`, its verdict and its footprint_json numbers.
+nlohmann::json view_json(nlohmann::json fields, bool passed, const std::string& failure,
+                         const image::FootprintStats& s) {
+  fields["passed"] = passed;
+  fields["failure"] = failure;
+  fields.update(footprint_json(s));
+  return fields;
+}
+
 // A forest check's lodcheck.json.
 nlohmann::json forest_json(const NodeDecl& node, const forest::ForestCheckOptions& fo,
                            const std::vector<forest::ForestViewCheck>& results) {
@@ -76,14 +85,12 @@ nlohmann::json forest_json(const NodeDecl& node, const forest::ForestCheckOption
   bool passed = true;
   for (const auto& c : results) {
     passed = passed && c.passed;
-    views.push_back({{"view", c.view},
-                     {"trees_drawn", c.trees_drawn},
-                     {"trees_per_level", c.per_level},
-                     {"lod_primitives", c.lod_primitives},
-                     {"full_primitives", c.full_primitives},
-                     {"passed", c.passed},
-                     {"failure", c.failure}});
-    views.back().update(footprint_json(c.stats));
+    views.push_back(view_json({{"view", c.view},
+                               {"trees_drawn", c.trees_drawn},
+                               {"trees_per_level", c.per_level},
+                               {"lod_primitives", c.lod_primitives},
+                               {"full_primitives", c.full_primitives}},
+                              c.passed, c.failure, c.stats));
   }
   j["views"] = views;
   j["passed"] = passed;
@@ -409,18 +416,16 @@ class LodcheckCommand final : public CheckCommand {
     bool passed = true;
     for (const auto& c : results) {
       if (c.label == "sylva") passed = passed && c.passed;
-      views.push_back({{"model", c.label},
-                       {"level", c.level},
-                       {"view", c.view},
-                       {"epsilon_m", c.epsilon},
-                       {"distance_m", c.distance},
-                       {"primitives", c.primitives},
-                       {"colour_max_error", c.colour.max_error},
-                       {"colour_psnr_db", finite_or_null(c.colour.psnr)},
-                       {"judged", c.label == "sylva"},
-                       {"passed", c.passed},
-                       {"failure", c.failure}});
-      views.back().update(footprint_json(c.stats));
+      views.push_back(view_json({{"model", c.label},
+                                 {"level", c.level},
+                                 {"view", c.view},
+                                 {"epsilon_m", c.epsilon},
+                                 {"distance_m", c.distance},
+                                 {"primitives", c.primitives},
+                                 {"colour_max_error", c.colour.max_error},
+                                 {"colour_psnr_db", finite_or_null(c.colour.psnr)},
+                                 {"judged", c.label == "sylva"}},
+                                c.passed, c.failure, c.stats));
     }
     j["views"] = views;
     j["passed"] = passed;

@@ -31,17 +31,24 @@ std::string recipe_1000() {
   return y;
 }
 
-void BM_NoOpRebuild1000(benchmark::State& state) {
+// recipe_1000() as dir/r.yaml, with the test stages on the real disk.
+struct Recipe1000 {
+  Recipe1000() {
+    test::write_file(dir / "r.yaml", recipe_1000());
+    test::register_test_stages(reg, nullptr);
+  }
   test::TempDir dir;
-  test::write_file(dir / "r.yaml", recipe_1000());
   StageRegistry reg;
-  test::register_test_stages(reg, nullptr);
   RealFileSystem fs;
+};
+
+void BM_NoOpRebuild1000(benchmark::State& state) {
+  Recipe1000 b;
   SteadyClock clock;
   Diagnostics d;
-  auto recipe = load_recipe(dir / "r.yaml", reg, fs, d);
-  Cache cache(fs, dir / "cache");
-  BuildEnv env{fs, cache, dir / "out/bench", clock, nullptr, nullptr};
+  auto recipe = load_recipe(b.dir / "r.yaml", b.reg, b.fs, d);
+  Cache cache(b.fs, b.dir / "cache");
+  BuildEnv env{b.fs, cache, b.dir / "out/bench", clock, nullptr, nullptr};
   BuildOptions opt;
   opt.jobs = static_cast<int>(state.range(0));
   std::string err;
@@ -50,7 +57,7 @@ void BM_NoOpRebuild1000(benchmark::State& state) {
   for (auto _ : state) {
     // What `sylva build` does on a no-op: load + check the recipe, then the build itself.
     Diagnostics dd;
-    auto r = load_recipe(dir / "r.yaml", reg, fs, dd);
+    auto r = load_recipe(b.dir / "r.yaml", b.reg, b.fs, dd);
     auto s = run_build(*r, env, opt, &err);
     cached = s.count(NodeStatus::kCached);
   }
@@ -59,14 +66,10 @@ void BM_NoOpRebuild1000(benchmark::State& state) {
 BENCHMARK(BM_NoOpRebuild1000)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 void BM_LoadRecipe1000(benchmark::State& state) {
-  test::TempDir dir;
-  test::write_file(dir / "r.yaml", recipe_1000());
-  StageRegistry reg;
-  test::register_test_stages(reg, nullptr);
-  RealFileSystem fs;
+  Recipe1000 r;
   for (auto _ : state) {
     Diagnostics d;
-    benchmark::DoNotOptimize(load_recipe(dir / "r.yaml", reg, fs, d));
+    benchmark::DoNotOptimize(load_recipe(r.dir / "r.yaml", r.reg, r.fs, d));
   }
 }
 BENCHMARK(BM_LoadRecipe1000)->Unit(benchmark::kMillisecond);

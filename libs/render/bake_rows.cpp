@@ -10,13 +10,7 @@
 namespace sylva::render::detail {
 
 void validate_bake(std::span<const BakeView> views, const BakeOptions& o, const DeviceLimits& limits) {
-  const GLint max_size = limits.max_renderbuffer_size;
-  if (o.atlas_width < 1 || o.atlas_height < 1 || o.atlas_width > max_size || o.atlas_height > max_size)
-    throw RenderError("atlas size " + std::to_string(o.atlas_width) + "x" + std::to_string(o.atlas_height) +
-                      " is outside 1.." + std::to_string(max_size));
-  if (o.msaa < 1 || o.msaa > limits.max_samples)
-    throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
-                      std::to_string(limits.max_samples) + ")");
+  check_target_size("atlas", o.atlas_width, o.atlas_height, o.msaa, limits);
   if (!(o.line_width_px >= 1) || !(o.line_alpha_scale > 0 && o.line_alpha_scale <= 1))
     throw RenderError("line width must be at least 1 texel and the line alpha scale in (0, 1]");
   for (std::size_t v = 0; v < views.size(); ++v) {

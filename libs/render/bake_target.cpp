@@ -17,15 +17,7 @@ BakeTarget make_bake_target(GlObjects& gl, int w, int h, int msaa, BakeLayout la
   t.layout = layout;
   const GLenum formats[3] = {GL_RGBA8, GL_RGBA16, GL_RGBA16};
   auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
-    const GLuint rb = gl.renderbuffer();
-    glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    if (samples > 1) {
-      glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
-    } else {
-      glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    attach_renderbuffer(gl, fbo, attachment, format, samples, w, h);
   };
   const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
   t.draw_fbo = gl.framebuffer();

@@ -37,6 +37,7 @@ namespace {
 constexpr int kMaxSupersample = 4;
 
 using detail::check_gl;
+using detail::clear_to_background;
 using detail::CurrentContext;
 using detail::gl_mode;
 using detail::GlObjects;
@@ -200,14 +201,7 @@ class GlRenderer final : public Renderer {
     glViewport(0, 0, t.width, t.height);
     // Supersampled, lines keep their width in output pixels: k drawn pixels.
     const float k = float(o.supersample);
-    const bool transparent = o.background.a == 0;
-    glClearColor(transparent ? 0.f : o.background.r / 255.f, transparent ? 0.f : o.background.g / 255.f,
-                 transparent ? 0.f : o.background.b / 255.f, o.background.a / 255.f);
-    glClearDepth(1.0);
-    glDepthMask(GL_TRUE);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    clear_to_background(o.background);
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
     glDisable(GL_BLEND);

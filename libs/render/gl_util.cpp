@@ -16,36 +16,24 @@ GlObjects::~GlObjects() {
   if (!renderbuffers.empty()) glDeleteRenderbuffers(GLsizei(renderbuffers.size()), renderbuffers.data());
 }
 
-GLuint GlObjects::buffer() {
-  GLuint b = 0;
-  glGenBuffers(1, &b);
-  buffers.push_back(b);
-  return b;
+namespace {
+
+// One new name from `gen` (a glGen* function), kept in `owned` to be deleted with the others.
+template <typename Gen>
+GLuint generate(Gen gen, std::vector<GLuint>& owned) {
+  GLuint name = 0;
+  gen(1, &name);
+  owned.push_back(name);
+  return name;
 }
-GLuint GlObjects::texture() {
-  GLuint t = 0;
-  glGenTextures(1, &t);
-  textures.push_back(t);
-  return t;
-}
-GLuint GlObjects::vertex_array() {
-  GLuint v = 0;
-  glGenVertexArrays(1, &v);
-  vertex_arrays.push_back(v);
-  return v;
-}
-GLuint GlObjects::framebuffer() {
-  GLuint f = 0;
-  glGenFramebuffers(1, &f);
-  framebuffers.push_back(f);
-  return f;
-}
-GLuint GlObjects::renderbuffer() {
-  GLuint r = 0;
-  glGenRenderbuffers(1, &r);
-  renderbuffers.push_back(r);
-  return r;
-}
+
+}  // namespace
+
+GLuint GlObjects::buffer() { return generate(glGenBuffers, buffers); }
+GLuint GlObjects::texture() { return generate(glGenTextures, textures); }
+GLuint GlObjects::vertex_array() { return generate(glGenVertexArrays, vertex_arrays); }
+GLuint GlObjects::framebuffer() { return generate(glGenFramebuffers, framebuffers); }
+GLuint GlObjects::renderbuffer() { return generate(glGenRenderbuffers, renderbuffers); }
 
 namespace {
 
@@ -97,6 +85,40 @@ void check_gl(const char* where) {
   const GLenum e = glGetError();
   if (e != GL_NO_ERROR)
     throw RenderError(std::string("OpenGL error during ") + where + ": " + gl_error_name(e));
+}
+
+void check_target_size(const char* what, int w, int h, int msaa, const DeviceLimits& limits) {
+  const GLint max_size = limits.max_renderbuffer_size;
+  if (w < 1 || h < 1 || w > max_size || h > max_size)
+    throw RenderError(std::string(what) + " size " + std::to_string(w) + "x" + std::to_string(h) +
+                      " is outside 1.." + std::to_string(max_size));
+  if (msaa < 1 || msaa > limits.max_samples)
+    throw RenderError("msaa " + std::to_string(msaa) + " is not supported (this device allows 1.." +
+                      std::to_string(limits.max_samples) + ")");
+}
+
+void attach_renderbuffer(GlObjects& gl, GLuint fbo, GLenum attachment, GLenum format, int samples, int w,
+                         int h) {
+  const GLuint rb = gl.renderbuffer();
+  glBindRenderbuffer(GL_RENDERBUFFER, rb);
+  if (samples > 1) {
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
+  } else {
+    glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+}
+
+void clear_to_background(image::Rgba8 background) {
+  const bool transparent = background.a == 0;
+  glClearColor(transparent ? 0.f : background.r / 255.f, transparent ? 0.f : background.g / 255.f,
+               transparent ? 0.f : background.b / 255.f, background.a / 255.f);
+  glClearDepth(1.0);
+  glDepthMask(GL_TRUE);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
 }
 
 GLuint link_program(const char* vertex_source, const char* fragment_source, const std::string& name) {

@@ -58,6 +58,20 @@ DeviceLimits query_device_limits();
 // Throws RenderError("OpenGL error during <where>: GL_...") if glGetError() reports one.
 void check_gl(const char* where);
 
+// Throws RenderError unless a w x h target with `msaa` samples fits the device: "<what> size WxH
+// is outside 1..N" (N: the largest renderbuffer side) or "msaa M is not supported (this device
+// allows 1..S)".
+void check_target_size(const char* what, int w, int h, int msaa, const DeviceLimits& limits);
+
+// A w x h renderbuffer of `format` (multisampled when samples > 1) attached to `fbo` at
+// `attachment`; leaves `fbo` bound to GL_FRAMEBUFFER.
+void attach_renderbuffer(GlObjects& gl, GLuint fbo, GLenum attachment, GLenum format, int samples, int w,
+                         int h);
+
+// Clears the bound framebuffer's colour to `background` (8-bit sRGB-encoded; alpha 0 clears to
+// transparent black) and its depth to 1, with depth writes on and the depth test GL_LESS.
+void clear_to_background(image::Rgba8 background);
+
 // A linked program from vertex and fragment sources. A compile or link failure throws
 // RenderUnavailableError ("headless OpenGL is not available: shader ... failed: <log>"): the
 // device cannot run the shaders every render needs. `name` goes into the message.

@@ -17,13 +17,8 @@ struct DrawTarget {
 };
 
 void validate_draw(const OctahedralImpostor& imp, const RenderOptions& o, const DeviceLimits& limits) {
-  const GLint max_size = limits.max_renderbuffer_size, max_texture_size = limits.max_texture_size;
-  if (o.width < 1 || o.height < 1 || o.width > max_size || o.height > max_size)
-    throw RenderError("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
-                      " is outside 1.." + std::to_string(max_size));
-  if (o.msaa < 1 || o.msaa > limits.max_samples)
-    throw RenderError("msaa " + std::to_string(o.msaa) + " is not supported (this device allows 1.." +
-                      std::to_string(limits.max_samples) + ")");
+  const GLint max_texture_size = limits.max_texture_size;
+  check_target_size("image", o.width, o.height, o.msaa, limits);
   if (o.background.a != 0 && o.background.a != 255)
     throw RenderError("background alpha must be 0 (transparent) or 255 (opaque)");
   const ImpostorGeometry& g = imp.geometry;
@@ -44,15 +39,7 @@ void validate_draw(const OctahedralImpostor& imp, const RenderOptions& o, const 
 
 DrawTarget make_draw_target(GlObjects& gl, const RenderOptions& o) {
   auto attach = [&](GLuint fbo, GLenum attachment, GLenum format, int samples) {
-    const GLuint rb = gl.renderbuffer();
-    glBindRenderbuffer(GL_RENDERBUFFER, rb);
-    if (samples > 1) {
-      glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, o.width, o.height);
-    } else {
-      glRenderbufferStorage(GL_RENDERBUFFER, format, o.width, o.height);
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    attach_renderbuffer(gl, fbo, attachment, format, samples, o.width, o.height);
   };
   DrawTarget t;
   t.draw_fbo = gl.framebuffer();
@@ -149,14 +136,7 @@ image::Image draw_view(GLuint program, const OctahedralImpostor& imp, const Came
   const float aspect = float(o.width) / float(o.height);
   glBindFramebuffer(GL_FRAMEBUFFER, target.draw_fbo);
   glViewport(0, 0, o.width, o.height);
-  const bool transparent = o.background.a == 0;
-  glClearColor(transparent ? 0.f : o.background.r / 255.f, transparent ? 0.f : o.background.g / 255.f,
-               transparent ? 0.f : o.background.b / 255.f, o.background.a / 255.f);
-  glClearDepth(1.0);
-  glDepthMask(GL_TRUE);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  clear_to_background(o.background);
   glDisable(GL_CULL_FACE);
   glEnable(GL_BLEND);
   glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
@@ -178,7 +158,7 @@ image::Image draw_view(GLuint program, const OctahedralImpostor& imp, const Came
     glBlitFramebuffer(0, 0, o.width, o.height, 0, 0, o.width, o.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   }
   // Over a transparent background the target holds premultiplied colour.
-  return read_rgba8(target.resolve_fbo, o.width, o.height, transparent);
+  return read_rgba8(target.resolve_fbo, o.width, o.height, o.background.a == 0);
 }
 
 }  // namespace

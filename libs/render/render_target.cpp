@@ -9,20 +9,6 @@
 namespace sylva::render::detail {
 namespace {
 
-// A renderbuffer of `format` (multisampled when samples > 1) attached to `fbo`.
-void attach_renderbuffer(GlObjects& gl, GLuint fbo, GLenum attachment, GLenum format, int samples, int w,
-                         int h) {
-  const GLuint rb = gl.renderbuffer();
-  glBindRenderbuffer(GL_RENDERBUFFER, rb);
-  if (samples > 1) {
-    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, format, w, h);
-  } else {
-    glRenderbufferStorage(GL_RENDERBUFFER, format, w, h);
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
-}
-
 // A w x h texture read with texelFetch (one level, nearest), attached to `fbo`.
 GLuint attach_texture(GlObjects& gl, GLuint fbo, GLenum attachment, GLenum internal, GLenum format,
                       GLenum type, int w, int h) {

@@ -52,11 +52,8 @@ void bm_textures(benchmark::State& state, generate::BarkLook bark, generate::Lea
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e :
-       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
-    if (e.path().extension() == ".yaml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::filesystem::path> files =
+      generate::species_preset_files(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species");
   for (const auto& f : files) {
     const generate::SpeciesPreset s = generate::load_species_preset(f);
     benchmark::RegisterBenchmark(("generate/" + s.species + "/adult").c_str(), bm_generate,

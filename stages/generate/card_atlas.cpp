@@ -231,6 +231,18 @@ double axis_length(const Stem& s) {
   return l;
 }
 
+// How many of `n` elements (leaves, needles) each axis carries: in proportion to its length
+// (axis_length), rounded, and at least `at_least`.
+std::vector<int> per_axis(const std::vector<Stem>& axes, int n, int at_least) {
+  std::vector<double> lengths;
+  double total = 0;
+  for (const Stem& s : axes) total += lengths.emplace_back(axis_length(s));
+  std::vector<int> counts;
+  for (const double l : lengths)
+    counts.push_back(std::max(at_least, static_cast<int>(std::lround(n * l / total))));
+  return counts;
+}
+
 // A twig with side shoots and leaves; returns the leaf area drawn (m^2).
 double draw_twig(Cell& cell, const CardLook& card, const LeafLook& leaf, const BarkLook& bark, Rng& rng) {
   const double keep = 0.5 * card.leaf_length_m;
@@ -247,15 +259,13 @@ double draw_twig(Cell& cell, const CardLook& card, const LeafLook& leaf, const B
     LeafVariant lv;
   };
   std::vector<LeafDraw> leaves;
-  std::vector<double> lengths;
-  double total = 0;
-  for (const Stem& s : axes) total += lengths.emplace_back(axis_length(s));
   const int n = std::max(1, card.elements + static_cast<int>(rng.below(3)) - 1);
+  const std::vector<int> counts = per_axis(axes, n, 1);
   const double leaf_w_full = card.leaf_length_m * card.leaf_width;
   for (std::size_t k = 0; k < axes.size(); ++k) {
     const Stem& axis = axes[k];
     // Leaves on this axis in proportion to its length; one of them terminal.
-    const int m = std::max(1, static_cast<int>(std::lround(n * lengths[k] / total)));
+    const int m = counts[k];
     for (int i = 0; i < m; ++i) {
       const bool terminal = i == m - 1;
       double t = 1.0;
@@ -334,14 +344,11 @@ double draw_tuft(Cell& cell, const CardLook& card, const LeafLook& leaf, const B
     draw_stem(cell, axes[k], std::max(0.003, (k == 0 ? 1.2 : 0.9) * cell.pixel_m()),
               std::max(0.0015, 0.7 * cell.pixel_m()), mix(bark.dark, leaf.color, 0.3),
               mix(bark.dark, leaf.color, 0.5));
-  std::vector<double> lengths;
-  double total = 0;
-  for (const Stem& a : axes) total += lengths.emplace_back(axis_length(a));
   double area = 0;
-  const int n = std::max(8, card.elements);
+  const std::vector<int> counts = per_axis(axes, std::max(8, card.elements), 8);
   const double theta0 = card.leaf_angle_deg * kPi / 180;
   for (std::size_t k = 0; k < axes.size(); ++k) {
-    const int m = std::max(8, static_cast<int>(std::lround(n * lengths[k] / total)));
+    const int m = counts[k];
     for (int i = 0; i < m; ++i) {
       const bool burst = i >= m * 70 / 100;  // the terminal starburst
       const double t = burst ? 1.0 : 0.62 + 0.38 * std::sqrt(rng.uniform());
@@ -386,13 +393,10 @@ double draw_spray(Cell& cell, const CardLook& card, const LeafLook& leaf, const 
               std::max(0.001, 0.5 * cell.pixel_m()), mix(bark.color, bark.dark, 0.3),
               mix(bark.color, leaf.vein, 0.4));
   // Needles spread over the axes by their length.
-  std::vector<double> lengths;
-  double total = 0;
-  for (const Stem& a : axes) total += lengths.emplace_back(axis_length(a));
   double area = 0;
-  const int n = std::max(8, card.elements);
+  const std::vector<int> counts = per_axis(axes, std::max(8, card.elements), 2);
   for (std::size_t k = 0; k < axes.size(); ++k) {
-    const int m = std::max(2, static_cast<int>(std::lround(n * lengths[k] / total)));
+    const int m = counts[k];
     for (int i = 0; i < m; ++i) {
       const double t = (i + 0.5 * rng.uniform()) / m;
       const double sa = axes[k].angle_at(t);

@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -458,6 +459,14 @@ SpeciesPreset load_species_preset(const std::filesystem::path& path) {
     throw PresetParseError(e.what());
   }
   return parse_species_preset(text, path.string());
+}
+
+std::vector<std::filesystem::path> species_preset_files(const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".yaml") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 }  // namespace sylva::generate

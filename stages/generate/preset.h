@@ -55,5 +55,8 @@ class PresetParseError : public std::runtime_error {
 SpeciesPreset parse_species_preset(std::string_view yaml_text, const std::string& file);
 // Reads and parses a file (PresetParseError "<file>: cannot read" if it cannot be read).
 SpeciesPreset load_species_preset(const std::filesystem::path& path);
+// The preset files of a folder (its `*.yaml`, e.g. configs/species), sorted by path; throws
+// std::filesystem::filesystem_error if the folder cannot be listed.
+std::vector<std::filesystem::path> species_preset_files(const std::filesystem::path& dir);
 
 }  // namespace sylva::generate

@@ -59,33 +59,26 @@ void tri(BranchGeometry& out, std::uint32_t a, std::uint32_t b, std::uint32_t c)
 // The larger ring's edges are walked once; an edge whose Bresenham step advances on the smaller
 // ring becomes a quad, the others triangles: exactly f quads and d triangles, evenly spread.
 void connect_rings(BranchGeometry& out, std::uint32_t a, int na, std::uint32_t b, int nb) {
-  if (na >= nb) {
-    for (int e = 0; e < na; ++e) {
-      const int j0 = e * nb / na, j1 = (e + 1) * nb / na;
-      const std::uint32_t a0 = a + e, a1 = a + (e + 1) % na, b0 = b + j0 % nb;
-      if (j1 > j0) {
-        const std::uint32_t b1 = b + j1 % nb;
+  const bool a_larger = na >= nb;
+  const int nl = a_larger ? na : nb, ns = a_larger ? nb : na;
+  const std::uint32_t l = a_larger ? a : b, s = a_larger ? b : a;
+  for (int e = 0; e < nl; ++e) {
+    const int j0 = e * ns / nl, j1 = (e + 1) * ns / nl;
+    const std::uint32_t l0 = l + e, l1 = l + (e + 1) % nl, s0 = s + j0 % ns, s1 = s + j1 % ns;
+    // The step's corners on ring a and on ring b; the smaller ring's two are one where it does
+    // not advance, and the quad's first (a larger) or second (b larger) triangle is left.
+    const std::uint32_t a0 = a_larger ? l0 : s0, a1 = a_larger ? l1 : s1;
+    const std::uint32_t b0 = a_larger ? s0 : l0, b1 = a_larger ? s1 : l1;
+    if (j1 > j0) {
+      tri(out, a0, a1, b1);
+      tri(out, a0, b1, b0);
+      ++out.quads;
+    } else {
+      if (a_larger)
         tri(out, a0, a1, b1);
+      else
         tri(out, a0, b1, b0);
-        ++out.quads;
-      } else {
-        tri(out, a0, a1, b0);
-        ++out.triangles;
-      }
-    }
-  } else {
-    for (int e = 0; e < nb; ++e) {
-      const int j0 = e * na / nb, j1 = (e + 1) * na / nb;
-      const std::uint32_t b0 = b + e, b1 = b + (e + 1) % nb, a0 = a + j0 % na;
-      if (j1 > j0) {
-        const std::uint32_t a1 = a + j1 % na;
-        tri(out, a0, a1, b1);
-        tri(out, a0, b1, b0);
-        ++out.quads;
-      } else {
-        tri(out, a0, b1, b0);
-        ++out.triangles;
-      }
+      ++out.triangles;
     }
   }
 }

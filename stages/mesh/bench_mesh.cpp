@@ -109,11 +109,8 @@ void encode(benchmark::State& state, std::filesystem::path preset) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e :
-       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
-    if (e.path().extension() == ".yaml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::filesystem::path> files =
+      generate::species_preset_files(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species");
   for (const auto& f : files) {
     const std::string name = f.stem().string();
     benchmark::RegisterBenchmark(("mesh/" + name + "/adult").c_str(), mesh_tree_bench, f)

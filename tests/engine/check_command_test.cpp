@@ -18,6 +18,7 @@
 #include "tests/engine/test_stages.h"
 #include "tests/support/fake_clock.h"
 #include "tests/support/fake_filesystem.h"
+#include "tests/support/test_support.h"
 
 namespace sylva {
 namespace {
@@ -92,15 +93,7 @@ class CheckCommandTest : public ::testing::Test {
     CommandContext ctx{fs_, clock_, reg_, CliIo{out, err, false, &cancel_}, {}};
     command_ = std::make_unique<TextCheck>();
     const int code = run_cli(static_cast<int>(argv.size()), argv.data(), ctx, {command_.get()});
-    auto slurp = [](std::FILE* f) {
-      std::string s;
-      std::rewind(f);
-      char buf[4096];
-      for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) s.append(buf, n);
-      std::fclose(f);
-      return s;
-    };
-    return {code, slurp(out), slurp(err)};
+    return {code, test::read_and_close(out), test::read_and_close(err)};
   }
 
   test::FakeFileSystem fs_;

@@ -34,15 +34,7 @@ class CliTest : public ::testing::Test {
     SteadyClock clock;
     CommandContext ctx{fsys, clock, reg_, CliIo{out, err, false, nullptr}, {}};
     const int code = run_cli(static_cast<int>(argv.size()), argv.data(), ctx);
-    auto slurp = [](std::FILE* f) {
-      std::string s;
-      std::rewind(f);
-      char buf[4096];
-      for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) s.append(buf, n);
-      std::fclose(f);
-      return s;
-    };
-    return {code, slurp(out), slurp(err)};
+    return {code, test::read_and_close(out), test::read_and_close(err)};
   }
   std::string recipe(const std::string& yaml) {
     test::write_file(dir_ / "r.yaml", yaml);

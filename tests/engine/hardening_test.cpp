@@ -258,6 +258,21 @@ TEST_F(HardeningTest, ReadingAFifoDoesNotBlock) {
   EXPECT_TRUE(fs_.stat(fifo)->is_other);
 }
 
+// Makes `fake` record in `results` every action result written under /c/ac/, checking as each
+// is written that every blob it names (under /c/cas/) is already durable.
+void record_results_checking_their_blobs(test::FakeFileSystem& fake, std::vector<std::string>& results) {
+  fake.on_write = [&fake, &results](const std::string& path) {
+    if (path.find("/c/ac/") == std::string::npos) return;
+    results.push_back(path);
+    auto result = ActionResult::from_json(fake.files.at(path), fs::path(path).filename().string());
+    ASSERT_TRUE(result) << path;
+    for (const auto& o : result->outputs) {
+      const std::string blob = "/c/cas/" + o.digest.hash.substr(0, 2) + "/" + o.digest.hash;
+      EXPECT_TRUE(fake.durable(blob)) << path << " was written before blob " << blob << " was durable";
+    }
+  };
+}
+
 // Item 14. No action result is written before the blobs it names are durable (each blob and its
 // directory synced since it was moved into place: it survives a power loss), and the results
 // themselves are durable before the build returns. Only this build's files are synced.
@@ -268,16 +283,7 @@ TEST_F(HardeningTest, ResultsAreWrittenOnlyAfterTheirBlobsAreDurable) {
       "  b:\n    stage: text\n    with: { text: B }\n",
       fake);
   std::vector<std::string> results;
-  fake.on_write = [&](const std::string& path) {
-    if (path.find("/c/ac/") == std::string::npos) return;
-    results.push_back(path);
-    auto result = ActionResult::from_json(fake.files.at(path), fs::path(path).filename().string());
-    ASSERT_TRUE(result) << path;
-    for (const auto& o : result->outputs) {
-      const std::string blob = "/c/cas/" + o.digest.hash.substr(0, 2) + "/" + o.digest.hash;
-      EXPECT_TRUE(fake.durable(blob)) << path << " was written before blob " << blob << " was durable";
-    }
-  };
+  record_results_checking_their_blobs(fake, results);
   ASSERT_TRUE(build(r, fake, "/o", "/c").ok());
   ASSERT_EQ(results.size(), 2u);
   for (const auto& path : results)
@@ -301,16 +307,7 @@ TEST_F(HardeningTest, LargeBatchesAreMadeDurableWithOneSyncPerBatch) {
         "  n" + std::to_string(i) + ":\n    stage: text\n    with: { text: T" + std::to_string(i) + " }\n";
   Recipe r = load(yaml, fake);
   std::vector<std::string> results;
-  fake.on_write = [&](const std::string& path) {
-    if (path.find("/c/ac/") == std::string::npos) return;
-    results.push_back(path);
-    auto result = ActionResult::from_json(fake.files.at(path), fs::path(path).filename().string());
-    ASSERT_TRUE(result) << path;
-    for (const auto& o : result->outputs) {
-      const std::string blob = "/c/cas/" + o.digest.hash.substr(0, 2) + "/" + o.digest.hash;
-      EXPECT_TRUE(fake.durable(blob)) << path << " was written before blob " << blob << " was durable";
-    }
-  };
+  record_results_checking_their_blobs(fake, results);
   BuildOptions one_at_a_time;
   one_at_a_time.jobs = 1;
   ASSERT_TRUE(build(r, fake, "/o", "/c", one_at_a_time).ok());

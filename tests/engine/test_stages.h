@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "pipeline/registry.h"
 #include "pipeline/stage.h"
@@ -41,13 +42,33 @@ struct RunLog {
   }
 };
 
-// `text`: no inputs; writes `text` followed by `count` pseudo-random numbers from the seed.
-class TextStage final : public Stage {
+// What every test stage shares: its StageInfo (the constructor sets name, summary, version 1, no
+// inputs and output type "text"; a stage changes what differs) and the RunLog its runs are
+// recorded in (null: not recorded).
+class TestStage : public Stage {
  public:
-  explicit TextStage(RunLog* log) : log_(log) {
-    info_.name = "text";
+  const StageInfo& info() const override { return info_; }
+
+ protected:
+  TestStage(std::string name, std::string summary, RunLog* log = nullptr) : log_(log) {
+    info_.name = std::move(name);
     info_.version = 1;
-    info_.summary = "writes a line of text (test stage)";
+    info_.summary = std::move(summary);
+    info_.inputs = {{}, 0, 0, ""};
+    info_.output_type = "text";
+  }
+  void record(const StageContext& ctx) const {
+    if (log_) log_->record(ctx.node_name());
+  }
+
+  RunLog* log_;
+  StageInfo info_;
+};
+
+// `text`: no inputs; writes `text` followed by `count` pseudo-random numbers from the seed.
+class TextStage final : public TestStage {
+ public:
+  explicit TextStage(RunLog* log) : TestStage("text", "writes a line of text (test stage)", log) {
     info_.params = {
         Param::string("text", "hello").describe("the text"),
         Param::integer("seed", 1).range(0, 1e9).describe("random seed"),
@@ -61,8 +82,6 @@ class TextStage final : public Stage {
                                  Param::integer("height_px", 1080).range(1, 100000)}),
         Param::object_list("items", {Param::string("name"), Param::real("weight", 1.0).range(0, 10)}),
     };
-    info_.inputs = {{}, 0, 0, ""};
-    info_.output_type = "text";
     // Checks beyond the schema (StageInfo::check): item names unique, and one forbidden text.
     info_.check = [](const Value::Object& p) {
       std::vector<ParamProblem> out;
@@ -77,9 +96,8 @@ class TextStage final : public Stage {
       return out;
     };
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {
-    if (log_) log_->record(ctx.node_name());
+    record(ctx);
     for (std::int64_t t = 0; t < ctx.integer("sleep_ms"); t += 5) {
       ctx.check_cancelled();
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -92,23 +110,15 @@ class TextStage final : public Stage {
     for (std::int64_t i = 0; i < ctx.integer("count"); ++i) s += " " + std::to_string(rng.next_u64() % 1000);
     ctx.write_output("out.txt", s + "\n");
   }
-
- private:
-  RunLog* log_;
-  StageInfo info_;
 };
 
 // `concat`: any number of text inputs; writes their out.txt in `needs` order plus `suffix`.
-class ConcatStage final : public Stage {
+class ConcatStage final : public TestStage {
  public:
-  explicit ConcatStage(RunLog* log) : log_(log) {
-    info_.name = "concat";
-    info_.version = 1;
-    info_.summary = "concatenates text inputs (test stage)";
+  explicit ConcatStage(RunLog* log) : TestStage("concat", "concatenates text inputs (test stage)", log) {
     info_.params = {Param::string("suffix", "").describe("appended text"),
                     Param::boolean("fail", false).describe("fail with a StageError")};
     info_.inputs = {{"text"}, 1, -1, "texts"};
-    info_.output_type = "text";
     // A check that needs the inputs (StageInfo::check_inputs): a suffix "#N" must name the count.
     info_.check_inputs = [](const Value::Object& p, const std::vector<std::string>& types) {
       std::vector<ParamProblem> out;
@@ -119,77 +129,51 @@ class ConcatStage final : public Stage {
       return out;
     };
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {
-    if (log_) log_->record(ctx.node_name());
+    record(ctx);
     if (ctx.boolean("fail")) throw StageError("asked to fail");
     std::string s;
     for (const auto& in : ctx.inputs()) s += ctx.read_input(*in.file("out.txt"));
     ctx.write_output("out.txt", s + ctx.string("suffix"));
   }
-
- private:
-  RunLog* log_;
-  StageInfo info_;
 };
 
 // `readfile`: copies the file named by its `file` parameter (a declared file input).
-class ReadFileStage final : public Stage {
+class ReadFileStage final : public TestStage {
  public:
-  explicit ReadFileStage(RunLog* log) : log_(log) {
-    info_.name = "readfile";
-    info_.version = 1;
-    info_.summary = "copies a file (test stage)";
+  explicit ReadFileStage(RunLog* log) : TestStage("readfile", "copies a file (test stage)", log) {
     info_.params = {Param::path("file").describe("file to copy")};
-    info_.inputs = {{}, 0, 0, ""};
-    info_.output_type = "text";
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {
-    if (log_) log_->record(ctx.node_name());
+    record(ctx);
     ctx.write_output("out.txt", ctx.read_param_file("file"));
   }
-
- private:
-  RunLog* log_;
-  StageInfo info_;
 };
 
 // `mesh_only`: accepts only "mesh" inputs (to test input type errors); never run.
-class MeshOnlyStage final : public Stage {
+class MeshOnlyStage final : public TestStage {
  public:
-  MeshOnlyStage() {
-    info_.name = "mesh_only";
-    info_.version = 1;
-    info_.summary = "accepts meshes (test stage)";
+  MeshOnlyStage() : TestStage("mesh_only", "accepts meshes (test stage)") {
     info_.inputs = {{"mesh"}, 1, 1, "a mesh"};
     info_.output_type = "mesh";
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext&) const override {}
-
- private:
-  StageInfo info_;
 };
 
 // `nested`: writes `text` after a parallel loop of its own (oneTBB), as mesh and lod run them:
 // `items` tiny tasks of `micros` each. Nodes with the same text share one action key.
-class NestedParallelStage final : public Stage {
+class NestedParallelStage final : public TestStage {
  public:
-  explicit NestedParallelStage(RunLog* log) : log_(log) {
-    info_.name = "nested";
-    info_.version = 1;
-    info_.summary = "a parallel loop inside a node (test stage)";
+  explicit NestedParallelStage(RunLog* log)
+      : TestStage("nested", "a parallel loop inside a node (test stage)", log) {
     info_.params = {Param::string("text", "n").describe("the text"),
                     Param::integer("items", 64).range(1, 100000).describe("inner tasks"),
                     Param::integer("micros", 200).range(0, 100000).describe("work per inner task")};
     info_.inputs = {{"text"}, 0, -1, "any texts"};
-    info_.output_type = "text";
     info_.outputs = {"out.txt"};
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {
-    if (log_) log_->record(ctx.node_name());
+    record(ctx);
     const auto micros = std::chrono::microseconds(ctx.integer("micros"));
     std::atomic<std::int64_t> sum{0};
     tbb::parallel_for(std::int64_t{0}, ctx.integer("items"), [&](std::int64_t i) {
@@ -198,54 +182,32 @@ class NestedParallelStage final : public Stage {
     });
     ctx.write_output("out.txt", ctx.string("text") + " " + std::to_string(sum.load()) + "\n");
   }
-
- private:
-  RunLog* log_;
-  StageInfo info_;
 };
 
 // `throwing`: throws what `what` says: "int" (not a std::exception), "logic" (std::logic_error),
 // or nothing ("none": writes out.txt).
-class ThrowingStage final : public Stage {
+class ThrowingStage final : public TestStage {
  public:
-  ThrowingStage() {
-    info_.name = "throwing";
-    info_.version = 1;
-    info_.summary = "throws (test stage)";
+  ThrowingStage() : TestStage("throwing", "throws (test stage)") {
     info_.params = {Param::choice("what", {"int", "logic", "none"}, "int").describe("what to throw")};
-    info_.inputs = {{}, 0, 0, ""};
-    info_.output_type = "text";
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override {
     const std::string what = ctx.string("what");
     if (what == "int") throw 42;
     if (what == "logic") throw std::logic_error("a bug");
     ctx.write_output("out.txt", "fine\n");
   }
-
- private:
-  StageInfo info_;
 };
 
 // Parameters with load-time constraints (a power of two, an increasing list).
-class ConstrainedStage final : public Stage {
+class ConstrainedStage final : public TestStage {
  public:
-  ConstrainedStage() {
-    info_.name = "constrained";
-    info_.version = 1;
-    info_.summary = "parameters with constraints (test stage)";
+  ConstrainedStage() : TestStage("constrained", "parameters with constraints (test stage)") {
     info_.params = {
         Param::integer("size", 16).range(1, 4096).require_power_of_two().describe("a power of two"),
         Param::real_list("levels", Value::List{}).require_increasing().describe("increasing")};
-    info_.inputs = {{}, 0, 0, ""};
-    info_.output_type = "text";
   }
-  const StageInfo& info() const override { return info_; }
   void run(StageContext& ctx) const override { ctx.write_output("out.txt", "ok\n"); }
-
- private:
-  StageInfo info_;
 };
 
 inline void register_test_stages(StageRegistry& reg, RunLog* log) {

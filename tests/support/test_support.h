@@ -1,6 +1,8 @@
 // Helpers shared by every test executable.
 #pragma once
 
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -27,5 +29,25 @@ std::optional<std::filesystem::path> data_dir();
 
 std::string read_file(const std::filesystem::path& p);
 void write_file(const std::filesystem::path& p, const std::string& bytes);
+
+// Marsaglia's xorshift64 (shifts 13, 7, 17): the deterministic stream of the fuzz-style tests.
+// `seed` must not be 0.
+class XorShift64 {
+ public:
+  explicit XorShift64(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t operator()() {
+    state_ ^= state_ << 13;
+    state_ ^= state_ >> 7;
+    state_ ^= state_ << 17;
+    return state_;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+// All that was written to `f` (a std::tmpfile() a command printed to), read from its start; closes
+// `f`.
+std::string read_and_close(std::FILE* f);
 
 }  // namespace sylva::test

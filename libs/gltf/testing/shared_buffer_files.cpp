@@ -1,13 +1,13 @@
 // The shared-buffer test files (shared_buffer_files.h).
 #include "libs/gltf/testing/shared_buffer_files.h"
 
-#include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 
 #include "libs/gltf/scene.h"
+#include "libs/gltf/testing/sample_geometry.h"
 #include "libs/gltf/writer.h"
 
 namespace sylva::gltf::testing {
@@ -19,21 +19,7 @@ using nlohmann::json;
 EncodedFiles level(int n) {
   Scene s;
   Mesh m;
-  Primitive t;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const float x = float(i) / float(n), z = float(j) / float(n);
-      t.positions.insert(t.positions.end(), {x, 0.1f * std::sin(7 * x) * std::cos(5 * z), z});
-      t.normals.insert(t.normals.end(), {0, 1, 0});
-      t.texcoords.insert(t.texcoords.end(), {x, z});
-    }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const auto at = [n](int a, int b) { return std::uint32_t(b * (n + 1) + a); };
-      t.indices.insert(t.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1)});
-      t.indices.insert(t.indices.end(), {at(i, j), at(i + 1, j + 1), at(i + 1, j)});
-    }
-  m.primitives.push_back(t);
+  m.primitives.push_back(wavy_grid(n));
   Primitive l;
   l.mode = PrimitiveMode::kLines;
   for (int i = 0; i < 40; ++i) {

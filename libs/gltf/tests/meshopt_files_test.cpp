@@ -16,6 +16,7 @@
 #include <set>
 
 #include "libs/gltf/scene.h"
+#include "libs/gltf/testing/rotated_triangles.h"
 #include "libs/gltf/testing/shared_buffer_files.h"
 #include "libs/gltf/writer.h"
 #include "tests/support/gltf_validator.h"
@@ -26,23 +27,9 @@ namespace {
 
 using nlohmann::json;
 
-GltfFileSet sample_set(int instances = 3) { return testing::level_and_tile(instances); }
+using testing::rotated_triangles;
 
-std::multiset<std::array<std::uint32_t, 3>> rotated_triangles(const std::string& bytes, std::size_t stride) {
-  std::vector<std::uint32_t> idx(bytes.size() / stride);
-  for (std::size_t i = 0; i < idx.size(); ++i) {
-    std::uint32_t v = 0;
-    std::memcpy(&v, bytes.data() + i * stride, stride);
-    idx[i] = v;
-  }
-  std::multiset<std::array<std::uint32_t, 3>> out;
-  for (std::size_t k = 0; k + 2 < idx.size(); k += 3) {
-    const std::size_t r =
-        idx[k] <= idx[k + 1] && idx[k] <= idx[k + 2] ? 0 : (idx[k + 1] <= idx[k + 2] ? 1 : 2);
-    out.insert({idx[k + r], idx[k + (r + 1) % 3], idx[k + (r + 2) % 3]});
-  }
-  return out;
-}
+GltfFileSet sample_set(int instances = 3) { return testing::level_and_tile(instances); }
 
 // Every view of `name` in `out` holds what the same view held in `in`; returns the modes seen.
 std::set<std::string> expect_same_views(const GltfFileSet& in, const GltfFileSet& out,

@@ -14,6 +14,8 @@
 #include "libs/gltf/json_numbers.h"
 #include "libs/gltf/optimize.h"
 #include "libs/gltf/scene.h"
+#include "libs/gltf/testing/rotated_triangles.h"
+#include "libs/gltf/testing/sample_geometry.h"
 #include "libs/gltf/writer.h"
 #include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
@@ -24,28 +26,17 @@ namespace {
 
 using test::Glb;
 using test::parse_glb;
+using testing::rotated_triangles;
 
 // A wavy n x n grid of triangles (shuffled, so the optimisers have work) and a polyline.
 Scene sample(int n) {
   Scene s;
   Mesh m;
-  Primitive t;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const float x = float(i) / float(n), z = float(j) / float(n);
-      t.positions.insert(t.positions.end(), {x, 0.1f * std::sin(7 * x) * std::cos(5 * z), z});
-      t.normals.insert(t.normals.end(), {0, 1, 0});
-      t.texcoords.insert(t.texcoords.end(), {x, z});
-    }
-  std::vector<std::array<std::uint32_t, 3>> tris;
-  const auto at = [n](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      tris.push_back({at(i, j), at(i, j + 1), at(i + 1, j + 1)});
-      tris.push_back({at(i, j), at(i + 1, j + 1), at(i + 1, j)});
-    }
-  for (std::size_t k = 0; k < tris.size(); ++k) std::swap(tris[k], tris[(k * 7919) % tris.size()]);
-  for (const auto& tr : tris) t.indices.insert(t.indices.end(), tr.begin(), tr.end());
+  Primitive t = testing::wavy_grid(n);
+  const std::size_t tris = t.indices.size() / 3;
+  for (std::size_t k = 0; k < tris; ++k)
+    for (std::size_t c = 0; c < 3; ++c)
+      std::swap(t.indices[3 * k + c], t.indices[3 * ((k * 7919) % tris) + c]);
   m.primitives.push_back(t);
   Primitive l;
   l.mode = PrimitiveMode::kLines;
@@ -61,23 +52,6 @@ Scene sample(int n) {
   s.nodes.push_back(node);
   s.roots = {0};
   return s;
-}
-
-// Index triples, each rotated to start at its smallest index, as a multiset.
-std::multiset<std::array<std::uint32_t, 3>> rotated_triangles(const std::string& bytes, std::size_t stride) {
-  std::vector<std::uint32_t> idx(bytes.size() / stride);
-  for (std::size_t i = 0; i < idx.size(); ++i) {
-    std::uint32_t v = 0;
-    std::memcpy(&v, bytes.data() + i * stride, stride);
-    idx[i] = v;
-  }
-  std::multiset<std::array<std::uint32_t, 3>> out;
-  for (std::size_t k = 0; k + 2 < idx.size(); k += 3) {
-    const std::size_t r =
-        idx[k] <= idx[k + 1] && idx[k] <= idx[k + 2] ? 0 : (idx[k + 1] <= idx[k + 2] ? 1 : 2);
-    out.insert({idx[k + r], idx[k + (r + 1) % 3], idx[k + (r + 2) % 3]});
-  }
-  return out;
 }
 
 TEST(GltfMeshopt, ViewsDecodeToTheUncompressedBytes) {

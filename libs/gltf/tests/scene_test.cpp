@@ -3,16 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include "libs/gltf/testing/sample_geometry.h"
+
 namespace sylva::gltf {
 namespace {
 
-Node make_node(std::string name, int mesh = -1, std::vector<int> children = {}) {
-  Node n;
-  n.name = std::move(name);
-  n.mesh = mesh;
-  n.children = std::move(children);
-  return n;
-}
+using testing::make_node;
 
 Scene triangle() {
   Scene s;

@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "libs/gltf/scene.h"
+#include "libs/gltf/testing/sample_geometry.h"
 #include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
@@ -22,13 +23,7 @@ namespace {
 using test::Glb;
 using test::parse_glb;
 
-Node make_node(std::string name, int mesh = -1, std::vector<int> children = {}) {
-  Node n;
-  n.name = std::move(name);
-  n.mesh = mesh;
-  n.children = std::move(children);
-  return n;
-}
+using testing::make_node;
 
 WriteOptions gltf_text() {
   WriteOptions o;

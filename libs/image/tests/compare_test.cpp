@@ -18,6 +18,12 @@ Image square_at(int w, int h, int x0, int y0, int size) {
   return img;
 }
 
+// The 100 x 100 image of a 30 x 30 square at (20, 20) against the same square moved `dx` pixels
+// to the right.
+CompareResult compare_shifted(int dx, const CompareOptions& options = {}) {
+  return compare_images(square_at(100, 100, 20, 20, 30), square_at(100, 100, 20 + dx, 20, 30), options);
+}
+
 // Identical images pass with zero error and infinite PSNR.
 TEST(Compare, IdenticalPasses) {
   const Image a = square_at(100, 100, 20, 20, 30);
@@ -33,9 +39,7 @@ TEST(Compare, IdenticalPasses) {
 // Shifting a 30x30 square by 4 pixels changes 2 * 4 * 30 = 240 pixels of 10,000: 2.4 % fail,
 // more than the 1 % Blender allows.
 TEST(Compare, ShiftedObjectFailsWithExpectedFraction) {
-  const Image ref = square_at(100, 100, 20, 20, 30);
-  const Image test = square_at(100, 100, 24, 20, 30);
-  const CompareResult r = compare_images(ref, test);
+  const CompareResult r = compare_shifted(4);
   EXPECT_FALSE(r.passed);
   EXPECT_EQ(r.failing_pixels, 240u);
   EXPECT_DOUBLE_EQ(r.failing_fraction, 0.024);
@@ -48,14 +52,12 @@ TEST(Compare, ShiftedObjectFailsWithExpectedFraction) {
 // A one-pixel shift of the same square fails 60 pixels (0.6 %) and passes the 1 % budget: the
 // fraction absorbs edge pixels, the per-pixel threshold does not.
 TEST(Compare, OnePixelShiftIsWithinBudget) {
-  const Image ref = square_at(100, 100, 20, 20, 30);
-  const Image test = square_at(100, 100, 21, 20, 30);
-  const CompareResult r = compare_images(ref, test);
+  const CompareResult r = compare_shifted(1);
   EXPECT_TRUE(r.passed) << r.failure;
   EXPECT_EQ(r.failing_pixels, 60u);
   CompareOptions strict;
   strict.max_failing_fraction = 0.005;
-  EXPECT_FALSE(compare_images(ref, test, strict).passed);
+  EXPECT_FALSE(compare_shifted(1, strict).passed);
 }
 
 // Differences of up to 4/255 (0.0157) are below the 0.016 threshold; 5/255 fail.

@@ -17,6 +17,7 @@
 #include "libs/render/impostor_renderer.h"
 #include "libs/render/renderer.h"
 #include "libs/render/testing/gltf_builder.h"
+#include "libs/render/testing/headless_renderer_test.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::render {
@@ -81,39 +82,29 @@ Mat4 translation(const Vec3& t) {
   return m;
 }
 
-class ImpostorDrawTest : public ::testing::Test {
+// The scene renderer of HeadlessRendererTest and, beside it, an impostor renderer.
+class ImpostorDrawTest : public testing::HeadlessRendererTest {
  protected:
   static void SetUpTestSuite() {
+    HeadlessRendererTest::SetUpTestSuite();
+    if (!renderer_) return;
     try {
-      renderer_ = Renderer::create_headless();
       impostors_ = ImpostorRenderer::create_headless();
     } catch (const RenderUnavailableError& e) {
       unavailable_ = e.what();
     }
   }
   static void TearDownTestSuite() {
-    renderer_.reset();
+    HeadlessRendererTest::TearDownTestSuite();
     impostors_.reset();
   }
   void SetUp() override {
-    if (renderer_ && impostors_) return;
-    const char* require = std::getenv("SYLVA_REQUIRE_GL");
-    std::error_code ec;
-    if ((require && std::string(require) == "1") ||
-        std::filesystem::exists("/usr/share/glvnd/egl_vendor.d/50_mesa.json", ec))
-      FAIL() << unavailable_;
-    GTEST_SKIP() << unavailable_;
+    if (!renderer_ || !impostors_) testing::fail_or_skip_without_gl(unavailable_);
   }
 
-  static std::unique_ptr<Renderer> renderer_;
-  static std::unique_ptr<ImpostorRenderer> impostors_;
-  static std::string unavailable_;
+  static inline std::unique_ptr<ImpostorRenderer> impostors_;
   test::TempDir dir_;
 };
-
-std::unique_ptr<Renderer> ImpostorDrawTest::renderer_;
-std::unique_ptr<ImpostorRenderer> ImpostorDrawTest::impostors_;
-std::string ImpostorDrawTest::unavailable_;
 
 RenderOptions options() {
   RenderOptions o;

@@ -19,6 +19,7 @@
 #include "libs/render/gltf_scene.h"
 #include "libs/render/renderer.h"
 #include "libs/render/testing/gltf_builder.h"
+#include "libs/render/testing/headless_renderer_test.h"
 #include "tests/support/test_support.h"
 
 namespace sylva::render::render_test {
@@ -82,29 +83,8 @@ inline RenderOptions unlit_options(int size = 64, int msaa = 4) {
   return o;
 }
 
-class RenderTest : public ::testing::Test {
+class RenderTest : public testing::HeadlessRendererTest {
  protected:
-  static void SetUpTestSuite() {
-    try {
-      renderer_ = Renderer::create_headless();
-    } catch (const RenderUnavailableError& e) {
-      unavailable_ = e.what();
-    }
-  }
-  static void TearDownTestSuite() { renderer_.reset(); }
-
-  void SetUp() override {
-    if (renderer_) return;
-    // Skipping is only for machines with no EGL vendor at all; where Mesa's EGL is installed
-    // (every sylva build machine and CI) or SYLVA_REQUIRE_GL=1, a missing renderer is a failure.
-    const char* require = std::getenv("SYLVA_REQUIRE_GL");
-    std::error_code ec;
-    if ((require && std::string(require) == "1") ||
-        std::filesystem::exists("/usr/share/glvnd/egl_vendor.d/50_mesa.json", ec))
-      FAIL() << unavailable_;
-    GTEST_SKIP() << unavailable_;
-  }
-
   Scene load(const GltfBuilder& b, const std::string& name = "scene.glb") {
     b.write_glb(dir_ / name);
     return load_gltf_scene(dir_ / name);
@@ -113,39 +93,16 @@ class RenderTest : public ::testing::Test {
   Image render(const Scene& s, const Camera& c, const RenderOptions& o) { return renderer_->render(s, c, o); }
 
   // Writes the image under out/test-images/ for looking at it (not an assertion).
-  static void keep(const Image& img, const std::string& name) {
-    std::filesystem::create_directories("out/test-images");
-    image::write_png(img, "out/test-images/" + name + ".png");
-  }
+  static void keep(const Image& img, const std::string& name);
 
-  static std::unique_ptr<Renderer> renderer_;
-  static std::string unavailable_;
   test::TempDir dir_;
 };
 
 // A 2x2 texture: red, green / blue, white (top row first).
-inline Image quadrant_texture() {
-  Image t(2, 2);
-  t.set(0, 0, {255, 0, 0, 255});
-  t.set(1, 0, {0, 255, 0, 255});
-  t.set(0, 1, {0, 0, 255, 255});
-  t.set(1, 1, {255, 255, 255, 255});
-  return t;
-}
+Image quadrant_texture();
 
 // Horizontal lines one pixel apart, one per pixel row, at depth z (camera on +Z at distance 2,
 // 45 degree fov, 64 pixels): rows [first, last).
-inline PrimitiveData line_rows(float z, int first, int last, int material) {
-  PrimitiveData p;
-  p.mode = TINYGLTF_MODE_LINE;
-  p.material = material;
-  const float pixel = 2.f * (2.f - z) * std::tan(22.5f * 3.14159265f / 180.f) / 64.f;
-  for (int r = first; r < last; ++r) {
-    const float y = (32.f - float(r) - 0.5f) * pixel;
-    p.positions.emplace_back(-3.f, y, z);
-    p.positions.emplace_back(3.f, y, z);
-  }
-  return p;
-}
+PrimitiveData line_rows(float z, int first, int last, int material);
 
 }  // namespace sylva::render::render_test

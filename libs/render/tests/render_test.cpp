@@ -91,18 +91,17 @@ TEST_F(RenderTest, AlphaMaskedTwoSidedLeaves) {
   Image mask(2, 1);
   mask.set(0, 0, {0, 255, 0, 255});  // left half: opaque green
   mask.set(1, 0, {0, 255, 0, 0});    // right half: cut away
-  GltfBuilder b;
-  const int tex = b.add_texture(mask);
-  const int two_sided =
-      b.add_material({.texture = tex, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = true});
-  b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, two_sided)})}));
-  const Scene leaf = load(b, "leaf.glb");
-  GltfBuilder b1;
-  const int tex1 = b1.add_texture(mask);
-  const int one_sided =
-      b1.add_material({.texture = tex1, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = false});
-  b1.add_root(b1.add_node({.mesh = b1.add_mesh({testing::quad(1.f, one_sided)})}));
-  const Scene single = load(b1, "single.glb");
+  // A 1 m quad textured with the mask (cutoff 0.5), written as `file` and loaded.
+  auto masked_quad = [&](bool double_sided, const std::string& file) {
+    GltfBuilder b;
+    const int tex = b.add_texture(mask);
+    const int m = b.add_material(
+        {.texture = tex, .alpha_mode = "MASK", .alpha_cutoff = 0.5f, .double_sided = double_sided});
+    b.add_root(b.add_node({.mesh = b.add_mesh({testing::quad(1.f, m)})}));
+    return load(b, file);
+  };
+  const Scene leaf = masked_quad(true, "leaf.glb");
+  const Scene single = masked_quad(false, "single.glb");
 
   RenderOptions o = small();
   o.lighting.ambient = Vec3::Constant(0.2f);

@@ -187,24 +187,12 @@ TEST(SyltFormat, WriterRefusesInvalidTree) {
 
 TEST(SyltFormat, MissingFile) { EXPECT_THROW(read_sylt("/nonexistent/x.sylt"), TreeFormatError); }
 
-}  // namespace
-}  // namespace sylva::tree
-
-namespace sylva::tree {
-namespace {
-
 // Fuzz-style: thousands of deterministic random corruptions of a valid file, resealed so the
 // body parser (not just the checksum) sees them. Every outcome is a valid tree or a
 // TreeFormatError — never a crash, a hang or another exception type.
 TEST(SyltFormat, RandomCorruptionsNeverCrash) {
   const std::string good = encode_sylt(testing::sample_tree());
-  std::uint64_t state = 0x9e3779b97f4a7c15ull;
-  auto next = [&state] {
-    state ^= state << 13;
-    state ^= state >> 7;
-    state ^= state << 17;
-    return state;
-  };
+  sylva::test::XorShift64 next(0x9e3779b97f4a7c15ull);
   int rejected = 0;
   for (int i = 0; i < 5000; ++i) {
     std::string bad = good;

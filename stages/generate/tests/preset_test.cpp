@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/test_support.h"
+
 namespace sylva::generate {
 namespace {
 
@@ -180,24 +182,12 @@ TEST(Preset, SyntaxErrorAndEmptyFile) {
 
 TEST(Preset, MissingFile) { EXPECT_THROW(load_species_preset("/nonexistent/x.yaml"), PresetParseError); }
 
-}  // namespace
-}  // namespace sylva::generate
-
-namespace sylva::generate {
-namespace {
-
 // Fuzz-style: deterministic random edits of a real preset (deleted lines, swapped characters,
 // truncation). Every outcome is a preset or a PresetParseError with a file:line:col message —
 // never a crash or another exception type.
 TEST(Preset, RandomEditsNeverCrash) {
   const std::string good = kGood;
-  std::uint64_t state = 0x2545f4914f6cdd1dull;
-  auto next = [&state] {
-    state ^= state << 13;
-    state ^= state >> 7;
-    state ^= state << 17;
-    return state;
-  };
+  sylva::test::XorShift64 next(0x2545f4914f6cdd1dull);
   const std::string alphabet = "{}[]:,-#'\"\n 0123456789.aeZ&*!|>";
   int rejected = 0;
   for (int i = 0; i < 1500; ++i) {

@@ -19,10 +19,7 @@ using namespace sylva;
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "configs/species";
   const std::uint64_t seed = argc > 2 ? std::stoull(argv[2]) : 7;
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(dir))
-    if (e.path().extension() == ".yaml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
+  const std::vector<std::filesystem::path> files = generate::species_preset_files(dir);
   std::printf(
       "| preset | age | LAI | published range | target | card scale | layers | cards | crown area m2 | leaf "
       "area m2 | height m | generate ms |\n");

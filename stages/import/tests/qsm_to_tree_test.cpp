@@ -16,6 +16,16 @@ tree::Tree build(std::string_view text, const QsmToTreeOptions& options = {}) {
   return qsm_to_tree(parse_cylinder_table(text, "t.csv"), "t.csv", options);
 }
 
+// The ImportError message building the tree from `text` gives ("(no error)" when it builds).
+std::string error_of(std::string_view text) {
+  try {
+    build(text);
+  } catch (const ImportError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
 void expect_valid(const tree::Tree& t) {
   EXPECT_EQ(tree::validate_tree(t), std::vector<std::string>{});
   for (const auto& frames : tree::compute_tree_frames(t))
@@ -178,27 +188,16 @@ TEST(QsmToTree, ZeroLengthCylinderMerged) {
 }
 
 TEST(QsmToTree, ErrorZeroLengthBranch) {
-  try {
-    build(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 0, 0.3, 0, 0\n");
-    FAIL() << "no error";
-  } catch (const ImportError& e) {
-    EXPECT_STREQ(e.what(),
-                 "t.csv:2: cylinder 0 starts a branch of zero length (every cylinder of it has "
-                 "its end at its start)");
-  }
+  EXPECT_EQ(error_of(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 0, 0.3, 0, 0\n"),
+            "t.csv:2: cylinder 0 starts a branch of zero length (every cylinder of it has "
+            "its end at its start)");
 }
 
 TEST(QsmToTree, ErrorOrderJump) {
-  try {
-    build(std::string(kHead) +
-          "0, -1, 0, 0, 0, 0, 0, 1, 0.3, 0, 0\n"
-          "1, 0, 0, 0, 1, 1, 0, 1, 0.1, 2, 1\n");
-    FAIL() << "no error";
-  } catch (const ImportError& e) {
-    EXPECT_STREQ(e.what(),
-                 "t.csv:3: cylinder 1 starts a branch of order 2 on a branch of order 0; a child "
-                 "branch has its parent's order or one more");
-  }
+  EXPECT_EQ(error_of(std::string(kHead) + "0, -1, 0, 0, 0, 0, 0, 1, 0.3, 0, 0\n"
+                                          "1, 0, 0, 0, 1, 1, 0, 1, 0.1, 2, 1\n"),
+            "t.csv:3: cylinder 1 starts a branch of order 2 on a branch of order 0; a child "
+            "branch has its parent's order or one more");
 }
 
 // Levels count from the root's order, so a table whose stem is order 1 still gives level 0.

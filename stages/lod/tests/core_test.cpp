@@ -54,6 +54,16 @@ tree::Tree one_branch(std::vector<Vec3> ps, std::vector<double> rs) {
   return t;
 }
 
+// A straight branch of three nodes 1 m apart along +Y with `radii`, polygonized with every node
+// kept at E3 = 0.04 m (up to 12 ring edges), `extra_alpha12` carried onto its nodes.
+BranchGeometry thin_branch(std::vector<double> radii, std::span<const double> extra_alpha12 = {}) {
+  const auto sk = build_skeletons(one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, std::move(radii)));
+  const std::uint32_t kept[] = {0, 1, 2};
+  BranchGeometry g;
+  polygonize_branch(sk[0].g, kept, 0.04, 12, g, extra_alpha12);
+  return g;
+}
+
 // A straight branch with linear taper merges into one internode with zero error.
 TEST(InternodeMerging, StraightTaperedBranchMergesCompletely) {
   const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}, {0, 3, 0}}, {0.4, 0.3, 0.2, 0.1});
@@ -142,11 +152,7 @@ TEST(Polygonize, PrismPrismoidAndFanCover) {
 
 // Lines: h = 1 from rho >= 2; three segments per internode with normals 120° apart (§5.5).
 TEST(Polygonize, ThinBranchBecomesThreeLinesPerInternode) {
-  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.01, 0.01, 0.01});
-  const auto sk = build_skeletons(t);
-  const std::uint32_t kept[] = {0, 1, 2};
-  BranchGeometry g;
-  polygonize_branch(sk[0].g, kept, 0.04, 12, g);  // rho = 4
+  const BranchGeometry g = thin_branch({0.01, 0.01, 0.01});  // rho = 4
   EXPECT_EQ(g.lines, 6u);
   EXPECT_EQ(g.line_indices.size(), 12u);
   EXPECT_EQ(g.line_positions.size(), 9u * 3);  // 3 vertices per node, shared along the chain
@@ -158,18 +164,14 @@ TEST(Polygonize, ThinBranchBecomesThreeLinesPerInternode) {
 // Line alpha per vertex (eq. 12 at each node, not one per level): a tapered thin branch's line
 // vertices carry 2 R_k / E3 of their own node, and the output's COLOR_0 alpha is its drawn value.
 TEST(Polygonize, LineAlphaIsEquation12AtEachNode) {
-  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.01, 0.005, 0.0025});
-  const auto sk = build_skeletons(t);
-  const std::uint32_t kept[] = {0, 1, 2};
-  BranchGeometry g;
-  polygonize_branch(sk[0].g, kept, 0.04, 12, g);
+  const std::vector<double> radii = {0.01, 0.005, 0.0025};
+  const BranchGeometry g = thin_branch(radii);
   ASSERT_EQ(g.line_alpha12.size(), 9u);
   const double want[] = {0.5, 0.25, 0.125};  // 2 R / E3
   for (std::size_t v = 0; v < 9; ++v) EXPECT_NEAR(g.line_alpha12[v], want[v / 3], 1e-7) << v;
   // Decimated coverage carried onto node 1 adds to that node only.
   const double extra[] = {0, 0.3, 0};
-  BranchGeometry h;
-  polygonize_branch(sk[0].g, kept, 0.04, 12, h, extra);
+  const BranchGeometry h = thin_branch(radii, extra);
   for (std::size_t v = 0; v < 9; ++v) EXPECT_NEAR(h.line_alpha12[v], want[v / 3] + extra[v / 3], 1e-7) << v;
 }
 
@@ -200,11 +202,7 @@ TEST(Polygonize, RingsKeepTheMeanWidthOfTheCylinder) {
 // counter-clockwise seen from outside (its geometric normal points away from the axis), and the
 // prism's mean projected width (perimeter / pi) equals the branch's diameter.
 TEST(Ribbons, LinesBecomeOutwardTriangularPrismsOfTheBranchWidth) {
-  const auto t = one_branch({{0, 0, 0}, {0, 1, 0}, {0, 2, 0}}, {0.01, 0.01, 0.01});
-  const auto sk = build_skeletons(t);
-  const std::uint32_t kept[] = {0, 1, 2};
-  BranchGeometry g;
-  polygonize_branch(sk[0].g, kept, 0.04, 12, g);
+  const BranchGeometry g = thin_branch({0.01, 0.01, 0.01});
   ASSERT_EQ(g.line_radii.size(), g.line_positions.size() / 3);
   const Ribbons r = line_ribbons(g);
   EXPECT_EQ(r.triangles, 2 * g.lines);

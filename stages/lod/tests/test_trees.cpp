@@ -26,12 +26,7 @@ tree::Tree helix(double helix_radius, double pitch, int turns, int per_turn, dou
 }
 
 std::vector<std::filesystem::path> species_presets() {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e :
-       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
-    if (e.path().extension() == ".yaml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
+  return generate::species_preset_files(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species");
 }
 
 const tree::Tree& species_tree(const std::filesystem::path& preset, const std::string& age, bool cards) {

@@ -25,13 +25,6 @@ constexpr std::size_t kMaxTriangles = 300'000;
 constexpr std::size_t kMaxCards = 30'000;
 constexpr std::size_t kMaxBytes = 16'000'000;
 
-std::string png(const generate::Rgba8& px) {
-  image::Image img(px.width, px.height);
-  img.bytes() = px.pixels;
-  const std::vector<std::uint8_t> b = image::encode_png(img);
-  return {b.begin(), b.end()};
-}
-
 struct Measured {
   std::size_t triangles = 0, cards = 0, bytes = 0;
 };
@@ -39,18 +32,13 @@ struct Measured {
 Measured hero(const std::filesystem::path& preset, std::uint64_t seed) {
   const generate::SpeciesPreset species = generate::load_species_preset(preset);
   constexpr int kTextureSize = 512;  // the generate stage's default
-  Rng leaf_rng(seed, "leaves"), bark_rng(seed, "bark"), tree_rng(seed, "tree");
-  generate::CardAtlas atlas =
-      generate::make_card_atlas(species.card, species.leaf, species.bark, kTextureSize, leaf_rng);
-  generate::GenerateOptions g;
-  g.atlas = {atlas.columns, atlas.rows, atlas.coverage};
-  g.foliage = generate::FoliageMode::kCards;
-  g.max_node_spacing = 0.5;
-  generate::make_mip_safe(atlas.image, atlas.columns, atlas.rows);
-  const tree::Tree t = generate::generate_tree(species.age("adult").params, g, tree_rng);
+  Rng bark_rng(seed, "bark");
+  const test::CardTree cards = test::adult_card_tree(species, kTextureSize, seed);
+  const tree::Tree& t = cards.tree;
   const TreeMesh m = mesh_tree(t, MeshOptions{});
-  const Texture bark{"bark.png", png(generate::make_bark_texture(species.bark, kTextureSize, bark_rng))};
-  const Texture leaves{"leaves.png", png(atlas.image)};
+  const Texture bark{"bark.png",
+                     test::png_bytes(generate::make_bark_texture(species.bark, kTextureSize, bark_rng))};
+  const Texture leaves{"leaves.png", test::png_bytes(cards.atlas.image)};
   Measured r;
   r.triangles =
       m.bark_surface.indices.size() / 3 + m.leaves.indices.size() / 3 + m.needles.indices.size() / 3;

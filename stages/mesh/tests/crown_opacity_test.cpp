@@ -58,32 +58,13 @@ TEST(CrownOpacity, HolesAndGapsCount) {
   EXPECT_EQ(crown_opacity(blank(8, 8)).opacity, 0.0);
 }
 
-std::string png_bytes(const generate::Rgba8& px) {
-  image::Image img(px.width, px.height);
-  for (int y = 0; y < px.height; ++y)
-    for (int x = 0; x < px.width; ++x) {
-      const std::uint8_t* p = &px.pixels[(static_cast<std::size_t>(y) * px.width + x) * 4];
-      img.set(x, y, {p[0], p[1], p[2], p[3]});
-    }
-  const auto bytes = image::encode_png(img);
-  return {bytes.begin(), bytes.end()};
-}
-
 // The adult tree of `preset` as the default recipe makes it, as a renderable scene.
 render::Scene adult_scene(const std::filesystem::path& preset) {
   const generate::SpeciesPreset species = generate::load_species_preset(preset);
-  Rng leaf_rng(1, "leaves"), tree_rng(1, "tree");
-  generate::CardAtlas atlas =
-      generate::make_card_atlas(species.card, species.leaf, species.bark, 256, leaf_rng);
-  generate::GenerateOptions g;
-  g.atlas = {atlas.columns, atlas.rows, atlas.coverage};
-  g.foliage = generate::FoliageMode::kCards;
-  g.max_node_spacing = 0.5;
-  generate::make_mip_safe(atlas.image, atlas.columns, atlas.rows);
-  const tree::Tree t = generate::generate_tree(species.age("adult").params, g, tree_rng);
-  const TreeMesh m = mesh_tree(t, MeshOptions{});
-  const gltf::Scene scene =
-      make_scene(m, t, Texture{"bark.png", ""}, Texture{"leaves.png", png_bytes(atlas.image)}, {});
+  const test::CardTree cards = test::adult_card_tree(species, 256, 1);
+  const TreeMesh m = mesh_tree(cards.tree, MeshOptions{});
+  const gltf::Scene scene = make_scene(m, cards.tree, Texture{"bark.png", ""},
+                                       Texture{"leaves.png", test::png_bytes(cards.atlas.image)}, {});
   return render::load_gltf_scene_from_memory(gltf::encode(scene), preset.stem().string() + ".glb");
 }
 

@@ -114,30 +114,41 @@ TEST(Subdivision, UvsFollowTheThesisRule) {
     }
 }
 
+// The bark of a straight trunk (test::straight_trunk(9)) made to be subdivided `levels` times:
+// corners scaled by corner_scale_for_subdivision(levels).
+QuadMesh trunk_bark(int levels) {
+  const double k = corner_scale_for_subdivision(levels);
+  SkeletonOptions so;
+  so.corner_scale = k;
+  BarkOptions bo;
+  bo.corner_scale = k;
+  return build_bark_mesh(build_skeleton(test::straight_trunk(9), so), bo, nullptr);
+}
+
+// The area of a section of a vertical tube: the polygon of `points` (angle about the y axis,
+// position) taken in angle order, projected to x-z.
+double section_area(std::vector<std::pair<double, Vec3>> points) {
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  double area = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vec3& a = points[i].second;
+    const Vec3& b = points[(i + 1) % points.size()].second;
+    area += a.z * b.x - a.x * b.z;
+  }
+  return std::abs(area) / 2;
+}
+
 // On a long straight tube, after L levels with corner_scale_for_subdivision(L), the section in
 // the middle has the area of a circle of the branch radius.
 TEST(Subdivision, CornerScaleGivesTheBranchArea) {
   for (int levels = 0; levels <= 3; ++levels) {
-    const double k = corner_scale_for_subdivision(levels);
-    SkeletonOptions so;
-    so.corner_scale = k;
-    BarkOptions bo;
-    bo.corner_scale = k;
-    const QuadMesh m =
-        subdivide(build_bark_mesh(build_skeleton(test::straight_trunk(9), so), bo, nullptr), levels);
+    const QuadMesh m = subdivide(trunk_bark(levels), levels);
     // Vertices at height 4 (a ring in the middle), sorted by angle: the section polygon.
     std::vector<std::pair<double, Vec3>> ring;
     for (const Vec3& p : m.positions)
       if (std::abs(p.y - 4) < 1e-9) ring.emplace_back(std::atan2(p.z, p.x), p);
-    std::sort(ring.begin(), ring.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     ASSERT_EQ(ring.size(), 4u << levels);
-    double area = 0;
-    for (std::size_t i = 0; i < ring.size(); ++i) {
-      const Vec3& a = ring[i].second;
-      const Vec3& b = ring[(i + 1) % ring.size()].second;
-      area += a.z * b.x - a.x * b.z;
-    }
-    EXPECT_NEAR(std::abs(area) / 2, std::numbers::pi * 0.01, 1e-9) << "level " << levels;
+    EXPECT_NEAR(section_area(ring), std::numbers::pi * 0.01, 1e-9) << "level " << levels;
   }
 }
 
@@ -163,12 +174,7 @@ TEST(Subdivision, OpenBaseStaysOneBoundaryLoop) {
 // circle of the radius), where the same mesh without the crease lifts its foot off the ground.
 TEST(Subdivision, CreasedBaseStandsOnTheGround) {
   for (int levels = 1; levels <= 3; ++levels) {
-    const double k = corner_scale_for_subdivision(levels);
-    SkeletonOptions so;
-    so.corner_scale = k;
-    BarkOptions bo;
-    bo.corner_scale = k;
-    const QuadMesh base = build_bark_mesh(build_skeleton(test::straight_trunk(9), so), bo, nullptr);
+    const QuadMesh base = trunk_bark(levels);
     ASSERT_EQ(base.crease.size(), base.positions.size());
     EXPECT_EQ(std::count(base.crease.begin(), base.crease.end(), 1), 4);
     const QuadMesh m = subdivide(base, levels);
@@ -185,14 +191,7 @@ TEST(Subdivision, CreasedBaseStandsOnTheGround) {
     }
     EXPECT_NEAR(lowest, 0, 1e-12) << "level " << levels;
     ASSERT_EQ(foot.size(), 4u << levels) << "level " << levels;  // the foot's boundary, in y = 0
-    std::sort(foot.begin(), foot.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    double area = 0;
-    for (std::size_t i = 0; i < foot.size(); ++i) {
-      const Vec3& a = foot[i].second;
-      const Vec3& b = foot[(i + 1) % foot.size()].second;
-      area += a.z * b.x - a.x * b.z;
-    }
-    EXPECT_NEAR(std::abs(area) / 2, std::numbers::pi * 0.01, 1e-9) << "level " << levels;
+    EXPECT_NEAR(section_area(foot), std::numbers::pi * 0.01, 1e-9) << "level " << levels;
     QuadMesh smooth = base;
     smooth.crease.clear();
     double lifted = 1e9;

@@ -4,7 +4,9 @@
 #include <map>
 #include <mutex>
 
+#include "libs/image/png.h"
 #include "pipeline/rng.h"
+#include "stages/generate/mip_safe_alpha.h"
 #include "stages/generate/preset.h"
 #include "stages/generate/weber_penn.h"
 #include "stages/import/import_file.h"
@@ -33,12 +35,7 @@ tree::Tree straight_trunk(int nodes) {
 }
 
 std::vector<std::filesystem::path> species_presets() {
-  std::vector<std::filesystem::path> files;
-  for (const auto& e :
-       std::filesystem::directory_iterator(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species"))
-    if (e.path().extension() == ".yaml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  return files;
+  return generate::species_preset_files(std::filesystem::path(SYLVA_SOURCE_DIR) / "configs/species");
 }
 
 const tree::Tree& species_tree(const std::filesystem::path& preset, const std::string& age) {
@@ -57,6 +54,27 @@ const tree::Tree& species_tree(const std::filesystem::path& preset, const std::s
   t.materials.bark_texture.clear();  // tests attach textures themselves when they need them
   t.materials.leaf_texture.clear();
   return cache.emplace(key, std::move(t)).first->second;
+}
+
+CardTree adult_card_tree(const generate::SpeciesPreset& species, int texture_size, std::uint64_t seed) {
+  Rng leaf_rng(seed, "leaves"), tree_rng(seed, "tree");
+  CardTree out{generate::make_card_atlas(species.card, species.leaf, species.bark, texture_size, leaf_rng),
+               {}};
+  generate::CardAtlas& atlas = out.atlas;
+  generate::GenerateOptions g;
+  g.atlas = {atlas.columns, atlas.rows, atlas.coverage};
+  g.foliage = generate::FoliageMode::kCards;
+  g.max_node_spacing = 0.5;
+  generate::make_mip_safe(atlas.image, atlas.columns, atlas.rows);
+  out.tree = generate::generate_tree(species.age("adult").params, g, tree_rng);
+  return out;
+}
+
+std::string png_bytes(const generate::Rgba8& pixels) {
+  image::Image img(pixels.width, pixels.height);
+  img.bytes() = pixels.pixels;
+  const std::vector<std::uint8_t> b = image::encode_png(img);
+  return {b.begin(), b.end()};
 }
 
 std::optional<tree::Tree> qsm_tree(const std::string& file_name) {

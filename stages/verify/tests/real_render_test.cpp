@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "libs/render/testing/gltf_builder.h"
+#include "libs/render/testing/headless_renderer_test.h"
 #include "stages/verify/verify_core.h"
 #include "tests/support/test_support.h"
 
@@ -17,26 +18,8 @@ namespace fs = std::filesystem;
 using render::Vec3;
 using render::Vec4;
 
-class RealRenderTest : public ::testing::Test {
+class RealRenderTest : public render::testing::HeadlessRendererTest {
  protected:
-  static void SetUpTestSuite() {
-    try {
-      renderer_ = render::Renderer::create_headless();
-    } catch (const render::RenderUnavailableError& e) {
-      unavailable_ = e.what();
-    }
-  }
-  static void TearDownTestSuite() { renderer_.reset(); }
-  void SetUp() override {
-    if (renderer_) return;
-    const char* require = std::getenv("SYLVA_REQUIRE_GL");
-    std::error_code ec;
-    if ((require && std::string(require) == "1") ||
-        fs::exists("/usr/share/glvnd/egl_vendor.d/50_mesa.json", ec))
-      FAIL() << unavailable_;
-    GTEST_SKIP() << unavailable_;
-  }
-
   // An unlit 2 m square at x = `tx` in front of a fixed 0.5 m marker at (-3, 2.5): with look-at
   // views, moving the square moves it in the image.
   fs::path square(const std::string& name, float tx) {
@@ -63,8 +46,6 @@ class RealRenderTest : public ::testing::Test {
     return run_verification(assets, cams, refs_, {}, env);
   }
 
-  static inline std::unique_ptr<render::Renderer> renderer_;
-  static inline std::string unavailable_;
   sylva::test::TempDir dir_;
   fs::path refs_ = dir_ / "refs";
 };
