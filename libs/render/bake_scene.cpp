@@ -12,33 +12,13 @@
 #include <string>
 
 #include "libs/render/line_merge.h"
+#include "libs/render/scene_buffers.h"
 
 namespace sylva::render::detail {
 namespace {
 
 const GLenum kAllLayers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
                               GL_COLOR_ATTACHMENT3};
-
-void check_bake_primitive(const Scene& scene, const Primitive& p) {
-  const std::size_t n = p.positions.size();
-  auto bad = [&](const std::string& what) {
-    throw RenderError("invalid primitive in scene '" + scene.source + "': " + what);
-  };
-  if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
-      (!p.colors.empty() && p.colors.size() != n))
-    bad("attribute arrays differ in length from positions");
-  for (std::uint32_t i : p.indices)
-    if (i >= n) bad("index " + std::to_string(i) + " out of range");
-  if (p.material >= 0 && std::size_t(p.material) >= scene.materials.size()) bad("material out of range");
-  if (p.material >= 0) {
-    const int t = scene.materials[std::size_t(p.material)].base_color_texture;
-    if (t >= 0 && std::size_t(t) >= scene.textures.size()) bad("texture out of range");
-  }
-}
-
-bool is_blended(const Scene& scene, const Primitive& p) {
-  return p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
-}
 
 // Binds the row's target, clears it and sets the state the opaque primitives are drawn with.
 void begin_bake_row(const BakeTarget& t, const BakeOptions& o, const DeviceLimits& limits) {
@@ -100,7 +80,7 @@ BakeLayout choose_layout(const Scene& scene, const BakeOptions& o) {
   if (o.line_alpha_scale < 1)
     for (const Mesh& mesh : scene.meshes)
       for (const Primitive& p : mesh.primitives)
-        if (p.topology == Topology::kLines && !is_blended(scene, p)) return BakeLayout::kBlended;
+        if (p.topology == Topology::kLines && !blended(scene, p)) return BakeLayout::kBlended;
   return BakeLayout::kLayered;
 }
 
@@ -109,13 +89,13 @@ std::vector<BakePrimitive> upload_bake_scene(GlObjects& gl, const Scene& scene, 
   for (const Mesh& mesh : scene.meshes) {
     if (mesh.instances.empty()) continue;
     for (const Primitive& p : mesh.primitives) {
-      check_bake_primitive(scene, p);
+      check_primitive(scene, p, /*with_sizes_and_copies=*/false);
       if (p.indices.empty() || p.topology == Topology::kPoints) continue;  // trees have no points
       BakePrimitive bp;
       bp.source = &p;
       bp.mesh = &mesh;
       bp.index_count = GLsizei(p.indices.size());
-      bp.blend = is_blended(scene, p);
+      bp.blend = blended(scene, p);
       BakeVariant variant;
       variant.merged_lines = bp.blend && p.topology == Topology::kLines;
       variant.normals = !p.normals.empty();

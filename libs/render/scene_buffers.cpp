@@ -48,14 +48,15 @@ bool blended(const Scene& scene, const Primitive& p) {
   return p.material >= 0 && scene.materials[std::size_t(p.material)].alpha_mode == AlphaMode::kBlend;
 }
 
-void check_primitive(const Scene& scene, const Primitive& p) {
+void check_primitive(const Scene& scene, const Primitive& p, bool with_sizes_and_copies) {
   const std::size_t n = p.positions.size();
   auto bad = [&](const std::string& what) {
     throw RenderError("invalid primitive in scene '" + scene.source + "': " + what);
   };
   if ((!p.normals.empty() && p.normals.size() != n) || (!p.texcoords.empty() && p.texcoords.size() != n) ||
-      (!p.colors.empty() && p.colors.size() != n) || (!p.sizes.empty() && p.sizes.size() != n) ||
-      (!p.copies.empty() && p.copies.size() != n))
+      (!p.colors.empty() && p.colors.size() != n) ||
+      (with_sizes_and_copies &&
+       ((!p.sizes.empty() && p.sizes.size() != n) || (!p.copies.empty() && p.copies.size() != n))))
     bad("attribute arrays differ in length from positions");
   for (std::uint32_t i : p.indices)
     if (i >= n) bad("index " + std::to_string(i) + " out of range");

@@ -44,8 +44,9 @@ struct UploadedScene {
 bool blended(const Scene& scene, const Primitive& p);
 
 // The GL side trusts these; load_gltf_scene guarantees them, hand-built scenes are checked.
-// Throws RenderError("invalid primitive in scene '<source>': ...").
-void check_primitive(const Scene& scene, const Primitive& p);
+// Throws RenderError("invalid primitive in scene '<source>': ..."). `with_sizes_and_copies`
+// false skips Primitive::sizes and ::copies, which the impostor bake does not read.
+void check_primitive(const Scene& scene, const Primitive& p, bool with_sizes_and_copies = true);
 
 class SceneBuffers {
  public:
