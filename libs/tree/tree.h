@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "libs/tree/source_geometry.h"
 #include "libs/tree/vec3.h"
 
 namespace sylva::tree {
@@ -123,6 +124,7 @@ struct Tree {
   std::vector<Leaf> leaves;
   std::vector<Needle> needles;
   Materials materials;
+  SourceGeometry source;  // an imported mesh as the file had it; empty for generated and QSM trees
   friend bool operator==(const Tree&, const Tree&) = default;
 };
 
