@@ -181,6 +181,7 @@ std::string write_lod_chain(const LodChain& chain) {
   j["source"] = {{"branches", chain.source.branches},
                  {"leaves", chain.source.leaves},
                  {"needles", chain.source.needles}};
+  if (chain.source.model_triangles > 0) j["source"]["model_triangles"] = chain.source.model_triangles;
   j["chain_file"] = chain.chain_file;
   Json levels = Json::array();
   for (const Level& l : chain.levels) levels.push_back(level_json(l));
@@ -208,6 +209,7 @@ LodChain parse_lod_chain(const std::string& text, const std::string& source_name
   const Json& src = r.at(j, "source", "");
   c.source = {r.count(src, "branches", "source"), r.count(src, "leaves", "source"),
               r.count(src, "needles", "source")};
+  if (src.contains("model_triangles")) c.source.model_triangles = r.count(src, "model_triangles", "source");
   c.chain_file = r.file_name(j, "chain_file", "");
   const Json& levels = r.at(j, "levels", "");
   if (!levels.is_array()) r.fail("'levels' must be a list");

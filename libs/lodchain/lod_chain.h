@@ -45,6 +45,9 @@ class LodChainFormatError : public std::runtime_error {
 // The input tree's element counts.
 struct SourceCounts {
   std::uint64_t branches = 0, leaves = 0, needles = 0;
+  // An imported tree's model triangles; > 0 exactly when level 0 (and full.glb) is the imported
+  // model itself (docs/stages/lod.md "Imported trees"). Written only when > 0.
+  std::uint64_t model_triangles = 0;
   friend bool operator==(const SourceCounts&, const SourceCounts&) = default;
 };
 

@@ -125,6 +125,13 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
   return std::move(e.list);
 }
 
+std::string missing_hierarchy(const Tree& tree) {
+  if (!tree.branches.empty() || tree.source.empty()) return {};
+  return "tree '" + tree.name +
+         "' has no skeleton: it is an imported mesh; run the hierarchy stage on it first "
+         "(docs/stages/hierarchy.md)";
+}
+
 Vec3 attachment_point(const Tree& tree, const Branch& b) {
   const Branch& p = tree.branches[static_cast<std::size_t>(b.parent)];
   const Vec3 a = p.nodes[b.parent_node].position;

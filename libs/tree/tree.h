@@ -138,6 +138,11 @@ inline bool is_clone(const Tree& tree, const Branch& b) {
   return b.parent >= 0 && tree.branches[static_cast<std::size_t>(b.parent)].level == b.level;
 }
 
+// The message a stage that needs a skeleton reports for an imported mesh the hierarchy stage has
+// not reconstructed yet (source geometry, no branches): "tree '<name>' has no skeleton: it is an
+// imported mesh; run the hierarchy stage on it first (docs/stages/hierarchy.md)". Empty otherwise.
+std::string missing_hierarchy(const Tree& tree);
+
 // The point on the parent's axis a non-root branch grows from (m).
 Vec3 attachment_point(const Tree& tree, const Branch& b);
 

@@ -10,8 +10,11 @@ namespace sylva::impostor {
 
 std::vector<LodLevelRef> lod_level_refs(const lodchain::LodChain& chain) {
   std::vector<LodLevelRef> out;
-  for (const lodchain::Level& l : chain.levels)
+  for (const lodchain::Level& l : chain.levels) {
     out.push_back({l.file, l.epsilon_m, l.pixel_error_px, l.switch_distance_m});
+    // An imported tree is baked from its own model, never from its reconstruction.
+    if (chain.source.model_triangles > 0) break;
+  }
   return out;
 }
 

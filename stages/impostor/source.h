@@ -32,7 +32,9 @@ struct LodLevelRef {
   double switch_distance = 0;  // m
 };
 
-// The levels of a chain (lodchain::read_lod_chain), finest first.
+// The levels of a chain (lodchain::read_lod_chain) the stage may bake, finest first: every level,
+// or only level 0 when it is an imported tree's own model (source.model_triangles > 0: the user's
+// model is the truth the impostor must show, docs/stages/impostor.md "Source").
 std::vector<LodLevelRef> lod_level_refs(const lodchain::LodChain& chain);
 
 // Index of the coarsest level with epsilon <= texel_m; the finest (0) when none qualifies.

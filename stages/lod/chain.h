@@ -104,7 +104,17 @@ struct Level {
   LevelCounts counts;
   CardChoice cards;
   std::vector<std::vector<std::uint32_t>> kept_nodes;  // per branch; empty = decimated
+  // An imported tree's level 0 and full detail: the user's own model (tree.source), drawn as the
+  // file had it instead of the geometry above (which is then empty). Non-owning: points into the
+  // tree the level was built from, which must outlive it. docs/stages/lod.md "Imported trees".
+  const tree::SourceGeometry* source = nullptr;
 };
+
+// The level that draws `tree`'s source geometry with the numbers of `spec` (an imported tree's
+// model is within any epsilon of itself): counts.triangles is the model's triangle count, line
+// alphas 1, no branches, leaves or needles of its own. Throws std::invalid_argument when the
+// tree has no source geometry.
+Level source_level(const tree::Tree& tree, const LevelSpec& spec);
 
 // Data computed once per tree and shared by every level.
 struct Precomputed {

@@ -11,6 +11,7 @@
 
 #include "libs/gltf/writer.h"
 #include "libs/lodchain/chain_gltf.h"
+#include "libs/sourcegltf/source_scene.h"
 #include "libs/tree/default_colors.h"
 #include "stages/lod/ribbons.h"
 
@@ -102,10 +103,33 @@ gltf::Primitive lines(const BranchGeometry& g, double delta, int material) {
   return p;
 }
 
+// The file beside the .gltf files that holds source image `i` (lod_gltf.h).
+std::string source_image_file(std::size_t i, const std::string& mime_type) {
+  return "source" + std::to_string(i) + (mime_type == "image/jpeg" ? ".jpg" : ".png");
+}
+
+// An imported tree's model as the level's mesh: its primitives, materials and images as the
+// file had them (libs/sourcegltf), each image a file of its own so the level and chain files
+// share it. Its materials are not shared with the reconstruction's: they are the file's own.
+gltf::Mesh source_mesh(gltf::Scene& s, const tree::SourceGeometry& g, std::size_t index) {
+  const std::size_t first_image = s.images.size();
+  sourcegltf::append_source_mesh(s, g, lodchain::level_name(index));
+  gltf::Mesh mesh = std::move(s.meshes.back());
+  s.meshes.pop_back();
+  for (std::size_t i = first_image; i < s.images.size(); ++i)
+    s.images[i].uri = source_image_file(i - first_image, s.images[i].mime_type);
+  return mesh;
+}
+
 // The level's mesh with materials added to `s` (shared when equal). With `ribbon_buffer` >= 0
 // the lines become opaque ribbons in that buffer.
 gltf::Mesh level_mesh(gltf::Scene& s, const tree::Tree& tree, const Level& level, std::size_t index,
                       int leaf_image, int ribbon_buffer) {
+  if (level.source) {
+    gltf::Mesh mesh = source_mesh(s, *level.source, index);
+    mesh.extras = lodchain::level_extras(level_numbers(level, index));
+    return mesh;
+  }
   const LevelMaterials mats = level_materials(tree, leaf_image);
   gltf::Mesh mesh;
   mesh.name = lodchain::level_name(index);
@@ -152,6 +176,11 @@ nlohmann::json file_extras(const tree::Tree& tree) { return {{"sylva_stage", "lo
 
 double tree_height(const tree::Tree& tree) {
   double lo = INFINITY, hi = -INFINITY;
+  for (const tree::SourcePrimitive& p : tree.source.primitives)
+    for (const tree::Vec3f& v : p.positions) {
+      lo = std::min(lo, double(v.y));
+      hi = std::max(hi, double(v.y));
+    }
   for (const auto& b : tree.branches)
     for (const auto& n : b.nodes) {
       lo = std::min(lo, n.position.y);
@@ -216,6 +245,9 @@ gltf::Scene level_scene(const tree::Tree& tree, const Level& level, std::size_t 
 
 double bounding_radius(const Level& l) {
   lodmodel::BoundingBox box;
+  if (l.source)
+    for (const tree::SourcePrimitive& p : l.source->primitives)
+      for (const tree::Vec3f& v : p.positions) box.extend(v.x, v.y, v.z);
   for (const BranchGeometry* g : {&l.branches, &l.needles}) {
     box.extend(g->tri_positions);
     box.extend(g->line_positions);
@@ -326,6 +358,7 @@ lodchain::LodChain chain_summary(const tree::Tree& tree, const std::vector<Level
   const double radius = levels.empty() ? 0.0 : bounding_radius(levels[0]);
   c.bounding_radius_m = radius;
   c.source = {tree.branches.size(), tree.leaves.size(), tree.needles.size()};
+  if (!levels.empty() && levels[0].source) c.source.model_triangles = levels[0].counts.triangles;
   c.chain_file = lodchain::kChainFile;
   const std::vector<double> coverage = screen_coverages(levels, o.camera, radius);
   for (std::size_t i = 0; i < levels.size(); ++i) {

@@ -18,7 +18,7 @@ StageInfo lod_stage_info() {
   info.version = 10;
   info.summary = "error-metric LOD chain: Zhang branch LOD (meshes -> lines) + FSA leaf collapse";
   info.output_type = "lod";
-  info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png", "full.glb"};
+  info.outputs = {"lod*.gltf", "lod*.bin", "lod.json", "*.png", "source*.jpg", "full.glb"};
   info.inputs = {{"tree"}, 1, 1, "one tree artifact (tree.sylt, optional leaves.png)"};
   info.params = {
       Param::object(

@@ -56,7 +56,9 @@ class LodStage : public Stage {
                          e.what());
       }
     }
-    // 3. The chain (pure core).
+    // 3. The chain (pure core). An imported tree's level 0 and full detail are its own model
+    // (docs/stages/lod.md "Imported trees"); the coarser levels come from its reconstruction.
+    if (const std::string why = tree::missing_hierarchy(tree); !why.empty()) throw StageError(why);
     std::vector<lod::Level> levels;
     lod::Level full;
     try {
@@ -64,6 +66,10 @@ class LodStage : public Stage {
       levels = lod::build_chain(tree, pre, o);
       ctx.check_cancelled();
       full = lod::build_full_detail(tree, pre, o);
+      if (!tree.source.empty()) {
+        levels[0] = lod::source_level(tree, levels[0].spec);
+        full = lod::source_level(tree, full.spec);
+      }
     } catch (const std::invalid_argument& e) {
       throw StageError(e.what());
     }

@@ -31,6 +31,7 @@ class MeshStage final : public Stage {
     } catch (const tree::TreeFormatError& e) {
       throw StageError(e.what());
     }
+    if (const std::string why = tree::missing_hierarchy(tree); !why.empty()) throw StageError(why);
     auto texture = [&](const std::string& name, const char* what) {
       mesh::Texture t{name, ""};
       if (name.empty()) return t;
