@@ -61,6 +61,9 @@ StageInfo mesh_stage_info() {
           .describe("Draco compression level (0 fastest, 10 smallest)"),
       Param::boolean("self_intersections", false)
           .describe("count self-intersecting triangle pairs of the bark (CGAL) into the statistics; slow"),
+      Param::boolean("keep_source", false)
+          .describe("an imported tree: write the imported model itself instead of re-meshing its "
+                    "reconstructed skeleton (an error for a tree that is not an imported mesh)"),
   };
   return info;
 }

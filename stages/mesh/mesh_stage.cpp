@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "libs/gltf/writer.h"
+#include "libs/sourcegltf/source_scene.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/mesh/mesh_info.h"
 #include "stages/mesh/tree_mesh.h"
@@ -59,26 +60,58 @@ class MeshStage final : public Stage {
     o.subdivider =
         ctx.string("subdivider") == "openmesh" ? mesh::Subdivider::kOpenMesh : mesh::Subdivider::kNative;
     o.count_self_intersections = ctx.boolean("self_intersections");
+    gltf::Scene scene = ctx.boolean("keep_source")
+                            ? source_model(tree, sylt->path.string(), ctx)
+                            : remeshed(tree, o, bark, leaves, sylt->path.string(), ctx);
+    write(ctx, scene);
+  }
+
+ private:
+  // The sylva metadata of the GLB (asset.extras.sylva). The node name is deliberately absent: it
+  // is not part of the action key, so two nodes with the same inputs share one cached output.
+  nlohmann::json metadata(const tree::Tree& tree, const StageContext& ctx) const {
+    nlohmann::json sylva = {
+        {"stage", info_.name},
+        {"stage_version", info_.version},
+        {"source", tree.name},
+        {"parameters", nlohmann::json::parse(Value(ctx.params()).canonical())},
+    };
+    if (!tree.source.empty())
+      sylva["imported_model"] = ctx.boolean("keep_source")
+                                    ? "the imported model itself (keep_source)"
+                                    : "re-meshed from the skeleton the hierarchy stage reconstructed; "
+                                      "keep_source: true writes the imported model itself";
+    return sylva;
+  }
+
+  // keep_source: the imported model as the file had it (libs/sourcegltf).
+  gltf::Scene source_model(const tree::Tree& tree, const std::string& sylt, const StageContext& ctx) const {
+    if (tree.source.empty())
+      throw StageError(sylt + ": keep_source is set, but tree '" + tree.name +
+                       "' is not an imported mesh (it has no source geometry)");
+    gltf::Scene scene = sourcegltf::source_scene(tree.source, "tree");
+    scene.extras = {{"sylva", metadata(tree, ctx)}};
+    return scene;
+  }
+
+  gltf::Scene remeshed(const tree::Tree& tree, const mesh::MeshOptions& o, const mesh::Texture& bark,
+                       const mesh::Texture& leaves, const std::string& sylt, const StageContext& ctx) const {
     mesh::TreeMesh m;
     gltf::Scene scene;
     try {
       m = mesh::mesh_tree(tree, o);
       ctx.check_cancelled();
-      // The node name is deliberately absent: it is not part of the action key, so two nodes
-      // with the same inputs share one cached output.
-      const nlohmann::json sylva = {
-          {"stage", info_.name},
-          {"stage_version", info_.version},
-          {"source", tree.name},
-          {"parameters", nlohmann::json::parse(Value(ctx.params()).canonical())},
-          {"statistics", mesh::stats_json(m.stats)},
-      };
+      nlohmann::json sylva = metadata(tree, ctx);
+      sylva["statistics"] = mesh::stats_json(m.stats);
       scene = mesh::make_scene(m, tree, bark, leaves, sylva);
     } catch (const mesh::MeshError& e) {
-      throw StageError(sylt->path.string() + ": " + e.what());
+      throw StageError(sylt + ": " + e.what());
     }
+    return scene;
+  }
 
-    // 3. Write.
+  // 3. Write.
+  static void write(StageContext& ctx, const gltf::Scene& scene) {
     gltf::WriteOptions w;
     w.format = ctx.string("format") == "gltf" ? gltf::FileFormat::kGltf : gltf::FileFormat::kGlb;
     w.draco.enabled = ctx.boolean("draco");
@@ -97,7 +130,6 @@ class MeshStage final : public Stage {
     }
   }
 
- private:
   StageInfo info_;
 };
 

@@ -6,11 +6,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "libs/image/png.h"
+#include "libs/sourcegltf/testing/sample_source.h"
 #include "libs/tree/sylt_format.h"
 #include "stages/lod/lod_stage.h"
 #include "stages/lod/tests/test_trees.h"
 #include "tests/support/fake_stage_context.h"
+#include "tests/support/gltf_fixtures.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/test_support.h"
 
@@ -19,38 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string png_2x2() {
-  const std::vector<std::uint8_t> b = image::encode_png(image::Image(2, 2, {40, 160, 60, 255}));
-  return {b.begin(), b.end()};
-}
-
 // A helix skeleton (what the hierarchy stage would have reconstructed) carrying an imported
-// model: a bark strip along the helix's first metre and one textured, alpha-masked leaf card
-// reaching 3 m above the skeleton's top.
+// model whose leaf reaches 3 m above the skeleton's top (sourcegltf::testing::strip_and_leaf).
 tree::Tree imported_tree() {
   tree::Tree t = lod::test::helix(1, 2, 1, 16, 0.05);
   t.name = "imported";
-  tree::SourcePrimitive bark;
-  bark.name = "Tree/br0Trunk";
-  bark.positions = {{1, 0, -0.05f}, {1, 0, 0.05f}, {1, 1, 0.05f}, {1, 1, -0.05f}};
-  bark.indices = {0, 1, 2, 0, 2, 3};
-  tree::SourcePrimitive leaf;
-  leaf.name = "Tree/lf0";
-  leaf.material = 1;
-  leaf.positions = {{1, 1, 0}, {1.5f, 1, 0}, {1, 5, 0}};
-  leaf.uvs = {{0, 1}, {1, 1}, {0, 0}};
-  leaf.indices = {0, 1, 2};
-  t.source.primitives = {bark, leaf};
-  tree::SourceMaterial m0;
-  m0.name = "BarkMat";
-  m0.base_color = {0.3f, 0.2f, 0.1f, 1};
-  tree::SourceMaterial m1;
-  m1.name = "LeafMat";
-  m1.base_color_image = 0;
-  m1.alpha_mode = tree::AlphaMode::kMask;
-  m1.double_sided = true;
-  t.source.materials = {m0, m1};
-  t.source.images = {{"leaf.png", "image/png", png_2x2()}};
+  t.source = sourcegltf::testing::strip_and_leaf();
   return t;
 }
 
@@ -89,7 +64,7 @@ TEST(LodImported, LevelZeroAndFullDetailAreTheImportedModel) {
   EXPECT_EQ(l0["materials"][1]["alphaMode"], "MASK");
   ASSERT_EQ(l0["images"].size(), 1u);
   EXPECT_EQ(l0["images"][0]["uri"], "source0.png");
-  EXPECT_EQ(sylva::test::read_file(r.out / "source0.png"), png_2x2());
+  EXPECT_EQ(sylva::test::read_file(r.out / "source0.png"), sylva::test::tiny_png());
 
   // The coarser levels are the reconstruction's, with the lod stage's own materials.
   const nlohmann::json l1 = r.json("lod1.gltf");
