@@ -333,9 +333,10 @@ TEST(SyltFormat, SourceFieldMessages) {
             "t.sylt: byte " + std::to_string(mode + 6) + ": source double sided must be 0 or 1, is 2");
   // An index out of range passes the parser and is refused as an invalid tree.
   const std::size_t index0 = at + 4 + 17 + 20 + 128;
-  EXPECT_EQ(with(index0, 9),
-            "t.sylt: invalid tree: source primitive 0 (\"tree/trunk/br0_trunk\"): index 9 at triangle 0 is not "
-            "below 4 positions");
+  EXPECT_EQ(
+      with(index0, 9),
+      "t.sylt: invalid tree: source primitive 0 (\"tree/trunk/br0_trunk\"): index 9 at triangle 0 is not "
+      "below 4 positions");
 }
 
 TEST(SyltFormat, WriterRefusesInvalidSource) {
@@ -345,9 +346,10 @@ TEST(SyltFormat, WriterRefusesInvalidSource) {
     encode_sylt(t);
     FAIL() << "an invalid source was written";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "refusing to write an invalid tree:\n  source image 0 (\"bark.png\"): mime type \"image/gif\" is not "
-              "image/png or image/jpeg");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "refusing to write an invalid tree:\n  source image 0 (\"bark.png\"): mime type \"image/gif\" is not "
+        "image/png or image/jpeg");
   }
 }
 
