@@ -434,26 +434,42 @@ std::optional<Digest> DigestCache::digest(const fs::path& p, std::string* error,
   return d;
 }
 
-std::optional<Digest> DigestCache::digest_dir(const fs::path& p, std::string* error) {
-  std::vector<std::pair<std::string, Digest>> entries;
-  // Depth-first over FileSystem::list, so the fake file system works the same.
+std::optional<Digest> DigestCache::digest_dir(const fs::path& p, std::string* error, std::size_t max_files) {
+  // 1. The listing, depth-first over FileSystem::list (so the fake file system works the same),
+  // counted before anything is hashed: a folder over the limit costs stats, not reads.
+  struct Found {
+    fs::path full;
+    std::string rel;
+    FileInfo st;
+  };
+  std::vector<Found> found;
   std::vector<std::pair<fs::path, std::string>> todo{{p, ""}};
   while (!todo.empty()) {
     auto [dir, rel] = todo.back();
     todo.pop_back();
     for (const auto& name : fs_.list(dir)) {
       const fs::path full = dir / name;
-      const std::string r = rel.empty() ? name : rel + "/" + name;
+      std::string r = rel.empty() ? name : rel + "/" + name;
       auto st = fs_.stat(full);
       if (!st || st->is_other) continue;  // FIFOs, devices and sockets are not content
       if (st->is_dir) {
-        todo.emplace_back(full, r);
+        todo.emplace_back(full, std::move(r));
         continue;
       }
-      auto d = digest(full, error, st);
-      if (!d) return std::nullopt;
-      entries.emplace_back(r, *d);
+      if (found.size() == max_files) {
+        if (error) *error = "holds more than " + std::to_string(max_files) + " files";
+        return std::nullopt;
+      }
+      found.push_back({full, std::move(r), *st});
     }
+  }
+  // 2. Each file's digest (recorded ones unread when their stat is unchanged).
+  std::vector<std::pair<std::string, Digest>> entries;
+  entries.reserve(found.size());
+  for (auto& f : found) {
+    auto d = digest(f.full, error, f.st);
+    if (!d) return std::nullopt;
+    entries.emplace_back(std::move(f.rel), std::move(*d));
   }
   if (!fs_.stat(p)) {
     if (error) *error = "No such file or directory";

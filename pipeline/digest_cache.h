@@ -56,8 +56,11 @@ class DigestCache {
   std::optional<Digest> digest(const std::filesystem::path& p, std::string* error = nullptr,
                                const std::optional<FileInfo>& known = std::nullopt);
   // Directory digest: SHA-256 of the sorted "relative path \0 file hash \n" lines of every
-  // regular file below `p`, each file through digest(). nullopt if unreadable.
-  std::optional<Digest> digest_dir(const std::filesystem::path& p, std::string* error = nullptr);
+  // regular file below `p`, each file through digest(). nullopt if unreadable, or if it holds
+  // more than `max_files` regular files (error "holds more than N files"; found before any
+  // file is hashed).
+  std::optional<Digest> digest_dir(const std::filesystem::path& p, std::string* error = nullptr,
+                                   std::size_t max_files = SIZE_MAX);
 
   // True if `p` is recorded with digest `d` and its stat is unchanged: it holds `d`, unread.
   bool holds(const std::filesystem::path& p, const Digest& d);

@@ -425,9 +425,10 @@ std::optional<ActionRecord> describe_action(const Recipe& recipe, std::size_t in
     a.inputs.push_back(std::move(in));
   }
   for (const auto& [param, path] : node.files) {
-    bool is_dir = false;
+    const ParamSpec* spec = nullptr;
     for (const auto& p : info.params)
-      if (p.name == param) is_dir = p.type == ParamType::kDir;
+      if (p.name == param) spec = &p;
+    const bool is_dir = spec && spec->type == ParamType::kDir;
     std::string why;
     std::optional<FileInfo> known;
     if (auto it = node.file_stats.find(param); it != node.file_stats.end()) known = it->second;
@@ -438,6 +439,19 @@ std::optional<ActionRecord> describe_action(const Recipe& recipe, std::size_t in
     }
     a.params[param] = "\"sha256:" + d->hash + "\"";  // content, not the path, enters the key
     a.files[param] = {path.string(), std::move(*d)};
+    // A model file's folder (ParamSpec::with_folder_for): its companions are inputs too. Recorded
+    // as file "<param>.folder" (not a parameter name: those have no dot), so explain names it.
+    if (auto folder = spec ? param_folder(*spec, path) : std::nullopt) {
+      auto fd = digests.digest_dir(*folder, &why, kMaxFolderFiles);
+      if (!fd) {
+        if (error)
+          *error = "cannot read the folder '" + folder->string() + "' of '" + path.string() +
+                   "' (parameter '" + param + "'): " + why + "; a " + path.extension().string() +
+                   " file brings its whole folder into the node's key: give the model a folder of its own";
+        return std::nullopt;
+      }
+      a.files[param + ".folder"] = {folder->string(), std::move(*fd)};
+    }
   }
   return a;
 }

@@ -81,7 +81,10 @@ NodeContext::NodeContext(FileSystem& fs, const NodeDecl& node, std::vector<Input
   for (const auto& [param, path] : node.files) {
     bool is_dir = false;
     for (const auto& p : node.stage->info().params)
-      if (p.name == param) is_dir = p.type == ParamType::kDir;
+      if (p.name == param) {
+        is_dir = p.type == ParamType::kDir;
+        if (auto folder = param_folder(p, path)) files_.allow_dir(*folder);  // in the key too
+      }
     if (is_dir)
       files_.allow_dir(path);
     else

@@ -1,5 +1,7 @@
 #include "pipeline/param.h"
 
+#include <cctype>
+
 namespace sylva {
 
 const char* param_type_name(ParamType t) {
@@ -63,6 +65,17 @@ ParamSpec Param::choice(std::string name, std::vector<std::string> choices, std:
   s.choices = std::move(choices);
   return s;
 }
+std::optional<std::filesystem::path> param_folder(const ParamSpec& spec, const std::filesystem::path& file) {
+  if (spec.type != ParamType::kPath || spec.folder_for.empty()) return std::nullopt;
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (std::string e : spec.folder_for) {
+    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (e == ext) return file.parent_path();
+  }
+  return std::nullopt;
+}
+
 ParamSpec Param::path(std::string name) { return make(std::move(name), ParamType::kPath, {}); }
 ParamSpec Param::dir(std::string name) { return make(std::move(name), ParamType::kDir, {}); }
 ParamSpec Param::real_list(std::string name, std::optional<Value::List> def) {

@@ -6,6 +6,8 @@
 // entry's file:line:col; stages then read values that are guaranteed to be present and valid.
 #pragma once
 
+#include <cstddef>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +46,9 @@ struct ParamSpec {
   // Constraints the recipe loader checks (at file:line:col, before any node runs).
   bool power_of_two = false;  // kInt: 1, 2, 4, 8, ...
   bool increasing = false;    // kIntList/kRealList: each item greater than the one before
+  // kPath only: extensions (".gltf", with the dot, lower case) whose file brings its folder
+  // along; see with_folder_for() and param_folder().
+  std::vector<std::string> folder_for;
 
   bool required() const { return default_value.is_null(); }
 
@@ -70,7 +75,26 @@ struct ParamSpec {
     increasing = true;
     return std::move(*this);
   }
+  // kPath: when the named file's extension is one of `extensions` (compared without regard to
+  // case), the file's whole parent directory is part of the node's input, as if a kDir
+  // parameter named it: every regular file below it enters the action key (beside the file's
+  // own digest) and ctx.files() may read any of them. For model files that name companions by
+  // relative path (a .gltf's .bin and textures, an .obj's .mtl). Other extensions: the file
+  // alone, as without this. The folder may hold at most kMaxFolderFiles files.
+  ParamSpec with_folder_for(std::vector<std::string> extensions) && {
+    folder_for = std::move(extensions);
+    return std::move(*this);
+  }
 };
+
+// The most regular files a with_folder_for() folder may hold (every subdirectory counted): a
+// model at the top of a large tree would otherwise hash all of it into every key. More is
+// refused when the node's key is computed ("... holds more than 2000 files ...").
+inline constexpr std::size_t kMaxFolderFiles = 2000;
+
+// The folder `file` brings along under `spec` (its parent directory), or nullopt when spec has
+// no with_folder_for() extension matching file's (ASCII case-insensitive).
+std::optional<std::filesystem::path> param_folder(const ParamSpec& spec, const std::filesystem::path& file);
 
 // Fluent builders keep stage declarations short and readable:
 //   Param::real("pixel_error", 0.5).range(0.01, 100).doc("permitted pixel error δ (px)")

@@ -58,11 +58,88 @@ std::string json_string(const std::string& s) {
   return out + "\"";
 }
 
+const char* alpha_mode_name(AlphaMode m) {
+  switch (m) {
+    case AlphaMode::kOpaque:
+      return "opaque";
+    case AlphaMode::kMask:
+      return "mask";
+    case AlphaMode::kBlend:
+      return "blend";
+  }
+  return "?";
+}
+
+SourceStats source_stats(const SourceGeometry& g) {
+  SourceStats s;
+  s.primitives = g.primitives.size();
+  for (const SourcePrimitive& p : g.primitives) {
+    s.vertices += p.positions.size();
+    s.triangles += p.indices.size() / 3;
+  }
+  for (const SourceMaterial& m : g.materials) s.materials.push_back({m.name, m.alpha_mode});
+  for (const SourceImage& im : g.images) s.images.push_back({im.name, im.mime_type, im.bytes.size()});
+  return s;
+}
+
+std::string format_source(const SourceStats& s) {
+  std::string out = "source: " + std::to_string(s.primitives) + " primitives, " +
+                    std::to_string(s.triangles) + " triangles, " + std::to_string(s.vertices) + " vertices\n";
+  for (std::size_t i = 0; i < s.materials.size(); ++i)
+    out.append("source material ")
+        .append(std::to_string(i))
+        .append(": ")
+        .append(json_string(s.materials[i].name))
+        .append(" (")
+        .append(alpha_mode_name(s.materials[i].alpha_mode))
+        .append(")\n");
+  for (std::size_t i = 0; i < s.images.size(); ++i)
+    out.append("source image ")
+        .append(std::to_string(i))
+        .append(": ")
+        .append(json_string(s.images[i].name))
+        .append(" (")
+        .append(s.images[i].mime_type)
+        .append(", ")
+        .append(std::to_string(s.images[i].bytes))
+        .append(" bytes)\n");
+  return out;
+}
+
+std::string format_source_json(const SourceStats& s) {
+  std::string out = ",\"source\":{\"primitives\":";
+  out.append(std::to_string(s.primitives))
+      .append(",\"triangles\":")
+      .append(std::to_string(s.triangles))
+      .append(",\"vertices\":")
+      .append(std::to_string(s.vertices))
+      .append(",\"materials\":[");
+  for (std::size_t i = 0; i < s.materials.size(); ++i)
+    out.append(i ? "," : "")
+        .append("{\"name\":")
+        .append(json_string(s.materials[i].name))
+        .append(",\"alpha_mode\":\"")
+        .append(alpha_mode_name(s.materials[i].alpha_mode))
+        .append("\"}");
+  out.append("],\"images\":[");
+  for (std::size_t i = 0; i < s.images.size(); ++i)
+    out.append(i ? "," : "")
+        .append("{\"name\":")
+        .append(json_string(s.images[i].name))
+        .append(",\"mime_type\":")
+        .append(json_string(s.images[i].mime_type))
+        .append(",\"bytes\":")
+        .append(std::to_string(s.images[i].bytes))
+        .append("}");
+  return out.append("]}");
+}
+
 }  // namespace
 
 TreeStats compute_stats(const Tree& tree) {
   TreeStats s;
   s.name = tree.name;
+  s.source = source_stats(tree.source);
   s.branches = tree.branches.size();
   s.leaves = tree.leaves.size();
   s.needles = tree.needles.size();
@@ -128,6 +205,7 @@ std::string format_stats(const TreeStats& s) {
   out += "leaf area: " + fmt(s.leaf_area) + " m2 (one-sided)\n";
   out += "crown projected area: " + fmt(s.crown_area) + " m2\n";
   out += "leaf area index: " + fmt(s.lai) + "\n";
+  if (!s.source.empty()) out += format_source(s.source);
   return out;
 }
 
@@ -150,8 +228,9 @@ std::string format_stats_json(const TreeStats& s) {
   out.append(",\"bounds_max_m\":").append(fmt_vec(s.bounds_max, 6, ","));
   out.append(",\"leaf_area_m2\":").append(fmt(s.leaf_area, 6));
   out.append(",\"crown_area_m2\":").append(fmt(s.crown_area, 6));
-  out.append(",\"lai\":").append(fmt(s.lai, 6)).append("}");
-  return out;
+  out.append(",\"lai\":").append(fmt(s.lai, 6));
+  if (!s.source.empty()) out.append(format_source_json(s.source));
+  return out.append("}");
 }
 
 }  // namespace sylva::tree

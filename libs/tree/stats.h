@@ -14,6 +14,9 @@
 //                 silhouettes 2 r l (foliage.h);
 //   crown area    projected crown area: convex hull of the foliage seen from above (foliage.h);
 //   lai           leaf area / crown area (the crown's leaf area index; 0 without foliage).
+// An imported mesh (Tree::source) is summarised apart (SourceStats): its counts, its materials'
+// names and alpha modes and its images' names and sizes; the numbers above are the skeleton's
+// and foliage's only.
 #pragma once
 
 #include <cstddef>
@@ -25,6 +28,25 @@
 namespace sylva::tree {
 
 inline constexpr double kBreastHeight = 1.3;  // m, the forestry convention for DBH
+
+// Tree::source in brief; all empty for generated and QSM trees.
+struct SourceStats {
+  struct Material {
+    std::string name;
+    AlphaMode alpha_mode = AlphaMode::kOpaque;
+  };
+  struct Image {
+    std::string name;
+    std::string mime_type;
+    std::size_t bytes = 0;  // the encoded image's size
+  };
+  std::size_t primitives = 0;
+  std::size_t triangles = 0;  // sum of index count / 3
+  std::size_t vertices = 0;   // sum of position counts
+  std::vector<Material> materials;
+  std::vector<Image> images;
+  bool empty() const { return primitives == 0 && materials.empty() && images.empty(); }
+};
 
 struct TreeStats {
   std::string name;
@@ -41,6 +63,7 @@ struct TreeStats {
   double leaf_area = 0;         // m^2, one-sided
   double crown_area = 0;        // m^2
   double lai = 0;
+  SourceStats source;
 };
 
 TreeStats compute_stats(const Tree& tree);
@@ -50,11 +73,17 @@ TreeStats compute_stats(const Tree& tree);
 //   branches: 1204 (level 0: 1, level 1: 43, level 2: 1160)
 //   nodes: 104211
 //   ...
+// followed, for a tree with an imported mesh, by (names quoted as JSON strings)
+//   source: 3 primitives, 4 triangles, 10 vertices
+//   source material 0: "Bark" (opaque)          one line per material: mask, blend, opaque
+//   source image 0: "bark.png" (image/png, 13 bytes)   one line per image
 std::string format_stats(const TreeStats& stats);
 
 // The same as one JSON object (keys: name, branches, branches_per_level, nodes, leaves,
 // needles, height_m, dbh_m (null if absent), total_branch_length_m, bounds_min_m, bounds_max_m,
-// leaf_area_m2, crown_area_m2, lai).
+// leaf_area_m2, crown_area_m2, lai), and "source" for a tree with an imported mesh:
+// {"primitives", "triangles", "vertices", "materials": [{"name", "alpha_mode"}],
+// "images": [{"name", "mime_type", "bytes"}]}.
 std::string format_stats_json(const TreeStats& stats);
 
 }  // namespace sylva::tree

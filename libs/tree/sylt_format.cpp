@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -21,6 +22,11 @@ constexpr std::size_t kBranchHeader = 4 + 4 + 8 + 4 + 4;
 constexpr std::size_t kNodeSize = 4 * 8;
 constexpr std::size_t kLeafSize = 4 + 9 * 4 + 2 * 4 + 1;
 constexpr std::size_t kNeedleSize = 4 + 6 * 4 + 4;
+// Version 3's source geometry: the smallest record of each kind (empty names and arrays).
+constexpr std::size_t kPrimitiveHeader = 4 + 4 + 1 + 4 + 4;  // name, material, attributes, 2 counts
+constexpr std::size_t kMaterialSize = 4 + 4 * 4 + 4 + 1 + 4 + 1 + 4 + 4;
+constexpr std::size_t kImageHeader = 4 + 4 + 4;  // name, mime type, byte count
+constexpr std::uint8_t kHasNormals = 1, kHasUvs = 2;
 
 template <class U>
 U to_little(U v) {
@@ -121,11 +127,11 @@ class Reader {
     c.b = get<float>(what);
     return c;
   }
-  std::string string(const char* what) {
+  std::string string(const char* what, std::size_t max = kMaxString) {
     const auto n = get<std::uint32_t>(what);
-    if (n > kMaxString)
+    if (n > max)
       fail_at(pos_ - 4,
-              std::string(what) + " length " + std::to_string(n) + " exceeds " + std::to_string(kMaxString));
+              std::string(what) + " length " + std::to_string(n) + " exceeds " + std::to_string(max));
     need(n, what);
     std::string s(b_.substr(pos_, n));
     pos_ += n;
@@ -160,6 +166,60 @@ std::uint64_t fnv1a64(std::string_view bytes) {
   return h;
 }
 
+namespace {
+
+// Version 3's last section: the imported mesh, arrays written whole (bit patterns, no rounding).
+void put_source(Writer& w, const SourceGeometry& g) {
+  w.put(static_cast<std::uint32_t>(g.primitives.size()));
+  for (const SourcePrimitive& p : g.primitives) {
+    w.put(p.name);
+    w.put(p.material);
+    w.put(static_cast<std::uint8_t>((p.normals.empty() ? 0 : kHasNormals) | (p.uvs.empty() ? 0 : kHasUvs)));
+    w.put(static_cast<std::uint32_t>(p.positions.size()));
+    for (Vec3f v : p.positions) w.put(v);
+    for (Vec3f v : p.normals) w.put(v);
+    for (const auto& uv : p.uvs) {
+      w.put(uv[0]);
+      w.put(uv[1]);
+    }
+    w.put(static_cast<std::uint32_t>(p.indices.size()));
+    for (std::uint32_t i : p.indices) w.put(i);
+  }
+  w.put(static_cast<std::uint32_t>(g.materials.size()));
+  for (const SourceMaterial& m : g.materials) {
+    w.put(m.name);
+    for (float c : m.base_color) w.put(c);
+    w.put(m.base_color_image);
+    w.put(static_cast<std::uint8_t>(m.alpha_mode));
+    w.put(m.alpha_cutoff);
+    w.put(static_cast<std::uint8_t>(m.double_sided ? 1 : 0));
+    w.put(m.metallic);
+    w.put(m.roughness);
+  }
+  w.put(static_cast<std::uint32_t>(g.images.size()));
+  for (const SourceImage& im : g.images) {
+    w.put(im.name);
+    w.put(im.mime_type);
+    if (im.bytes.size() > std::numeric_limits<std::uint32_t>::max())
+      throw std::invalid_argument("refusing to write source image \"" + im.name + "\" of " +
+                                  std::to_string(im.bytes.size()) + " bytes, at most 4294967295 are stored");
+    w.put(im.bytes);  // u32 length + the encoded image, whole
+  }
+}
+
+std::size_t source_size(const SourceGeometry& g) {
+  std::size_t size = 12 + g.materials.size() * kMaterialSize;
+  for (const SourcePrimitive& p : g.primitives)
+    size += kPrimitiveHeader + p.name.size() + 12 * (p.positions.size() + p.normals.size()) +
+            8 * p.uvs.size() + 4 * p.indices.size();
+  for (const SourceMaterial& m : g.materials) size += m.name.size();
+  for (const SourceImage& im : g.images)
+    size += kImageHeader + im.name.size() + im.mime_type.size() + im.bytes.size();
+  return size;
+}
+
+}  // namespace
+
 std::string encode_sylt(const Tree& tree) {
   if (auto errors = validate_tree(tree); !errors.empty()) {
     std::string msg = "refusing to write an invalid tree:";
@@ -169,6 +229,7 @@ std::string encode_sylt(const Tree& tree) {
   std::size_t size =
       kHeaderSize + kChecksumSize + 256 + tree.leaves.size() * kLeafSize + tree.needles.size() * kNeedleSize;
   for (const Branch& b : tree.branches) size += kBranchHeader + b.nodes.size() * kNodeSize;
+  size += source_size(tree.source);
   Writer w;
   w.out.reserve(size);
   // Header.
@@ -220,6 +281,8 @@ std::string encode_sylt(const Tree& tree) {
     w.put(n.tip);
     w.put(n.radius);
   }
+  // Imported mesh (version 3).
+  put_source(w, tree.source);
   // Checksum of everything before it.
   w.put(fnv1a64(w.out));
   return std::move(w.out);
@@ -286,6 +349,71 @@ void read_foliage(Reader& r, Tree& t) {
   }
 }
 
+// Version 3's imported mesh. Running totals enforce kMaxSourceVertices/Triangles before each
+// array is allocated, on top of the bytes-left check every count gets.
+void read_primitive(Reader& r, SourcePrimitive& p, std::size_t& vertices, std::size_t& triangles) {
+  p.name = r.string("source primitive name");
+  p.material = r.get<std::uint32_t>("source primitive material");
+  const auto attributes = r.get<std::uint8_t>("source primitive attributes");
+  if (attributes & ~(kHasNormals | kHasUvs))
+    r.fail("unknown source primitive attributes " + std::to_string(attributes));
+  const bool normals = attributes & kHasNormals, uvs = attributes & kHasUvs;
+  const std::size_t at = r.pos();
+  const auto nv = r.count(12 + (normals ? 12 : 0) + (uvs ? 8 : 0), "source vertex count");
+  vertices += nv;
+  if (vertices > kMaxSourceVertices)
+    r.fail_at(
+        at, "source vertices " + std::to_string(vertices) + " exceed " + std::to_string(kMaxSourceVertices));
+  p.positions.resize(nv);
+  for (Vec3f& v : p.positions) v = r.vec3f("source position");
+  if (normals) {
+    p.normals.resize(nv);
+    for (Vec3f& v : p.normals) v = r.vec3f("source normal");
+  }
+  if (uvs) {
+    p.uvs.resize(nv);
+    for (auto& uv : p.uvs) {
+      uv[0] = r.get<float>("source uv");
+      uv[1] = r.get<float>("source uv");
+    }
+  }
+  const std::size_t at_indices = r.pos();
+  const auto ni = r.count(4, "source index count");
+  triangles += ni / 3;
+  if (triangles > kMaxSourceTriangles)
+    r.fail_at(at_indices, "source triangles " + std::to_string(triangles) + " exceed " +
+                              std::to_string(kMaxSourceTriangles));
+  p.indices.resize(ni);
+  for (std::uint32_t& i : p.indices) i = r.get<std::uint32_t>("source index");
+}
+
+void read_source(Reader& r, SourceGeometry& g) {
+  std::size_t vertices = 0, triangles = 0;
+  g.primitives.resize(r.count(kPrimitiveHeader, "source primitive count"));
+  for (SourcePrimitive& p : g.primitives) read_primitive(r, p, vertices, triangles);
+  g.materials.resize(r.count(kMaterialSize, "source material count"));
+  for (SourceMaterial& m : g.materials) {
+    m.name = r.string("source material name");
+    for (float& c : m.base_color) c = r.get<float>("source base colour");
+    m.base_color_image = r.get<std::int32_t>("source base colour image");
+    const auto mode = r.get<std::uint8_t>("source alpha mode");
+    if (mode > 2) r.fail("unknown source alpha mode " + std::to_string(mode));
+    m.alpha_mode = static_cast<AlphaMode>(mode);
+    m.alpha_cutoff = r.get<float>("source alpha cutoff");
+    const auto sided = r.get<std::uint8_t>("source double sided");
+    if (sided > 1) r.fail("source double sided must be 0 or 1, is " + std::to_string(sided));
+    m.double_sided = sided == 1;
+    m.metallic = r.get<float>("source metallic");
+    m.roughness = r.get<float>("source roughness");
+  }
+  g.images.resize(r.count(kImageHeader, "source image count"));
+  for (SourceImage& im : g.images) {
+    im.name = r.string("source image name");
+    im.mime_type = r.string("source image mime type");
+    im.bytes = r.string("source image bytes", std::numeric_limits<std::uint32_t>::max());
+  }
+}
+
 }  // namespace
 
 Tree decode_sylt(std::string_view bytes, std::string_view source) {
@@ -300,9 +428,10 @@ Tree decode_sylt(std::string_view bytes, std::string_view source) {
   Reader r(bytes.substr(0, bytes.size() - kChecksumSize), source);
   (void)r.get<std::uint64_t>("magic");
   const auto version = r.get<std::uint32_t>("version");
-  if (version != kSyltVersion)
+  if (version < kSyltOldestVersion || version > kSyltVersion)
     throw TreeFormatError(src + ": unsupported .sylt version " + std::to_string(version) +
-                          " (this build reads version " + std::to_string(kSyltVersion) + ")");
+                          " (this build reads versions " + std::to_string(kSyltOldestVersion) + " to " +
+                          std::to_string(kSyltVersion) + ")");
   // 2. Checksum over everything but the last 8 bytes: catches truncation and bit rot.
   {
     Reader tail(bytes.substr(bytes.size() - kChecksumSize), source);
@@ -317,6 +446,7 @@ Tree decode_sylt(std::string_view bytes, std::string_view source) {
   read_materials(r, t.materials);
   read_skeleton(r, t);
   read_foliage(r, t);
+  if (version >= 3) read_source(r, t.source);  // version 2 has no imported mesh
   if (r.left() != 0) r.fail(std::to_string(r.left()) + " unexpected bytes before the checksum");
   // 4. Semantic invariants.
   if (auto errors = validate_tree(t, 1); !errors.empty())

@@ -19,7 +19,11 @@
 namespace sylva::tree {
 
 inline constexpr char kSyltMagic[8] = {'S', 'Y', 'L', 'T', '\r', '\n', '\x1a', '\n'};
-inline constexpr std::uint32_t kSyltVersion = 2;  // 2: leaf kind, atlas grid and coverage, bark tint
+// The version encode_sylt writes. 2: leaf kind, atlas grid and coverage, bark tint; 3: the
+// imported mesh (Tree::source) after the needles. decode_sylt reads versions
+// kSyltOldestVersion..kSyltVersion (a version 2 file decodes with an empty source).
+inline constexpr std::uint32_t kSyltVersion = 3;
+inline constexpr std::uint32_t kSyltOldestVersion = 2;
 
 class TreeFormatError : public std::runtime_error {
  public:

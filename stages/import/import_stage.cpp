@@ -24,7 +24,13 @@ class ImportStage final : public Stage {
         "read a tree skeleton: QSM cylinder tables (TreeQSM, SimpleForest, rTwig, aRchi), "
         ".sylt, or a text skeleton";
     info_.params = {
-        Param::path("file").describe("the file to import"),
+        // A mesh file's companions (.bin, .mtl, textures) are below its folder: the whole folder
+        // is this node's input (docs/recipes.md). .glb and .ply are self-contained as a rule but
+        // may name external images too, so they are included; QSM tables, .sylt and text
+        // skeletons are read alone.
+        Param::path("file")
+            .with_folder_for({".gltf", ".glb", ".obj", ".fbx", ".dae", ".3ds", ".ply"})
+            .describe("the file to import (a mesh file brings its folder: docs/recipes.md)"),
         Param::choice("format", {"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt"}, "auto")
             .describe("file format; auto detects it from the content and the file name"),
         Param::string_list("columns", Value::List{})

@@ -150,6 +150,25 @@ class ReadFileStage final : public TestStage {
   }
 };
 
+// `readmodel`: like readfile, for a "model" whose .gltf brings its folder
+// (ParamSpec::with_folder_for); appends the file `sibling` (relative to the model's folder, read
+// through ctx.files()) when that parameter is not empty.
+class ReadModelStage final : public TestStage {
+ public:
+  explicit ReadModelStage(RunLog* log)
+      : TestStage("readmodel", "copies a model and a sibling (test stage)", log) {
+    info_.params = {Param::path("file").with_folder_for({".gltf"}).describe("model to copy"),
+                    Param::string("sibling", "").describe("a file beside it to append")};
+  }
+  void run(StageContext& ctx) const override {
+    record(ctx);
+    std::string s = ctx.files().read(ctx.param_file("file"));
+    if (!ctx.string("sibling").empty())
+      s += ctx.files().read(ctx.param_file("file").parent_path() / ctx.string("sibling"));
+    ctx.write_output("out.txt", s);
+  }
+};
+
 // `mesh_only`: accepts only "mesh" inputs (to test input type errors); never run.
 class MeshOnlyStage final : public TestStage {
  public:
@@ -214,6 +233,7 @@ inline void register_test_stages(StageRegistry& reg, RunLog* log) {
   reg.add(std::make_unique<TextStage>(log));
   reg.add(std::make_unique<ConcatStage>(log));
   reg.add(std::make_unique<ReadFileStage>(log));
+  reg.add(std::make_unique<ReadModelStage>(log));
   reg.add(std::make_unique<MeshOnlyStage>());
   reg.add(std::make_unique<NestedParallelStage>(log));
   reg.add(std::make_unique<ThrowingStage>());

@@ -74,7 +74,10 @@ void FakeStageContext::set_file(const std::string& param, const fs::path& path) 
   params_[param] = Value(path.string());
   bool is_dir = false;
   for (const ParamSpec& p : stage_.info().params)
-    if (p.name == param) is_dir = p.type == ParamType::kDir;
+    if (p.name == param) {
+      is_dir = p.type == ParamType::kDir;
+      if (auto folder = param_folder(p, path)) files_->allow_dir(*folder);  // as the engine does
+    }
   if (is_dir)
     files_->allow_dir(path);
   else

@@ -68,5 +68,38 @@ TEST(Stats, FormatJson) {
   EXPECT_NE(json.find("\"dbh_m\":0.342000"), std::string::npos);
 }
 
+// An imported mesh adds its summary after the tree's lines (exact text); a tree without one
+// prints none.
+TEST(Stats, FormatSourceText) {
+  Tree t = testing::sample_tree();
+  t.source = testing::sample_source();
+  t.source.materials[2].name = "Haze \"2\"";
+  const std::string text = format_stats(compute_stats(t));
+  const std::string plain = format_stats(compute_stats(testing::sample_tree()));
+  ASSERT_EQ(text.substr(0, plain.size()), plain);
+  EXPECT_EQ(text.substr(plain.size()),
+            "source: 3 primitives, 4 triangles, 10 vertices\n"
+            "source material 0: \"Bark\" (opaque)\n"
+            "source material 1: \"Leaves\" (mask)\n"
+            "source material 2: \"Haze \\\"2\\\"\" (blend)\n"
+            "source image 0: \"bark.png\" (image/png, 13 bytes)\n"
+            "source image 1: \"leaf.jpg\" (image/jpeg, 8 bytes)\n");
+  EXPECT_EQ(plain.find("source"), std::string::npos);
+}
+
+TEST(Stats, FormatSourceJson) {
+  Tree t = testing::sample_tree();
+  t.source = testing::sample_source();
+  const std::string json = format_stats_json(compute_stats(t));
+  const std::string plain = format_stats_json(compute_stats(testing::sample_tree()));
+  ASSERT_EQ(json.substr(0, plain.size() - 1), plain.substr(0, plain.size() - 1));
+  EXPECT_EQ(json.substr(plain.size() - 1),
+            ",\"source\":{\"primitives\":3,\"triangles\":4,\"vertices\":10,\"materials\":["
+            "{\"name\":\"Bark\",\"alpha_mode\":\"opaque\"},{\"name\":\"Leaves\",\"alpha_mode\":\"mask\"},"
+            "{\"name\":\"Haze\",\"alpha_mode\":\"blend\"}],\"images\":["
+            "{\"name\":\"bark.png\",\"mime_type\":\"image/png\",\"bytes\":13},"
+            "{\"name\":\"leaf.jpg\",\"mime_type\":\"image/jpeg\",\"bytes\":8}]}}");
+}
+
 }  // namespace
 }  // namespace sylva::tree
