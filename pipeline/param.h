@@ -88,8 +88,9 @@ struct ParamSpec {
 };
 
 // The most regular files a with_folder_for() folder may hold (every subdirectory counted): a
-// model at the top of a large tree would otherwise hash all of it into every key. More is
-// refused when the node's key is computed ("... holds more than 2000 files ...").
+// model at the top of a large tree would otherwise hash all of it into every key. More is a
+// recipe error at the parameter, and (a folder that grew since loading) a node failure when
+// the key is computed ("... holds more than 2000 files ...").
 inline constexpr std::size_t kMaxFolderFiles = 2000;
 
 // The folder `file` brings along under `spec` (its parent directory), or nullopt when spec has

@@ -35,6 +35,26 @@ fs::path joined_normal(const std::string& file, const std::string& text) {
   return plain ? fs::path(std::move(s)) : fs::path(s).lexically_normal();
 }
 
+// True if `dir` holds more than `max` regular files, all subdirectories counted; stops at the
+// first one past `max`, so a model at the top of a large tree costs a bounded walk.
+bool more_files_than(FileSystem& fsys, const fs::path& dir, std::size_t max) {
+  std::size_t n = 0;
+  std::vector<fs::path> todo{dir};
+  while (!todo.empty()) {
+    const fs::path d = std::move(todo.back());
+    todo.pop_back();
+    for (const auto& name : fsys.list(d)) {
+      auto st = fsys.stat(d / name);
+      if (!st || st->is_other) continue;
+      if (st->is_dir)
+        todo.push_back(d / name);
+      else if (++n > max)
+        return true;
+    }
+  }
+  return false;
+}
+
 std::optional<std::int64_t> scalar_int(const RawNode& raw) {
   if (!raw.is_scalar() || raw.text.empty()) return std::nullopt;
   std::int64_t v = 0;
@@ -172,6 +192,16 @@ std::optional<Value> ParamChecker::convert_path(const ParamSpec& spec, const Raw
                    excerpt(p.string(), 200) + "', which " +
                    (st ? "is not a " + std::string(want_dir ? "directory" : "file")
                        : std::string("does not exist")));
+    return std::nullopt;
+  }
+  // A model file's folder enters the key whole (ParamSpec::with_folder_for); the engine refuses
+  // a large one when it computes the key, and this says so first, at the parameter.
+  if (auto folder = param_folder(spec, p); folder && more_files_than(fs_, *folder, kMaxFolderFiles)) {
+    src_.error(
+        diags_, raw.loc,
+        what + ": the folder '" + excerpt(folder->string(), 200) + "' of this " + p.extension().string() +
+            " file holds more than " + std::to_string(kMaxFolderFiles) +
+            " files, and a model's whole folder enters the node's key: give the model a folder of its own");
     return std::nullopt;
   }
   if (files) {

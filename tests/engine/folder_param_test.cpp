@@ -127,21 +127,29 @@ TEST_F(FolderParamTest, ReadingOutsideIsRefused) {
       << error;
 }
 
-// A model in a folder of more than kMaxFolderFiles files fails its node before anything is
-// hashed; at the limit it builds.
+// A model in a folder of more than kMaxFolderFiles files is a recipe error at the parameter;
+// at the limit it builds. A file added after loading is caught when the key is computed, before
+// anything in the folder is hashed.
 TEST_F(FolderParamTest, FolderOverTheLimitIsRefused) {
   put("/p/tree.gltf", "G");
   for (std::size_t i = 1; i < kMaxFolderFiles - 1; ++i) fs_.put("/p/d/f" + std::to_string(i), "x");
   // The folder /p holds r.yaml, tree.gltf and the files above: kMaxFolderFiles in all.
-  EXPECT_EQ(status(load("tree.gltf")), NodeStatus::kBuilt);
+  Recipe r = load("tree.gltf");
+  EXPECT_EQ(status(r), NodeStatus::kBuilt);
   fs_.put("/p/d/one_more", "x");
   fs_.reads.clear();
   std::string error;
-  EXPECT_EQ(status(load("tree.gltf"), &error), NodeStatus::kFailed);
+  EXPECT_EQ(status(r, &error), NodeStatus::kFailed);
   EXPECT_EQ(error,
             "cannot read the folder '/p' of '/p/tree.gltf' (parameter 'file'): holds more than 2000 files; a "
             ".gltf file brings its whole folder into the node's key: give the model a folder of its own");
   for (const std::string& read : fs_.reads) EXPECT_NE(read.rfind("/p/d/", 0), 0u) << read;  // nothing hashed
+  Diagnostics d;
+  EXPECT_FALSE(load_recipe("/p/r.yaml", reg_, fs_, d));
+  EXPECT_EQ(
+      d.str().substr(0, d.str().find('\n')),
+      "/p/r.yaml:6:19: error: parameter 'file': the folder '/p' of this .gltf file holds more than 2000 "
+      "files, and a model's whole folder enters the node's key: give the model a folder of its own");
 }
 
 }  // namespace
