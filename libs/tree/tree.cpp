@@ -122,6 +122,9 @@ std::vector<std::string> validate_tree(const Tree& tree, std::size_t max_errors)
   for (std::size_t i = 0; i < tree.branches.size() && !e.full(); ++i) check_branch(tree, i, e);
   for (std::size_t i = 0; i < tree.leaves.size() && !e.full(); ++i) check_leaf(tree, i, e);
   for (std::size_t i = 0; i < tree.needles.size() && !e.full(); ++i) check_needle(tree, i, e);
+  // The imported mesh's messages start with "source ..." and are kept as they are.
+  if (!e.full())
+    for (std::string& m : validate_source_geometry(tree.source, e.max - e.list.size())) e.fail(std::move(m));
   return std::move(e.list);
 }
 

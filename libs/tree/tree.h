@@ -22,6 +22,7 @@
 //   - materials: the leaf atlas has 1..16 columns and rows, its cell coverage list is empty or
 //     holds one value in [0, 1] per cell, the bark tint is in [0, 1] with from <= to;
 //   - the name and the texture references are at most kMaxTextBytes bytes (the .sylt limit).
+//   - source: the imported mesh's invariants (source_geometry.h, validate_source_geometry()).
 // A child's first node is its first cross-section, *not* the attachment point: the segment from
 // the attachment point to nodes[0] is implicit (Nystad's DAG edge from the prepended node to the
 // child's root segment). For generated trees parent_t is 0 and the attachment node is a
