@@ -38,16 +38,18 @@ TEST(ImportStage, Declaration) {
   EXPECT_EQ(info.inputs.max, 0);
   std::vector<std::string> names;
   for (const auto& p : info.params) names.push_back(p.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"file", "format", "columns", "up", "scale", "recenter"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"file", "format", "columns", "up", "scale", "recenter", "node"}));
   EXPECT_TRUE(info.params[0].required());
   EXPECT_EQ(info.params[1].default_value, Value("auto"));
   EXPECT_EQ(info.params[1].choices,
-            (std::vector<std::string>{"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt"}));
+            (std::vector<std::string>{"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt", "gltf", "obj",
+                                      "fbx", "dae", "3ds", "ply"}));
   for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
   // The key changes with the .sylt format it writes: a cache never serves an older format.
   EXPECT_EQ(info.version % 10, static_cast<int>(tree::kSyltVersion));
-  EXPECT_GE(info.version, 22);  // was 1 while .sylt went to version 2
-  EXPECT_EQ(info.outputs, (std::vector<std::string>{"tree.sylt"}));
+  EXPECT_GE(info.version, 32);  // 3: mesh formats and import_report.json
+  EXPECT_EQ(info.outputs, (std::vector<std::string>{"tree.sylt", "import_report.json"}));
 }
 
 TEST(ImportStage, WritesTreeSylt) {
@@ -58,7 +60,7 @@ TEST(ImportStage, WritesTreeSylt) {
   const auto stage = make_import_stage();
   FakeContext ctx(*stage, file, out.path());
   stage->run(ctx);
-  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt"}));
+  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt", "import_report.json"}));
   const tree::Tree t = tree::read_sylt(out / "tree.sylt");
   EXPECT_EQ(t, import::import_tree(test::read_file(file), file.string(), {}));
   EXPECT_NEAR(tree::compute_stats(t).height, 3.7, 0.1);
