@@ -61,6 +61,32 @@ void clamp_material(tree::SourceMaterial& m, std::string_view source, std::vecto
                        "': colour, metallic, roughness or alpha cutoff outside [0, 1], clamped");
 }
 
+// Materials no primitive uses (Assimp's OBJ reader adds a "DefaultMaterial") and images no
+// kept material uses go; the indices that remain are renumbered in order.
+void drop_unused(tree::SourceGeometry& g) {
+  std::vector<std::int64_t> material_slot(g.materials.size(), -1), image_slot(g.images.size(), -1);
+  for (const tree::SourcePrimitive& p : g.primitives) material_slot[p.material] = 0;
+  std::vector<tree::SourceMaterial> materials;
+  for (std::size_t i = 0; i < g.materials.size(); ++i) {
+    if (material_slot[i] < 0) continue;
+    material_slot[i] = std::int64_t(materials.size());
+    materials.push_back(std::move(g.materials[i]));
+  }
+  std::vector<tree::SourceImage> images;
+  for (tree::SourceMaterial& m : materials) {
+    if (m.base_color_image < 0) continue;
+    std::int64_t& slot = image_slot[std::size_t(m.base_color_image)];
+    if (slot < 0) {
+      slot = std::int64_t(images.size());
+      images.push_back(std::move(g.images[std::size_t(m.base_color_image)]));
+    }
+    m.base_color_image = std::int32_t(slot);
+  }
+  for (tree::SourcePrimitive& p : g.primitives) p.material = std::uint32_t(material_slot[p.material]);
+  g.materials = std::move(materials);
+  g.images = std::move(images);
+}
+
 }  // namespace
 
 void check_mesh_limits(std::string_view source, std::size_t vertices, std::size_t triangles,
@@ -120,6 +146,7 @@ void finish_geometry(MeshImport& m, std::string_view source) {
   if (!emptied.empty())
     m.warnings.push_back(std::string(source) + ": warning: " + std::to_string(emptied.size()) +
                          " primitive(s) without triangles dropped: " + quoted_list(emptied));
+  drop_unused(g);
   for (tree::SourceMaterial& mat : g.materials) clamp_material(mat, source, m.warnings);
   m.facts.vertices = m.facts.triangles = 0;
   for (const tree::SourcePrimitive& p : g.primitives) {

@@ -22,7 +22,8 @@ void check_mesh_limits(std::string_view source, std::size_t vertices, std::size_
 //     the others normalised; non-finite texture coordinates: that primitive's uvs dropped;
 //   - degenerate triangles (a vertex index repeated, or three positions on one line, exactly):
 //     dropped, one warning with the count and the primitives they were in;
-//   - primitives left without triangles: dropped (one warning naming them);
+//   - primitives left without triangles: dropped (one warning naming them); then materials no
+//     primitive uses and images no material uses (renumbered in order, silently);
 //   - material base colour, metallic, roughness and alpha cutoff outside [0, 1]: clamped, a
 //     warning per material naming it.
 // Then fills m.facts.vertices and m.facts.triangles.
