@@ -138,5 +138,65 @@ TEST(ImportStage, MissingFile) {
   }
 }
 
+// A mesh (an OBJ on the in-memory file system) writes tree.sylt and an import report with its
+// warnings (the file by its name) and facts; `up` and `scale` reach the mesh reader.
+TEST(ImportStage, MeshWritesReport) {
+  test::FakeFileSystem fake;
+  fake.put("/t/tree.obj", "v 0 0 0\nv 1 0 0\nv 1 0 2\nv 0 0 2\nf 1 2 3 4\n");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, "/t/tree.obj", "/t/out", {{"up", "z"}, {"scale", 2.0}}, &fake);
+  stage->run(ctx);
+  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt", "import_report.json"}));
+  EXPECT_EQ(ctx.output("import_report.json"),
+            "{\n"
+            "  \"file\": \"tree.obj\",\n"
+            "  \"format\": \"obj\",\n"
+            "  \"mesh\": {\n"
+            "    \"height_m\": 4.0,\n"
+            "    \"images\": 0,\n"
+            "    \"materials\": 1,\n"
+            "    \"primitives\": 1,\n"
+            "    \"triangles\": 2,\n"
+            "    \"unit\": \"m\",\n"
+            "    \"unit_scale\": 1.0,\n"
+            "    \"up_axis\": \"z\",\n"
+            "    \"vertices\": 4\n"
+            "  },\n"
+            "  \"warnings\": [\n"
+            "    \"tree.obj: warning: 1 quad(s) and 0 polygon(s) of more than 4 sides triangulated\"\n"
+            "  ]\n"
+            "}\n");
+}
+
+// Non-mesh formats write the report too (no warnings), so the output list is fixed.
+TEST(ImportStage, QsmWritesEmptyReport) {
+  test::FakeFileSystem fake;
+  fake.put("/t/t.csv",
+           "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
+           "0,-1,1,2,3,1,2,4,0.001\n");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, "/t/t.csv", "/t/out", {}, &fake);
+  stage->run(ctx);
+  EXPECT_EQ(ctx.output("import_report.json"),
+            "{\n  \"file\": \"t.csv\",\n  \"format\": \"qsm\",\n  \"warnings\": []\n}\n");
+  // up: auto is z for a QSM table, as before.
+  EXPECT_EQ(tree::decode_sylt(ctx.output("tree.sylt")).branches[0].nodes[1].position, (tree::Vec3{0, 1, 0}));
+}
+
+// A mesh the reader refuses is a StageError naming the file; nothing is declared.
+TEST(ImportStage, BadMeshIsStageError) {
+  test::FakeFileSystem fake;
+  fake.put("/t/bad.glb", "glTFxxxx");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, "/t/bad.glb", "/t/out", {}, &fake);
+  try {
+    stage->run(ctx);
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_STREQ(e.what(), "/t/bad.glb: error: invalid glTF: Too short data size for glTF Binary.");
+  }
+  EXPECT_TRUE(ctx.declared.empty());
+}
+
 }  // namespace
 }  // namespace sylva
