@@ -11,6 +11,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstring>
@@ -34,21 +35,68 @@ bool png_with_alpha(const std::string& bytes) {
   return bytes.size() > 25 && mime_of(bytes) == "image/png" && (bytes[25] == 4 || bytes[25] == 6);
 }
 
-// 1. "element <name> <count>" lines of a PLY header: each element takes at least one byte.
-void check_ply_header(const std::string& bytes, std::string_view source) {
-  const std::size_t end = bytes.find("end_header");
+// 1. A PLY header Assimp 5.2 reads without spinning or over-allocating (its reader loops on a
+// header line it does not expect): printable ASCII; "ply"; then only "format <ascii|binary_*>
+// 1.0", "comment ...", "obj_info ...", "element <name> <count>", "property <type> <name>" and
+// "property list <type> <type> <name>" lines, up to a line that is exactly "end_header"; element
+// counts the file's bytes can hold (at least one byte each).
+std::vector<std::string> words(const std::string& line) {
+  std::vector<std::string> out;
   std::size_t at = 0;
-  while (at < bytes.size() && at < end) {
-    std::size_t nl = bytes.find('\n', at);
-    if (nl == std::string::npos) nl = bytes.size();
-    const std::string line = bytes.substr(at, nl - at);
+  while (at < line.size()) {
+    const std::size_t sp = line.find(' ', at);
+    const std::size_t end = sp == std::string::npos ? line.size() : sp;
+    if (end > at) out.push_back(line.substr(at, end - at));
+    at = end + 1;
+  }
+  return out;
+}
+
+bool ply_type(const std::string& t) {
+  static const char* const kTypes[] = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
+                                       "float", "double", "int8",    "uint8",  "int16", "uint16",
+                                       "int32", "uint32", "float32", "float64"};
+  return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+}
+
+void check_ply_header(const std::string& bytes, std::string_view source) {
+  std::size_t at = 0;
+  for (int number = 1;; ++number) {
+    const std::size_t nl = bytes.find('\n', at);
+    if (nl == std::string::npos || number > 10000) throw MeshError(source, "PLY header: no end_header line");
+    std::string line = bytes.substr(at, nl - at);
     at = nl + 1;
-    if (line.rfind("element ", 0) != 0) continue;
-    const std::size_t sp = line.rfind(' ');
-    const double count = std::strtod(line.c_str() + sp + 1, nullptr);
-    if (!(count >= 0) || count > double(bytes.size()))
-      throw MeshError(source, "PLY header: '" + line + "' declares more elements than the file's " +
-                                  std::to_string(bytes.size()) + " bytes can hold");
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const auto bad = [&](const std::string& why) {
+      return MeshError(source, "PLY header line " + std::to_string(number) + ": " + why);
+    };
+    if (std::any_of(line.begin(), line.end(), [](char c) { return c < 32 || c > 126; }))
+      throw bad("a byte that is not printable ASCII");
+    const std::vector<std::string> w = words(line);
+    if (number == 1) {
+      if (line != "ply") throw bad("not 'ply'");
+      continue;
+    }
+    if (line == "end_header") return;
+    const std::string keyword = w.empty() ? "" : w[0];
+    if (keyword == "comment" || keyword == "obj_info") continue;
+    if (keyword == "format") {
+      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
+        throw bad("'" + line + "' is not a PLY format");
+    } else if (keyword == "property") {
+      const bool scalar = w.size() == 3 && ply_type(w[1]);
+      const bool list = w.size() == 5 && w[1] == "list" && ply_type(w[2]) && ply_type(w[3]);
+      if (!scalar && !list) throw bad("'" + line + "' is not a PLY property");
+    } else if (keyword == "element") {
+      char* stop = nullptr;
+      const double count = w.size() == 3 ? std::strtod(w[2].c_str(), &stop) : -1;
+      if (w.size() != 3 || *stop != '\0' || !(count >= 0)) throw bad("'" + line + "' is not a PLY element");
+      if (count > double(bytes.size()))
+        throw MeshError(source, "PLY header: '" + line + "' declares more elements than the file's " +
+                                    std::to_string(bytes.size()) + " bytes can hold");
+    } else {
+      throw bad("unknown keyword '" + keyword + "'");
+    }
   }
 }
 
@@ -257,15 +305,29 @@ class Reader {
   std::size_t vertices_ = 0, triangles_ = 0;
 };
 
-// Quads and n-gons in the file, before Triangulate.
+// Quads and n-gons in the file, before Triangulate. Also sets each mesh's primitive types from
+// its faces: Debian's Assimp is built with its internal assertions on, which abort the process,
+// and Triangulate asserts that a mesh flagged as having polygons has one (a malformed OBJ can
+// break that).
 void count_polygons(const aiScene& scene, std::string_view source, std::vector<std::string>& warnings) {
   std::size_t quads = 0, ngons = 0;
-  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
-    for (unsigned f = 0; f < scene.mMeshes[m]->mNumFaces; ++f) {
-      const unsigned n = scene.mMeshes[m]->mFaces[f].mNumIndices;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh& mesh = *scene.mMeshes[m];
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const unsigned n = mesh.mFaces[f].mNumIndices;
+      if (n == 0)
+        throw MeshError(source,
+                        "mesh " + std::to_string(m) + ": face " + std::to_string(f) + " has no vertices");
       quads += n == 4;
       ngons += n > 4;
+      types |= n == 1   ? aiPrimitiveType_POINT
+               : n == 2 ? aiPrimitiveType_LINE
+               : n == 3 ? aiPrimitiveType_TRIANGLE
+                        : aiPrimitiveType_POLYGON;
     }
+    mesh.mPrimitiveTypes = types;
+  }
   if (quads + ngons > 0)
     warnings.push_back(std::string(source) + ": warning: " + std::to_string(quads) + " quad(s) and " +
                        std::to_string(ngons) + " polygon(s) of more than 4 sides triangulated");

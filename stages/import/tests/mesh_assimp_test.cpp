@@ -6,6 +6,7 @@
 #include "stages/import/mesh_frame.h"
 #include "stages/import/mesh_import.h"
 #include "stages/import/tests/mesh_test_files.h"
+#include "tests/support/test_support.h"
 
 namespace sylva::import {
 namespace {
@@ -123,6 +124,20 @@ TEST(MeshAssimp, BadInputNamesTheFile) {
       "bytes can hold");
   EXPECT_EQ(error_of("Kaydara FBX Binary  ", "fbx", "cut.fbx"),
             "cut.fbx: error: FBX-Tokenize (offset 0x0) file is too short");
+}
+
+// Collada: Assimp applies the file's <unit> and Z_UP itself; the trunk named by its node.
+TEST(MeshAssimp, ColladaUnitAndAxisApplied) {
+  MapFiles files;
+  const std::string dae =
+      test::read_file("stages/import/tests/data/triangle.dae");  // tests run in the source tree
+  MeshOptions o;
+  o.recenter = false;
+  const MeshImport m = import_mesh(dae, "dae", "/m/t.dae", "t.dae", files, o);
+  ASSERT_EQ(m.geometry.primitives.size(), 1u);
+  EXPECT_NEAR(m.facts.height, 0.01, 1e-7);  // z = 1 cm became y = 0.01 m
+  EXPECT_EQ(m.facts.up, 'y');
+  EXPECT_EQ(m.geometry.primitives[0].name, "s/n/g");  // Collada nodes by their ids
 }
 
 }  // namespace
