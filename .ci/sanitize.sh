@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 build=${1:-out/build-san}
 jobs=${JOBS:-2}
 seconds=${FUZZ_SECONDS:-20}
-fuzzers=(fuzz_recipe fuzz_qsm fuzz_skeleton fuzz_sylt fuzz_gltf fuzz_camera fuzz_lodchain)
+fuzzers=(fuzz_recipe fuzz_qsm fuzz_skeleton fuzz_sylt fuzz_gltf fuzz_camera fuzz_lodchain fuzz_mesh_gltf fuzz_mesh_assimp)
 tests=(sylva_tree_tests sylva_import_tests sylva_engine_test)
 start=$(date +%s)
 

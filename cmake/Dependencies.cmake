@@ -15,6 +15,7 @@ find_package(PNG REQUIRED)
 find_package(draco REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(meshoptimizer REQUIRED)
+find_package(assimp REQUIRED)
 find_package(OpenGL REQUIRED COMPONENTS OpenGL EGL)
 find_package(Threads REQUIRED)
 

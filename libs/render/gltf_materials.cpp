@@ -89,25 +89,6 @@ Texture make_texture(const GltfModel& in, int texture_index) {
   return out;
 }
 
-// KHR_texture_transform of a texture reference (UvTransform); its texCoord replaces `texcoord_set`.
-UvTransform texture_transform(const tinygltf::TextureInfo& info, int& texcoord_set) {
-  UvTransform t;
-  const auto it = info.extensions.find(kTextureTransform);
-  if (it == info.extensions.end() || !it->second.IsObject()) return t;
-  const tinygltf::Value& e = it->second;
-  auto pair = [&](const char* key, float* out) {
-    if (!e.Has(key) || !e.Get(key).IsArray() || e.Get(key).ArrayLen() != 2) return;
-    for (int k = 0; k < 2; ++k) out[k] = float(e.Get(key).Get(k).GetNumberAsDouble());
-  };
-  pair("offset", t.offset);
-  pair("scale", t.scale);
-  if (e.Has("rotation") && e.Get("rotation").IsNumber())
-    t.rotation = float(e.Get("rotation").GetNumberAsDouble());
-  if (e.Has("texCoord") && e.Get("texCoord").IsInt()) texcoord_set = e.Get("texCoord").GetNumberAsInt();
-  t.identity = false;
-  return t;
-}
-
 }  // namespace
 
 void check_images(const GltfModel& in, const std::string& warnings, const std::filesystem::path& base_dir,
@@ -128,6 +109,24 @@ void check_images(const GltfModel& in, const std::string& warnings, const std::f
                 (why.empty() ? std::string() : ": " + why);
   }
   if (!problems.empty()) in.fail(problems);
+}
+
+UvTransform texture_transform(const tinygltf::TextureInfo& info, int& texcoord_set) {
+  UvTransform t;
+  const auto it = info.extensions.find(kTextureTransform);
+  if (it == info.extensions.end() || !it->second.IsObject()) return t;
+  const tinygltf::Value& e = it->second;
+  auto pair = [&](const char* key, float* out) {
+    if (!e.Has(key) || !e.Get(key).IsArray() || e.Get(key).ArrayLen() != 2) return;
+    for (int k = 0; k < 2; ++k) out[k] = float(e.Get(key).Get(k).GetNumberAsDouble());
+  };
+  pair("offset", t.offset);
+  pair("scale", t.scale);
+  if (e.Has("rotation") && e.Get("rotation").IsNumber())
+    t.rotation = float(e.Get("rotation").GetNumberAsDouble());
+  if (e.Has("texCoord") && e.Get("texCoord").IsInt()) texcoord_set = e.Get("texCoord").GetNumberAsInt();
+  t.identity = false;
+  return t;
 }
 
 std::vector<MaterialUv> load_materials(const GltfModel& in, Scene& scene) {

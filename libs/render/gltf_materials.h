@@ -34,6 +34,10 @@ struct MaterialUv {
   UvTransform transform;
 };
 
+// KHR_texture_transform of a texture reference (identity without one); the extension's texCoord,
+// when it names one, replaces `texcoord_set`. Also used by stage import's glTF reader.
+UvTransform texture_transform(const tinygltf::TextureInfo& info, int& texcoord_set);
+
 // Every image must have decoded (tinygltf loads them with the file); all the missing ones are
 // named in one message, with tinygltf's `warnings` about each, or "no such file <path>" for an
 // external image (a URI relative to `base_dir`) that is not there.

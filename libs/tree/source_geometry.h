@@ -55,10 +55,10 @@ struct SourceMaterial {
 struct SourcePrimitive {
   std::string name;
   std::uint32_t material = 0;
-  std::vector<Vec3f> positions;               // m, tree space
-  std::vector<Vec3f> normals;                 // empty or one unit vector per position
-  std::vector<std::array<float, 2>> uvs;      // empty or one per position; texture transform applied
-  std::vector<std::uint32_t> indices;         // triangle list, counter-clockwise front faces
+  std::vector<Vec3f> positions;           // m, tree space
+  std::vector<Vec3f> normals;             // empty or one unit vector per position
+  std::vector<std::array<float, 2>> uvs;  // empty or one per position; texture transform applied
+  std::vector<std::uint32_t> indices;     // triangle list, counter-clockwise front faces
   friend bool operator==(const SourcePrimitive&, const SourcePrimitive&) = default;
 };
 

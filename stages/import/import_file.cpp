@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include "libs/tree/sylt_format.h"
 #include "stages/import/import_error.h"
+#include "stages/import/mesh_import.h"
 #include "stages/import/qsm_table.h"
 #include "stages/import/skeleton_text.h"
 #include "stages/import/text_scan.h"
@@ -34,6 +36,38 @@ bool point_cloud(std::string_view bytes, std::string_view file_name) {
   return false;
 }
 
+// A PLY whose header declares faces ("element face <n>", n > 0) is a mesh.
+bool ply_mesh(std::string_view bytes) {
+  if (!(bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n")) return false;
+  const std::string_view header = bytes.substr(0, std::min(bytes.find("end_header"), std::size_t(64 * 1024)));
+  const std::size_t at = header.find("element face ");
+  if (at == std::string_view::npos) return false;
+  const std::string_view count = header.substr(at + 13, 1);
+  return !count.empty() && count[0] >= '1' && count[0] <= '9';
+}
+
+// A JSON object with an "asset" member near its start: a .gltf.
+bool gltf_json(std::string_view bytes) {
+  std::size_t i = 0;
+  if (bytes.substr(0, 3) == "\xEF\xBB\xBF") i = 3;
+  while (i < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[i]))) ++i;
+  return i < bytes.size() && bytes[i] == '{' &&
+         bytes.substr(0, 4096).find("\"asset\"") != std::string_view::npos;
+}
+
+// Mesh formats by content or name; nullopt when neither says.
+std::optional<Format> mesh_format(std::string_view bytes, std::string_view file_name) {
+  if (bytes.substr(0, 4) == "glTF" || gltf_json(bytes)) return Format::kGltf;
+  if (ply_mesh(bytes)) return Format::kPly;
+  if (bytes.substr(0, 18) == "Kaydara FBX Binary") return Format::kFbx;
+  static constexpr std::pair<std::string_view, Format> kByName[] = {
+      {".gltf", Format::kGltf}, {".glb", Format::kGltf}, {".obj", Format::kObj},
+      {".fbx", Format::kFbx},   {".dae", Format::kDae},  {".3ds", Format::k3ds}};
+  for (const auto& [ext, f] : kByName)
+    if (ends_with(file_name, ext)) return f;
+  return std::nullopt;
+}
+
 constexpr const char* kNoPointClouds =
     "point clouds are not supported yet: reconstruct a QSM cylinder table from the scan first (e.g. "
     "with TreeQSM or SimpleForest) and import that";
@@ -50,9 +84,23 @@ const char* format_name(Format f) {
       return "skeleton_txt";
     case Format::kSylt:
       return "sylt";
+    case Format::kGltf:
+      return "gltf";
+    case Format::kObj:
+      return "obj";
+    case Format::kFbx:
+      return "fbx";
+    case Format::kDae:
+      return "dae";
+    case Format::k3ds:
+      return "3ds";
+    case Format::kPly:
+      return "ply";
   }
   return "?";
 }
+
+bool is_mesh_format(Format f) { return f >= Format::kGltf; }
 
 Format detect_format(std::string_view bytes, std::string_view file_name, bool has_columns,
                      std::string_view source) {
@@ -60,6 +108,7 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
       std::memcmp(bytes.data(), tree::kSyltMagic, sizeof tree::kSyltMagic) == 0)
     return Format::kSylt;
   if (ends_with(file_name, ".sylt")) return Format::kSylt;
+  if (const auto mesh = mesh_format(bytes, file_name)) return *mesh;
   if (point_cloud(bytes, file_name)) throw ImportError(source, 1, kNoPointClouds);
   if (ends_with(file_name, ".skel")) return Format::kSkeletonText;
   if (has_columns) return Format::kTreeQsmText;
@@ -89,26 +138,29 @@ Format detect_format(std::string_view bytes, std::string_view file_name, bool ha
   throw ImportError(source, std::max(1, reader.line_number()), "empty file: nothing to import");
 }
 
-tree::Tree import_tree(std::string_view bytes, std::string_view source, const ImportOptions& options) {
-  Format format;
-  if (options.format == "auto")
+ImportResult import_file(std::string_view bytes, std::string_view source, const ImportOptions& options) {
+  ImportResult result;
+  Format& format = result.format;
+  if (options.format == "auto") {
     format = detect_format(bytes, source, !options.columns.empty(), source);
-  else if (options.format == "qsm")
-    format = Format::kQsm;
-  else if (options.format == "treeqsm_txt")
-    format = Format::kTreeQsmText;
-  else if (options.format == "skeleton_txt")
-    format = Format::kSkeletonText;
-  else if (options.format == "sylt")
-    format = Format::kSylt;
-  else
-    throw std::invalid_argument("unknown import format '" + options.format + "'");
+  } else {
+    bool known = false;
+    for (Format f : {Format::kQsm, Format::kTreeQsmText, Format::kSkeletonText, Format::kSylt, Format::kGltf,
+                     Format::kObj, Format::kFbx, Format::kDae, Format::k3ds, Format::kPly})
+      if (options.format == format_name(f)) {
+        format = f;
+        known = true;
+      }
+    if (!known) throw std::invalid_argument("unknown import format '" + options.format + "'");
+  }
 
   switch (format) {
     case Format::kSylt:
-      return tree::decode_sylt(bytes, source);
+      result.tree = tree::decode_sylt(bytes, source);
+      return result;
     case Format::kSkeletonText:
-      return parse_skeleton_text(bytes, source);
+      result.tree = parse_skeleton_text(bytes, source);
+      return result;
     case Format::kQsm:
     case Format::kTreeQsmText: {
       TableOptions table_options;
@@ -119,10 +171,31 @@ tree::Tree import_tree(std::string_view bytes, std::string_view source, const Im
             "treeqsm_txt (or auto), not qsm, whose header names the columns");
       table_options.columns = options.columns;
       const CylinderTable table = parse_cylinder_table(bytes, source, table_options);
-      return qsm_to_tree(table, source, options.qsm);
+      result.tree = qsm_to_tree(table, source, options.qsm);
+      return result;
+    }
+    case Format::kGltf:
+    case Format::kObj:
+    case Format::kFbx:
+    case Format::kDae:
+    case Format::k3ds:
+    case Format::kPly: {
+      MeshImport m =
+          import_mesh(std::string(bytes), format_name(format), std::filesystem::path(std::string(source)),
+                      source, options.files ? *options.files : fileio::disk_files(), options.mesh);
+      result.tree.name =
+          std::string(format_name(format)) + " mesh, " + std::to_string(m.facts.triangles) + " triangles";
+      result.tree.source = std::move(m.geometry);
+      result.warnings = std::move(m.warnings);
+      result.mesh = std::move(m.facts);
+      return result;
     }
   }
   throw std::logic_error("unreachable");
+}
+
+tree::Tree import_tree(std::string_view bytes, std::string_view source, const ImportOptions& options) {
+  return import_file(bytes, source, options).tree;
 }
 
 }  // namespace sylva::import

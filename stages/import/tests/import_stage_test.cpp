@@ -38,16 +38,18 @@ TEST(ImportStage, Declaration) {
   EXPECT_EQ(info.inputs.max, 0);
   std::vector<std::string> names;
   for (const auto& p : info.params) names.push_back(p.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"file", "format", "columns", "up", "scale", "recenter"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"file", "format", "columns", "up", "scale", "recenter", "node"}));
   EXPECT_TRUE(info.params[0].required());
   EXPECT_EQ(info.params[1].default_value, Value("auto"));
   EXPECT_EQ(info.params[1].choices,
-            (std::vector<std::string>{"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt"}));
+            (std::vector<std::string>{"auto", "qsm", "treeqsm_txt", "skeleton_txt", "sylt", "gltf", "obj",
+                                      "fbx", "dae", "3ds", "ply"}));
   for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
   // The key changes with the .sylt format it writes: a cache never serves an older format.
   EXPECT_EQ(info.version % 10, static_cast<int>(tree::kSyltVersion));
-  EXPECT_GE(info.version, 22);  // was 1 while .sylt went to version 2
-  EXPECT_EQ(info.outputs, (std::vector<std::string>{"tree.sylt"}));
+  EXPECT_GE(info.version, 32);  // 3: mesh formats and import_report.json
+  EXPECT_EQ(info.outputs, (std::vector<std::string>{"tree.sylt", "import_report.json"}));
 }
 
 TEST(ImportStage, WritesTreeSylt) {
@@ -58,7 +60,7 @@ TEST(ImportStage, WritesTreeSylt) {
   const auto stage = make_import_stage();
   FakeContext ctx(*stage, file, out.path());
   stage->run(ctx);
-  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt"}));
+  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt", "import_report.json"}));
   const tree::Tree t = tree::read_sylt(out / "tree.sylt");
   EXPECT_EQ(t, import::import_tree(test::read_file(file), file.string(), {}));
   EXPECT_NEAR(tree::compute_stats(t).height, 3.7, 0.1);
@@ -134,6 +136,66 @@ TEST(ImportStage, MissingFile) {
     EXPECT_EQ(std::string(e.what()),
               "cannot read '/t/nope.csv' (parameter 'file'): No such file or directory");
   }
+}
+
+// A mesh (an OBJ on the in-memory file system) writes tree.sylt and an import report with its
+// warnings (the file by its name) and facts; `up` and `scale` reach the mesh reader.
+TEST(ImportStage, MeshWritesReport) {
+  test::FakeFileSystem fake;
+  fake.put("/t/tree.obj", "v 0 0 0\nv 1 0 0\nv 1 0 2\nv 0 0 2\nf 1 2 3 4\n");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, "/t/tree.obj", "/t/out", {{"up", "z"}, {"scale", 2.0}}, &fake);
+  stage->run(ctx);
+  EXPECT_EQ(ctx.declared, (std::set<std::string>{"tree.sylt", "import_report.json"}));
+  EXPECT_EQ(ctx.output("import_report.json"),
+            "{\n"
+            "  \"file\": \"tree.obj\",\n"
+            "  \"format\": \"obj\",\n"
+            "  \"mesh\": {\n"
+            "    \"height_m\": 4.0,\n"
+            "    \"images\": 0,\n"
+            "    \"materials\": 1,\n"
+            "    \"primitives\": 1,\n"
+            "    \"triangles\": 2,\n"
+            "    \"unit\": \"m\",\n"
+            "    \"unit_scale\": 1.0,\n"
+            "    \"up_axis\": \"z\",\n"
+            "    \"vertices\": 4\n"
+            "  },\n"
+            "  \"warnings\": [\n"
+            "    \"tree.obj: warning: 1 quad(s) and 0 polygon(s) of more than 4 sides triangulated\"\n"
+            "  ]\n"
+            "}\n");
+}
+
+// Non-mesh formats write the report too (no warnings), so the output list is fixed.
+TEST(ImportStage, QsmWritesEmptyReport) {
+  test::FakeFileSystem fake;
+  fake.put("/t/t.csv",
+           "ID,parentID,startX,startY,startZ,endX,endY,endZ,radius\n"
+           "0,-1,1,2,3,1,2,4,0.001\n");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, "/t/t.csv", "/t/out", {}, &fake);
+  stage->run(ctx);
+  EXPECT_EQ(ctx.output("import_report.json"),
+            "{\n  \"file\": \"t.csv\",\n  \"format\": \"qsm\",\n  \"warnings\": []\n}\n");
+  // up: auto is z for a QSM table, as before.
+  EXPECT_EQ(tree::decode_sylt(ctx.output("tree.sylt")).branches[0].nodes[1].position, (tree::Vec3{0, 1, 0}));
+}
+
+// A mesh the reader refuses is a StageError naming the file; nothing is declared.
+TEST(ImportStage, BadMeshIsStageError) {
+  test::FakeFileSystem fake;
+  fake.put("/t/bad.glb", "glTFxxxx");
+  const auto stage = make_import_stage();
+  FakeContext ctx(*stage, "/t/bad.glb", "/t/out", {}, &fake);
+  try {
+    stage->run(ctx);
+    FAIL() << "no error";
+  } catch (const StageError& e) {
+    EXPECT_STREQ(e.what(), "/t/bad.glb: error: invalid glTF: Too short data size for glTF Binary.");
+  }
+  EXPECT_TRUE(ctx.declared.empty());
 }
 
 }  // namespace
