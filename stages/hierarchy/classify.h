@@ -22,8 +22,8 @@ enum class PartKind : std::uint8_t { kBranch, kLeaf, kSkipped };
 
 struct ClassifyOptions {
   ClassifyMode mode = ClassifyMode::kAuto;
-  double leaf_max_size = 1.0;   // m: a geometric leaf's longest principal extent is at most this
-  double leaf_flatness = 0.1;   // a geometric leaf's thinnest / middle principal extent is below it
+  double leaf_max_size = 1.0;  // m: a geometric leaf's longest principal extent is at most this
+  double leaf_flatness = 0.1;  // a geometric leaf's thinnest / middle principal extent is below it
 };
 
 struct PartClass {

@@ -70,7 +70,8 @@ std::size_t trunk_of(const std::vector<BranchNode>& branches) {
   for (std::size_t b = 1; b < branches.size(); ++b) {
     const Part& p = *branches[b].part;
     const Part& q = *branches[t].part;
-    if (p.box_min.y < q.box_min.y || (p.box_min.y == q.box_min.y && p.triangles.size() > q.triangles.size())) t = b;
+    if (p.box_min.y < q.box_min.y || (p.box_min.y == q.box_min.y && p.triangles.size() > q.triangles.size()))
+      t = b;
   }
   return t;
 }
@@ -81,7 +82,8 @@ void connect_derived(const std::vector<BranchNode>& branches, double tol, Hierar
   std::vector<std::int32_t> preferred(n, -1);
   for (std::size_t a = 0; a < n; ++a)
     if (a != trunk)
-      preferred[a] = nearest_candidate(branches, branches[a].point, tol, [&](std::size_t b) { return b != a; }).first;
+      preferred[a] =
+          nearest_candidate(branches, branches[a].point, tol, [&](std::size_t b) { return b != a; }).first;
   h.parent[trunk] = -1;
   h.level[trunk] = 0;
   for (bool changed = true; changed;) {
@@ -98,9 +100,8 @@ void connect_derived(const std::vector<BranchNode>& branches, double tol, Hierar
     if (changed) continue;
     for (std::size_t a = 0; a < n && !changed; ++a) {
       if (h.level[a] >= 0 || preferred[a] < 0) continue;
-      const auto [best, d] = nearest_candidate(branches, branches[a].point, tol, [&](std::size_t b) {
-        return b != a && h.level[b] >= 0;
-      });
+      const auto [best, d] = nearest_candidate(branches, branches[a].point, tol,
+                                               [&](std::size_t b) { return b != a && h.level[b] >= 0; });
       (void)d;
       if (best < 0) continue;
       h.parent[a] = best;
@@ -126,13 +127,14 @@ bool in_grown_box(const Part& part, Vec3 p, double tol) {
          p.y <= part.box_max.y + tol && p.z >= part.box_min.z - tol && p.z <= part.box_max.z + tol;
 }
 
-Hierarchy connect_parts(const std::vector<BranchNode>& branches, const std::vector<Vec3>& leaf_points, double tol) {
+Hierarchy connect_parts(const std::vector<BranchNode>& branches, const std::vector<Vec3>& leaf_points,
+                        double tol) {
   Hierarchy h;
   h.parent.assign(branches.size(), -2);
   h.level.assign(branches.size(), -1);
   h.leaf_branch.assign(leaf_points.size(), -1);
-  h.levels_from_names =
-      !branches.empty() && std::all_of(branches.begin(), branches.end(), [](const BranchNode& b) { return b.level >= 0; });
+  h.levels_from_names = !branches.empty() && std::all_of(branches.begin(), branches.end(),
+                                                         [](const BranchNode& b) { return b.level >= 0; });
   if (branches.empty()) return h;
   if (h.levels_from_names)
     connect_by_names(branches, tol, h);
@@ -142,7 +144,8 @@ Hierarchy connect_parts(const std::vector<BranchNode>& branches, const std::vect
   const std::int32_t top = *std::max_element(h.level.begin(), h.level.end());
   for (std::size_t l = 0; l < leaf_points.size(); ++l) {
     // All candidates first, then the connect (the fixed slip: see the top of this file).
-    auto best = nearest_candidate(branches, leaf_points[l], tol, [&](std::size_t b) { return h.level[b] == top; });
+    auto best =
+        nearest_candidate(branches, leaf_points[l], tol, [&](std::size_t b) { return h.level[b] == top; });
     if (best.first < 0) {
       best = nearest_candidate(branches, leaf_points[l], tol, [&](std::size_t b) { return h.level[b] >= 0; });
       if (best.first >= 0) ++h.leaves_below_top;

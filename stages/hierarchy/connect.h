@@ -15,8 +15,8 @@ namespace sylva::hierarchy {
 // One branch part as the hierarchy sees it.
 struct BranchNode {
   const Part* part = nullptr;
-  tree::Vec3 point;          // significant point (m)
-  std::int32_t level = -1;   // from its name; -1 unknown
+  tree::Vec3 point;         // significant point (m)
+  std::int32_t level = -1;  // from its name; -1 unknown
 };
 
 struct Hierarchy {
@@ -26,8 +26,8 @@ struct Hierarchy {
   std::vector<std::int32_t> level;  // per branch node; -1 when not connected
   // Per leaf point: the branch node it grows on, -1 when not connected.
   std::vector<std::int32_t> leaf_branch;
-  bool levels_from_names = false;   // every branch had a Celba level
-  std::size_t leaves_below_top = 0; // leaves connected by the fallback to a lower level
+  bool levels_from_names = false;    // every branch had a Celba level
+  std::size_t leaves_below_top = 0;  // leaves connected by the fallback to a lower level
 };
 
 // The nearest distance from `p` to a vertex of `part` (m).

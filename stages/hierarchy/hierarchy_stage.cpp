@@ -48,9 +48,7 @@ class HierarchyStage final : public Stage {
         Param::real("tolerance", 0.05)
             .range(0, 100)
             .describe("m: bounding boxes grow by this for connection tests (Alg. 2, Celba's -f)"),
-        Param::real("slice_radii", 1.0)
-            .range(0.1, 100)
-            .describe("skeleton slice length in base radii"),
+        Param::real("slice_radii", 1.0).range(0.1, 100).describe("skeleton slice length in base radii"),
         Param::integer("max_slices", 256).range(2, 4096).describe("most skeleton nodes per branch"),
         Param::integer("fit_iterations", 2)
             .range(0, 10)
@@ -108,7 +106,9 @@ class HierarchyStage final : public Stage {
     for (const std::string& name : {m.bark_texture, m.leaf_texture}) {
       if (name.empty() || (&name != &m.bark_texture && name == m.bark_texture)) continue;
       const ArtifactFile* f = in.file(name);
-      if (!f) throw StageError(where + ": the tree's texture '" + name + "' is not a file of input '" + in.node + "'");
+      if (!f)
+        throw StageError(where + ": the tree's texture '" + name + "' is not a file of input '" + in.node +
+                         "'");
       ctx.link_output(name, *f);
     }
     ctx.write_output("hierarchy.json", hierarchy::report_json(r.report, r.tree.source).dump(2) + "\n");

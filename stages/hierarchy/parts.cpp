@@ -42,7 +42,8 @@ std::vector<std::uint32_t> weld(const std::vector<tree::Vec3f>& positions, doubl
   cells.reserve(positions.size());
   const double tol2 = tol * tol;
   auto cell_of = [&](const Vec3& p) {
-    return CellKey{static_cast<std::int64_t>(std::floor(p.x / tol)), static_cast<std::int64_t>(std::floor(p.y / tol)),
+    return CellKey{static_cast<std::int64_t>(std::floor(p.x / tol)),
+                   static_cast<std::int64_t>(std::floor(p.y / tol)),
                    static_cast<std::int64_t>(std::floor(p.z / tol))};
   };
   for (std::uint32_t i = 0; i < positions.size(); ++i) {
@@ -95,7 +96,8 @@ void check_primitive(const tree::SourcePrimitive& p, std::size_t index) {
 }
 
 // Appends the parts of primitive `pi` to `out`.
-void split_primitive(const tree::SourcePrimitive& prim, std::uint32_t pi, double tol, std::vector<Part>& out) {
+void split_primitive(const tree::SourcePrimitive& prim, std::uint32_t pi, double tol,
+                     std::vector<Part>& out) {
   const std::vector<std::uint32_t> welded = weld(prim.positions, tol);
   std::vector<std::uint32_t> parent(prim.positions.size());
   std::iota(parent.begin(), parent.end(), 0u);
@@ -148,8 +150,10 @@ void split_primitive(const tree::SourcePrimitive& prim, std::uint32_t pi, double
     Part& part = out[k];
     part.box_min = part.box_max = part.points.front();
     for (const Vec3& p : part.points) {
-      part.box_min = {std::min(part.box_min.x, p.x), std::min(part.box_min.y, p.y), std::min(part.box_min.z, p.z)};
-      part.box_max = {std::max(part.box_max.x, p.x), std::max(part.box_max.y, p.y), std::max(part.box_max.z, p.z)};
+      part.box_min = {std::min(part.box_min.x, p.x), std::min(part.box_min.y, p.y),
+                      std::min(part.box_min.z, p.z)};
+      part.box_max = {std::max(part.box_max.x, p.x), std::max(part.box_max.y, p.y),
+                      std::max(part.box_max.z, p.z)};
     }
   }
 }

@@ -16,13 +16,13 @@ namespace sylva::hierarchy {
 
 // One connected piece of one primitive. Vertices are the welded ones, numbered locally.
 struct Part {
-  std::uint32_t primitive = 0;               // index into SourceGeometry::primitives
-  std::vector<tree::Vec3> points;            // m, one per welded vertex (its first source vertex)
-  std::vector<float> min_v;                  // lowest texture v of the source vertices welded into
-                                             // each point; empty when the primitive has no uvs
+  std::uint32_t primitive = 0;                          // index into SourceGeometry::primitives
+  std::vector<tree::Vec3> points;                       // m, one per welded vertex (its first source vertex)
+  std::vector<float> min_v;                             // lowest texture v of the source vertices welded into
+                                                        // each point; empty when the primitive has no uvs
   std::vector<std::array<std::uint32_t, 3>> triangles;  // local point indices
-  std::vector<std::uint32_t> face_count;     // triangles using each point
-  tree::Vec3 box_min, box_max;               // AABB of points (m)
+  std::vector<std::uint32_t> face_count;                // triangles using each point
+  tree::Vec3 box_min, box_max;                          // AABB of points (m)
 };
 
 // Welds each primitive's vertices (positions within `weld_tolerance` m of an earlier vertex

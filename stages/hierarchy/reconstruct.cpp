@@ -54,7 +54,8 @@ tree::Leaf fit_leaf(const Part& part, Vec3 point, LeafPoint rule, const std::vec
   for (const auto& t : part.triangles)
     wound += cross(part.points[t[1]] - part.points[t[0]], part.points[t[2]] - part.points[t[0]]);
   if (dot(wound, normal) < 0) normal = -normal;
-  const Vec3 from = rule == LeafPoint::kPetiole ? point : on_polyline(branch, closest_on(branch, pc.centroid));
+  const Vec3 from =
+      rule == LeafPoint::kPetiole ? point : on_polyline(branch, closest_on(branch, pc.centroid));
   if (dot(pc.centroid - from, dir) < 0) dir = -dir;
   double lo = INFINITY, hi = -INFINITY, wlo = INFINITY, whi = -INFINITY;
   const Vec3 side = cross(normal, dir);
@@ -161,7 +162,8 @@ Reconstruction reconstruct(const tree::Tree& in, const ReconstructOptions& o) {
   std::vector<std::size_t> order;
   for (std::size_t b = 0; b < nodes.size(); ++b)
     if (h.level[b] >= 0) order.push_back(b);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return h.level[a] < h.level[b]; });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return h.level[a] < h.level[b]; });
   std::vector<std::int32_t> out_index(nodes.size(), -1);
   tree::Tree& t = out.tree;
   t.name = in.name;
@@ -197,7 +199,9 @@ Reconstruction reconstruct(const tree::Tree& in, const ReconstructOptions& o) {
   rep.leaves = t.leaves.size();
   for (std::size_t i = 0; i < parts.size(); ++i) {
     if (kept[i]) continue;
-    const char* kind = cls[i].kind == PartKind::kBranch ? "branch" : cls[i].kind == PartKind::kLeaf ? "leaf" : "skipped";
+    const char* kind = cls[i].kind == PartKind::kBranch ? "branch"
+                       : cls[i].kind == PartKind::kLeaf ? "leaf"
+                                                        : "skipped";
     rep.left_out.push_back({i, parts[i].primitive, kind, parts[i].triangles.size(), diagonal(parts[i])});
   }
 

@@ -29,18 +29,18 @@ struct ReconstructOptions {
 struct LeftOutPart {
   std::size_t part = 0;
   std::uint32_t primitive = 0;
-  std::string kind;        // "branch", "leaf" or "skipped" (classify names: not a Celba name)
+  std::string kind;  // "branch", "leaf" or "skipped" (classify names: not a Celba name)
   std::size_t triangles = 0;
-  double size_m = 0;       // diagonal of its bounding box
+  double size_m = 0;  // diagonal of its bounding box
 };
 
 struct BranchReport {
-  std::size_t part = 0;         // the part it was fitted to
-  std::int32_t parent = -1;     // output branch index
+  std::size_t part = 0;      // the part it was fitted to
+  std::int32_t parent = -1;  // output branch index
   std::uint32_t level = 0;
   std::size_t nodes = 0;
   double base_radius_m = 0;
-  double fit_rms_m = 0;         // SkeletonFit::rms_residual
+  double fit_rms_m = 0;  // SkeletonFit::rms_residual
   bool axis_fallback = false;
 };
 
@@ -49,7 +49,7 @@ struct Report {
   bool levels_from_names = false;
   std::vector<std::size_t> branches_by_level;
   std::size_t leaves = 0;
-  std::size_t leaves_below_top = 0;  // attached by the fallback below the highest level
+  std::size_t leaves_below_top = 0;    // attached by the fallback below the highest level
   std::size_t leaves_without_uvs = 0;  // petiole rule fell back to the centroid
   std::vector<LeftOutPart> left_out;   // in part order
   std::vector<BranchReport> branches;  // in output branch order

@@ -36,7 +36,8 @@ BranchBase branch_base(const Part& part) {
   std::size_t best = 0;
   for (std::size_t i = 1; i < part.points.size(); ++i) {
     const bool fewer = part.face_count[i] < part.face_count[best];
-    const bool tie_lower = part.face_count[i] == part.face_count[best] && part.points[i].y < part.points[best].y;
+    const bool tie_lower =
+        part.face_count[i] == part.face_count[best] && part.points[i].y < part.points[best].y;
     if (fewer || tie_lower) best = i;
   }
   base.point = part.points[best];

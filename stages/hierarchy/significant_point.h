@@ -14,9 +14,9 @@ namespace sylva::hierarchy {
 enum class LeafPoint : std::uint8_t { kPetiole, kCentroid };
 
 struct BranchBase {
-  tree::Vec3 point;                  // m, the significant point
-  std::vector<std::uint32_t> loop;   // the base's boundary loop (point indices); empty: closed part
-  double radius = 0;                 // m, the loop's mean radius; 0 for a closed part
+  tree::Vec3 point;                 // m, the significant point
+  std::vector<std::uint32_t> loop;  // the base's boundary loop (point indices); empty: closed part
+  double radius = 0;                // m, the loop's mean radius; 0 for a closed part
 };
 
 // A branch's significant point. Celba takes "the vertex which appears on the lowest number of

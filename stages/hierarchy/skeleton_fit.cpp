@@ -149,8 +149,8 @@ std::vector<std::vector<std::uint32_t>> slices_by(const std::vector<double>& s, 
 }
 
 // One round: the points sliced by `s`; a circle per slice.
-SkeletonFit slice_round(const Part& part, const std::vector<double>& s, double width, const std::vector<Vec3>& line,
-                        const std::vector<double>& arc) {
+SkeletonFit slice_round(const Part& part, const std::vector<double>& s, double width,
+                        const std::vector<Vec3>& line, const std::vector<double>& arc) {
   const auto bins = slices_by(s, width);
   SkeletonFit fit;
   double sq = 0;
@@ -162,7 +162,8 @@ SkeletonFit slice_round(const Part& part, const std::vector<double>& s, double w
     const Vec3 helper = std::abs(axis.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
     const Vec3 u = normalized(cross(axis, helper)), w = cross(axis, u);
     std::vector<std::array<double, 2>> pts;
-    for (std::uint32_t i : bin) pts.push_back({dot(part.points[i] - origin, u), dot(part.points[i] - origin, w)});
+    for (std::uint32_t i : bin)
+      pts.push_back({dot(part.points[i] - origin, u), dot(part.points[i] - origin, w)});
     const Circle c = fit_circle(pts);
     for (const auto& p : pts) sq += std::pow(std::hypot(p[0] - c.cx, p[1] - c.cy) - c.r, 2);
     fit.nodes.push_back({origin + u * c.cx + w * c.cy, c.r});

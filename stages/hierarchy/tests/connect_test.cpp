@@ -66,7 +66,8 @@ TEST(Connect, LeafConnectsToNearestCandidateNotFirst) {
   std::vector<Part> parts{segment({0, 0, 0}, {0, 4, 0}), segment({0, 2, 0}, {1, 3, 0}),
                           segment({0, 2.9, 0}, {1, 3.1, 0})};
   std::vector<BranchNode> nodes;
-  for (std::size_t i = 0; i < parts.size(); ++i) nodes.push_back({&parts[i], parts[i].points[0], i == 0 ? 0 : 1});
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    nodes.push_back({&parts[i], parts[i].points[0], i == 0 ? 0 : 1});
   // In both boxes: 0.48 from a's nearest vertex, 0.02 from b's. The second leaf is in a's box
   // alone, the third in none.
   const Hierarchy h = connect_parts(nodes, {{0.5, 2.98, 0}, {0.5, 2.45, 0}, {5, 5, 5}}, 0.01);

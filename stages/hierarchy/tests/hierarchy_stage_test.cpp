@@ -26,7 +26,8 @@ TEST(HierarchyStage, Declaration) {
                                              "leaf_point", "tolerance", "slice_radii", "max_slices",
                                              "fit_iterations"}));
   for (const auto& p : info.params) EXPECT_FALSE(p.doc.empty()) << p.name;
-  EXPECT_EQ(info.outputs, (std::vector<std::string>{"tree.sylt", "hierarchy.json", "*.png", "*.jpg", "*.jpeg"}));
+  EXPECT_EQ(info.outputs,
+            (std::vector<std::string>{"tree.sylt", "hierarchy.json", "*.png", "*.jpg", "*.jpeg"}));
 }
 
 TEST(HierarchyStage, TreeWithoutSourceGeometryRefused) {
@@ -41,9 +42,9 @@ TEST(HierarchyStage, TreeWithoutSourceGeometryRefused) {
     stage->run(ctx);
     FAIL();
   } catch (const StageError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              (in / "tree.sylt").string() +
-                  ": the tree has no source geometry: stage hierarchy reconstructs a skeleton from an imported mesh");
+    EXPECT_EQ(std::string(e.what()), (in / "tree.sylt").string() +
+                                         ": the tree has no source geometry: stage hierarchy reconstructs a "
+                                         "skeleton from an imported mesh");
   }
   EXPECT_TRUE(ctx.declared.empty());
 }

@@ -109,8 +109,9 @@ TEST(Reconstruct, Errors) {
             "the tree has no source geometry: stage hierarchy reconstructs a skeleton from an imported mesh");
   tree::Tree with_skeleton = imported(testing::named_tree());
   with_skeleton.branches.resize(2);
-  EXPECT_EQ(error_of(with_skeleton),
-            "the tree already has a skeleton (2 branches): stage hierarchy builds one from source geometry alone");
+  EXPECT_EQ(
+      error_of(with_skeleton),
+      "the tree already has a skeleton (2 branches): stage hierarchy builds one from source geometry alone");
   tree::SourceGeometry empty;
   empty.primitives.resize(2);
   empty.materials.resize(1);

@@ -23,7 +23,8 @@ tree::Tree truth() {
   tree::Tree t;
   std::vector<tree::Node> trunk, lateral, curved, twig;
   for (int k = 0; k <= 10; ++k) trunk.push_back({{0.02 * k, 0.5 * k, 0}, 0.25 - 0.015 * k});
-  for (int k = 0; k <= 6; ++k) lateral.push_back({{0.1 + 0.3 * k, 2.0 + 0.12 * k, 0.05 * k}, 0.08 - 0.008 * k});
+  for (int k = 0; k <= 6; ++k)
+    lateral.push_back({{0.1 + 0.3 * k, 2.0 + 0.12 * k, 0.05 * k}, 0.08 - 0.008 * k});
   for (int k = 0; k <= 8; ++k) {
     const double a = 0.15 * k;
     curved.push_back({{-0.1 - 1.2 * std::sin(a), 3.0 + 1.2 * (1 - std::cos(a)), 0.0}, 0.07 - 0.005 * k});

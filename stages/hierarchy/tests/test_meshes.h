@@ -15,12 +15,13 @@ using tree::Vec3;
 
 // Appends an open tube: one ring of `segments` vertices per centre (radius radii[k]), quads
 // between consecutive rings as two triangles, counter-clockwise seen from outside.
-inline void add_tube(tree::SourcePrimitive& p, const std::vector<Vec3>& centres, const std::vector<double>& radii,
-                     int segments = 12) {
+inline void add_tube(tree::SourcePrimitive& p, const std::vector<Vec3>& centres,
+                     const std::vector<double>& radii, int segments = 12) {
   const auto first = static_cast<std::uint32_t>(p.positions.size());
   Vec3 u;
   for (std::size_t k = 0; k < centres.size(); ++k) {
-    const Vec3 t = normalized(k + 1 < centres.size() ? centres[k + 1] - centres[k] : centres[k] - centres[k - 1]);
+    const Vec3 t =
+        normalized(k + 1 < centres.size() ? centres[k + 1] - centres[k] : centres[k] - centres[k - 1]);
     if (k == 0) {
       const Vec3 helper = std::abs(t.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
       u = normalized(cross(t, helper));
@@ -45,8 +46,8 @@ inline void add_tube(tree::SourcePrimitive& p, const std::vector<Vec3>& centres,
 
 // A straight tube from `base` along `dir` (unit) of `length`, radius tapering r0 -> r1, with
 // `rings` rings.
-inline void add_straight_tube(tree::SourcePrimitive& p, Vec3 base, Vec3 dir, double length, double r0, double r1,
-                              int rings, int segments = 12) {
+inline void add_straight_tube(tree::SourcePrimitive& p, Vec3 base, Vec3 dir, double length, double r0,
+                              double r1, int rings, int segments = 12) {
   std::vector<Vec3> c;
   std::vector<double> r;
   for (int k = 0; k < rings; ++k) {
@@ -58,7 +59,8 @@ inline void add_straight_tube(tree::SourcePrimitive& p, Vec3 base, Vec3 dir, dou
 }
 
 // Appends a leaf quad from `petiole` along `dir` (length) and across `side` (width, centred).
-inline void add_quad(tree::SourcePrimitive& p, Vec3 petiole, Vec3 dir, Vec3 side, double length, double width) {
+inline void add_quad(tree::SourcePrimitive& p, Vec3 petiole, Vec3 dir, Vec3 side, double length,
+                     double width) {
   const auto i = static_cast<std::uint32_t>(p.positions.size());
   const Vec3 h = side * (width / 2);
   p.positions.push_back(tree::to_float(petiole - h));
@@ -120,7 +122,8 @@ inline std::vector<tree::SourceMaterial> materials() {
 // Celba's names: br0Trunk, br1a, br1b, lf1.
 inline tree::SourceGeometry named_tree() {
   tree::SourceGeometry g;
-  g.primitives = {trunk_prim("tree/br0Trunk"), child_a("tree/br1a"), child_b("tree/br1b"), leaves("tree/lf1")};
+  g.primitives = {trunk_prim("tree/br0Trunk"), child_a("tree/br1a"), child_b("tree/br1b"),
+                  leaves("tree/lf1")};
   g.materials = materials();
   return g;
 }
