@@ -154,6 +154,7 @@ std::string media_type_for(std::string_view path) {
   if (ends_with(path, ".gltf")) return "model/gltf+json";
   if (ends_with(path, ".json")) return "application/json";
   if (ends_with(path, ".png")) return "image/png";
+  if (ends_with(path, ".jpg")) return "image/jpeg";
   if (ends_with(path, ".ktx2")) return "image/ktx2";
   if (ends_with(path, ".yaml")) return "application/yaml";
   return "application/octet-stream";

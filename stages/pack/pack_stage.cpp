@@ -241,7 +241,8 @@ class PackStage : public Stage {
     const ArtifactFile* chain = in.file(lodchain::kChainFile);
     if (!chain) throw StageError("input '" + in.node + "' has no lod.gltf (is it a lod node?)");
     std::vector<std::string> shared;  // textures: every file of the chain and of each level uses them
-    for (const ArtifactFile* f : in.files_with_suffix(".png")) shared.push_back(f->name);
+    for (const char* suffix : {".png", ".jpg"})  // an imported tree's level 0 may carry JPEG images
+      for (const ArtifactFile* f : in.files_with_suffix(suffix)) shared.push_back(f->name);
     try {
       s.chain = gltf::read_scene(chain->path, ctx.files());
       s.chain_inputs = {lodchain::kChainFile};

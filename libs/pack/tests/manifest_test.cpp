@@ -52,6 +52,7 @@ TEST(PackManifest, DescribesAFile) {
   EXPECT_EQ(media_type_for("x.gltf"), "model/gltf+json");
   EXPECT_EQ(media_type_for("oak.lod.json"), "application/json");
   EXPECT_EQ(media_type_for("leaves.png"), "image/png");
+  EXPECT_EQ(media_type_for("source0.jpg"), "image/jpeg");  // an imported tree's level 0 image
   EXPECT_EQ(media_type_for("lod0.bin"), "application/octet-stream");
 }
 
