@@ -2,12 +2,15 @@
 // in files from other tools (glTF from Blender or ez-tree, FBX from SpeedTree), so two
 // fallbacks follow: a leaf card is drawn with an alpha-tested or blended material (the cut-out
 // is in the texture's alpha), and a leaf is small and flat where a branch is a tube (its two
-// smaller principal extents are both about its diameter).
+// smaller principal extents are both about its diameter). Only the material's alpha mode counts:
+// glTF ignores a texture's alpha under an opaque material, and atlas textures shared by bark and
+// leaves (KayKit's forest_texture.png) are RGBA anyway. Neither rule is trusted alone in `auto`:
+// files alpha-test their bark too (Quaternius Pine_1), so a masked part is a leaf only when it is
+// also small and flat.
 #include "stages/hierarchy/classify.h"
 
 #include <algorithm>
 #include <cctype>
-#include <string>
 
 #include "stages/hierarchy/part_geometry.h"
 
@@ -20,18 +23,6 @@ bool starts_with_nocase(std::string_view s, std::string_view prefix) {
   for (std::size_t i = 0; i < prefix.size(); ++i)
     if (std::tolower(static_cast<unsigned char>(s[i])) != prefix[i]) return false;
   return true;
-}
-
-// PNG: 8-byte signature, then the IHDR chunk (length 4, type 4, width 4, height 4, depth 1,
-// colour type 1 at byte 25); colour types 4 and 6 carry alpha, and any palette or grey image may
-// add a tRNS chunk before its image data.
-bool png_has_alpha(const std::string& b) {
-  static constexpr char kSignature[] = "\x89PNG\r\n\x1a\n";
-  if (b.size() < 26 || b.compare(0, 8, kSignature, 8) != 0) return false;
-  const unsigned colour_type = static_cast<unsigned char>(b[25]);
-  if (colour_type == 4 || colour_type == 6) return true;
-  const std::size_t idat = b.find("IDAT");
-  return b.substr(0, idat).find("tRNS") != std::string::npos;
 }
 
 bool geometric_leaf(const Part& part, const ClassifyOptions& o) {
@@ -61,14 +52,17 @@ std::optional<PartClass> class_from_name(std::string_view name) {
 
 bool material_marks_leaf(const tree::SourceGeometry& g, std::uint32_t material) {
   if (material >= g.materials.size()) return false;
-  const tree::SourceMaterial& m = g.materials[material];
-  if (m.alpha_mode != tree::AlphaMode::kOpaque) return true;
-  if (m.base_color_image < 0 || static_cast<std::size_t>(m.base_color_image) >= g.images.size()) return false;
-  return png_has_alpha(g.images[static_cast<std::size_t>(m.base_color_image)].bytes);
+  return g.materials[material].alpha_mode != tree::AlphaMode::kOpaque;
+}
+
+bool materials_signal_leaves(const tree::SourceGeometry& g) {
+  return std::any_of(g.primitives.begin(), g.primitives.end(),
+                     [&](const tree::SourcePrimitive& p) { return material_marks_leaf(g, p.material); });
 }
 
 std::vector<PartClass> classify_parts(const std::vector<Part>& parts, const tree::SourceGeometry& g,
                                       const ClassifyOptions& o) {
+  const bool material_signal = materials_signal_leaves(g);
   std::vector<PartClass> out;
   out.reserve(parts.size());
   for (const Part& part : parts) {
@@ -89,7 +83,10 @@ std::vector<PartClass> classify_parts(const std::vector<Part>& parts, const tree
         if (const auto named = class_from_name(prim.name)) {
           c = *named;
         } else {
-          c.kind = leaf_material || geometric_leaf(part, o) ? PartKind::kLeaf : PartKind::kBranch;
+          // With a material signal, an opaque part is bark and a masked one must also look like a
+          // leaf; without one (every material opaque) the geometry decides alone.
+          const bool leaf = (leaf_material || !material_signal) && geometric_leaf(part, o);
+          c.kind = leaf ? PartKind::kLeaf : PartKind::kBranch;
         }
         break;
     }

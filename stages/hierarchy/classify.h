@@ -13,9 +13,12 @@
 
 namespace sylva::hierarchy {
 
-// auto: a Celba name where the primitive has one, else the material (when it marks a leaf),
-// else the geometry. names: Celba's rule alone (other parts are skipped, as the thesis does).
-// material: leaf when the material marks one, else branch. geometry: leaf when small and flat.
+// auto: a Celba name where the primitive has one; else, when some primitive's material marks a
+// leaf (a material signal), a leaf when its material marks one AND it is small and flat; else
+// (every material opaque) a leaf when small and flat. reconstruct() falls back to geometry when
+// auto leaves no branch part. names: Celba's rule alone (other parts are skipped, as the thesis
+// does). material: leaf when the material marks one, else branch. geometry: leaf when small and
+// flat.
 enum class ClassifyMode : std::uint8_t { kAuto, kNames, kMaterial, kGeometry };
 
 enum class PartKind : std::uint8_t { kBranch, kLeaf, kSkipped };
@@ -36,9 +39,12 @@ struct PartClass {
 // for any other name (and for a level above 255).
 std::optional<PartClass> class_from_name(std::string_view primitive_name);
 
-// True when the material marks leaf cards: alpha mode mask or blend, or a base colour image that
-// is a PNG with an alpha channel (colour type 4 or 6) or a tRNS chunk.
+// True when the material marks leaf cards: its alpha mode is mask or blend. The texture's alpha is
+// not read (glTF ignores it under an opaque material). False for a material index out of range.
 bool material_marks_leaf(const tree::SourceGeometry& g, std::uint32_t material);
+
+// True when some primitive's material marks leaf cards (auto's material signal).
+bool materials_signal_leaves(const tree::SourceGeometry& g);
 
 // One class per part, in the order of `parts`.
 std::vector<PartClass> classify_parts(const std::vector<Part>& parts, const tree::SourceGeometry& g,

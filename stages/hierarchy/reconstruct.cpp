@@ -122,7 +122,15 @@ Reconstruction reconstruct(const tree::Tree& in, const ReconstructOptions& o) {
   rep.parts = parts.size();
 
   // 2. Branch or leaf.
-  const std::vector<PartClass> cls = classify_parts(parts, g, o.classify);
+  std::vector<PartClass> cls = classify_parts(parts, g, o.classify);
+  const auto is_branch = [](const PartClass& c) { return c.kind == PartKind::kBranch; };
+  if (o.classify.mode == ClassifyMode::kAuto && std::none_of(cls.begin(), cls.end(), is_branch)) {
+    // Names or materials called every part a leaf: a tree has bark, so let the geometry decide.
+    ClassifyOptions geometry = o.classify;
+    geometry.mode = ClassifyMode::kGeometry;
+    cls = classify_parts(parts, g, geometry);
+    rep.classify_fallback = true;
+  }
   std::vector<std::size_t> branch_parts, leaf_parts;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     if (cls[i].kind == PartKind::kBranch) branch_parts.push_back(i);

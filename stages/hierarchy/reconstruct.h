@@ -46,6 +46,7 @@ struct BranchReport {
 
 struct Report {
   std::size_t parts = 0, branch_parts = 0, leaf_parts = 0, skipped_parts = 0;
+  bool classify_fallback = false;  // auto called every part a leaf; the geometry rule decided
   bool levels_from_names = false;
   std::vector<std::size_t> branches_by_level;
   std::size_t leaves = 0;

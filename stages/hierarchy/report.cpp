@@ -29,6 +29,7 @@ nlohmann::json report_json(const Report& r, const tree::SourceGeometry& g) {
       {"branch_parts", r.branch_parts},
       {"leaf_parts", r.leaf_parts},
       {"skipped_parts", r.skipped_parts},
+      {"classify_fallback", r.classify_fallback ? "geometry" : "none"},
       {"levels", r.levels_from_names ? "names" : "derived"},
       {"branches_by_level", r.branches_by_level},
       {"leaves", r.leaves},

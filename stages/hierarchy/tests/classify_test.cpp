@@ -28,23 +28,26 @@ TEST(Classify, CelbaNames) {
   EXPECT_FALSE(class_from_name("br999").has_value());
 }
 
-TEST(Classify, MaterialMarksLeaves) {
+TEST(Classify, MaterialMarksLeavesByAlphaModeOnly) {
   tree::SourceGeometry g;
-  g.materials.resize(3);
+  g.materials.resize(4);
   g.materials[1].alpha_mode = tree::AlphaMode::kBlend;
-  g.materials[2].base_color_image = 0;
+  g.materials[2].alpha_mode = tree::AlphaMode::kMask;
+  g.materials[3].base_color_image = 0;  // opaque with an RGBA PNG: glTF ignores the alpha
   std::string png = "\x89PNG\r\n\x1a\n";
   png += std::string(17, '\0');
   png += '\x06';  // colour type 6: RGBA
-  g.images.push_back({"leaf.png", "image/png", png});
+  g.images.push_back({"forest_texture.png", "image/png", png});
   EXPECT_FALSE(material_marks_leaf(g, 0));
   EXPECT_TRUE(material_marks_leaf(g, 1));
   EXPECT_TRUE(material_marks_leaf(g, 2));
-  g.images[0].bytes[25] = '\x02';  // RGB, no alpha
-  EXPECT_FALSE(material_marks_leaf(g, 2));
-  g.images[0].mime_type = "image/jpeg";
-  g.images[0].bytes = "\xff\xd8\xff";
-  EXPECT_FALSE(material_marks_leaf(g, 2));
+  EXPECT_FALSE(material_marks_leaf(g, 3));
+  EXPECT_FALSE(material_marks_leaf(g, 4));  // out of range
+  g.primitives.resize(1);
+  g.primitives[0].material = 3;
+  EXPECT_FALSE(materials_signal_leaves(g));
+  g.primitives[0].material = 2;
+  EXPECT_TRUE(materials_signal_leaves(g));
 }
 
 TEST(Classify, Modes) {
@@ -63,6 +66,20 @@ TEST(Classify, Modes) {
   o.leaf_max_size = 0.1;  // the quads are 0.2 m long: too big for leaves now
   const auto parts = split_parts(nameless, 1e-5);
   EXPECT_EQ(classify_parts(parts, nameless, o)[3].kind, K::kBranch);
+  // auto with a material signal: a masked part is a leaf only when also small and flat (Pine_1's
+  // masked bark), an opaque part is bark even when small and flat.
+  auto masked_bark = nameless;
+  masked_bark.materials[0].alpha_mode = tree::AlphaMode::kMask;
+  EXPECT_EQ(kinds(masked_bark, ClassifyMode::kAuto), tree_kinds);
+  EXPECT_EQ(kinds(masked_bark, ClassifyMode::kMaterial), std::vector<K>(5, K::kLeaf));
+  auto opaque_leaves = nameless;
+  opaque_leaves.materials[1].alpha_mode = tree::AlphaMode::kOpaque;  // no signal: geometry alone
+  EXPECT_EQ(kinds(opaque_leaves, ClassifyMode::kAuto), tree_kinds);
+  auto one_masked = nameless;  // opaque quads beside masked ones: the opaque ones are bark
+  one_masked.primitives[1].material = 0;
+  one_masked.primitives.push_back(testing::leaves("tree/masked"));
+  EXPECT_EQ(kinds(one_masked, ClassifyMode::kAuto),
+            (std::vector<K>{K::kBranch, K::kBranch, K::kBranch, K::kBranch, K::kBranch, K::kLeaf, K::kLeaf}));
   // Names give the level.
   const auto named_classes = classify_parts(split_parts(named, 1e-5), named, {});
   EXPECT_EQ(named_classes[0].level, 0);

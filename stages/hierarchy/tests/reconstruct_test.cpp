@@ -78,6 +78,19 @@ TEST(Reconstruct, WithoutNames) {
   EXPECT_FALSE(r.report.levels_from_names);
 }
 
+// Names that call every part a leaf (bark included): auto falls back to the geometry rule and
+// says so in the report; without the fallback the report says "none".
+TEST(Reconstruct, ClassifyFallsBackToGeometry) {
+  tree::SourceGeometry g = testing::nameless_tree();
+  EXPECT_EQ(report_json(reconstruct(imported(g), {}).report, g)["classify_fallback"], "none");
+  g.primitives[0].name = "tree/lf_bark";
+  g.primitives[1].name = "tree/lf_leaves";
+  const Reconstruction r = reconstruct(imported(g), {});
+  expect_test_tree(r);
+  EXPECT_TRUE(r.report.classify_fallback);
+  EXPECT_EQ(report_json(r.report, g)["classify_fallback"], "geometry");
+}
+
 TEST(Reconstruct, Deterministic) {
   const tree::Tree in = imported(testing::nameless_tree());
   EXPECT_EQ(reconstruct(in, {}).tree, reconstruct(in, {}).tree);
