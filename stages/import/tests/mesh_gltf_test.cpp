@@ -274,5 +274,47 @@ TEST(MeshGltf, BadInputNamesTheFile) {
             "idx.gltf: error: invalid glTF: primitive indices accessor out of bounds");
 }
 
+// The nodes form a tree: a child listed twice, a node under two parents, a scene listing a node
+// and its descendant are refused naming the node (not imported twice, nor exponentially often);
+// a chain deeper than 1000 levels is refused without exhausting the stack.
+TEST(MeshGltf, NodeGraphMustBeATree) {
+  gltf::WriteOptions w;
+  w.format = gltf::FileFormat::kGltf;
+  nlohmann::json j = nlohmann::json::parse(gltf::encode(one_square(), w));
+  const auto with_nodes = [&](nlohmann::json nodes, std::vector<int> scene) {
+    nlohmann::json e = j;
+    e["nodes"] = std::move(nodes);
+    e["scenes"][0]["nodes"] = std::move(scene);
+    return e.dump();
+  };
+  const nlohmann::json leaf = {{"name", "leaf"}, {"mesh", 0}};
+  EXPECT_EQ(error_of(with_nodes({{{"children", {1, 1}}}, leaf}, {0}), "twice.gltf"),
+            "twice.gltf: error: node 1 'leaf' is reached twice (glTF nodes form a tree)");
+  EXPECT_EQ(error_of(with_nodes({{{"children", {2}}}, {{"children", {2}}}, leaf}, {0, 1}), "two.gltf"),
+            "two.gltf: error: node 2 'leaf' is reached twice (glTF nodes form a tree)");
+  EXPECT_EQ(error_of(with_nodes({{{"children", {1}}}, leaf}, {0, 1}), "desc.gltf"),
+            "desc.gltf: error: node 1 'leaf' is reached twice (glTF nodes form a tree)");
+  // 40 levels, each node listing the next twice: 2^40 paths without the check.
+  nlohmann::json diamond = nlohmann::json::array();
+  for (int i = 0; i < 40; ++i) diamond.push_back({{"children", {i + 1, i + 1}}});
+  diamond.push_back(leaf);
+  EXPECT_EQ(error_of(with_nodes(diamond, {0}), "diamond.gltf"),
+            "diamond.gltf: error: node 40 'leaf' is reached twice (glTF nodes form a tree)");
+  // A chain of n nodes is n - 1 levels below its root: 1001 nodes read, 1002 refused.
+  const auto chain = [&](int n) {
+    nlohmann::json nodes = nlohmann::json::array();
+    for (int i = 0; i + 1 < n; ++i) nodes.push_back({{"children", {i + 1}}});
+    nodes.push_back(leaf);
+    return with_nodes(nodes, {0});
+  };
+  MapFiles files;
+  EXPECT_EQ(import_mesh(chain(1001), "gltf", "/m/c.gltf", "c.gltf", files, {}).geometry.primitives.size(),
+            1u);
+  EXPECT_EQ(error_of(chain(1002), "deep.gltf"),
+            "deep.gltf: error: the node hierarchy is deeper than 1000 levels");
+  EXPECT_EQ(error_of(chain(20000), "deep.gltf"),
+            "deep.gltf: error: the node hierarchy is deeper than 1000 levels");
+}
+
 }  // namespace
 }  // namespace sylva::import
