@@ -13,6 +13,7 @@
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -159,7 +160,7 @@ class Reader {
   Reader(const tinygltf::Model& model, std::string_view source, const SidecarFiles& files,
          const MeshOptions& options, MeshImport& out)
       : m_(model),
-        in_(model, std::string(source)),
+        in_(model, std::string(source), std::max(options.max_vertices, options.max_triangles * 3)),
         source_(source),
         files_(files),
         options_(options),
@@ -396,6 +397,11 @@ class Reader {
       if (a == gp.attributes.end()) return std::nullopt;
       return in_.read_accessor(a->second, what + " attribute " + attr);
     };
+    // The vertex limit before POSITION is read: its accessor's count sizes every attribute.
+    if (auto a = gp.attributes.find("POSITION");
+        !draco && a != gp.attributes.end() && a->second >= 0 && std::size_t(a->second) < m_.accessors.size())
+      check_mesh_limits(source_, vertices_ + m_.accessors[std::size_t(a->second)].count, triangles_,
+                        options_);
     const std::optional<AttributeData> pos = fetch("POSITION");
     if (!pos) throw MeshError(source_, what + ": has no POSITION attribute");
     if (pos->components != 3) throw MeshError(source_, what + ": POSITION must be VEC3");

@@ -316,5 +316,27 @@ TEST(MeshGltf, NodeGraphMustBeATree) {
             "deep.gltf: error: the node hierarchy is deeper than 1000 levels");
 }
 
+// An accessor without a buffer view is zeros of its declared count: a count of 2^28 fails on the
+// limits before anything is allocated for it (POSITION on the vertex limit, another attribute on
+// the accessor limit, max(vertices, 3 triangles)).
+TEST(MeshGltf, HugeAccessorCountRefusedBeforeAllocating) {
+  nlohmann::json j = textured_json();
+  const auto huge = [&](const char* attribute) {
+    nlohmann::json e = j;
+    nlohmann::json& acc = e["accessors"][e["meshes"][0]["primitives"][0]["attributes"][attribute].get<int>()];
+    acc.erase("bufferView");
+    acc.erase("byteOffset");
+    acc["count"] = 1 << 28;
+    return e.dump();
+  };
+  EXPECT_EQ(error_of(huge("POSITION"), "p.gltf"),
+            "p.gltf: error: the model has more than 16777216 vertices (the import's limit, "
+            "tree::kMaxSourceVertices)");
+  EXPECT_EQ(
+      error_of(huge("NORMAL"), "n.gltf"),
+      "n.gltf: error: mesh 0 'sq' primitive 0 attribute NORMAL: accessor 1 declares 268435456 elements, more "
+      "than the limit of 50331648");
+}
+
 }  // namespace
 }  // namespace sylva::import
