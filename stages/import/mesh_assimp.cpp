@@ -150,14 +150,16 @@ class Reader {
     if (auto it = image_slot_.find(ref); it != image_slot_.end()) return it->second;
     std::string bytes, name;
     if (const aiTexture* t = s_.GetEmbeddedTexture(path.C_Str())) {
-      name = ref.rfind('*', 0) == 0 ? std::string(source_) + ".image" + ref.substr(1) : ref;
+      name = ref.rfind('*', 0) == 0
+                 ? std::filesystem::path(std::string(source_)).filename().string() + ".image" + ref.substr(1)
+                 : ref;
       if (t->mHeight == 0) bytes.assign(reinterpret_cast<const char*>(t->pcData), t->mWidth);
     } else {
       const std::filesystem::path file = files_.resolve(ref);
       name = file.lexically_relative(files_.base_dir()).string();
       if (!files_.exists(file)) {
-        warn("texture '" + ref + "' of material '" + material + "' could not be read (no file " +
-             file.string() + "): the material keeps its colour, without the texture");
+        warn("texture '" + ref + "' of material '" + material + "' could not be read (no file '" + name +
+             "' beside the model): the material keeps its colour, without the texture");
         image_slot_.emplace(ref, -1);
         return -1;
       }

@@ -183,7 +183,9 @@ class Reader {
     const tinygltf::Image& img = m_.images[std::size_t(index)];
     if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) return render::detail::decode_uri(img.uri);
     if (!img.name.empty()) return img.name;
-    return std::string(source_) + ".image" + std::to_string(index);
+    // The file name, not the path: the name goes into tree.sylt, whose bytes must not depend on
+    // where the model lies.
+    return std::filesystem::path(std::string(source_)).filename().string() + ".image" + std::to_string(index);
   }
 
   // The SourceGeometry image of texture `tex`, -1 (and a warning) when it cannot be had.
@@ -202,12 +204,15 @@ class Reader {
     const std::string mime = mime_of(bytes);
     int slot = -1;
     if (bytes.empty()) {
-      warn("image '" + name + "' (image " + std::to_string(index) + ") of material '" + material +
-           "' could not be read" +
-           (img.uri.empty() || img.uri.rfind("data:", 0) == 0
-                ? std::string()
-                : " (no file " + files_.resolve(files_.base_dir() / name).string() + ")") +
-           ": the material keeps its colour, without the texture");
+      warn(
+          "image '" + name + "' (image " + std::to_string(index) + ") of material '" + material +
+          "' could not be read" +
+          (img.uri.empty() || img.uri.rfind("data:", 0) == 0
+               ? std::string()
+               : " (no file '" +
+                     files_.resolve(files_.base_dir() / name).lexically_relative(files_.base_dir()).string() +
+                     "' beside the model)") +
+          ": the material keeps its colour, without the texture");
     } else if (mime.empty()) {
       warn("image '" + name + "' (image " + std::to_string(index) + ") of material '" + material +
            "' is neither PNG nor JPEG: the material keeps its colour, without the texture");

@@ -140,5 +140,32 @@ TEST(MeshAssimp, ColladaUnitAndAxisApplied) {
   EXPECT_EQ(m.geometry.primitives[0].name, "s/n/g");  // Collada nodes by their ids
 }
 
+// The same OBJ in two folders imports to the same geometry and, once the "<source>" prefix is
+// the file name (as import_report.json writes it), the same warnings: no folder inside them.
+TEST(MeshAssimp, SameBytesInTwoFoldersSameResult) {
+  const std::string obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bark\nf 1 2 3\n";
+  MapFiles files;
+  files.files["/a/t.mtl"] = files.files["/b/c/t.mtl"] = "newmtl bark\nKd 1 1 1\nmap_Kd ../gone.png\n";
+  const auto run = [&](const std::string& path) {
+    MeshOptions o;
+    o.recenter = false;
+    MeshImport m = import_mesh(obj, "obj", path, path, files, o);
+    for (std::string& w : m.warnings) {
+      EXPECT_EQ(w.rfind(path + ": ", 0), 0u) << w;
+      w = "t.obj" + w.substr(path.size());
+    }
+    return m;
+  };
+  const MeshImport a = run("/a/t.obj"), b = run("/b/c/t.obj");
+  EXPECT_EQ(a.geometry, b.geometry);
+  EXPECT_EQ(a.warnings,
+            (std::vector<std::string>{
+                "t.obj: warning: '../gone.png' is an absolute path or leaves the model's folder: "
+                "looking for 'gone.png' beside the model instead",
+                "t.obj: warning: texture '../gone.png' of material 'bark' could not be read (no file "
+                "'gone.png' beside the model): the material keeps its colour, without the texture"}));
+  EXPECT_EQ(a.warnings, b.warnings);
+}
+
 }  // namespace
 }  // namespace sylva::import

@@ -157,10 +157,11 @@ TEST(MeshGltf, ExternalImages) {
   j["images"][0] = {{"uri", "bark%20tex.png"}};
   MapFiles files;
   const MeshImport missing = import_mesh(j.dump(), "gltf", "/m/t.gltf", "t.gltf", files, keep_placement());
-  EXPECT_EQ(missing.warnings, (std::vector<std::string>{
-                                  "t.gltf: warning: image 'bark tex.png' (image 0) of material 'bark' could "
-                                  "not be read (no file /m/bark tex.png): the material keeps its colour, "
-                                  "without the texture"}));
+  EXPECT_EQ(missing.warnings,
+            (std::vector<std::string>{
+                "t.gltf: warning: image 'bark tex.png' (image 0) of material 'bark' could "
+                "not be read (no file 'bark tex.png' beside the model): the material keeps its "
+                "colour, without the texture"}));
   EXPECT_EQ(missing.geometry.materials[0].base_color_image, -1);
   EXPECT_TRUE(missing.geometry.images.empty());
   files.files["/m/bark tex.png"] = testing::tiny_png();
@@ -181,10 +182,9 @@ TEST(MeshGltf, EscapingUriLookedForBesideTheModel) {
   ASSERT_EQ(m.geometry.images.size(), 1u);
   EXPECT_EQ(m.geometry.images[0].bytes, testing::tiny_png());
   ASSERT_EQ(m.warnings.size(), 1u);
-  EXPECT_EQ(
-      m.warnings[0],
-      "t.gltf: warning: '/m/../../etc/bark.png' is an absolute path or leaves the model's folder: looking "
-      "for 'bark.png' beside the model instead");
+  EXPECT_EQ(m.warnings[0],
+            "t.gltf: warning: '../../etc/bark.png' is an absolute path or leaves the model's folder: looking "
+            "for 'bark.png' beside the model instead");
 }
 
 // Strips and fans become lists; points and lines are skipped with a warning.
@@ -336,6 +336,39 @@ TEST(MeshGltf, HugeAccessorCountRefusedBeforeAllocating) {
       error_of(huge("NORMAL"), "n.gltf"),
       "n.gltf: error: mesh 0 'sq' primitive 0 attribute NORMAL: accessor 1 declares 268435456 elements, more "
       "than the limit of 50331648");
+}
+
+// The same bytes in two folders import to the same geometry (an unnamed embedded image is named
+// by the file name) and the same warnings once their "<source>" prefix is the file name, as
+// import_report.json writes them: no folder in image names or inside warnings.
+TEST(MeshGltf, SameBytesInTwoFoldersSameResult) {
+  nlohmann::json j = textured_json();
+  j["images"][0].erase("name");
+  j["images"].push_back({{"uri", "../up/gone.png"}});
+  j["textures"].push_back({{"source", 1}});
+  j["materials"].push_back(
+      {{"name", "leaf"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}});
+  MapFiles files;
+  const auto run = [&](const std::string& path) {
+    MeshImport m = import_mesh(j.dump(), "gltf", path, path, files, keep_placement());
+    for (std::string& w : m.warnings) {
+      EXPECT_EQ(w.rfind(path + ": ", 0), 0u) << w;
+      w = "t.gltf" + w.substr(path.size());
+    }
+    return m;
+  };
+  const MeshImport a = run("/a/t.gltf"), b = run("/b/c/t.gltf");
+  ASSERT_EQ(a.geometry.images.size(), 1u);
+  EXPECT_EQ(a.geometry.images[0].name, "t.gltf.image0");
+  EXPECT_EQ(a.geometry, b.geometry);
+  EXPECT_EQ(
+      a.warnings,
+      (std::vector<std::string>{
+          "t.gltf: warning: '../up/gone.png' is an absolute path or leaves the model's folder: looking "
+          "for 'gone.png' beside the model instead",
+          "t.gltf: warning: image '../up/gone.png' (image 1) of material 'leaf' could not be read (no file "
+          "'gone.png' beside the model): the material keeps its colour, without the texture"}));
+  EXPECT_EQ(a.warnings, b.warnings);
 }
 
 }  // namespace
