@@ -342,10 +342,12 @@ MeshImport read_assimp(const std::string& bytes, std::string_view source, std::s
   if (bytes.size() > kMaxMeshFileBytes)
     throw MeshError(source, "file is larger than the import's limit of 256 MiB");
   if (format == "ply") check_ply_header(bytes, source);
-  // Assimp picks its reader by the extension of the path it is given: the model's own name when
-  // it has the format's extension, else the name with it.
-  std::filesystem::path name = std::filesystem::path(std::string(source)).filename();
-  if (name.extension().string().size() < 2) name += "." + std::string(format);
+  // Assimp picks its reader by the extension of the path it is given: always the resolved
+  // format's, so the reader is the one the checks above were chosen for (a PLY body in "x.obj"
+  // read as PLY has had its header checked).
+  std::string stem = std::filesystem::path(std::string(source)).stem().string();
+  if (stem.empty()) stem = "model";
+  const std::filesystem::path name = stem + "." + std::string(format);
   const std::string model_path = (files.base_dir() / name).string();
   Assimp::Importer importer;
   importer.SetIOHandler(new AssimpFiles(model_path, bytes, files));

@@ -112,6 +112,26 @@ TEST(MeshAssimp, PlyWithUpAxisAndScale) {
   EXPECT_DOUBLE_EQ(m.facts.height, 4);
 }
 
+// Assimp is handed the name "<stem>.<format>": a PLY body in a file named .obj, read as PLY, has
+// its header checked and is read by the PLY reader.
+TEST(MeshAssimp, FormatNotExtensionPicksReaderAndChecks) {
+  EXPECT_EQ(error_of("ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n",
+                     "ply", "x.obj"),
+            "x.obj: error: PLY header: 'element vertex 4000000000' declares more elements than the file's 75 "
+            "bytes can hold");
+  MapFiles files;
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const MeshImport m = import_mesh(ply, "ply", "/m/x.obj", "x.obj", files, {});
+  EXPECT_EQ(m.facts.format, "ply");
+  EXPECT_EQ(m.facts.triangles, 1u);
+  // And an OBJ body in "x.ply", read as OBJ, goes to the OBJ reader, not to an unchecked PLY one.
+  const MeshImport o =
+      import_mesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "obj", "/m/x.ply", "x.ply", files, {});
+  EXPECT_EQ(o.facts.triangles, 1u);
+}
+
 TEST(MeshAssimp, BadInputNamesTheFile) {
   EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "obj", "idx.obj"),
             "idx.obj: error: OBJ: vertex index out of range");
