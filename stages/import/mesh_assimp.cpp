@@ -163,7 +163,12 @@ class Reader {
         image_slot_.emplace(ref, -1);
         return -1;
       }
-      bytes = files_.read(file);
+      try {
+        bytes = files_.read(file);
+      } catch (const fileio::FileReadError& e) {  // there, but unreadable (permissions, too large, a race)
+        throw MeshError(source_, "texture '" + ref + "' of material '" + material + "': cannot read '" +
+                                     name + "' (" + e.reason() + ")");
+      }
     }
     int slot = -1;
     const std::string mime = mime_of(bytes);

@@ -132,6 +132,31 @@ TEST(MeshAssimp, FormatNotExtensionPicksReaderAndChecks) {
   EXPECT_EQ(o.facts.triangles, 1u);
 }
 
+// A texture that exists but cannot be read: a MeshError naming the model, material and file, not
+// fileio's FileReadError escaping the reader.
+TEST(MeshAssimp, UnreadableTextureIsAMeshError) {
+  struct Unreadable final : fileio::FileSource {
+    MapFiles inner;
+    std::string read(const std::filesystem::path& path) const override {
+      if (path.extension() == ".png") throw fileio::FileReadError(path, "permission denied");
+      return inner.read(path);
+    }
+    bool exists(const std::filesystem::path& path) const override {
+      return path.extension() == ".png" || inner.exists(path);
+    }
+  } files;
+  files.inner.files["/m/t.mtl"] = "newmtl bark\nmap_Kd bark.png\n";
+  try {
+    import_mesh("mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bark\nf 1 2 3\n", "obj", "/m/t.obj", "t.obj",
+                files, {});
+    ADD_FAILURE() << "no error";
+  } catch (const MeshError& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "t.obj: error: texture 'bark.png' of material 'bark': cannot read 'bark.png' (permission denied)");
+  }
+}
+
 TEST(MeshAssimp, BadInputNamesTheFile) {
   EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "obj", "idx.obj"),
             "idx.obj: error: OBJ: vertex index out of range");
