@@ -72,10 +72,20 @@ const unsigned char* GltfModel::view_data(int view, std::size_t offset, std::siz
   return buf.data.data() + bv.byteOffset + offset;
 }
 
-AttributeData GltfModel::read_accessor(int index, const std::string& what) const {
+const tinygltf::Accessor& GltfModel::accessor(int index, const std::string& what) const {
   if (index < 0 || std::size_t(index) >= m_.accessors.size())
     fail(what + ": accessor " + std::to_string(index) + " does not exist");
   const tinygltf::Accessor& acc = m_.accessors[std::size_t(index)];
+  // Without a buffer view an accessor is zeros (plus sparse values) of any declared count: the
+  // count is all that bounds the allocation.
+  if (acc.count > max_count_)
+    fail(what + ": accessor " + std::to_string(index) + " declares " + std::to_string(acc.count) +
+         " elements, more than the limit of " + std::to_string(max_count_));
+  return acc;
+}
+
+AttributeData GltfModel::read_accessor(int index, const std::string& what) const {
+  const tinygltf::Accessor& acc = accessor(index, what);
   const int ncomp = tinygltf::GetNumComponentsInType(std::uint32_t(acc.type));
   const int csize = tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType));
   if (ncomp <= 0 || csize <= 0 || ncomp > 16)
@@ -87,9 +97,6 @@ AttributeData GltfModel::read_accessor(int index, const std::string& what) const
   if (acc.bufferView >= 0) {
     if (buffer_view(acc.bufferView, what).byteStride) stride = buffer_view(acc.bufferView, what).byteStride;
     base = view_data(acc.bufferView, acc.byteOffset, acc.count, stride, elem, what);
-  } else if (acc.count > (std::size_t(1) << 28)) {
-    fail(what + ": accessor " + std::to_string(index) + " has an implausible count " +
-         std::to_string(acc.count));
   }
   AttributeData out;
   out.components = ncomp;
@@ -123,16 +130,16 @@ AttributeData GltfModel::read_accessor(int index, const std::string& what) const
 }
 
 std::vector<std::uint32_t> GltfModel::read_indices(int index, const std::string& what) const {
-  const tinygltf::Accessor& acc = m_.accessors.at(std::size_t(index));
+  const tinygltf::Accessor& acc = accessor(index, what);
   if (acc.type != TINYGLTF_TYPE_SCALAR || (acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
                                            acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
                                            acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
     fail(what + ": indices must be unsigned byte, short or int scalars");
   // UNSIGNED_INT values above 2^24 do not survive a float; read integers directly.
   const int csize = tinygltf::GetComponentSizeInBytes(std::uint32_t(acc.componentType));
-  std::vector<std::uint32_t> out(acc.count, 0);
   if (acc.bufferView < 0 || acc.sparse.isSparse) {
     const AttributeData a = read_accessor(index, what);
+    std::vector<std::uint32_t> out(a.count, 0);
     for (std::size_t i = 0; i < out.size(); ++i) out[i] = std::uint32_t(a.values[i]);
     return out;
   }
@@ -141,6 +148,8 @@ std::vector<std::uint32_t> GltfModel::read_indices(int index, const std::string&
                                  : std::size_t(csize);
   const unsigned char* base =
       view_data(acc.bufferView, acc.byteOffset, acc.count, stride, std::size_t(csize), what);
+  // Allocated once view_data has checked that the view holds `count` indices.
+  std::vector<std::uint32_t> out(acc.count, 0);
   for (std::size_t i = 0; i < acc.count; ++i) {
     const unsigned char* p = base + i * stride;
     if (csize == 1) {

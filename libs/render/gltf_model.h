@@ -29,12 +29,18 @@ struct AttributeData {
   std::vector<float> values;
 };
 
+// The most elements an accessor may declare unless the caller sets its own limit: 2^28, past
+// any model the renderer draws. Checked before anything is allocated for the accessor.
+inline constexpr std::size_t kMaxAccessorCount = std::size_t(1) << 28;
+
 // `what` in the functions below names the reader of the data for messages ("mesh 3 'twigs'
 // primitive 0 attribute NORMAL"); every failure throws SceneLoadError("<file>: error: <what>: ...").
 class GltfModel {
  public:
-  // `model` must outlive this.
-  GltfModel(const tinygltf::Model& model, std::string file) : m_(model), file_(std::move(file)) {}
+  // `model` must outlive this. `max_count`: the most elements read_accessor and read_indices
+  // accept from one accessor (a larger count fails before anything is allocated).
+  GltfModel(const tinygltf::Model& model, std::string file, std::size_t max_count = kMaxAccessorCount)
+      : m_(model), file_(std::move(file)), max_count_(max_count) {}
 
   const tinygltf::Model& model() const { return m_; }
   const std::string& file() const { return file_; }
@@ -54,8 +60,12 @@ class GltfModel {
   std::vector<std::uint32_t> read_indices(int index, const std::string& what) const;
 
  private:
+  // Accessor `index` once its count is within max_count_.
+  const tinygltf::Accessor& accessor(int index, const std::string& what) const;
+
   const tinygltf::Model& m_;
   std::string file_;
+  std::size_t max_count_;
 };
 
 // A glTF URI percent-decoded ("my%20bark.png" -> "my bark.png").

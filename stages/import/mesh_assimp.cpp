@@ -150,18 +150,25 @@ class Reader {
     if (auto it = image_slot_.find(ref); it != image_slot_.end()) return it->second;
     std::string bytes, name;
     if (const aiTexture* t = s_.GetEmbeddedTexture(path.C_Str())) {
-      name = ref.rfind('*', 0) == 0 ? std::string(source_) + ".image" + ref.substr(1) : ref;
+      name = ref.rfind('*', 0) == 0
+                 ? std::filesystem::path(std::string(source_)).filename().string() + ".image" + ref.substr(1)
+                 : ref;
       if (t->mHeight == 0) bytes.assign(reinterpret_cast<const char*>(t->pcData), t->mWidth);
     } else {
       const std::filesystem::path file = files_.resolve(ref);
       name = file.lexically_relative(files_.base_dir()).string();
       if (!files_.exists(file)) {
-        warn("texture '" + ref + "' of material '" + material + "' could not be read (no file " +
-             file.string() + "): the material keeps its colour, without the texture");
+        warn("texture '" + ref + "' of material '" + material + "' could not be read (no file '" + name +
+             "' beside the model): the material keeps its colour, without the texture");
         image_slot_.emplace(ref, -1);
         return -1;
       }
-      bytes = files_.read(file);
+      try {
+        bytes = files_.read(file);
+      } catch (const fileio::FileReadError& e) {  // there, but unreadable (permissions, too large, a race)
+        throw MeshError(source_, "texture '" + ref + "' of material '" + material + "': cannot read '" +
+                                     name + "' (" + e.reason() + ")");
+      }
     }
     int slot = -1;
     const std::string mime = mime_of(bytes);
@@ -340,10 +347,12 @@ MeshImport read_assimp(const std::string& bytes, std::string_view source, std::s
   if (bytes.size() > kMaxMeshFileBytes)
     throw MeshError(source, "file is larger than the import's limit of 256 MiB");
   if (format == "ply") check_ply_header(bytes, source);
-  // Assimp picks its reader by the extension of the path it is given: the model's own name when
-  // it has the format's extension, else the name with it.
-  std::filesystem::path name = std::filesystem::path(std::string(source)).filename();
-  if (name.extension().string().size() < 2) name += "." + std::string(format);
+  // Assimp picks its reader by the extension of the path it is given: always the resolved
+  // format's, so the reader is the one the checks above were chosen for (a PLY body in "x.obj"
+  // read as PLY has had its header checked).
+  std::string stem = std::filesystem::path(std::string(source)).stem().string();
+  if (stem.empty()) stem = "model";
+  const std::filesystem::path name = stem + "." + std::string(format);
   const std::string model_path = (files.base_dir() / name).string();
   Assimp::Importer importer;
   importer.SetIOHandler(new AssimpFiles(model_path, bytes, files));

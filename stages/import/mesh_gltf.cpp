@@ -13,6 +13,7 @@
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -34,6 +35,9 @@ namespace {
 using render::detail::AttributeData;
 using render::detail::GltfModel;
 using Mat4 = Eigen::Matrix4d;
+
+// The deepest node hierarchy read, as mesh_assimp.cpp's.
+constexpr std::size_t kMaxNodeDepth = 1000;
 
 const std::set<std::string>& supported_required() {
   static const std::set<std::string> s = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
@@ -156,7 +160,7 @@ class Reader {
   Reader(const tinygltf::Model& model, std::string_view source, const SidecarFiles& files,
          const MeshOptions& options, MeshImport& out)
       : m_(model),
-        in_(model, std::string(source)),
+        in_(model, std::string(source), std::max(options.max_vertices, options.max_triangles * 3)),
         source_(source),
         files_(files),
         options_(options),
@@ -179,7 +183,9 @@ class Reader {
     const tinygltf::Image& img = m_.images[std::size_t(index)];
     if (!img.uri.empty() && img.uri.rfind("data:", 0) != 0) return render::detail::decode_uri(img.uri);
     if (!img.name.empty()) return img.name;
-    return std::string(source_) + ".image" + std::to_string(index);
+    // The file name, not the path: the name goes into tree.sylt, whose bytes must not depend on
+    // where the model lies.
+    return std::filesystem::path(std::string(source_)).filename().string() + ".image" + std::to_string(index);
   }
 
   // The SourceGeometry image of texture `tex`, -1 (and a warning) when it cannot be had.
@@ -198,12 +204,15 @@ class Reader {
     const std::string mime = mime_of(bytes);
     int slot = -1;
     if (bytes.empty()) {
-      warn("image '" + name + "' (image " + std::to_string(index) + ") of material '" + material +
-           "' could not be read" +
-           (img.uri.empty() || img.uri.rfind("data:", 0) == 0
-                ? std::string()
-                : " (no file " + files_.resolve(files_.base_dir() / name).string() + ")") +
-           ": the material keeps its colour, without the texture");
+      warn(
+          "image '" + name + "' (image " + std::to_string(index) + ") of material '" + material +
+          "' could not be read" +
+          (img.uri.empty() || img.uri.rfind("data:", 0) == 0
+               ? std::string()
+               : " (no file '" +
+                     files_.resolve(files_.base_dir() / name).lexically_relative(files_.base_dir()).string() +
+                     "' beside the model)") +
+          ": the material keeps its colour, without the texture");
     } else if (mime.empty()) {
       warn("image '" + name + "' (image " + std::to_string(index) + ") of material '" + material +
            "' is neither PNG nor JPEG: the material keeps its colour, without the texture");
@@ -278,12 +287,20 @@ class Reader {
     return roots;
   }
 
-  bool has_mesh(int node, std::size_t depth = 0) const {
-    if (node < 0 || std::size_t(node) >= m_.nodes.size() || depth > m_.nodes.size()) return false;
-    const tinygltf::Node& n = m_.nodes[std::size_t(node)];
-    if (n.mesh >= 0) return true;
-    for (int c : n.children)
-      if (has_mesh(c, depth + 1)) return true;
+  // Whether `node` or a node below it has a mesh. Iterative, each node looked at once: a corrupt
+  // graph (shared children, cycles, a very deep chain) is refused later by visit(), not here.
+  bool has_mesh(int node) const {
+    std::vector<char> seen(m_.nodes.size(), 0);
+    std::vector<int> todo = {node};
+    while (!todo.empty()) {
+      const int i = todo.back();
+      todo.pop_back();
+      if (i < 0 || std::size_t(i) >= m_.nodes.size() || seen[std::size_t(i)]) continue;
+      seen[std::size_t(i)] = 1;
+      const tinygltf::Node& n = m_.nodes[std::size_t(i)];
+      if (n.mesh >= 0) return true;
+      todo.insert(todo.end(), n.children.begin(), n.children.end());
+    }
     return false;
   }
 
@@ -334,8 +351,16 @@ class Reader {
   void visit(int index, const Mat4& parent, const std::string& path, std::size_t depth) {
     if (index < 0 || std::size_t(index) >= m_.nodes.size())
       throw MeshError(source_, "node " + std::to_string(index) + " does not exist");
-    if (depth > m_.nodes.size())
-      throw MeshError(source_, "the node hierarchy contains a cycle (at node " + std::to_string(index) + ")");
+    // glTF 2.0 §3.5.3: the nodes form disjoint trees. A node reached twice (listed as a child
+    // twice, under two parents, in a cycle, or in the scene with its ancestor) would be imported
+    // twice, or exponentially often; a chain deeper than Assimp's limit would exhaust the stack.
+    if (depth > kMaxNodeDepth)
+      throw MeshError(source_,
+                      "the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) + " levels");
+    if (visited_.empty()) visited_.assign(m_.nodes.size(), 0);
+    if (visited_[std::size_t(index)])
+      throw MeshError(source_, node_label(m_, index) + " is reached twice (glTF nodes form a tree)");
+    visited_[std::size_t(index)] = 1;
     const tinygltf::Node& node = m_.nodes[std::size_t(index)];
     const Mat4 world = parent * local_matrix(node);
     const std::string here =
@@ -377,6 +402,11 @@ class Reader {
       if (a == gp.attributes.end()) return std::nullopt;
       return in_.read_accessor(a->second, what + " attribute " + attr);
     };
+    // The vertex limit before POSITION is read: its accessor's count sizes every attribute.
+    if (auto a = gp.attributes.find("POSITION");
+        !draco && a != gp.attributes.end() && a->second >= 0 && std::size_t(a->second) < m_.accessors.size())
+      check_mesh_limits(source_, vertices_ + m_.accessors[std::size_t(a->second)].count, triangles_,
+                        options_);
     const std::optional<AttributeData> pos = fetch("POSITION");
     if (!pos) throw MeshError(source_, what + ": has no POSITION attribute");
     if (pos->components != 3) throw MeshError(source_, what + ": POSITION must be VEC3");
@@ -451,6 +481,7 @@ class Reader {
   MeshImport& out_;
   std::vector<render::detail::MaterialUv> uv_;  // per glTF material
   std::map<int, int> image_slot_;               // glTF image -> SourceGeometry image (-1: none)
+  std::vector<char> visited_;                   // per glTF node: already imported
   int default_material_ = -1;
   std::size_t vertices_ = 0, triangles_ = 0;
 };

@@ -26,7 +26,9 @@
 //     colour and loses the texture.
 // Refused (MeshError "<source>: error: ..."): invalid JSON or GLB, an extension in
 // extensionsRequired that is not listed above, out-of-range indices or accessors, undecodable
-// Draco or meshopt data, more geometry than options' limits.
+// Draco or meshopt data, more geometry than options' limits, a node reached twice (glTF's nodes
+// form trees: "node 3 is reached twice"), a node hierarchy deeper than 1000 levels, an accessor
+// count past the limits before anything is allocated for it.
 #pragma once
 
 #include <string>

@@ -42,8 +42,14 @@ fs::path SidecarFiles::resolve(const std::string& ref) const {
   const fs::path joined = (raw.is_absolute() ? raw : base_dir_ / raw).lexically_normal();
   if (!has_drive(raw) && inside(joined, base_dir_)) return joined;
   const fs::path beside = base_dir_ / raw.filename();
-  if (warned_.insert(ref).second)
-    warnings_.push_back(source_ + ": warning: '" + ref +
+  // The reference as the file wrote it: tinygltf and Assimp pass it joined to the model's folder
+  // (tinygltf also as "./<ref>" when it looks again), which must not reach the import report (its
+  // bytes do not depend on where the model lies), nor be warned about twice.
+  const std::string folder = base_dir_.string() + "/";
+  const std::string shown =
+      fs::path(ref.rfind(folder, 0) == 0 ? ref.substr(folder.size()) : ref).lexically_normal().string();
+  if (warned_.insert(shown).second)
+    warnings_.push_back(source_ + ": warning: '" + shown +
                         "' is an absolute path or leaves the model's folder: looking for '" +
                         raw.filename().string() + "' beside the model instead");
   return beside;

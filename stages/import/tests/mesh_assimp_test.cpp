@@ -112,6 +112,51 @@ TEST(MeshAssimp, PlyWithUpAxisAndScale) {
   EXPECT_DOUBLE_EQ(m.facts.height, 4);
 }
 
+// Assimp is handed the name "<stem>.<format>": a PLY body in a file named .obj, read as PLY, has
+// its header checked and is read by the PLY reader.
+TEST(MeshAssimp, FormatNotExtensionPicksReaderAndChecks) {
+  EXPECT_EQ(error_of("ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n",
+                     "ply", "x.obj"),
+            "x.obj: error: PLY header: 'element vertex 4000000000' declares more elements than the file's 75 "
+            "bytes can hold");
+  MapFiles files;
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const MeshImport m = import_mesh(ply, "ply", "/m/x.obj", "x.obj", files, {});
+  EXPECT_EQ(m.facts.format, "ply");
+  EXPECT_EQ(m.facts.triangles, 1u);
+  // And an OBJ body in "x.ply", read as OBJ, goes to the OBJ reader, not to an unchecked PLY one.
+  const MeshImport o =
+      import_mesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "obj", "/m/x.ply", "x.ply", files, {});
+  EXPECT_EQ(o.facts.triangles, 1u);
+}
+
+// A texture that exists but cannot be read: a MeshError naming the model, material and file, not
+// fileio's FileReadError escaping the reader.
+TEST(MeshAssimp, UnreadableTextureIsAMeshError) {
+  struct Unreadable final : fileio::FileSource {
+    MapFiles inner;
+    std::string read(const std::filesystem::path& path) const override {
+      if (path.extension() == ".png") throw fileio::FileReadError(path, "permission denied");
+      return inner.read(path);
+    }
+    bool exists(const std::filesystem::path& path) const override {
+      return path.extension() == ".png" || inner.exists(path);
+    }
+  } files;
+  files.inner.files["/m/t.mtl"] = "newmtl bark\nmap_Kd bark.png\n";
+  try {
+    import_mesh("mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bark\nf 1 2 3\n", "obj", "/m/t.obj", "t.obj",
+                files, {});
+    ADD_FAILURE() << "no error";
+  } catch (const MeshError& e) {
+    EXPECT_STREQ(
+        e.what(),
+        "t.obj: error: texture 'bark.png' of material 'bark': cannot read 'bark.png' (permission denied)");
+  }
+}
+
 TEST(MeshAssimp, BadInputNamesTheFile) {
   EXPECT_EQ(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "obj", "idx.obj"),
             "idx.obj: error: OBJ: vertex index out of range");
@@ -138,6 +183,33 @@ TEST(MeshAssimp, ColladaUnitAndAxisApplied) {
   EXPECT_NEAR(m.facts.height, 0.01, 1e-7);  // z = 1 cm became y = 0.01 m
   EXPECT_EQ(m.facts.up, 'y');
   EXPECT_EQ(m.geometry.primitives[0].name, "s/n/g");  // Collada nodes by their ids
+}
+
+// The same OBJ in two folders imports to the same geometry and, once the "<source>" prefix is
+// the file name (as import_report.json writes it), the same warnings: no folder inside them.
+TEST(MeshAssimp, SameBytesInTwoFoldersSameResult) {
+  const std::string obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl bark\nf 1 2 3\n";
+  MapFiles files;
+  files.files["/a/t.mtl"] = files.files["/b/c/t.mtl"] = "newmtl bark\nKd 1 1 1\nmap_Kd ../gone.png\n";
+  const auto run = [&](const std::string& path) {
+    MeshOptions o;
+    o.recenter = false;
+    MeshImport m = import_mesh(obj, "obj", path, path, files, o);
+    for (std::string& w : m.warnings) {
+      EXPECT_EQ(w.rfind(path + ": ", 0), 0u) << w;
+      w = "t.obj" + w.substr(path.size());
+    }
+    return m;
+  };
+  const MeshImport a = run("/a/t.obj"), b = run("/b/c/t.obj");
+  EXPECT_EQ(a.geometry, b.geometry);
+  EXPECT_EQ(a.warnings,
+            (std::vector<std::string>{
+                "t.obj: warning: '../gone.png' is an absolute path or leaves the model's folder: "
+                "looking for 'gone.png' beside the model instead",
+                "t.obj: warning: texture '../gone.png' of material 'bark' could not be read (no file "
+                "'gone.png' beside the model): the material keeps its colour, without the texture"}));
+  EXPECT_EQ(a.warnings, b.warnings);
 }
 
 }  // namespace

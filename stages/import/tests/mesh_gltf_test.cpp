@@ -157,10 +157,11 @@ TEST(MeshGltf, ExternalImages) {
   j["images"][0] = {{"uri", "bark%20tex.png"}};
   MapFiles files;
   const MeshImport missing = import_mesh(j.dump(), "gltf", "/m/t.gltf", "t.gltf", files, keep_placement());
-  EXPECT_EQ(missing.warnings, (std::vector<std::string>{
-                                  "t.gltf: warning: image 'bark tex.png' (image 0) of material 'bark' could "
-                                  "not be read (no file /m/bark tex.png): the material keeps its colour, "
-                                  "without the texture"}));
+  EXPECT_EQ(missing.warnings,
+            (std::vector<std::string>{
+                "t.gltf: warning: image 'bark tex.png' (image 0) of material 'bark' could "
+                "not be read (no file 'bark tex.png' beside the model): the material keeps its "
+                "colour, without the texture"}));
   EXPECT_EQ(missing.geometry.materials[0].base_color_image, -1);
   EXPECT_TRUE(missing.geometry.images.empty());
   files.files["/m/bark tex.png"] = testing::tiny_png();
@@ -181,10 +182,9 @@ TEST(MeshGltf, EscapingUriLookedForBesideTheModel) {
   ASSERT_EQ(m.geometry.images.size(), 1u);
   EXPECT_EQ(m.geometry.images[0].bytes, testing::tiny_png());
   ASSERT_EQ(m.warnings.size(), 1u);
-  EXPECT_EQ(
-      m.warnings[0],
-      "t.gltf: warning: '/m/../../etc/bark.png' is an absolute path or leaves the model's folder: looking "
-      "for 'bark.png' beside the model instead");
+  EXPECT_EQ(m.warnings[0],
+            "t.gltf: warning: '../../etc/bark.png' is an absolute path or leaves the model's folder: looking "
+            "for 'bark.png' beside the model instead");
 }
 
 // Strips and fans become lists; points and lines are skipped with a warning.
@@ -272,6 +272,103 @@ TEST(MeshGltf, BadInputNamesTheFile) {
   j["meshes"][0]["primitives"][0]["indices"] = 99;
   EXPECT_EQ(error_of(j.dump(), "idx.gltf"),
             "idx.gltf: error: invalid glTF: primitive indices accessor out of bounds");
+}
+
+// The nodes form a tree: a child listed twice, a node under two parents, a scene listing a node
+// and its descendant are refused naming the node (not imported twice, nor exponentially often);
+// a chain deeper than 1000 levels is refused without exhausting the stack.
+TEST(MeshGltf, NodeGraphMustBeATree) {
+  gltf::WriteOptions w;
+  w.format = gltf::FileFormat::kGltf;
+  nlohmann::json j = nlohmann::json::parse(gltf::encode(one_square(), w));
+  const auto with_nodes = [&](nlohmann::json nodes, std::vector<int> scene) {
+    nlohmann::json e = j;
+    e["nodes"] = std::move(nodes);
+    e["scenes"][0]["nodes"] = std::move(scene);
+    return e.dump();
+  };
+  const nlohmann::json leaf = {{"name", "leaf"}, {"mesh", 0}};
+  EXPECT_EQ(error_of(with_nodes({{{"children", {1, 1}}}, leaf}, {0}), "twice.gltf"),
+            "twice.gltf: error: node 1 'leaf' is reached twice (glTF nodes form a tree)");
+  EXPECT_EQ(error_of(with_nodes({{{"children", {2}}}, {{"children", {2}}}, leaf}, {0, 1}), "two.gltf"),
+            "two.gltf: error: node 2 'leaf' is reached twice (glTF nodes form a tree)");
+  EXPECT_EQ(error_of(with_nodes({{{"children", {1}}}, leaf}, {0, 1}), "desc.gltf"),
+            "desc.gltf: error: node 1 'leaf' is reached twice (glTF nodes form a tree)");
+  // 40 levels, each node listing the next twice: 2^40 paths without the check.
+  nlohmann::json diamond = nlohmann::json::array();
+  for (int i = 0; i < 40; ++i) diamond.push_back({{"children", {i + 1, i + 1}}});
+  diamond.push_back(leaf);
+  EXPECT_EQ(error_of(with_nodes(diamond, {0}), "diamond.gltf"),
+            "diamond.gltf: error: node 40 'leaf' is reached twice (glTF nodes form a tree)");
+  // A chain of n nodes is n - 1 levels below its root: 1001 nodes read, 1002 refused.
+  const auto chain = [&](int n) {
+    nlohmann::json nodes = nlohmann::json::array();
+    for (int i = 0; i + 1 < n; ++i) nodes.push_back({{"children", {i + 1}}});
+    nodes.push_back(leaf);
+    return with_nodes(nodes, {0});
+  };
+  MapFiles files;
+  EXPECT_EQ(import_mesh(chain(1001), "gltf", "/m/c.gltf", "c.gltf", files, {}).geometry.primitives.size(),
+            1u);
+  EXPECT_EQ(error_of(chain(1002), "deep.gltf"),
+            "deep.gltf: error: the node hierarchy is deeper than 1000 levels");
+  EXPECT_EQ(error_of(chain(20000), "deep.gltf"),
+            "deep.gltf: error: the node hierarchy is deeper than 1000 levels");
+}
+
+// An accessor without a buffer view is zeros of its declared count: a count of 2^28 fails on the
+// limits before anything is allocated for it (POSITION on the vertex limit, another attribute on
+// the accessor limit, max(vertices, 3 triangles)).
+TEST(MeshGltf, HugeAccessorCountRefusedBeforeAllocating) {
+  nlohmann::json j = textured_json();
+  const auto huge = [&](const char* attribute) {
+    nlohmann::json e = j;
+    nlohmann::json& acc = e["accessors"][e["meshes"][0]["primitives"][0]["attributes"][attribute].get<int>()];
+    acc.erase("bufferView");
+    acc.erase("byteOffset");
+    acc["count"] = 1 << 28;
+    return e.dump();
+  };
+  EXPECT_EQ(error_of(huge("POSITION"), "p.gltf"),
+            "p.gltf: error: the model has more than 16777216 vertices (the import's limit, "
+            "tree::kMaxSourceVertices)");
+  EXPECT_EQ(
+      error_of(huge("NORMAL"), "n.gltf"),
+      "n.gltf: error: mesh 0 'sq' primitive 0 attribute NORMAL: accessor 1 declares 268435456 elements, more "
+      "than the limit of 50331648");
+}
+
+// The same bytes in two folders import to the same geometry (an unnamed embedded image is named
+// by the file name) and the same warnings once their "<source>" prefix is the file name, as
+// import_report.json writes them: no folder in image names or inside warnings.
+TEST(MeshGltf, SameBytesInTwoFoldersSameResult) {
+  nlohmann::json j = textured_json();
+  j["images"][0].erase("name");
+  j["images"].push_back({{"uri", "../up/gone.png"}});
+  j["textures"].push_back({{"source", 1}});
+  j["materials"].push_back(
+      {{"name", "leaf"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}});
+  MapFiles files;
+  const auto run = [&](const std::string& path) {
+    MeshImport m = import_mesh(j.dump(), "gltf", path, path, files, keep_placement());
+    for (std::string& w : m.warnings) {
+      EXPECT_EQ(w.rfind(path + ": ", 0), 0u) << w;
+      w = "t.gltf" + w.substr(path.size());
+    }
+    return m;
+  };
+  const MeshImport a = run("/a/t.gltf"), b = run("/b/c/t.gltf");
+  ASSERT_EQ(a.geometry.images.size(), 1u);
+  EXPECT_EQ(a.geometry.images[0].name, "t.gltf.image0");
+  EXPECT_EQ(a.geometry, b.geometry);
+  EXPECT_EQ(
+      a.warnings,
+      (std::vector<std::string>{
+          "t.gltf: warning: '../up/gone.png' is an absolute path or leaves the model's folder: looking "
+          "for 'gone.png' beside the model instead",
+          "t.gltf: warning: image '../up/gone.png' (image 1) of material 'leaf' could not be read (no file "
+          "'gone.png' beside the model): the material keeps its colour, without the texture"}));
+  EXPECT_EQ(a.warnings, b.warnings);
 }
 
 }  // namespace

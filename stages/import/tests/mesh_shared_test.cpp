@@ -71,51 +71,52 @@ TEST_P(SharedMesh, ImportsExactly) {
 
 INSTANTIATE_TEST_SUITE_P(
     Files, SharedMesh,
-    ::testing::Values(Expected{"kaykit/Tree_1_A_Color1.gltf", 1, 530, 1, 1, 4.1607, {}},
-                      Expected{"kaykit/Tree_Bare_1_C_Color1.gltf", 1, 936, 1, 1, 5.2554, {}},
-                      Expected{"kenney/tree_oak_fall.glb",
-                               2,
-                               194,
-                               2,
-                               0,
-                               1.2262,
-                               {"scene root node 1 'tree_oak_fall' is a child of node 0 'tmpParent', which "
-                                "the scene does not list: imported as a root, without that node's transform",
-                                "2 degenerate triangle(s) (a repeated vertex or zero area) dropped, in "
-                                "'tree_oak_fall/Mesh tree_oak_fall'"}},
-                      Expected{"kenney/tree_pineRoundA.glb",
-                               2,
-                               204,
-                               2,
-                               0,
-                               1.3664,
-                               {"scene root node 1 'tree_pineRoundA' is a child of node 0 'tmpParent', which "
-                                "the scene does not list: imported as a root, without that node's "
-                                "transform"}},
-                      // ez-tree writes its own units (the trunk's length parameter is 24).
-                      Expected{"eztree/aspen_small_seed36330.glb", 2, 3616, 2, 2, 38.9663, {}},
-                      Expected{"eztree/bush_2_seed45590.glb", 2, 4760, 2, 2, 30.8593, {}},
-                      Expected{"quaternius/Pine_1.gltf",
-                               2,
-                               3947,
-                               2,
-                               1,
-                               7.3169,
-                               {"image 'Bark_NormalTree.png' (image 1) of material 'Bark_NormalTree' could "
-                                "not be read (no file <dir>/Bark_NormalTree.png): the material keeps its "
-                                "colour, without the texture"}},
-                      Expected{"quaternius/DeadTree_1.obj",
-                               1,
-                               6169,
-                               1,
-                               0,
-                               9.4955,
-                               {"'C:/Bark_DeadTree.png' is an absolute path or leaves the model's folder: "
-                                "looking for 'Bark_DeadTree.png' beside the model instead",
-                                "2820 quad(s) and 0 polygon(s) of more than 4 sides triangulated",
-                                "texture 'C:/Bark_DeadTree.png' of material 'Bark_DeadTree' could not be "
-                                "read (no file <dir>/Bark_DeadTree.png): the material keeps its colour, "
-                                "without the texture"}}),
+    ::testing::Values(
+        Expected{"kaykit/Tree_1_A_Color1.gltf", 1, 530, 1, 1, 4.1607, {}},
+        Expected{"kaykit/Tree_Bare_1_C_Color1.gltf", 1, 936, 1, 1, 5.2554, {}},
+        Expected{"kenney/tree_oak_fall.glb",
+                 2,
+                 194,
+                 2,
+                 0,
+                 1.2262,
+                 {"scene root node 1 'tree_oak_fall' is a child of node 0 'tmpParent', which "
+                  "the scene does not list: imported as a root, without that node's transform",
+                  "2 degenerate triangle(s) (a repeated vertex or zero area) dropped, in "
+                  "'tree_oak_fall/Mesh tree_oak_fall'"}},
+        Expected{"kenney/tree_pineRoundA.glb",
+                 2,
+                 204,
+                 2,
+                 0,
+                 1.3664,
+                 {"scene root node 1 'tree_pineRoundA' is a child of node 0 'tmpParent', which "
+                  "the scene does not list: imported as a root, without that node's "
+                  "transform"}},
+        // ez-tree writes its own units (the trunk's length parameter is 24).
+        Expected{"eztree/aspen_small_seed36330.glb", 2, 3616, 2, 2, 38.9663, {}},
+        Expected{"eztree/bush_2_seed45590.glb", 2, 4760, 2, 2, 30.8593, {}},
+        Expected{"quaternius/Pine_1.gltf",
+                 2,
+                 3947,
+                 2,
+                 1,
+                 7.3169,
+                 {"image 'Bark_NormalTree.png' (image 1) of material 'Bark_NormalTree' could "
+                  "not be read (no file 'Bark_NormalTree.png' beside the model): the material keeps its "
+                  "colour, without the texture"}},
+        Expected{"quaternius/DeadTree_1.obj",
+                 1,
+                 6169,
+                 1,
+                 0,
+                 9.4955,
+                 {"'C:/Bark_DeadTree.png' is an absolute path or leaves the model's folder: "
+                  "looking for 'Bark_DeadTree.png' beside the model instead",
+                  "2820 quad(s) and 0 polygon(s) of more than 4 sides triangulated",
+                  "texture 'C:/Bark_DeadTree.png' of material 'Bark_DeadTree' could not be "
+                  "read (no file 'Bark_DeadTree.png' beside the model): the material keeps its colour, "
+                  "without the texture"}}),
     [](const auto& param_info) {
       std::string n = fs::path(param_info.param.file).stem().string();
       std::replace_if(
