@@ -28,6 +28,8 @@ echo "sanitize: built in $(($(date +%s) - start)) s"
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+# Leaks inside third-party libraries sylva cannot fix (Debian's Assimp): fuzz/lsan-suppressions.txt.
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan-suppressions.txt:print_suppressions=0"
 for t in "${tests[@]}"; do
   bin=$(find "$build" -name "$t" -type f -perm -u+x | head -n 1)
   echo "sanitize: $t"
