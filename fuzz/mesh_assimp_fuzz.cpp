@@ -11,21 +11,10 @@
 #include <string>
 
 #include "fuzz/fuzz_check.h"
+#include "fuzz/no_files.h"
 #include "libs/fileio/file_source.h"
 #include "libs/tree/source_geometry.h"
 #include "stages/import/mesh_import.h"
-
-namespace {
-
-class NoFiles final : public sylva::fileio::FileSource {
- public:
-  std::string read(const std::filesystem::path& path) const override {
-    throw sylva::fileio::FileReadError(path, "no such file");
-  }
-  bool exists(const std::filesystem::path&) const override { return false; }
-};
-
-}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace sylva;
@@ -37,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const import::MeshImport m = import::import_mesh(
         std::string(reinterpret_cast<const char*>(data) + 1, size - 1), format,
-        "/nonexistent-sylva-fuzz-dir/fuzz." + format, "fuzz." + format, NoFiles(), options);
+        "/nonexistent-sylva-fuzz-dir/fuzz." + format, "fuzz." + format, fuzz::NoFiles(), options);
     if (!tree::validate_source_geometry(m.geometry).empty())
       fuzz::fail("import_mesh returned invalid geometry");
   } catch (const import::MeshError& e) {
